@@ -1,0 +1,52 @@
+// Command-line flags for one verb: "--name value", "--name=value", "-o value", boolean
+// "--flag", and positional arguments; "--" ends the flags. Unknown flags are errors.
+#pragma once
+
+#include <map>
+#include <optional>
+#include <set>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "dynpm/result.h"
+
+namespace dynpm::cli {
+
+struct FlagSpec {
+  std::string name;        // "--output"
+  std::string short_name;  // "-o" or empty
+  bool takes_value = false;
+  std::string value_name;  // shown in help: "FILE"
+  std::string help;
+};
+
+struct VerbSpec {
+  std::string name;
+  std::string usage;        // "dynpm info INPUT... [--json]"
+  std::string description;  // a few lines
+  std::vector<FlagSpec> flags;
+};
+
+class Args {
+ public:
+  std::vector<std::string> positional;
+
+  bool has(const std::string& name) const { return flags_.count(name) != 0; }
+  std::optional<std::string> value(const std::string& name) const;
+  void set_flag(const std::string& name) { flags_.insert(name); }
+  void set_value(const std::string& name, std::string v) {
+    values_[name] = std::move(v);
+    flags_.insert(name);
+  }
+
+ private:
+  std::set<std::string> flags_;
+  std::map<std::string, std::string> values_;
+};
+
+// Parses arguments after the verb; --help is always accepted and reported as the flag "--help".
+Result<Args> parse_args(std::span<char* const> arguments, const VerbSpec& spec);
+std::string help_text(const VerbSpec& spec);
+
+}  // namespace dynpm::cli

@@ -1,0 +1,26 @@
+// The verbs of the dynpm command. Each takes the arguments after the verb and returns the
+// process exit code: 0 success, 1 bad input or failed work, 2 bad usage.
+#pragma once
+
+#include <span>
+#include <string>
+
+#include "dynpm/io.h"
+
+namespace dynpm::cli {
+
+inline constexpr int kExitOk = 0;
+inline constexpr int kExitFailure = 1;
+inline constexpr int kExitUsage = 2;
+inline constexpr int kExitInvalidMesh = 3;  // read fine, but validate() found errors
+
+int run_info(std::span<char* const> arguments);
+int run_convert(std::span<char* const> arguments);
+
+// Globs → files, then open them as one animation; reader notes go to stderr.
+Result<AnimationStream> open_inputs(std::span<const std::string> arguments, bool split_polygons);
+
+// Progress on stderr ("label 12/26"), only when stderr is a terminal.
+void progress(const std::string& label, size_t done, size_t total);
+
+}  // namespace dynpm::cli

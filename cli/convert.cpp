@@ -1,0 +1,91 @@
+// dynpm convert: a mesh or animation from one format to another, one step at a time.
+#include <iostream>
+#include <vector>
+
+#include "args.h"
+#include "commands.h"
+
+namespace dynpm::cli {
+namespace {
+
+const VerbSpec kSpec{
+    "convert",
+    "dynpm convert INPUT... -o OUTPUT [--ascii] [--split-polygons]",
+    "Converts a mesh or an animation (one file per time step: a list or a glob, sorted\n"
+    "naturally) between OBJ, PLY and VTK legacy polydata. The output format follows the\n"
+    "extension of OUTPUT. An animation of several steps needs a step field in OUTPUT, e.g.\n"
+    "'out/frame_{:03d}.ply'. Quads stay quads; part ids, element ids and node ids travel\n"
+    "where the format can hold them (PLY, VTK). Steps are streamed: one in memory at a time.\n"
+    "Each file is written under a temporary name and renamed when complete.",
+    {{"--output", "-o", true, "OUTPUT", "output file, or pattern with {:03d} for several steps"},
+     {"--ascii", "", false, "", "write PLY and VTK as text instead of binary"},
+     {"--split-polygons", "", false, "", "fan-split faces with more than 4 corners"}}};
+
+}  // namespace
+
+int run_convert(std::span<char* const> arguments) {
+  auto args = parse_args(arguments, kSpec);
+  if (!args) {
+    std::cerr << args.message() << "\n";
+    return kExitUsage;
+  }
+  if (args->has("--help")) {
+    std::cout << help_text(kSpec);
+    return kExitOk;
+  }
+  const auto output = args->value("--output");
+  if (args->positional.empty() || !output) {
+    std::cerr << "dynpm convert: needs INPUT... and -o OUTPUT\n\n" << help_text(kSpec);
+    return kExitUsage;
+  }
+  if (format_from_extension(*output) == FileFormat::kUnknown) {
+    std::cerr << "dynpm convert: " << *output
+              << ": cannot tell the output format from the extension (use .obj, .ply or .vtk)\n";
+    return kExitUsage;
+  }
+  auto stream = open_inputs(args->positional, args->has("--split-polygons"));
+  if (!stream) {
+    std::cerr << "dynpm convert: " << stream.message() << "\n";
+    return kExitFailure;
+  }
+  const FrameSource& frames = *stream->frames;
+  const size_t steps = frames.step_count();
+  const bool pattern = has_step_field(*output);
+  if (steps > 1 && !pattern) {
+    std::cerr << "dynpm convert: the input has " << steps << " time steps; give an output "
+              << "pattern with a step field, e.g. 'frame_{:03d}"
+              << output->substr(output->rfind('.')) << "'\n";
+    return kExitUsage;
+  }
+
+  WriteOptions options;
+  options.binary = !args->has("--ascii");
+  std::vector<float> xyz(size_t{frames.vertex_count()} * 3);
+  std::string first, last;
+  for (size_t t = 0; t < steps; ++t) {
+    progress("converting step", t + 1, steps);
+    auto path = pattern ? step_path(*output, t) : Result<std::string>(*output);
+    if (!path) {
+      std::cerr << "dynpm convert: " << path.message() << "\n";
+      return kExitUsage;
+    }
+    if (Status s = frames.read_step(t, xyz); !s.ok()) {
+      std::cerr << "dynpm convert: " << s.message() << "\n";
+      return kExitFailure;
+    }
+    options.comment = "dynpm: step " + std::to_string(t) + ", time " +
+                      std::to_string(frames.step_time(t));
+    if (Status s = write_mesh(*path, stream->topology, xyz, options); !s.ok()) {
+      std::cerr << "dynpm convert: " << s.message() << "\n";
+      return kExitFailure;
+    }
+    (t == 0 ? first : last) = *path;
+  }
+  std::cout << "wrote " << steps << (steps == 1 ? " step: " : " steps: ") << first
+            << (steps > 1 ? " … " + last : "") << " (" << stream->topology.vertex_count
+            << " vertices, " << stream->topology.quad_count() << " quads, "
+            << stream->topology.triangle_count() << " triangles)\n";
+  return kExitOk;
+}
+
+}  // namespace dynpm::cli

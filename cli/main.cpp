@@ -1,0 +1,64 @@
+// dynpm — dynamic progressive triangle-quadrilateral meshes for FE animations.
+// main() only picks the verb; each verb lives in its own file.
+#include <unistd.h>
+
+#include <clocale>
+#include <cstdio>
+#include <cstring>
+#include <iostream>
+
+#include "commands.h"
+
+namespace dynpm::cli {
+
+Result<AnimationStream> open_inputs(std::span<const std::string> arguments, bool split_polygons) {
+  auto paths = expand_inputs(arguments);
+  if (!paths) return paths.status();
+  ReadOptions options;
+  options.split_polygons = split_polygons;
+  options.warn = [](const std::string& note) { std::cerr << "warning: " << note << "\n"; };
+  return open_animation(*paths, options);
+}
+
+void progress(const std::string& label, size_t done, size_t total) {
+  if (!::isatty(STDERR_FILENO)) return;
+  std::fprintf(stderr, "\r%s %zu/%zu", label.c_str(), done, total);
+  if (done == total) std::fprintf(stderr, "\r%*s\r", static_cast<int>(label.size() + 24), "");
+  std::fflush(stderr);
+}
+
+}  // namespace dynpm::cli
+
+namespace {
+
+const char* kUsage =
+    "dynpm — dynamic progressive triangle-quadrilateral meshes for FE animations\n"
+    "\n"
+    "usage: dynpm <verb> [options]\n"
+    "\n"
+    "verbs:\n"
+    "  info      counts, topology, bounding box and validation of a mesh or animation\n"
+    "  convert   convert a mesh or animation between OBJ, PLY and VTK\n"
+    "\n"
+    "Run 'dynpm <verb> --help' for a verb's options.\n";
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::setlocale(LC_ALL, "C");  // numbers are read and written the same everywhere
+  if (argc < 2 || std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0 ||
+      std::strcmp(argv[1], "help") == 0) {
+    std::cout << kUsage;
+    return argc < 2 ? dynpm::cli::kExitUsage : dynpm::cli::kExitOk;
+  }
+  if (std::strcmp(argv[1], "--version") == 0) {
+    std::cout << "dynpm 0.1.0\n";
+    return 0;
+  }
+  const std::string verb = argv[1];
+  std::span<char* const> rest(argv + 2, static_cast<size_t>(argc - 2));
+  if (verb == "info") return dynpm::cli::run_info(rest);
+  if (verb == "convert") return dynpm::cli::run_convert(rest);
+  std::cerr << "dynpm: unknown verb '" << verb << "'\n\n" << kUsage;
+  return dynpm::cli::kExitUsage;
+}

@@ -1,0 +1,76 @@
+#!/usr/bin/env bash
+# dynpm.sh — the project's two commands, on a fresh Debian 12 machine:
+#   ./dynpm.sh demo   install what is missing, build (Release), run dynpm on the shipped sample
+#   ./dynpm.sh test   install what is missing, build with -Werror, run every test (CTest)
+# Also: ./dynpm.sh build (just build), ./dynpm.sh deps (just install).
+set -euo pipefail
+cd "$(dirname "$0")"
+ROOT=$(pwd)
+
+# Debian packages: the toolchain and test libraries; the third-party tools the tests compare
+# against (meshio writes and reads files nobody here wrote; python3-vtk9 is VTK's own reader).
+BUILD_PACKAGES=(g++ cmake ninja-build xz-utils)
+TEST_PACKAGES=(libgtest-dev libgmock-dev python3-meshio python3-vtk9)
+
+install_packages() {
+  local missing=()
+  for p in "$@"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+  done
+  [ ${#missing[@]} -eq 0 ] && return 0
+  echo "dynpm.sh: installing ${missing[*]}" >&2
+  local sudo=""
+  [ "$(id -u)" -ne 0 ] && sudo="sudo"
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+}
+
+# The shipped sample: a CalculiX crash-rail animation as an OBJ sequence (data/README.md).
+SAMPLE_ARCHIVE=data/rail/frames.tar.xz
+SAMPLE_DIR=build/sample/rail
+
+unpack_sample() {
+  if [ ! -f "$SAMPLE_DIR/.unpacked" ] || [ "$SAMPLE_ARCHIVE" -nt "$SAMPLE_DIR/.unpacked" ]; then
+    rm -rf "$SAMPLE_DIR" && mkdir -p "$SAMPLE_DIR"
+    tar -xJf "$SAMPLE_ARCHIVE" -C "$SAMPLE_DIR"
+    touch "$SAMPLE_DIR/.unpacked"
+  fi
+}
+
+build_release() {
+  cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release -DDYNPM_BUILD_TESTS=OFF >/dev/null
+  cmake --build build/release
+}
+
+case "${1:-}" in
+  deps)
+    install_packages "${BUILD_PACKAGES[@]}" "${TEST_PACKAGES[@]}"
+    ;;
+  build)
+    install_packages "${BUILD_PACKAGES[@]}"
+    build_release
+    ;;
+  demo)
+    install_packages "${BUILD_PACKAGES[@]}"
+    build_release
+    unpack_sample
+    echo
+    echo "== dynpm info on the shipped sample ($SAMPLE_ARCHIVE)"
+    echo "\$ dynpm info $SAMPLE_DIR/frame_*.obj"
+    time build/release/cli/dynpm info "$SAMPLE_DIR"/frame_*.obj
+    ;;
+  test)
+    install_packages "${BUILD_PACKAGES[@]}" "${TEST_PACKAGES[@]}"
+    # Optimised, warnings as errors, assertions on.
+    cmake -S . -B build/test -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDYNPM_WERROR=ON \
+      -DDYNPM_ASSERTS=ON -DDYNPM_BUILD_TESTS=ON >/dev/null
+    cmake --build build/test
+    unpack_sample
+    DYNPM_REQUIRE_THIRD_PARTY=1 DYNPM_SAMPLE_DIR="$ROOT/$SAMPLE_DIR" \
+      ctest --test-dir build/test --output-on-failure -j "$(nproc)"
+    ;;
+  *)
+    echo "usage: ./dynpm.sh demo | test | build | deps" >&2
+    exit 2
+    ;;
+esac

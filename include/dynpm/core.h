@@ -1,0 +1,265 @@
+// dynpm/core.h — one topology, many geometries.
+//
+// A crash or forming result is ONE face list over a fixed set of nodes and m arrays of node
+// positions, one per time step (Wundrak et al. 2006, §2: A = {V_0, …, V_m-1}), never m meshes.
+//
+//   Topology     #F faces × 4 corner slots, kNoVertex in slot 3 for triangles (fixed stride,
+//                no arity array: FE shells are triangles and quads); per face a part id (FE
+//                "PID") and the original element number; per vertex the original node number.
+//   FrameSource  yields the #V × xyz float positions of time step t on demand, so a 5 M-node ×
+//                100-step result never has to sit in memory whole.
+//   Frames       the in-memory FrameSource: one contiguous xyz array per step, plus step times.
+//   Animation    Topology + Frames + per-vertex scalar result fields per step.
+//   Adjacency    derived on demand: vertex → faces, unique edges → faces (CSR), vertex kinds.
+//   validate()   (M1) manifold with boundary, (M2) inner-vertex valence ≥ 3, (M3) face degree
+//                ≥ 3, indices in range, no repeated corner, finite positions, equal step sizes.
+//                Every problem is returned with its location; non-manifold edges and vertices
+//                are accepted and reported as features the simplifier must keep.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "dynpm/result.h"
+
+namespace dynpm {
+
+inline constexpr uint32_t kNoVertex = 0xffffffffu;  // empty 4th corner of a triangle
+inline constexpr uint32_t kNoIndex = 0xffffffffu;   // "no face / vertex / step" in reports
+
+// A triangle (a, b, c, kNoVertex) or a quad (a, b, c, d); corners in counter-clockwise order
+// seen from the front. Edges join consecutive corners; a quad's diagonals are not edges.
+struct Face {
+  std::array<uint32_t, 4> v{kNoVertex, kNoVertex, kNoVertex, kNoVertex};
+
+  bool is_triangle() const { return v[3] == kNoVertex; }
+  // Number of used corner slots: 3 or 4 in a valid mesh, fewer if (M3) is broken.
+  int degree() const;
+  bool contains(uint32_t vertex) const;
+  bool operator==(const Face&) const = default;
+};
+
+// The connectivity shared by every time step. The per-face and per-vertex arrays are parallel
+// to faces and to the vertex range [0, vertex_count); validate() checks that they are.
+struct Topology {
+  uint32_t vertex_count = 0;
+  std::vector<Face> faces;
+  std::vector<int32_t> part_ids;     // #F, FE part (PID); 0 where the input has none
+  std::vector<int64_t> element_ids;  // #F, original element number
+  std::vector<int64_t> node_ids;     // #V, original node number
+
+  // A topology of n vertices numbered 1..n, with no faces yet.
+  static Topology with_vertices(uint32_t n);
+  // Appends a face; element_id 0 means "the next number after the last face's".
+  void add_triangle(uint32_t a, uint32_t b, uint32_t c, int32_t part = 0, int64_t element_id = 0);
+  void add_quad(uint32_t a, uint32_t b, uint32_t c, uint32_t d, int32_t part = 0,
+                int64_t element_id = 0);
+  void add_face(const Face& face, int32_t part = 0, int64_t element_id = 0);
+
+  size_t face_count() const { return faces.size(); }
+  size_t triangle_count() const;
+  size_t quad_count() const;
+  // Distinct part ids, ascending.
+  std::vector<int32_t> parts() const;
+};
+
+// Positions of every vertex at time step t, read on demand.
+class FrameSource {
+ public:
+  virtual ~FrameSource() = default;
+  virtual uint32_t vertex_count() const = 0;
+  virtual size_t step_count() const = 0;
+  virtual double step_time(size_t t) const = 0;
+  // Fills out (3 · vertex_count floats: x0 y0 z0 x1 …) with step t. Sources that read files
+  // return an error naming the file and place; in-memory sources never fail.
+  virtual Status read_step(size_t t, std::span<float> out) const = 0;
+  // Number of xyz floats step t holds, when a source can know it without reading the step.
+  virtual size_t step_float_count(size_t /*t*/) const { return size_t{vertex_count()} * 3; }
+};
+
+// All steps in memory, one contiguous xyz array per step.
+class Frames final : public FrameSource {
+ public:
+  Frames() = default;
+  explicit Frames(uint32_t vertex_count) : vertex_count_(vertex_count) {}
+
+  // Appends a step. Its size is not asserted: validate() reports a step whose vertex count
+  // differs, so readers can hand over what the file said and let validation name the problem.
+  void add_step(std::vector<float> xyz, double time);
+  std::span<const float> step(size_t t) const { return steps_[t]; }
+  std::span<float> step(size_t t) { return steps_[t]; }
+  void set_vertex_count(uint32_t n) { vertex_count_ = n; }
+
+  uint32_t vertex_count() const override { return vertex_count_; }
+  size_t step_count() const override { return steps_.size(); }
+  double step_time(size_t t) const override { return times_[t]; }
+  Status read_step(size_t t, std::span<float> out) const override;
+  size_t step_float_count(size_t t) const override { return steps_[t].size(); }
+
+ private:
+  uint32_t vertex_count_ = 0;
+  std::vector<std::vector<float>> steps_;
+  std::vector<double> times_;
+};
+
+// A per-vertex scalar result (plastic strain, von Mises stress, …) at every step.
+struct ScalarField {
+  std::string name;
+  std::vector<std::vector<float>> steps;  // #steps × #V
+};
+
+struct Animation {
+  Topology topology;
+  Frames frames;
+  std::vector<ScalarField> fields;
+
+  size_t step_count() const { return frames.step_count(); }
+};
+
+// An animation whose steps stay where they are (on disk) until asked for.
+struct AnimationStream {
+  Topology topology;
+  std::unique_ptr<FrameSource> frames;
+  std::vector<std::string> warnings;  // reader notes the caller may show (never printed by src/)
+};
+
+// Reads every step of a stream into memory.
+Result<Animation> load_all_steps(AnimationStream stream);
+
+// ---------------------------------------------------------------------------------------------
+// Derived connectivity
+
+struct Edge {
+  uint32_t a = 0, b = 0;  // a < b
+};
+
+// What the neighbourhood of a vertex looks like; flags combine.
+enum VertexKind : uint8_t {
+  kInteriorVertex = 0,
+  kBoundaryVertex = 1 << 0,       // on an edge with one face
+  kOnNonManifoldEdge = 1 << 1,    // on an edge with three or more faces (a T-joint of shells)
+  kNonManifoldFan = 1 << 2,       // its faces form more than one fan (bow-tie, pinched shells)
+  kUnreferencedVertex = 1 << 3,   // in no face
+};
+
+// Vertex → faces and edge → faces in compressed rows; built in O(#F) from a topology whose
+// indices are in range (validate() first for untrusted input). Immutable: rebuild after edits.
+class Adjacency {
+ public:
+  static Adjacency build(const Topology& topology);
+
+  uint32_t vertex_count() const { return static_cast<uint32_t>(vertex_face_start_.size() - 1); }
+  std::span<const uint32_t> faces_of_vertex(uint32_t v) const;
+
+  size_t edge_count() const { return edges_.size(); }
+  Edge edge(size_t e) const { return edges_[e]; }
+  std::span<const uint32_t> faces_of_edge(size_t e) const;
+  std::optional<size_t> find_edge(uint32_t a, uint32_t b) const;
+  // Edges are grouped by their smaller vertex: the edges (v, w) with v < w.
+  std::span<const Edge> edges_from(uint32_t v) const;
+
+  uint8_t vertex_kind(uint32_t v) const { return vertex_kind_[v]; }
+  // Vertices the simplifier must keep in place or slide only along their feature: those on a
+  // non-manifold edge and those with a non-manifold fan.
+  bool is_feature_vertex(uint32_t v) const {
+    return (vertex_kind_[v] & (kOnNonManifoldEdge | kNonManifoldFan)) != 0;
+  }
+
+ private:
+  std::vector<uint32_t> vertex_face_start_, vertex_faces_;
+  std::vector<uint32_t> vertex_edge_start_;  // edges_ grouped by smaller vertex
+  std::vector<Edge> edges_;
+  std::vector<uint32_t> edge_face_start_, edge_faces_;
+  std::vector<uint8_t> vertex_kind_;
+};
+
+// Counts that describe a mesh's shape; the simplifier's invariants are stated in these terms.
+struct TopologyStats {
+  size_t vertices = 0, referenced_vertices = 0, faces = 0, triangles = 0, quads = 0;
+  size_t edges = 0, boundary_edges = 0, boundary_loops = 0;
+  size_t non_manifold_edges = 0, non_manifold_vertices = 0, components = 0, parts = 0;
+  int64_t euler_characteristic = 0;  // V − E + F over referenced vertices
+};
+TopologyStats topology_stats(const Topology& topology, const Adjacency& adjacency);
+
+// ---------------------------------------------------------------------------------------------
+// Validation
+
+enum class ProblemKind {
+  kArraySize,               // part/element/node id arrays not parallel to faces/vertices
+  kIndexOutOfRange,         // a corner names a vertex ≥ vertex_count
+  kFaceDegree,              // (M3) fewer than 3 corners
+  kRepeatedVertex,          // a corner appears twice in one face
+  kDuplicateFace,           // two faces over the same vertex set
+  kNonManifoldEdge,         // (M1) an edge with 3+ faces: accepted, kept as a feature
+  kNonManifoldVertex,       // (M1) a vertex with several fans: accepted, kept as a feature
+  kInnerValence,            // (M2) an inner vertex with fewer than 3 neighbours
+  kInconsistentOrientation, // two faces walk their shared edge the same way
+  kUnreferencedVertex,      // a vertex in no face
+  kStepVertexCount,         // a time step has another vertex count
+  kNonFinitePosition,       // NaN or Inf coordinate
+  kFieldSize,               // a scalar field has the wrong number of steps or values
+  kUnreadableStep,          // a FrameSource failed to deliver a step
+  kNoSteps,                 // an animation without any time step
+};
+
+enum class Severity {
+  kError,    // the mesh cannot be processed
+  kFeature,  // accepted; the simplifier keeps it (non-manifold edges and vertices)
+  kWarning,  // processed, but worth knowing
+};
+
+struct Problem {
+  ProblemKind kind;
+  Severity severity;
+  uint32_t face = kNoIndex;
+  uint32_t vertex = kNoIndex;
+  uint32_t step = kNoIndex;
+  std::string message;  // names the rule and the location, e.g. "face 12: vertex 7 repeated"
+};
+
+inline constexpr size_t kProblemKindCount = static_cast<size_t>(ProblemKind::kNoSteps) + 1;
+
+// Every problem found. So that a file full of NaNs cannot exhaust memory, the list keeps the
+// first kMaxListedPerKind problems of each kind; count() always gives the full number.
+struct ValidationReport {
+  static constexpr size_t kMaxListedPerKind = 1000;
+
+  std::vector<Problem> problems;
+  std::array<size_t, kProblemKindCount> totals{};
+  std::array<size_t, 3> severity_totals{};
+
+  void add(Problem problem);
+  bool ok() const { return count(Severity::kError) == 0; }
+  size_t count(ProblemKind kind) const { return totals[static_cast<size_t>(kind)]; }
+  size_t count(Severity severity) const { return severity_totals[static_cast<size_t>(severity)]; }
+};
+
+// Checks connectivity and, when given, every time step (read one at a time) and the fields.
+ValidationReport validate(const Topology& topology, const FrameSource* frames = nullptr,
+                          std::span<const ScalarField> fields = {});
+inline ValidationReport validate(const Animation& animation) {
+  return validate(animation.topology, &animation.frames, animation.fields);
+}
+
+const char* to_string(ProblemKind kind);
+const char* to_string(Severity severity);
+
+// ---------------------------------------------------------------------------------------------
+// Geometry helpers
+
+struct BoundingBox {
+  std::array<float, 3> min{0, 0, 0}, max{0, 0, 0};
+  bool empty = true;
+
+  void extend(std::span<const float> xyz);  // a whole step's positions
+  void extend(const BoundingBox& other);
+  double diagonal() const;
+};
+
+}  // namespace dynpm

@@ -1,0 +1,126 @@
+// Topology, Frames and bounding boxes: the plain data every module shares.
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "dynpm/core.h"
+
+namespace dynpm {
+
+int Face::degree() const {
+  int n = 0;
+  for (uint32_t c : v) n += c != kNoVertex ? 1 : 0;
+  return n;
+}
+
+bool Face::contains(uint32_t vertex) const {
+  return std::find(v.begin(), v.end(), vertex) != v.end();
+}
+
+Topology Topology::with_vertices(uint32_t n) {
+  Topology t;
+  t.vertex_count = n;
+  t.node_ids.resize(n);
+  for (uint32_t i = 0; i < n; ++i) t.node_ids[i] = int64_t{i} + 1;
+  return t;
+}
+
+void Topology::add_face(const Face& face, int32_t part, int64_t element_id) {
+  if (element_id == 0) element_id = element_ids.empty() ? 1 : element_ids.back() + 1;
+  faces.push_back(face);
+  part_ids.push_back(part);
+  element_ids.push_back(element_id);
+}
+
+void Topology::add_triangle(uint32_t a, uint32_t b, uint32_t c, int32_t part, int64_t element_id) {
+  add_face(Face{{a, b, c, kNoVertex}}, part, element_id);
+}
+
+void Topology::add_quad(uint32_t a, uint32_t b, uint32_t c, uint32_t d, int32_t part,
+                        int64_t element_id) {
+  add_face(Face{{a, b, c, d}}, part, element_id);
+}
+
+size_t Topology::triangle_count() const {
+  return static_cast<size_t>(std::count_if(faces.begin(), faces.end(), [](const Face& f) {
+    return f.is_triangle() && f.degree() == 3;
+  }));
+}
+
+size_t Topology::quad_count() const {
+  return static_cast<size_t>(
+      std::count_if(faces.begin(), faces.end(), [](const Face& f) { return f.degree() == 4; }));
+}
+
+std::vector<int32_t> Topology::parts() const {
+  std::vector<int32_t> ids = part_ids;
+  std::sort(ids.begin(), ids.end());
+  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+  return ids;
+}
+
+void Frames::add_step(std::vector<float> xyz, double time) {
+  steps_.push_back(std::move(xyz));
+  times_.push_back(time);
+}
+
+Status Frames::read_step(size_t t, std::span<float> out) const {
+  assert(t < steps_.size());
+  if (out.size() != steps_[t].size()) {
+    return Status::error("time step " + std::to_string(t) + " holds " +
+                         std::to_string(steps_[t].size() / 3) + " vertices, expected " +
+                         std::to_string(out.size() / 3));
+  }
+  std::memcpy(out.data(), steps_[t].data(), out.size() * sizeof(float));
+  return {};
+}
+
+Result<Animation> load_all_steps(AnimationStream stream) {
+  assert(stream.frames);
+  Animation animation;
+  animation.topology = std::move(stream.topology);
+  const FrameSource& source = *stream.frames;
+  animation.frames.set_vertex_count(source.vertex_count());
+  for (size_t t = 0; t < source.step_count(); ++t) {
+    std::vector<float> xyz(size_t{source.vertex_count()} * 3);
+    DYNPM_RETURN_IF_ERROR(source.read_step(t, xyz));
+    animation.frames.add_step(std::move(xyz), source.step_time(t));
+  }
+  return animation;
+}
+
+void BoundingBox::extend(std::span<const float> xyz) {
+  for (size_t i = 0; i + 2 < xyz.size(); i += 3) {
+    const float* p = &xyz[i];
+    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) continue;
+    for (int k = 0; k < 3; ++k) {
+      min[k] = empty ? p[k] : std::min(min[k], p[k]);
+      max[k] = empty ? p[k] : std::max(max[k], p[k]);
+    }
+    empty = false;
+  }
+}
+
+void BoundingBox::extend(const BoundingBox& other) {
+  if (other.empty) return;
+  if (empty) {
+    *this = other;
+    return;
+  }
+  for (int k = 0; k < 3; ++k) {
+    min[k] = std::min(min[k], other.min[k]);
+    max[k] = std::max(max[k], other.max[k]);
+  }
+}
+
+double BoundingBox::diagonal() const {
+  if (empty) return 0.0;
+  double s = 0;
+  for (int k = 0; k < 3; ++k) {
+    double d = double{max[k]} - double{min[k]};
+    s += d * d;
+  }
+  return std::sqrt(s);
+}
+
+}  // namespace dynpm

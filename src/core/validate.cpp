@@ -1,0 +1,272 @@
+// validate(): the paper's mesh rules (M1) manifold with boundary, (M2) inner-vertex valence ≥ 3,
+// (M3) face degree ≥ 3 (Wundrak et al. 2006, §2), plus what a reader of untrusted files needs:
+// indices in range, no repeated corner, finite positions, one vertex count in every step.
+//
+// Non-manifold edges (shells meeting in a T-joint) and non-manifold vertices are accepted and
+// reported with Severity::kFeature: the simplifier keeps them instead of converting the mesh to
+// a manifold one, so a T-joint can never open into a crack (docs/architecture.md).
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "dynpm/core.h"
+
+namespace dynpm {
+namespace {
+
+std::string face_text(const Face& f) {
+  std::string s = "(";
+  for (int i = 0; i < 4 && f.v[i] != kNoVertex; ++i) {
+    if (i) s += ", ";
+    s += std::to_string(f.v[i]);
+  }
+  return s + ")";
+}
+
+void check_faces(const Topology& topology, ValidationReport& report,
+                 std::vector<uint8_t>& face_ok) {
+  const auto& faces = topology.faces;
+  face_ok.assign(faces.size(), 1);
+  for (uint32_t fi = 0; fi < faces.size(); ++fi) {
+    const Face& f = faces[fi];
+    const std::string where = "face " + std::to_string(fi) + " " + face_text(f);
+    if (f.v[0] == kNoVertex || f.v[1] == kNoVertex || f.v[2] == kNoVertex) {
+      report.add({ProblemKind::kFaceDegree, Severity::kError, fi, kNoIndex, kNoIndex,
+                  where + ": (M3) a face needs at least 3 corners, it has " +
+                      std::to_string(f.degree())});
+      face_ok[fi] = 0;
+      continue;
+    }
+    for (int i = 0; i < 4; ++i) {
+      if (f.v[i] != kNoVertex && f.v[i] >= topology.vertex_count) {
+        report.add({ProblemKind::kIndexOutOfRange, Severity::kError, fi, f.v[i], kNoIndex,
+                    where + ": corner " + std::to_string(i) + " names vertex " +
+                        std::to_string(f.v[i]) + ", but there are only " +
+                        std::to_string(topology.vertex_count) + " vertices"});
+        face_ok[fi] = 0;
+      }
+      for (int j = 0; j < i; ++j) {
+        if (f.v[i] != kNoVertex && f.v[i] == f.v[j]) {
+          report.add({ProblemKind::kRepeatedVertex, Severity::kError, fi, f.v[i], kNoIndex,
+                      where + ": vertex " + std::to_string(f.v[i]) + " appears twice"});
+          face_ok[fi] = 0;
+        }
+      }
+    }
+  }
+}
+
+void check_array_sizes(const Topology& topology, ValidationReport& report) {
+  auto check = [&](size_t have, size_t want, const char* what, const char* per) {
+    if (have != want)
+      report.add({ProblemKind::kArraySize, Severity::kError, kNoIndex, kNoIndex, kNoIndex,
+                  std::string(what) + " has " + std::to_string(have) + " entries for " +
+                      std::to_string(want) + " " + per});
+  };
+  check(topology.part_ids.size(), topology.faces.size(), "part_ids", "faces");
+  check(topology.element_ids.size(), topology.faces.size(), "element_ids", "faces");
+  check(topology.node_ids.size(), topology.vertex_count, "node_ids", "vertices");
+}
+
+// Runs on faces whose corners are in range and distinct; face numbers are the original ones.
+void check_connectivity(const Topology& good, const std::vector<uint32_t>& original_face,
+                        ValidationReport& report) {
+  const Adjacency adj = Adjacency::build(good);
+
+  // Duplicate faces: sort the faces by their sorted corners and compare neighbours.
+  std::vector<std::pair<std::array<uint32_t, 4>, uint32_t>> keyed(good.faces.size());
+  for (uint32_t fi = 0; fi < good.faces.size(); ++fi) {
+    keyed[fi] = {good.faces[fi].v, fi};
+    std::sort(keyed[fi].first.begin(), keyed[fi].first.end());
+  }
+  std::sort(keyed.begin(), keyed.end());
+  for (size_t k = 1; k < keyed.size(); ++k) {
+    if (keyed[k].first != keyed[k - 1].first) continue;
+    const uint32_t fi = keyed[k].second, first = keyed[k - 1].second;
+    report.add({ProblemKind::kDuplicateFace, Severity::kWarning, original_face[fi], kNoIndex,
+                kNoIndex,
+                "face " + std::to_string(original_face[fi]) + " " + face_text(good.faces[fi]) +
+                    " has the same vertices as face " + std::to_string(original_face[first])});
+  }
+
+  std::vector<uint32_t> valence(good.vertex_count, 0);
+  for (size_t e = 0; e < adj.edge_count(); ++e) {
+    const Edge edge = adj.edge(e);
+    ++valence[edge.a];
+    ++valence[edge.b];
+    auto ef = adj.faces_of_edge(e);
+    const std::string name = "edge (" + std::to_string(edge.a) + ", " + std::to_string(edge.b) + ")";
+    if (ef.size() >= 3) {
+      std::string list;
+      for (uint32_t f : ef) {
+        if (!list.empty()) list += ", ";
+        list += std::to_string(original_face[f]);
+      }
+      report.add({ProblemKind::kNonManifoldEdge, Severity::kFeature, original_face[ef[0]], edge.a,
+                  kNoIndex,
+                  name + ": (M1) shared by " + std::to_string(ef.size()) + " faces (" + list +
+                      "); kept as a feature"});
+    } else if (ef.size() == 2) {
+      // Consistent orientation: the two faces walk the edge in opposite directions.
+      auto walks_a_to_b = [&](const Face& f) {
+        const int d = f.degree();
+        for (int i = 0; i < d; ++i)
+          if (f.v[i] == edge.a && f.v[(i + 1) % d] == edge.b) return true;
+        return false;
+      };
+      if (walks_a_to_b(good.faces[ef[0]]) == walks_a_to_b(good.faces[ef[1]]))
+        report.add({ProblemKind::kInconsistentOrientation, Severity::kWarning,
+                    original_face[ef[1]], edge.a, kNoIndex,
+                    name + ": faces " + std::to_string(original_face[ef[0]]) + " and " +
+                        std::to_string(original_face[ef[1]]) +
+                        " walk it in the same direction (flipped normal)"});
+    }
+  }
+
+  for (uint32_t v = 0; v < good.vertex_count; ++v) {
+    const uint8_t kind = adj.vertex_kind(v);
+    const std::string name = "vertex " + std::to_string(v);
+    if (kind & kUnreferencedVertex) {
+      report.add({ProblemKind::kUnreferencedVertex, Severity::kWarning, kNoIndex, v, kNoIndex,
+                  name + ": in no face"});
+    } else if (adj.is_feature_vertex(v)) {
+      report.add({ProblemKind::kNonManifoldVertex, Severity::kFeature, kNoIndex, v, kNoIndex,
+                  name + ": (M1) its neighbourhood is not a disc or half-disc" +
+                      ((kind & kOnNonManifoldEdge) ? " (on a non-manifold edge)"
+                                                   : " (faces form several fans)") +
+                      "; kept as a feature"});
+    } else if (!(kind & kBoundaryVertex) && valence[v] < 3) {
+      report.add({ProblemKind::kInnerValence, Severity::kError, kNoIndex, v, kNoIndex,
+                  name + ": (M2) inner vertex with valence " + std::to_string(valence[v]) +
+                      ", at least 3 needed"});
+    }
+  }
+}
+
+void check_frames(const Topology& topology, const FrameSource& frames, ValidationReport& report) {
+  if (frames.step_count() == 0) {
+    report.add({ProblemKind::kNoSteps, Severity::kError, kNoIndex, kNoIndex, kNoIndex,
+                "the animation has no time step"});
+    return;
+  }
+  if (frames.vertex_count() != topology.vertex_count) {
+    report.add({ProblemKind::kStepVertexCount, Severity::kError, kNoIndex, kNoIndex, kNoIndex,
+                "the time steps hold " + std::to_string(frames.vertex_count()) +
+                    " vertices, the faces use " + std::to_string(topology.vertex_count)});
+    return;
+  }
+  std::vector<float> xyz(size_t{topology.vertex_count} * 3);
+  for (uint32_t t = 0; t < frames.step_count(); ++t) {
+    const std::string step = "step " + std::to_string(t);
+    const size_t floats = frames.step_float_count(t);
+    if (floats != xyz.size()) {
+      report.add({ProblemKind::kStepVertexCount, Severity::kError, kNoIndex, kNoIndex, t,
+                  step + ": holds " + std::to_string(floats / 3) +
+                      (floats % 3 ? " and a partial" : "") + " vertices, expected " +
+                      std::to_string(topology.vertex_count)});
+      continue;
+    }
+    if (Status s = frames.read_step(t, xyz); !s.ok()) {
+      report.add({ProblemKind::kUnreadableStep, Severity::kError, kNoIndex, kNoIndex, t,
+                  step + ": " + s.message()});
+      continue;
+    }
+    for (uint32_t v = 0; v < topology.vertex_count; ++v) {
+      const float* p = &xyz[size_t{v} * 3];
+      if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
+        report.add({ProblemKind::kNonFinitePosition, Severity::kError, kNoIndex, v, t,
+                    step + ", vertex " + std::to_string(v) + ": position (" +
+                        std::to_string(p[0]) + ", " + std::to_string(p[1]) + ", " +
+                        std::to_string(p[2]) + ") is not finite"});
+    }
+  }
+}
+
+void check_fields(const Topology& topology, size_t steps, std::span<const ScalarField> fields,
+                  ValidationReport& report) {
+  for (const ScalarField& field : fields) {
+    if (field.steps.size() != steps) {
+      report.add({ProblemKind::kFieldSize, Severity::kError, kNoIndex, kNoIndex, kNoIndex,
+                  "field '" + field.name + "' has " + std::to_string(field.steps.size()) +
+                      " steps, the animation " + std::to_string(steps)});
+      continue;
+    }
+    for (uint32_t t = 0; t < field.steps.size(); ++t)
+      if (field.steps[t].size() != topology.vertex_count)
+        report.add({ProblemKind::kFieldSize, Severity::kError, kNoIndex, kNoIndex, t,
+                    "field '" + field.name + "', step " + std::to_string(t) + ": " +
+                        std::to_string(field.steps[t].size()) + " values for " +
+                        std::to_string(topology.vertex_count) + " vertices"});
+  }
+}
+
+}  // namespace
+
+void ValidationReport::add(Problem problem) {
+  size_t& total = totals[static_cast<size_t>(problem.kind)];
+  ++severity_totals[static_cast<size_t>(problem.severity)];
+  if (total++ < kMaxListedPerKind) problems.push_back(std::move(problem));
+}
+
+ValidationReport validate(const Topology& topology, const FrameSource* frames,
+                          std::span<const ScalarField> fields) {
+  ValidationReport report;
+  check_array_sizes(topology, report);
+
+  std::vector<uint8_t> face_ok;
+  check_faces(topology, report, face_ok);
+  if (std::all_of(face_ok.begin(), face_ok.end(), [](uint8_t ok) { return ok; })) {
+    std::vector<uint32_t> identity(topology.faces.size());
+    for (uint32_t i = 0; i < identity.size(); ++i) identity[i] = i;
+    check_connectivity(topology, identity, report);
+  } else {
+    // Check the rest of the mesh over the faces that can be trusted.
+    Topology good;
+    good.vertex_count = topology.vertex_count;
+    std::vector<uint32_t> original;
+    for (uint32_t fi = 0; fi < topology.faces.size(); ++fi) {
+      if (!face_ok[fi]) continue;
+      good.faces.push_back(topology.faces[fi]);
+      original.push_back(fi);
+    }
+    check_connectivity(good, original, report);
+  }
+
+  if (frames) {
+    check_frames(topology, *frames, report);
+    check_fields(topology, frames->step_count(), fields, report);
+  }
+  return report;
+}
+
+const char* to_string(ProblemKind kind) {
+  switch (kind) {
+    case ProblemKind::kArraySize: return "array-size";
+    case ProblemKind::kIndexOutOfRange: return "index-out-of-range";
+    case ProblemKind::kFaceDegree: return "face-degree (M3)";
+    case ProblemKind::kRepeatedVertex: return "repeated-vertex";
+    case ProblemKind::kDuplicateFace: return "duplicate-face";
+    case ProblemKind::kNonManifoldEdge: return "non-manifold-edge (M1)";
+    case ProblemKind::kNonManifoldVertex: return "non-manifold-vertex (M1)";
+    case ProblemKind::kInnerValence: return "inner-valence (M2)";
+    case ProblemKind::kInconsistentOrientation: return "inconsistent-orientation";
+    case ProblemKind::kUnreferencedVertex: return "unreferenced-vertex";
+    case ProblemKind::kStepVertexCount: return "step-vertex-count";
+    case ProblemKind::kNonFinitePosition: return "non-finite-position";
+    case ProblemKind::kFieldSize: return "field-size";
+    case ProblemKind::kUnreadableStep: return "unreadable-step";
+    case ProblemKind::kNoSteps: return "no-steps";
+  }
+  return "unknown";
+}
+
+const char* to_string(Severity severity) {
+  switch (severity) {
+    case Severity::kError: return "error";
+    case Severity::kFeature: return "feature";
+    case Severity::kWarning: return "warning";
+  }
+  return "unknown";
+}
+
+}  // namespace dynpm

@@ -1,0 +1,80 @@
+#include "file_bytes.h"
+
+#include <unistd.h>
+
+#include <atomic>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <memory>
+
+namespace dynpm::io {
+namespace {
+
+struct FileCloser {
+  void operator()(std::FILE* f) const { std::fclose(f); }
+};
+using FilePtr = std::unique_ptr<std::FILE, FileCloser>;
+
+Result<FilePtr> open_for_reading(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    return Status::error(path + ": is a directory, not a file");
+  FilePtr f(std::fopen(path.c_str(), "rb"));
+  if (!f) return Status::error(path + ": cannot open: " + std::strerror(errno));
+  return f;
+}
+
+}  // namespace
+
+Result<std::string> read_file(const std::string& path) {
+  auto f = open_for_reading(path);
+  if (!f) return f.status();
+  std::string bytes;
+  if (std::fseek(f->get(), 0, SEEK_END) == 0) {
+    const long size = std::ftell(f->get());
+    if (size > 0) bytes.reserve(static_cast<size_t>(size));
+    std::rewind(f->get());
+  }
+  char buffer[1 << 16];
+  size_t n;
+  while ((n = std::fread(buffer, 1, sizeof buffer, f->get())) > 0) bytes.append(buffer, n);
+  if (std::ferror(f->get())) return Status::error(path + ": read failed: " + std::strerror(errno));
+  return bytes;
+}
+
+Result<std::string> read_file_head(const std::string& path, size_t n) {
+  auto f = open_for_reading(path);
+  if (!f) return f.status();
+  std::string bytes(n, '\0');
+  bytes.resize(std::fread(bytes.data(), 1, n, f->get()));
+  if (std::ferror(f->get())) return Status::error(path + ": read failed: " + std::strerror(errno));
+  return bytes;
+}
+
+Status write_file_atomically(const std::string& path, std::string_view bytes) {
+  static std::atomic<unsigned> counter{0};
+  const std::string temp =
+      path + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
+  {
+    FilePtr f(std::fopen(temp.c_str(), "wb"));
+    if (!f) return Status::error(path + ": cannot write: " + std::strerror(errno));
+    const bool written = std::fwrite(bytes.data(), 1, bytes.size(), f.get()) == bytes.size() &&
+                         std::fflush(f.get()) == 0 && ::fsync(::fileno(f.get())) == 0;
+    if (!written) {
+      const std::string cause = std::strerror(errno);
+      f.reset();
+      std::remove(temp.c_str());
+      return Status::error(path + ": write failed: " + cause);
+    }
+  }
+  if (std::rename(temp.c_str(), path.c_str()) != 0) {
+    const std::string cause = std::strerror(errno);
+    std::remove(temp.c_str());
+    return Status::error(path + ": cannot rename the finished file into place: " + cause);
+  }
+  return {};
+}
+
+}  // namespace dynpm::io

@@ -1,0 +1,44 @@
+// The readers and writers behind dynpm/io.h, one file per format. Each parser turns the bytes of
+// one file into a ParsedMesh (one topology, one step of positions) or an error naming the file
+// and place; each writer turns a mesh into bytes that write_file_atomically() puts in place.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "dynpm/io.h"
+
+namespace dynpm::io {
+
+struct ParsedMesh {
+  Topology topology;
+  std::vector<float> positions;       // 3 · vertex_count
+  std::vector<uint32_t> face_places;  // per face, the line (text) or byte offset (binary) it came from
+  bool places_are_lines = true;
+  std::optional<double> time;         // from a "time <t>" note in the header comments
+};
+
+Result<ParsedMesh> parse_obj(std::string_view text, const std::string& path,
+                             const ReadOptions& options);
+Result<ParsedMesh> parse_ply(std::string_view bytes, const std::string& path,
+                             const ReadOptions& options);
+
+std::string write_obj(const Topology& topology, std::span<const float> positions,
+                      const WriteOptions& options);
+std::string write_ply(const Topology& topology, std::span<const float> positions,
+                      const WriteOptions& options);
+std::string write_vtk(const Topology& topology, std::span<const float> positions,
+                      const WriteOptions& options, std::span<const NamedValues> point_fields);
+
+// "time <number>" in a header comment ("# cb5.frd frame 3: time 0.12 (frd block 3)").
+std::optional<double> time_from_comment(std::string_view comment);
+
+// Adds a face of n ≥ 3 corners: as is when n ≤ 4; as a fan of triangles around corner 0 when
+// options.split_polygons is set; otherwise an error naming the place.
+Status add_polygon(std::span<const uint32_t> corners, int32_t part, int64_t element_id,
+                   uint32_t place, const std::string& where, const ReadOptions& options,
+                   ParsedMesh& mesh, size_t& split_count);
+
+}  // namespace dynpm::io

@@ -1,0 +1,315 @@
+// Format detection, one-file reads and writes, and animations as sequences of per-step files.
+#include <glob.h>
+
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <filesystem>
+
+#include "file_bytes.h"
+#include "formats.h"
+
+namespace dynpm {
+namespace {
+
+std::string lowercase_extension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext;
+}
+
+Result<io::ParsedMesh> parse_mesh_file(const std::string& path, const ReadOptions& options) {
+  auto format = detect_format(path);
+  if (!format) return format.status();
+  if (*format == FileFormat::kVtk)
+    return Status::error(path + ": reading VTK files is not supported yet (write-only for now)");
+  auto bytes = io::read_file(path);
+  if (!bytes) return bytes.status();
+  if (bytes->empty()) return Status::error(path + ": the file is empty");
+  if (*format == FileFormat::kPly) return io::parse_ply(*bytes, path, options);
+  return io::parse_obj(*bytes, path, options);
+}
+
+std::string face_text(const Face& f) {
+  std::string s;
+  for (uint32_t c : f.v)
+    if (c != kNoVertex) {
+      if (!s.empty()) s += ' ';
+      s += std::to_string(c);
+    }
+  return "(" + s + ")";
+}
+
+// Step t of an animation lives in paths[t]; each read parses that file and checks that it
+// repeats the first file's faces.
+class FileSequence final : public FrameSource {
+ public:
+  FileSequence(std::vector<std::string> paths, std::vector<double> times,
+               std::shared_ptr<const Topology> topology, std::vector<float> first_step,
+               ReadOptions options)
+      : paths_(std::move(paths)),
+        times_(std::move(times)),
+        topology_(std::move(topology)),
+        first_step_(std::move(first_step)),
+        options_(std::move(options)) {}
+
+  uint32_t vertex_count() const override { return topology_->vertex_count; }
+  size_t step_count() const override { return paths_.size(); }
+  double step_time(size_t t) const override { return times_[t]; }
+
+  Status read_step(size_t t, std::span<float> out) const override {
+    assert(t < paths_.size() && out.size() == size_t{vertex_count()} * 3);
+    if (t == 0) {
+      std::copy(first_step_.begin(), first_step_.end(), out.begin());
+      return {};
+    }
+    auto mesh = parse_mesh_file(paths_[t], options_);
+    if (!mesh) return mesh.status();
+    DYNPM_RETURN_IF_ERROR(check_same_faces(t, *mesh));
+    std::copy(mesh->positions.begin(), mesh->positions.end(), out.begin());
+    return {};
+  }
+
+ private:
+  Status check_same_faces(size_t t, const io::ParsedMesh& mesh) const {
+    const Topology& first = *topology_;
+    const std::string& path = paths_[t];
+    if (mesh.topology.vertex_count != first.vertex_count)
+      return Status::error(path + ": " + std::to_string(mesh.topology.vertex_count) +
+                           " vertices, but " + paths_[0] + " has " +
+                           std::to_string(first.vertex_count) +
+                           " (every time step must have the same vertices)");
+    if (mesh.topology.faces.size() != first.faces.size())
+      return Status::error(path + ": " + std::to_string(mesh.topology.faces.size()) +
+                           " faces, but " + paths_[0] + " has " +
+                           std::to_string(first.faces.size()) +
+                           " (every time step must have the same faces)");
+    for (size_t fi = 0; fi < first.faces.size(); ++fi) {
+      if (mesh.topology.faces[fi] == first.faces[fi]) continue;
+      std::string place = mesh.places_are_lines ? ":" : ": byte ";
+      place += std::to_string(mesh.face_places[fi]);
+      return Status::error(path + place + ": face " + std::to_string(fi) + " is " +
+                           face_text(mesh.topology.faces[fi]) + " here but " +
+                           face_text(first.faces[fi]) + " in " + paths_[0] +
+                           " (vertex numbers from 0; every time step must have the same faces)");
+    }
+    return {};
+  }
+
+  std::vector<std::string> paths_;
+  std::vector<double> times_;
+  std::shared_ptr<const Topology> topology_;
+  std::vector<float> first_step_;
+  ReadOptions options_;
+};
+
+// The time a step file states in its header comments, without reading the whole file.
+std::optional<double> peek_time(const std::string& path) {
+  auto head = io::read_file_head(path, 512);
+  if (!head) return std::nullopt;
+  std::string_view text = *head;
+  if (text.substr(0, 3) == "ply") {
+    for (size_t at = text.find("\ncomment"); at != std::string_view::npos;
+         at = text.find("\ncomment", at + 1)) {
+      const size_t eol = text.find('\n', at + 1);
+      if (auto t = io::time_from_comment(text.substr(at + 1, eol - at - 1))) return t;
+    }
+    return std::nullopt;
+  }
+  // OBJ: comment lines before the first data line.
+  size_t pos = 0;
+  while (pos < text.size() && text[pos] == '#') {
+    const size_t eol = text.find('\n', pos);
+    if (auto t = io::time_from_comment(text.substr(pos, eol - pos))) return t;
+    if (eol == std::string_view::npos) break;
+    pos = eol + 1;
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+const char* to_string(FileFormat format) {
+  switch (format) {
+    case FileFormat::kObj: return "OBJ";
+    case FileFormat::kPly: return "PLY";
+    case FileFormat::kVtk: return "VTK";
+    case FileFormat::kUnknown: return "unknown";
+  }
+  return "unknown";
+}
+
+FileFormat format_from_extension(const std::string& path) {
+  const std::string ext = lowercase_extension(path);
+  if (ext == ".obj") return FileFormat::kObj;
+  if (ext == ".ply") return FileFormat::kPly;
+  if (ext == ".vtk") return FileFormat::kVtk;
+  return FileFormat::kUnknown;
+}
+
+Result<FileFormat> detect_format(const std::string& path) {
+  auto head = io::read_file_head(path, 64);
+  if (!head) return head.status();
+  std::string_view text = *head;
+  if (text.substr(0, 4) == "ply\n" || text.substr(0, 5) == "ply\r\n") return FileFormat::kPly;
+  if (text.substr(0, 14) == "# vtk DataFile") return FileFormat::kVtk;
+  const FileFormat by_name = format_from_extension(path);
+  if (by_name != FileFormat::kUnknown) return by_name;
+  return Status::error(path + ": cannot tell the file format (expected .obj, .ply or .vtk)");
+}
+
+Result<Animation> read_mesh(const std::string& path, const ReadOptions& options) {
+  auto mesh = parse_mesh_file(path, options);
+  if (!mesh) return mesh.status();
+  Animation animation;
+  animation.topology = std::move(mesh->topology);
+  animation.frames.set_vertex_count(animation.topology.vertex_count);
+  animation.frames.add_step(std::move(mesh->positions), mesh->time.value_or(0.0));
+  return animation;
+}
+
+Result<AnimationStream> open_animation(std::span<const std::string> paths,
+                                       const ReadOptions& options) {
+  if (paths.empty()) return Status::error("no input file given");
+  auto first = parse_mesh_file(paths[0], options);
+  if (!first) return first.status();
+
+  std::vector<double> times(paths.size());
+  times[0] = first->time.value_or(0.0);
+  for (size_t t = 1; t < paths.size(); ++t)
+    times[t] = peek_time(paths[t]).value_or(static_cast<double>(t));
+
+  AnimationStream stream;
+  auto topology = std::make_shared<const Topology>(first->topology);
+  stream.topology = first->topology;
+  // The first step's warnings were given already; the others would repeat them per file.
+  ReadOptions quiet = options;
+  quiet.warn = nullptr;
+  stream.frames = std::make_unique<FileSequence>(
+      std::vector<std::string>(paths.begin(), paths.end()), std::move(times), std::move(topology),
+      std::move(first->positions), std::move(quiet));
+  return stream;
+}
+
+Result<Animation> read_animation(std::span<const std::string> paths, const ReadOptions& options) {
+  auto stream = open_animation(paths, options);
+  if (!stream) return stream.status();
+  return load_all_steps(std::move(stream).value());
+}
+
+bool natural_less(const std::string& a, const std::string& b) {
+  size_t i = 0, j = 0;
+  while (i < a.size() && j < b.size()) {
+    const bool da = std::isdigit(static_cast<unsigned char>(a[i]));
+    const bool db = std::isdigit(static_cast<unsigned char>(b[j]));
+    if (da && db) {
+      size_t ie = i, je = j;
+      while (ie < a.size() && std::isdigit(static_cast<unsigned char>(a[ie]))) ++ie;
+      while (je < b.size() && std::isdigit(static_cast<unsigned char>(b[je]))) ++je;
+      size_t is = i, js = j;  // skip leading zeros, then the longer run is the larger number
+      while (is + 1 < ie && a[is] == '0') ++is;
+      while (js + 1 < je && b[js] == '0') ++js;
+      if (ie - is != je - js) return ie - is < je - js;
+      const int c = a.compare(is, ie - is, b, js, je - js);
+      if (c != 0) return c < 0;
+      if (ie - i != je - j) return ie - i < je - j;  // "01" after "1": a stable tie-break
+      i = ie, j = je;
+    } else {
+      if (a[i] != b[j]) return a[i] < b[j];
+      ++i, ++j;
+    }
+  }
+  return a.size() - i < b.size() - j;
+}
+
+Result<std::vector<std::string>> expand_inputs(std::span<const std::string> arguments) {
+  std::vector<std::string> paths;
+  for (const std::string& arg : arguments) {
+    if (arg.find_first_of("*?[") == std::string::npos) {
+      std::error_code ec;
+      if (std::filesystem::is_directory(arg, ec))
+        return Status::error(arg + ": is a directory; give the files (e.g. '" + arg +
+                             "/frame_*.obj')");
+      if (!std::filesystem::exists(arg, ec)) return Status::error(arg + ": no such file");
+      paths.push_back(arg);
+      continue;
+    }
+    glob_t matches{};
+    const int rc = ::glob(arg.c_str(), 0, nullptr, &matches);
+    std::vector<std::string> found;
+    if (rc == 0)
+      for (size_t i = 0; i < matches.gl_pathc; ++i) found.emplace_back(matches.gl_pathv[i]);
+    ::globfree(&matches);
+    if (found.empty()) return Status::error(arg + ": no file matches this pattern");
+    std::sort(found.begin(), found.end(), natural_less);
+    paths.insert(paths.end(), found.begin(), found.end());
+  }
+  return paths;
+}
+
+Status write_mesh(const std::string& path, const Topology& topology,
+                  std::span<const float> positions, const WriteOptions& options,
+                  std::span<const NamedValues> point_fields) {
+  assert(positions.size() == size_t{topology.vertex_count} * 3);
+  std::string bytes;
+  switch (format_from_extension(path)) {
+    case FileFormat::kObj: bytes = io::write_obj(topology, positions, options); break;
+    case FileFormat::kPly: bytes = io::write_ply(topology, positions, options); break;
+    case FileFormat::kVtk: bytes = io::write_vtk(topology, positions, options, point_fields); break;
+    case FileFormat::kUnknown:
+      return Status::error(path + ": cannot tell the output format from the extension "
+                                  "(use .obj, .ply or .vtk)");
+  }
+  return io::write_file_atomically(path, bytes);
+}
+
+namespace {
+
+// The "{...}" field of a step pattern: its position, length and zero-padded width.
+struct StepField {
+  size_t at = std::string::npos, length = 0;
+  int width = 0;
+};
+
+Result<StepField> find_step_field(const std::string& pattern) {
+  const size_t open = pattern.find('{');
+  if (open == std::string::npos)
+    return Status::error(pattern + ": an output for several steps needs a step field such as "
+                                   "'frame_{:03d}.obj'");
+  const size_t close = pattern.find('}', open);
+  if (close == std::string::npos) return Status::error(pattern + ": '{' without '}'");
+  if (pattern.find('{', close) != std::string::npos)
+    return Status::error(pattern + ": more than one '{...}' step field");
+  std::string spec = pattern.substr(open + 1, close - open - 1);
+  StepField field{open, close - open + 1, 0};
+  if (spec.empty() || spec == ":d") return field;
+  if (spec.size() >= 3 && spec[0] == ':' && spec.back() == 'd') {
+    const std::string digits = spec.substr(1, spec.size() - 2);
+    int width = 0;
+    auto [p, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), width);
+    if (ec == std::errc() && p == digits.data() + digits.size() && width >= 0 && width <= 12) {
+      field.width = width;
+      return field;
+    }
+  }
+  return Status::error(pattern + ": unsupported step field '{" + spec +
+                       "}' (use {}, {:d} or {:03d})");
+}
+
+}  // namespace
+
+bool has_step_field(const std::string& pattern) { return find_step_field(pattern).ok(); }
+
+Result<std::string> step_path(const std::string& pattern, size_t step) {
+  auto field = find_step_field(pattern);
+  if (!field) return field.status();
+  std::string number = std::to_string(step);
+  if (static_cast<int>(number.size()) < field->width)
+    number.insert(0, static_cast<size_t>(field->width) - number.size(), '0');
+  std::string path = pattern;
+  path.replace(field->at, field->length, number);
+  return path;
+}
+
+}  // namespace dynpm

@@ -1,0 +1,405 @@
+// Stanford PLY (ascii, binary little- and big-endian). The vertex element's x, y, z (any numeric
+// type) and optional node_id, the face element's vertex_indices/vertex_index list and optional
+// part_id and element_id are read; every other element and property is skipped by its declared
+// type. Counts in the header are checked against the bytes left before anything is allocated.
+#include <algorithm>
+#include <bit>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+
+#include "formats.h"
+
+namespace dynpm::io {
+namespace {
+
+enum class Encoding { kAscii, kBinaryLittle, kBinaryBig };
+
+enum class ScalarType { kInt8, kUInt8, kInt16, kUInt16, kInt32, kUInt32, kFloat32, kFloat64 };
+
+std::optional<ScalarType> scalar_type(std::string_view name) {
+  if (name == "char" || name == "int8") return ScalarType::kInt8;
+  if (name == "uchar" || name == "uint8") return ScalarType::kUInt8;
+  if (name == "short" || name == "int16") return ScalarType::kInt16;
+  if (name == "ushort" || name == "uint16") return ScalarType::kUInt16;
+  if (name == "int" || name == "int32") return ScalarType::kInt32;
+  if (name == "uint" || name == "uint32") return ScalarType::kUInt32;
+  if (name == "float" || name == "float32") return ScalarType::kFloat32;
+  if (name == "double" || name == "float64") return ScalarType::kFloat64;
+  return std::nullopt;
+}
+
+size_t size_of(ScalarType t) {
+  switch (t) {
+    case ScalarType::kInt8: case ScalarType::kUInt8: return 1;
+    case ScalarType::kInt16: case ScalarType::kUInt16: return 2;
+    case ScalarType::kInt32: case ScalarType::kUInt32: case ScalarType::kFloat32: return 4;
+    case ScalarType::kFloat64: return 8;
+  }
+  return 1;
+}
+
+struct Property {
+  std::string name;
+  ScalarType type = ScalarType::kFloat32;
+  bool is_list = false;
+  ScalarType count_type = ScalarType::kUInt8;
+};
+
+struct Element {
+  std::string name;
+  uint64_t count = 0;
+  std::vector<Property> properties;
+};
+
+// Reads one value at a time from the body, in the file's encoding.
+class BodyReader {
+ public:
+  BodyReader(std::string_view body, size_t body_offset, Encoding encoding, const std::string& path)
+      : body_(body), offset_(body_offset), encoding_(encoding), path_(path) {}
+
+  bool read(ScalarType type, double& out) {
+    if (encoding_ == Encoding::kAscii) return read_ascii(out);
+    const size_t n = size_of(type);
+    if (pos_ + n > body_.size()) return fail("the file ends inside the data (truncated)");
+    unsigned char b[8];
+    std::memcpy(b, body_.data() + pos_, n);
+    if ((encoding_ == Encoding::kBinaryBig) == (std::endian::native == std::endian::little))
+      std::reverse(b, b + n);
+    pos_ += n;
+    switch (type) {
+      case ScalarType::kInt8: { int8_t v; std::memcpy(&v, b, 1); out = v; break; }
+      case ScalarType::kUInt8: out = b[0]; break;
+      case ScalarType::kInt16: { int16_t v; std::memcpy(&v, b, 2); out = v; break; }
+      case ScalarType::kUInt16: { uint16_t v; std::memcpy(&v, b, 2); out = v; break; }
+      case ScalarType::kInt32: { int32_t v; std::memcpy(&v, b, 4); out = v; break; }
+      case ScalarType::kUInt32: { uint32_t v; std::memcpy(&v, b, 4); out = v; break; }
+      case ScalarType::kFloat32: { float v; std::memcpy(&v, b, 4); out = v; break; }
+      case ScalarType::kFloat64: { double v; std::memcpy(&v, b, 8); out = v; break; }
+    }
+    return true;
+  }
+
+  // Ascii PLY puts one record per line; a record must not run into the next line.
+  bool end_record() {
+    if (encoding_ != Encoding::kAscii) return true;
+    while (pos_ < body_.size() && (body_[pos_] == ' ' || body_[pos_] == '\t' || body_[pos_] == '\r'))
+      ++pos_;
+    if (pos_ < body_.size() && body_[pos_] != '\n') return fail("more values than the header declares");
+    if (pos_ < body_.size()) ++pos_, ++line_;
+    return true;
+  }
+
+  size_t remaining() const { return body_.size() - pos_; }
+  // Where the reader is: a line for ascii, a byte offset for binary.
+  uint32_t place() const {
+    return encoding_ == Encoding::kAscii ? line_ : static_cast<uint32_t>(offset_ + pos_);
+  }
+  std::string where() const {
+    return encoding_ == Encoding::kAscii ? path_ + ":" + std::to_string(line_)
+                                         : path_ + ": byte " + std::to_string(offset_ + pos_);
+  }
+  void set_first_line(uint32_t line) { line_ = line; }
+  const std::string& error() const { return error_; }
+
+ private:
+  bool read_ascii(double& out) {
+    while (pos_ < body_.size() && (body_[pos_] == ' ' || body_[pos_] == '\t' || body_[pos_] == '\r'))
+      ++pos_;
+    if (pos_ >= body_.size()) return fail("the file ends inside the data (truncated)");
+    if (body_[pos_] == '\n') return fail("fewer values on this line than the header declares");
+    const char* p = body_.data() + pos_;
+    const char* end = body_.data() + body_.size();
+    if (*p == '+') ++p;
+    auto [next, ec] = std::from_chars(p, end, out);
+    if (ec != std::errc()) return fail("not a number");
+    pos_ = static_cast<size_t>(next - body_.data());
+    return true;
+  }
+  bool fail(const std::string& cause) {
+    error_ = where() + ": " + cause;
+    return false;
+  }
+
+  std::string_view body_;
+  size_t offset_;
+  size_t pos_ = 0;
+  uint32_t line_ = 1;
+  Encoding encoding_;
+  const std::string& path_;
+  std::string error_;
+};
+
+struct Header {
+  Encoding encoding = Encoding::kAscii;
+  std::vector<Element> elements;
+  size_t body_offset = 0;
+  uint32_t body_line = 1;
+  std::optional<double> time;
+};
+
+Result<Header> parse_header(std::string_view bytes, const std::string& path) {
+  Header header;
+  size_t pos = 0;
+  uint32_t line = 0;
+  bool saw_format = false;
+  while (true) {
+    const size_t eol = bytes.find('\n', pos);
+    ++line;
+    if (eol == std::string_view::npos)
+      return Status::error(path + ":" + std::to_string(line) +
+                           ": the header never ends (no end_header line)");
+    std::string_view text = bytes.substr(pos, eol - pos);
+    pos = eol + 1;
+    if (!text.empty() && text.back() == '\r') text.remove_suffix(1);
+    const std::string where = path + ":" + std::to_string(line);
+
+    std::vector<std::string_view> words;
+    for (size_t i = 0; i < text.size();) {
+      while (i < text.size() && (text[i] == ' ' || text[i] == '\t')) ++i;
+      const size_t start = i;
+      while (i < text.size() && text[i] != ' ' && text[i] != '\t') ++i;
+      if (i > start) words.push_back(text.substr(start, i - start));
+    }
+    if (line == 1) {
+      if (words.size() != 1 || words[0] != "ply")
+        return Status::error(where + ": not a PLY file (it must start with 'ply')");
+      continue;
+    }
+    if (words.empty()) continue;
+    if (words[0] == "comment" || words[0] == "obj_info") {
+      if (!header.time) header.time = time_from_comment(text);
+    } else if (words[0] == "format") {
+      if (words.size() < 2) return Status::error(where + ": 'format' without an encoding");
+      if (words[1] == "ascii") header.encoding = Encoding::kAscii;
+      else if (words[1] == "binary_little_endian") header.encoding = Encoding::kBinaryLittle;
+      else if (words[1] == "binary_big_endian") header.encoding = Encoding::kBinaryBig;
+      else return Status::error(where + ": unknown PLY format '" + std::string(words[1]) + "'");
+      saw_format = true;
+    } else if (words[0] == "element") {
+      uint64_t count = 0;
+      if (words.size() != 3 ||
+          std::from_chars(words[2].data(), words[2].data() + words[2].size(), count).ec !=
+              std::errc())
+        return Status::error(where + ": expected 'element <name> <count>'");
+      header.elements.push_back({std::string(words[1]), count, {}});
+    } else if (words[0] == "property") {
+      if (header.elements.empty())
+        return Status::error(where + ": 'property' before any 'element'");
+      Property property;
+      if (words.size() == 5 && words[1] == "list") {
+        auto count_type = scalar_type(words[2]);
+        auto item_type = scalar_type(words[3]);
+        if (!count_type || !item_type)
+          return Status::error(where + ": unknown property type in a list");
+        property = {std::string(words[4]), *item_type, true, *count_type};
+      } else if (words.size() == 3) {
+        auto type = scalar_type(words[1]);
+        if (!type)
+          return Status::error(where + ": unknown property type '" + std::string(words[1]) + "'");
+        property = {std::string(words[2]), *type, false, ScalarType::kUInt8};
+      } else {
+        return Status::error(where + ": expected 'property <type> <name>' or "
+                                     "'property list <count type> <item type> <name>'");
+      }
+      header.elements.back().properties.push_back(property);
+    } else if (words[0] == "end_header") {
+      break;
+    } else {
+      return Status::error(where + ": unknown header line '" + std::string(text) + "'");
+    }
+  }
+  if (!saw_format) return Status::error(path + ": the header has no 'format' line");
+  header.body_offset = pos;
+  header.body_line = line + 1;
+  return header;
+}
+
+int find_property(const Element& e, std::string_view name) {
+  for (size_t i = 0; i < e.properties.size(); ++i)
+    if (e.properties[i].name == name) return static_cast<int>(i);
+  return -1;
+}
+
+}  // namespace
+
+Result<ParsedMesh> parse_ply(std::string_view bytes, const std::string& path,
+                             const ReadOptions& options) {
+  auto header = parse_header(bytes, path);
+  if (!header) return header.status();
+  BodyReader reader(bytes.substr(header->body_offset), header->body_offset, header->encoding, path);
+  reader.set_first_line(header->body_line);
+
+  ParsedMesh mesh;
+  mesh.places_are_lines = header->encoding == Encoding::kAscii;
+  mesh.time = header->time;
+  bool have_vertices = false, have_faces = false;
+  size_t split_count = 0;
+  std::vector<uint32_t> corners;
+
+  for (const Element& element : header->elements) {
+    // Every record takes at least one byte per property (two in ascii: value and separator),
+    // so a count the remaining bytes cannot hold is refused before anything is allocated.
+    auto check_count = [&](const Element& e) -> Status {
+      size_t min_record = 0;
+      for (const Property& p : e.properties)
+        min_record += header->encoding == Encoding::kAscii ? 2 : size_of(p.is_list ? p.count_type : p.type);
+      if (min_record > 0 && e.count > reader.remaining() / min_record)
+        return Status::error(path + ": element '" + e.name + "' claims " + std::to_string(e.count) +
+                             " records, more than the " + std::to_string(reader.remaining()) +
+                             " bytes left can hold");
+      return {};
+    };
+    const bool is_vertex = element.name == "vertex";
+    const bool is_face = element.name == "face";
+    int x = -1, y = -1, z = -1, node = -1, list = -1, part = -1, elem = -1;
+    if (is_vertex) {
+      if (have_vertices) return Status::error(path + ": two 'vertex' elements");
+      x = find_property(element, "x"), y = find_property(element, "y"), z = find_property(element, "z");
+      node = find_property(element, "node_id");
+      if (x < 0 || y < 0 || z < 0)
+        return Status::error(path + ": the vertex element lacks x, y or z");
+      DYNPM_RETURN_IF_ERROR(check_count(element));
+      if (element.count >= kNoVertex)
+        return Status::error(path + ": too many vertices (" + std::to_string(element.count) + ")");
+      mesh.positions.resize(element.count * 3);
+      mesh.topology = Topology::with_vertices(static_cast<uint32_t>(element.count));
+      have_vertices = true;
+    } else if (is_face) {
+      if (have_faces) return Status::error(path + ": two 'face' elements");
+      list = find_property(element, "vertex_indices");
+      if (list < 0) list = find_property(element, "vertex_index");
+      if (list < 0 || !element.properties[list].is_list)
+        return Status::error(path + ": the face element lacks a vertex_indices list");
+      DYNPM_RETURN_IF_ERROR(check_count(element));
+      mesh.topology.faces.reserve(element.count);
+      part = find_property(element, "part_id");
+      elem = find_property(element, "element_id");
+      have_faces = true;
+    } else {
+      DYNPM_RETURN_IF_ERROR(check_count(element));
+    }
+
+    for (uint64_t r = 0; r < element.count; ++r) {
+      const uint32_t place = reader.place();
+      int32_t part_id = 0;
+      int64_t element_id = 0;
+      corners.clear();
+      for (int pi = 0; pi < static_cast<int>(element.properties.size()); ++pi) {
+        const Property& property = element.properties[pi];
+        double value = 0;
+        if (property.is_list) {
+          double n = 0;
+          if (!reader.read(property.count_type, n)) return Status::error(reader.error());
+          if (n < 0 || n > 1e6 || n != std::floor(n))
+            return Status::error(reader.where() + ": bad list length " + std::to_string(n));
+          for (int k = 0; k < static_cast<int>(n); ++k) {
+            if (!reader.read(property.type, value)) return Status::error(reader.error());
+            if (pi == list) {
+              if (value < 0 || value != std::floor(value) || value >= mesh.topology.vertex_count)
+                return Status::error(reader.where() + ": face index " + std::to_string(value) +
+                                     " is not a vertex (there are " +
+                                     std::to_string(mesh.topology.vertex_count) + ")");
+              corners.push_back(static_cast<uint32_t>(value));
+            }
+          }
+          continue;
+        }
+        if (!reader.read(property.type, value)) return Status::error(reader.error());
+        if (is_vertex) {
+          if (pi == x) mesh.positions[r * 3 + 0] = static_cast<float>(value);
+          if (pi == y) mesh.positions[r * 3 + 1] = static_cast<float>(value);
+          if (pi == z) mesh.positions[r * 3 + 2] = static_cast<float>(value);
+          if (pi == node) mesh.topology.node_ids[r] = static_cast<int64_t>(value);
+        } else if (is_face) {
+          if (pi == part) part_id = static_cast<int32_t>(value);
+          if (pi == elem) element_id = static_cast<int64_t>(value);
+        }
+      }
+      if (is_face) {
+        if (!have_vertices)
+          return Status::error(path + ": faces come before the vertex element");
+        DYNPM_RETURN_IF_ERROR(add_polygon(corners, part_id, element_id, place, reader.where(),
+                                          options, mesh, split_count));
+      }
+      if (!reader.end_record()) return Status::error(reader.error());
+    }
+  }
+  if (!have_vertices || mesh.topology.vertex_count == 0)
+    return Status::error(path + ": no vertices");
+  if (!have_faces || mesh.topology.faces.empty()) return Status::error(path + ": no faces");
+  if (split_count && options.warn)
+    options.warn(path + ": " + std::to_string(split_count) +
+                 " faces with more than 4 corners split into triangle fans");
+  return mesh;
+}
+
+namespace {
+
+template <class T>
+void append_le(std::string& out, T value) {
+  char b[sizeof(T)];
+  std::memcpy(b, &value, sizeof(T));
+  if constexpr (std::endian::native == std::endian::big) std::reverse(b, b + sizeof(T));
+  out.append(b, sizeof(T));
+}
+
+bool fits_int32(std::span<const int64_t> ids) {
+  return std::all_of(ids.begin(), ids.end(),
+                     [](int64_t v) { return v >= INT32_MIN && v <= INT32_MAX; });
+}
+
+}  // namespace
+
+std::string write_ply(const Topology& topology, std::span<const float> positions,
+                      const WriteOptions& options) {
+  const bool node_int = fits_int32(topology.node_ids);
+  const bool element_int = fits_int32(topology.element_ids);
+  std::string out = "ply\nformat ";
+  out += options.binary ? "binary_little_endian 1.0\n" : "ascii 1.0\n";
+  if (!options.comment.empty()) out += "comment " + options.comment + "\n";
+  out += "element vertex " + std::to_string(topology.vertex_count) + "\n";
+  out += "property float x\nproperty float y\nproperty float z\n";
+  out += node_int ? "property int node_id\n" : "property double node_id\n";
+  out += "element face " + std::to_string(topology.faces.size()) + "\n";
+  out += "property list uchar int vertex_indices\nproperty int part_id\n";
+  out += element_int ? "property int element_id\n" : "property double element_id\n";
+  out += "end_header\n";
+
+  char buffer[32];
+  auto text = [&](auto value, char after) {
+    auto [end, ec] = std::to_chars(buffer, buffer + sizeof buffer, value);
+    out.append(buffer, end);
+    out += after;
+  };
+  for (uint32_t v = 0; v < topology.vertex_count; ++v) {
+    const float* p = &positions[size_t{v} * 3];
+    const int64_t id = topology.node_ids[v];
+    if (options.binary) {
+      for (int k = 0; k < 3; ++k) append_le(out, p[k]);
+      node_int ? append_le(out, static_cast<int32_t>(id)) : append_le(out, static_cast<double>(id));
+    } else {
+      for (int k = 0; k < 3; ++k) text(p[k], ' ');
+      text(id, '\n');
+    }
+  }
+  for (size_t fi = 0; fi < topology.faces.size(); ++fi) {
+    const Face& f = topology.faces[fi];
+    const int degree = f.degree();
+    const int64_t id = topology.element_ids[fi];
+    if (options.binary) {
+      append_le(out, static_cast<uint8_t>(degree));
+      for (int i = 0; i < degree; ++i) append_le(out, static_cast<int32_t>(f.v[i]));
+      append_le(out, topology.part_ids[fi]);
+      element_int ? append_le(out, static_cast<int32_t>(id)) : append_le(out, static_cast<double>(id));
+    } else {
+      text(degree, ' ');
+      for (int i = 0; i < degree; ++i) text(f.v[i], ' ');
+      text(topology.part_ids[fi], ' ');
+      text(id, '\n');
+    }
+  }
+  return out;
+}
+
+}  // namespace dynpm::io

@@ -1,0 +1,180 @@
+// Every validation rule, each with a fixture that breaks it.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "fixtures.h"
+
+namespace dynpm {
+namespace {
+
+using test::quad_grid;
+
+bool has_problem(const ValidationReport& r, ProblemKind kind, Severity severity) {
+  for (const Problem& p : r.problems)
+    if (p.kind == kind && p.severity == severity) return true;
+  return false;
+}
+
+std::string all_messages(const ValidationReport& r) {
+  std::string s;
+  for (const Problem& p : r.problems) s += p.message + "\n";
+  return s;
+}
+
+TEST(Validate, CleanMeshesHaveNoProblems) {
+  for (const auto& m : {quad_grid(5, 4), test::tri_quad_strip()}) {
+    const ValidationReport r = validate(m.animation());
+    EXPECT_TRUE(r.ok());
+    EXPECT_TRUE(r.problems.empty()) << all_messages(r);
+  }
+}
+
+TEST(Validate, ArraySizesMustMatch) {
+  auto m = quad_grid(2, 2);
+  m.topology.part_ids.pop_back();
+  m.topology.node_ids.push_back(99);
+  const ValidationReport r = validate(m.topology);
+  EXPECT_FALSE(r.ok());
+  EXPECT_EQ(r.count(ProblemKind::kArraySize), 2u);
+}
+
+TEST(Validate, IndexOutOfRange) {
+  auto m = quad_grid(2, 2);
+  m.topology.faces[3].v[2] = 9;  // there are 9 vertices: 0..8
+  const ValidationReport r = validate(m.topology);
+  ASSERT_TRUE(has_problem(r, ProblemKind::kIndexOutOfRange, Severity::kError));
+  EXPECT_EQ(r.problems[0].face, 3u);
+  EXPECT_NE(r.problems[0].message.find("face 3"), std::string::npos);
+  EXPECT_NE(r.problems[0].message.find("vertex 9"), std::string::npos);
+}
+
+TEST(Validate, M3FaceWithTwoCornersIsAnError) {
+  auto m = quad_grid(2, 1);
+  m.topology.faces[1].v = {1, 2, kNoVertex, kNoVertex};
+  const ValidationReport r = validate(m.topology);
+  EXPECT_TRUE(has_problem(r, ProblemKind::kFaceDegree, Severity::kError));
+}
+
+TEST(Validate, RepeatedVertexInAFace) {
+  auto m = quad_grid(2, 1);
+  m.topology.faces[0].v[2] = m.topology.faces[0].v[0];
+  const ValidationReport r = validate(m.topology);
+  EXPECT_TRUE(has_problem(r, ProblemKind::kRepeatedVertex, Severity::kError));
+  EXPECT_EQ(r.count(ProblemKind::kRepeatedVertex), 1u);
+}
+
+TEST(Validate, DuplicateFaceIsAWarning) {
+  auto m = quad_grid(2, 1);
+  const Face f = m.topology.faces[0];
+  m.topology.add_quad(f.v[1], f.v[2], f.v[3], f.v[0]);  // same corners, rotated
+  const ValidationReport r = validate(m.topology);
+  EXPECT_TRUE(has_problem(r, ProblemKind::kDuplicateFace, Severity::kWarning));
+}
+
+TEST(Validate, M1NonManifoldEdgeIsAcceptedAsAFeature) {
+  const auto m = test::t_joint();
+  const ValidationReport r = validate(m.animation());
+  EXPECT_TRUE(r.ok()) << all_messages(r);
+  EXPECT_EQ(r.count(ProblemKind::kNonManifoldEdge), 1u);
+  EXPECT_EQ(r.count(ProblemKind::kNonManifoldVertex), 2u);
+  EXPECT_EQ(r.count(Severity::kFeature), 3u);
+  EXPECT_NE(all_messages(r).find("shared by 3 faces"), std::string::npos);
+}
+
+TEST(Validate, M1BowTieVertexIsAcceptedAsAFeature) {
+  const auto m = test::bow_tie();
+  const ValidationReport r = validate(m.animation());
+  EXPECT_TRUE(r.ok());
+  ASSERT_EQ(r.count(ProblemKind::kNonManifoldVertex), 1u);
+  EXPECT_EQ(r.problems[0].vertex, 2u);
+}
+
+TEST(Validate, M2InnerVertexOfValenceTwo) {
+  const auto m = test::valence_two_quads();
+  const ValidationReport r = validate(m.animation());
+  EXPECT_FALSE(r.ok());
+  ASSERT_EQ(r.count(ProblemKind::kInnerValence), 1u) << all_messages(r);
+  EXPECT_EQ(r.problems[0].vertex, 0u);
+}
+
+TEST(Validate, FlippedFaceIsReported) {
+  auto m = quad_grid(2, 2);
+  std::swap(m.topology.faces[0].v[1], m.topology.faces[0].v[3]);
+  const ValidationReport r = validate(m.topology);
+  EXPECT_TRUE(r.ok());
+  EXPECT_EQ(r.count(ProblemKind::kInconsistentOrientation), 2u);  // its two inner edges
+}
+
+TEST(Validate, UnreferencedVertexIsAWarning) {
+  auto m = quad_grid(1, 1);
+  m.topology.vertex_count = 5;
+  m.topology.node_ids.push_back(5);
+  const ValidationReport r = validate(m.topology);
+  EXPECT_TRUE(r.ok());
+  EXPECT_TRUE(has_problem(r, ProblemKind::kUnreferencedVertex, Severity::kWarning));
+}
+
+TEST(Validate, EveryStepMustHaveTheSameVertexCount) {
+  auto a = quad_grid(2, 2).animation();
+  std::vector<float> short_step(a.frames.step(0).begin(), a.frames.step(0).end() - 3);
+  a.frames.add_step(short_step, 1.0);
+  a.frames.add_step(std::vector<float>(a.frames.step(0).begin(), a.frames.step(0).end()), 2.0);
+  const ValidationReport r = validate(a);
+  ASSERT_EQ(r.count(ProblemKind::kStepVertexCount), 1u);
+  EXPECT_EQ(r.problems[0].step, 1u);
+}
+
+TEST(Validate, NonFinitePositionsAreErrorsWithStepAndVertex) {
+  auto a = quad_grid(2, 2).animation();
+  std::vector<float> step(a.frames.step(0).begin(), a.frames.step(0).end());
+  step[3 * 4 + 1] = std::numeric_limits<float>::quiet_NaN();
+  step[3 * 7 + 2] = std::numeric_limits<float>::infinity();
+  a.frames.add_step(step, 1.0);
+  const ValidationReport r = validate(a);
+  ASSERT_EQ(r.count(ProblemKind::kNonFinitePosition), 2u);
+  EXPECT_EQ(r.problems[0].step, 1u);
+  EXPECT_EQ(r.problems[0].vertex, 4u);
+  EXPECT_EQ(r.problems[1].vertex, 7u);
+}
+
+TEST(Validate, AnimationWithoutStepsIsAnError) {
+  Animation a = quad_grid(1, 1).animation();
+  a.frames = Frames(a.topology.vertex_count);
+  EXPECT_TRUE(has_problem(validate(a), ProblemKind::kNoSteps, Severity::kError));
+}
+
+TEST(Validate, FieldSizesMustMatch) {
+  auto a = quad_grid(1, 1).animation();
+  a.fields.push_back({"plastic strain", {std::vector<float>(3, 0.f)}});
+  a.fields.push_back({"stress", {std::vector<float>(4, 0.f), std::vector<float>(4, 0.f)}});
+  const ValidationReport r = validate(a);
+  EXPECT_EQ(r.count(ProblemKind::kFieldSize), 2u);
+}
+
+TEST(Validate, ReportsEveryProblemNotJustTheFirst) {
+  auto m = quad_grid(3, 3);
+  m.topology.faces[0].v[1] = m.topology.faces[0].v[0];  // repeated vertex
+  m.topology.faces[4].v[3] = 1000;                     // out of range
+  m.topology.part_ids.push_back(0);                    // array size
+  auto a = m.animation();
+  a.frames.step(0)[0] = std::nanf("");  // non-finite
+  const ValidationReport r = validate(a);
+  EXPECT_EQ(r.count(ProblemKind::kRepeatedVertex), 1u);
+  EXPECT_EQ(r.count(ProblemKind::kIndexOutOfRange), 1u);
+  EXPECT_EQ(r.count(ProblemKind::kArraySize), 1u);
+  EXPECT_EQ(r.count(ProblemKind::kNonFinitePosition), 1u);
+  EXPECT_EQ(r.count(Severity::kError), 4u);
+}
+
+TEST(Validate, ManyProblemsAreCountedButTheListIsBounded) {
+  auto a = quad_grid(60, 60).animation();
+  for (float& c : a.frames.step(0)) c = std::nanf("");
+  const ValidationReport r = validate(a);
+  EXPECT_EQ(r.count(ProblemKind::kNonFinitePosition), 61u * 61u);
+  EXPECT_EQ(r.problems.size(), ValidationReport::kMaxListedPerKind);
+}
+
+}  // namespace
+}  // namespace dynpm
