@@ -16,6 +16,8 @@ inline constexpr int kExitInvalidMesh = 3;  // read fine, but validate() found e
 
 int run_info(std::span<char* const> arguments);
 int run_convert(std::span<char* const> arguments);
+int run_hausdorff(std::span<char* const> arguments);
+int run_simplify(std::span<char* const> arguments);
 
 // Globs → files, then open them as one animation; reader notes go to stderr.
 Result<AnimationStream> open_inputs(std::span<const std::string> arguments, bool split_polygons);

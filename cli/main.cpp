@@ -39,6 +39,8 @@ const char* kUsage =
     "verbs:\n"
     "  info      counts, topology, bounding box and validation of a mesh or animation\n"
     "  convert   convert a mesh or animation between OBJ, PLY and VTK\n"
+    "  hausdorff Metro-style distance between two meshes or step sequences\n"
+    "  simplify  simplify a mixed triangle/quad mesh or animation\n"
     "\n"
     "Run 'dynpm <verb> --help' for a verb's options.\n";
 
@@ -59,6 +61,8 @@ int main(int argc, char** argv) {
   std::span<char* const> rest(argv + 2, static_cast<size_t>(argc - 2));
   if (verb == "info") return dynpm::cli::run_info(rest);
   if (verb == "convert") return dynpm::cli::run_convert(rest);
+  if (verb == "hausdorff") return dynpm::cli::run_hausdorff(rest);
+  if (verb == "simplify") return dynpm::cli::run_simplify(rest);
   std::cerr << "dynpm: unknown verb '" << verb << "'\n\n" << kUsage;
   return dynpm::cli::kExitUsage;
 }

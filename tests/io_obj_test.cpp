@@ -114,7 +114,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadObj{"bad_corner", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 x\n", ":4: a face corner"},
         BadObj{"no_faces", "v 0 0 0\n", "no faces"},
         BadObj{"garbage", "\x7f" "ELF\x02\x01\x01\x00\x00garbage", ":1: binary data"}),
-    [](const ::testing::TestParamInfo<BadObj>& info) { return std::string(info.param.name); });
+    [](const ::testing::TestParamInfo<BadObj>& param) { return std::string(param.param.name); });
 
 TEST(Obj, MissingFileAndDirectoryAreClearErrors) {
   test::TempDir dir;

@@ -62,8 +62,8 @@ INSTANTIATE_TEST_SUITE_P(
     CalculiX, SharedCrashBox,
     ::testing::Values(SharedAnimation{"crashbox-s", 3003, 2937, 0, 26},
                       SharedAnimation{"crashbox-mixed-5k", 4929, 4827, 16, 41}),
-    [](const ::testing::TestParamInfo<SharedAnimation>& info) {
-      std::string name = info.param.folder;
+    [](const ::testing::TestParamInfo<SharedAnimation>& param) {
+      std::string name = param.param.folder;
       std::replace(name.begin(), name.end(), '-', '_');
       return name;
     });

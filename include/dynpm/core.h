@@ -39,7 +39,9 @@ struct Face {
 
   bool is_triangle() const { return v[3] == kNoVertex; }
   // Number of used corner slots: 3 or 4 in a valid mesh, fewer if (M3) is broken.
-  int degree() const;
+  int degree() const {
+    return (v[0] != kNoVertex) + (v[1] != kNoVertex) + (v[2] != kNoVertex) + (v[3] != kNoVertex);
+  }
   bool contains(uint32_t vertex) const;
   bool operator==(const Face&) const = default;
 };

@@ -10,9 +10,9 @@ H  = 40;    // hat depth (y)
 Wt = 50;    // width of the hat top
 Wb = 70;    // width between the wall feet
 F  = 20;    // flange width
-Z1 = 48;    // the triangle patch on the top face spans Z1 <= z <= Z2
-Z2 = 72;
-h  = 4.5;   // target element size
+Z1 = 18;    // the triangle patch on the top face spans Z1 <= z <= Z2
+Z2 = 42;
+h  = 5.5;   // target element size
 
 // cross-section (x across, y up), swept along z in three segments
 zs[] = {0, Z1, Z2, L};
@@ -33,10 +33,10 @@ For k In {0:2}
 EndFor
 plates[] = Surface{:};
 
-// crush initiators: a round hole (d 18) in the top at z = 60 and a hole
-// (d 12) through both walls at z = 110
-Cylinder(100) = {0, H - 10, 60,  0, 20, 0,  9};
-Cylinder(101) = {-Wb, H/2, 110,  2*Wb, 0, 0,  6};
+// crush initiators: a round hole (d 18) in the top at z = 30 and a hole
+// (d 12) through both walls at z = 75
+Cylinder(100) = {0, H - 10, (Z1 + Z2)/2,  0, 20, 0,  9};
+Cylinder(101) = {-Wb, H/2, 75,  2*Wb, 0, 0,  6};
 BooleanDifference{ Surface{plates[]}; Delete; }{ Volume{100, 101}; Delete; }
 Coherence;
 

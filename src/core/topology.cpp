@@ -7,12 +7,6 @@
 
 namespace dynpm {
 
-int Face::degree() const {
-  int n = 0;
-  for (uint32_t c : v) n += c != kNoVertex ? 1 : 0;
-  return n;
-}
-
 bool Face::contains(uint32_t vertex) const {
   return std::find(v.begin(), v.end(), vertex) != v.end();
 }

@@ -1,0 +1,229 @@
+// dynpm simplify: one mesh or animation, simplified, written as a mesh or a step sequence.
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+
+#include "args.h"
+#include "commands.h"
+#include "dynpm/simplify.h"
+#include "json.h"
+
+namespace dynpm::cli {
+namespace {
+
+const VerbSpec kSpec{
+    "simplify",
+    "dynpm simplify INPUT... -o OUTPUT (--ratio R | --vertices N | --faces N | --max-error E)\n"
+    "                      [--placement half|optimal] [--key-steps all|LIST] [--json]",
+    "Simplifies a mixed triangle/quad mesh or animation by half-edge collapses (Wundrak et al.\n"
+    "2006): a collapsed quad becomes a triangle, a collapsed triangle vanishes, legality by\n"
+    "(P1*), (P2), (P3); cost by area-weighted quadrics, the max over the key steps. Boundaries,\n"
+    "part boundaries and non-manifold edges (T-joints) only slide along themselves.\n"
+    "OUTPUT is a mesh file (.obj .ply .vtk), or a pattern with {:03d} for an animation.\n"
+    "--max-error is in units of the bounding-box diagonal (0.001), or in percent (0.1%).",
+    {{"--output", "-o", true, "OUTPUT", "output mesh, or pattern with {:03d} for several steps"},
+     {"--ratio", "", true, "R", "keep this fraction of the vertices, e.g. 0.05"},
+     {"--vertices", "", true, "N", "keep N vertices"},
+     {"--faces", "", true, "N", "stop at N faces"},
+     {"--max-error", "", true, "E", "stop before a collapse's error exceeds E"},
+     {"--placement", "", true, "half|optimal", "half-edge (default, the paper) or optimal (QSlim)"},
+     {"--key-steps", "", true, "all|LIST", "steps that rate collapses: all (default) or 0,12,24"},
+     {"--boundary-weight", "", true, "W", "weight of boundary/feature constraint planes (1)"},
+     {"--ignore-parts", "", false, "", "let collapses cross part boundaries"},
+     {"--ascii", "", false, "", "write PLY and VTK as text"},
+     {"--json", "", false, "", "print the result as JSON"},
+     {"--split-polygons", "", false, "", "fan-split faces with more than 4 corners"}}};
+
+Result<double> parse_number(const std::string& flag, const std::string& text) {
+  try {
+    size_t used = 0;
+    const double v = std::stod(text, &used);
+    if (used == text.size()) return v;
+  } catch (...) {
+  }
+  return Status::error("dynpm simplify: " + flag + " needs a number, got '" + text + "'");
+}
+
+Result<std::vector<size_t>> parse_steps(const std::string& text) {
+  std::vector<size_t> steps;
+  if (text == "all") return steps;
+  size_t pos = 0;
+  while (pos <= text.size()) {
+    const size_t comma = std::min(text.find(',', pos), text.size());
+    auto v = parse_number("--key-steps", text.substr(pos, comma - pos));
+    if (!v || *v < 0) return Status::error("dynpm simplify: --key-steps takes 'all' or a list such as 0,12,24");
+    steps.push_back(static_cast<size_t>(*v));
+    pos = comma + 1;
+  }
+  return steps;
+}
+
+// A progress bar on stderr for long runs (only on a terminal).
+class ProgressListener final : public CollapseListener {
+ public:
+  explicit ProgressListener(size_t expected) : expected_(std::max<size_t>(expected, 1)) {}
+  void on_collapse(const CollapseRecord&) override {
+    if (++done_ % 4096 == 0) progress("simplifying (collapses)", std::min(done_, expected_), expected_);
+  }
+  void finish() { progress("simplifying (collapses)", expected_, expected_); }
+
+ private:
+  size_t expected_, done_ = 0;
+};
+
+}  // namespace
+
+int run_simplify(std::span<char* const> arguments) {
+  auto args = parse_args(arguments, kSpec);
+  if (!args) {
+    std::cerr << args.message() << "\n";
+    return kExitUsage;
+  }
+  if (args->has("--help")) {
+    std::cout << help_text(kSpec);
+    return kExitOk;
+  }
+  const auto output = args->value("--output");
+  if (args->positional.empty() || !output) {
+    std::cerr << "dynpm simplify: needs INPUT... and -o OUTPUT\n\n" << help_text(kSpec);
+    return kExitUsage;
+  }
+  SimplifyOptions options;
+  auto fail_usage = [](const std::string& message) {
+    std::cerr << message << "\n";
+    return kExitUsage;
+  };
+  if (auto v = args->value("--ratio")) {
+    auto r = parse_number("--ratio", *v);
+    if (!r) return fail_usage(r.message());
+    options.target_ratio = *r;
+  }
+  if (auto v = args->value("--vertices")) {
+    auto r = parse_number("--vertices", *v);
+    if (!r || *r < 0) return fail_usage("dynpm simplify: --vertices needs a count");
+    options.target_vertices = static_cast<uint32_t>(*r);
+  }
+  if (auto v = args->value("--faces")) {
+    auto r = parse_number("--faces", *v);
+    if (!r || *r < 0) return fail_usage("dynpm simplify: --faces needs a count");
+    options.target_faces = static_cast<size_t>(*r);
+  }
+  if (auto v = args->value("--max-error")) {
+    std::string text = *v;
+    const bool percent = !text.empty() && text.back() == '%';
+    if (percent) text.pop_back();
+    auto r = parse_number("--max-error", text);
+    if (!r) return fail_usage(r.message());
+    options.max_error = percent ? *r / 100.0 : *r;
+  }
+  if (!options.target_ratio && !options.target_vertices && !options.target_faces && !options.max_error)
+    return fail_usage("dynpm simplify: give a target: --ratio, --vertices, --faces or --max-error");
+  if (auto v = args->value("--placement")) {
+    if (*v == "optimal") options.placement = Placement::kOptimal;
+    else if (*v != "half") return fail_usage("dynpm simplify: --placement is half or optimal");
+  }
+  if (auto v = args->value("--key-steps")) {
+    auto steps = parse_steps(*v);
+    if (!steps) return fail_usage(steps.message());
+    options.key_steps = *steps;
+  }
+  if (auto v = args->value("--boundary-weight")) {
+    auto r = parse_number("--boundary-weight", *v);
+    if (!r) return fail_usage(r.message());
+    options.boundary_weight = *r;
+  }
+  options.keep_part_boundaries = !args->has("--ignore-parts");
+  if (format_from_extension(*output) == FileFormat::kUnknown)
+    return fail_usage("dynpm simplify: " + *output + ": use .obj, .ply or .vtk");
+
+  auto stream = open_inputs(args->positional, args->has("--split-polygons"));
+  if (!stream) {
+    std::cerr << "dynpm simplify: " << stream.message() << "\n";
+    return kExitFailure;
+  }
+  const Topology& input = stream->topology;
+  const FrameSource& frames = *stream->frames;
+  const size_t steps = frames.step_count();
+  const bool pattern = has_step_field(*output);
+  if (steps > 1 && !pattern)
+    return fail_usage("dynpm simplify: the input has " + std::to_string(steps) +
+                      " time steps; give an output pattern such as 'out_{:03d}.obj'");
+
+  const auto start = std::chrono::steady_clock::now();
+  const size_t vertices_in = input.vertex_count;
+  size_t expected = 0;
+  if (options.target_vertices) expected = vertices_in - std::min<size_t>(vertices_in, *options.target_vertices);
+  if (options.target_ratio) expected = std::max(expected, size_t(double(vertices_in) * (1 - *options.target_ratio)));
+  ProgressListener listener(expected ? expected : vertices_in);
+  auto result = simplify(input, frames, options, &listener);
+  listener.finish();
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (!result) {
+    std::cerr << "dynpm simplify: " << result.message() << "\n";
+    return kExitFailure;
+  }
+
+  // Write every step: the surviving vertices at their positions in that step.
+  WriteOptions write;
+  write.binary = !args->has("--ascii");
+  std::vector<float> step(size_t{input.vertex_count} * 3), out;
+  for (size_t t = 0; t < steps; ++t) {
+    progress("writing step", t + 1, steps);
+    if (!result->key_step_positions.empty()) {
+      out = result->key_step_positions[t];
+    } else {
+      if (Status s = frames.read_step(t, step); !s.ok()) {
+        std::cerr << "dynpm simplify: " << s.message() << "\n";
+        return kExitFailure;
+      }
+      out.clear();
+      for (uint32_t v : result->original_vertex) out.insert(out.end(), &step[size_t{v} * 3], &step[size_t{v} * 3] + 3);
+    }
+    auto path = pattern ? step_path(*output, t) : Result<std::string>(*output);
+    write.comment = "dynpm simplify: step " + std::to_string(t) + ", time " + std::to_string(frames.step_time(t));
+    Status s = path ? write_mesh(*path, result->topology, out, write) : path.status();
+    if (!s.ok()) {
+      std::cerr << "dynpm simplify: " << s.message() << "\n";
+      return kExitFailure;
+    }
+  }
+
+  const Topology& t = result->topology;
+  if (args->has("--json")) {
+    Json j;
+    j.begin_object();
+    j.value("vertices_in", uint64_t{input.vertex_count});
+    j.value("faces_in", uint64_t{input.faces.size()});
+    j.value("quads_in", uint64_t{input.quad_count()});
+    j.value("triangles_in", uint64_t{input.triangle_count()});
+    j.value("vertices_out", uint64_t{t.vertex_count});
+    j.value("faces_out", uint64_t{t.faces.size()});
+    j.value("quads_out", uint64_t{t.quad_count()});
+    j.value("triangles_out", uint64_t{t.triangle_count()});
+    j.value("steps", uint64_t{steps});
+    j.begin_array("key_steps");
+    for (size_t k : result->key_steps) j.item(int64_t(k));
+    j.end_array();
+    j.value("collapses", uint64_t{result->collapses});
+    j.value("max_error", result->max_error);
+    j.value("target_reached", result->target_reached);
+    j.value("stop_reason", result->stop_reason);
+    j.value("seconds", seconds);
+    j.end_object();
+    std::cout << j.str();
+  } else {
+    std::printf("input   %u vertices, %zu faces (%zu quads, %zu triangles), %zu steps\n",
+                input.vertex_count, input.faces.size(), input.quad_count(), input.triangle_count(), steps);
+    std::printf("output  %u vertices, %zu faces (%zu quads, %zu triangles)\n", t.vertex_count,
+                t.faces.size(), t.quad_count(), t.triangle_count());
+    std::printf("key steps %zu of %zu; %zu collapses; largest error %.4g%% of the diagonal\n",
+                result->key_steps.size(), steps, result->collapses, 100 * result->max_error);
+    std::printf("%s%s; %.3f s\n", result->target_reached ? "" : "stopped early: ",
+                result->stop_reason.c_str(), seconds);
+  }
+  return kExitOk;
+}
+
+}  // namespace dynpm::cli

@@ -1,0 +1,177 @@
+// dynpm/eval.h — how far apart two surfaces are: the Metro-style Hausdorff distance
+// (Cignoni, Rocchini, Scopigno 1998) that the paper's Tables 1–3 report.
+//
+//   for each direction (A → B, then B → A):
+//     sample the first surface: every vertex, points along every edge, and points on the faces
+//       in proportion to area (≈ 10 per face of the larger mesh by default)
+//     for each sample p: d(p) = distance to the closest point of the other surface (a BVH)
+//     one-sided max = max d(p) over all samples; mean and RMS over the face samples
+//   Hausdorff = max of the two one-sided maxima; percentages are of a reference diagonal
+//
+// Shapes: a topology is #F faces × 4 corner slots (kNoVertex in slot 3 for a triangle);
+// positions are one time step, 3 · #V floats (x0 y0 z0 x1 …). Quads are measured as four
+// triangles through their centroid (the paper's §5 star triangulation); the mesh itself is
+// never changed. Results are deterministic for a given seed, whatever the number of threads.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <span>
+#include <vector>
+
+#include "dynpm/core.h"
+
+namespace dynpm {
+
+using Point3 = std::array<double, 3>;
+
+// The point of triangle (a, b, c) closest to p (Ericson, Real-Time Collision Detection, §5.1.5).
+// Degenerate triangles (a segment or a point) are handled.
+Point3 closest_point_on_triangle(const Point3& p, const Point3& a, const Point3& b,
+                                 const Point3& c);
+
+// One triangle of the measured surface: a mesh triangle, or one of the four triangles of a quad
+// (a, b, centroid), (b, c, centroid), … with centroid = float((a + b + c + d) / 4 in double).
+struct SurfaceTriangle {
+  std::array<float, 3> a, b, c;
+  uint32_t face = kNoIndex;  // the topology face it belongs to
+};
+
+// The triangles of one step of a mesh, quads star-triangulated, in face order (a quad's four
+// triangles follow its corners). Faces with fewer than 3 corners are skipped. Indices must be in
+// range and positions hold 3 · vertex_count floats (asserted).
+std::vector<SurfaceTriangle> surface_triangles(const Topology& topology,
+                                               std::span<const float> positions);
+
+// A bounding-volume hierarchy over triangles for exact closest-point queries: binned-SAH build
+// (a quad's four triangles stay together in one leaf), nodes flattened depth first, traversal
+// nearest child first and pruned by the best distance so far. Immutable after build; queries
+// may run from many threads at once.
+class TriangleBvh {
+ public:
+  struct Hit {
+    double squared_distance = std::numeric_limits<double>::infinity();
+    Point3 point{0, 0, 0};         // closest point on the surface
+    uint32_t triangle = kNoIndex;  // index into the triangles given to the constructor
+    uint32_t face = kNoIndex;      // that triangle's topology face
+  };
+
+  TriangleBvh() = default;
+  // Builds on up to `threads` threads (0: all cores); the tree is the same for any count.
+  // Consecutive triangles of one face (up to 4: a quad's star) form one item of the build.
+  explicit TriangleBvh(std::span<const SurfaceTriangle> triangles, unsigned threads = 0);
+
+  // The closest point of all triangles to p, or a Hit with triangle == kNoIndex if none is
+  // closer than sqrt(max_squared_distance). Coordinates must be finite. `hint` (a triangle
+  // likely near p, e.g. the previous query's) only makes the search faster: the search starts
+  // at the hint's leaf and climbs, visiting the other subtrees only where they may hold
+  // something closer. The distance is the same with or without it.
+  Hit closest(const Point3& p,
+              double max_squared_distance = std::numeric_limits<double>::infinity(),
+              uint32_t hint = kNoIndex) const;
+
+  size_t triangle_count() const { return triangles_.size(); }
+  size_t node_count() const { return nodes_.size(); }
+  bool empty() const { return triangles_.empty(); }
+
+  // Flattened node: a leaf holds triangles [first, first + count) in leaf order; an inner
+  // node (count == 0) has its left child right after it and its right child at `first`.
+  struct Node {
+    std::array<float, 3> lo, hi;
+    uint32_t first = 0;
+    uint32_t count = 0;
+  };
+
+ private:
+  void descend(const Point3& p, uint32_t node, double& best, uint32_t& best_leaf,
+               Point3& best_point) const;
+
+  std::vector<Node> nodes_;
+  std::vector<uint32_t> parent_;            // per node; kNoIndex for the root
+  std::vector<SurfaceTriangle> triangles_;  // in leaf order
+  std::vector<uint32_t> leaf_of_;           // per triangle in leaf order: its leaf node
+  std::vector<uint32_t> original_;          // leaf order → index given to the constructor
+  std::vector<uint32_t> leaf_position_;     // index given to the constructor → leaf order
+};
+
+// ---------------------------------------------------------------------------------------------
+// Hausdorff distance
+
+struct HausdorffOptions {
+  // Area samples on each surface = samples_per_face × the face count of the larger mesh
+  // (Metro's default is ≈ 10 per face), unless face_samples is set.
+  double samples_per_face = 10;
+  // If > 0: the number of area samples on each surface (Metro's -n), overriding the above.
+  uint64_t face_samples = 0;
+  // Metro also samples the vertices and the edges, where maxima often sit (corners, creases).
+  // Edge samples are spaced like the area samples: sqrt(area / face samples) apart.
+  bool sample_vertices = true;
+  bool sample_edges = true;
+  // Seeds the sampling; equal seeds give equal results on any machine and thread count.
+  uint64_t seed = 1;
+  // Percentages are of this length; 0 means the diagonal of A's bounding box (over all steps
+  // in hausdorff_steps). Pass the original's diagonal when A is not the original.
+  double reference_diagonal = 0;
+  // Worker threads; 0 means std::thread::hardware_concurrency().
+  unsigned threads = 0;
+};
+
+// Distances from samples on one surface to the other surface.
+struct OneSidedDistance {
+  double max = 0;   // over every sample (vertices, edges, faces)
+  double mean = 0;  // over the area samples: the area-weighted mean distance
+  double rms = 0;   // over the area samples: root of the area-weighted mean squared distance
+  Point3 max_at{0, 0, 0};  // the sample where the max was found
+  uint64_t vertex_samples = 0, edge_samples = 0, face_samples = 0;
+};
+
+struct HausdorffResult {
+  OneSidedDistance a_to_b;  // samples on A, distances to B
+  OneSidedDistance b_to_a;  // samples on B, distances to A
+  double hausdorff = 0;     // two-sided: max(a_to_b.max, b_to_a.max)
+  double mean = 0;          // two-sided: (a_to_b.mean + b_to_a.mean) / 2
+  double rms = 0;           // two-sided: sqrt((a_to_b.rms² + b_to_a.rms²) / 2)
+  double diagonal = 0;      // the reference length of the percentages
+
+  double percent(double distance) const {
+    return diagonal > 0 ? 100.0 * distance / diagonal : 0.0;
+  }
+};
+
+// A against B at one step each. Errors (not asserts, the inputs may come from files): positions
+// not 3 · vertex_count floats, a corner out of range or a face with fewer than 3 corners, a
+// non-finite coordinate, a mesh without any face.
+Result<HausdorffResult> hausdorff(const Topology& a_topology, std::span<const float> a_positions,
+                                  const Topology& b_topology, std::span<const float> b_positions,
+                                  const HausdorffOptions& options = {});
+
+// A value over the steps of an animation.
+struct OverSteps {
+  double mean = 0, max = 0;
+};
+
+struct HausdorffSteps {
+  std::vector<HausdorffResult> steps;  // step t: A at t against B at t
+  double diagonal = 0;                 // every step's percentages use this one length
+  // Over the steps, of each step's value.
+  OverSteps hausdorff, mean, rms, a_to_b_max, b_to_a_max;
+};
+
+struct StepsOptions {
+  HausdorffOptions hausdorff;
+  // Called after each step (done, total); may be empty. src/ never prints: the caller may.
+  std::function<void(size_t, size_t)> progress;
+};
+
+// Every step t of A against step t of B. If one side has a single step it is compared with every
+// step of the other; otherwise the step counts must be equal. Every step is sampled with
+// options.seed, so step t's distances equal hausdorff() on the two steps' positions. The default
+// reference diagonal is that of A's bounding box over all steps. Steps are read one at a time
+// (two position arrays in memory); each step's samples run in parallel.
+Result<HausdorffSteps> hausdorff_steps(const Topology& a_topology, const FrameSource& a_frames,
+                                       const Topology& b_topology, const FrameSource& b_frames,
+                                       const StepsOptions& options = {});
+
+}  // namespace dynpm

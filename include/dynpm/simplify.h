@@ -1,0 +1,133 @@
+// dynpm/simplify.h — mixed triangle/quad half-edge collapse with quadrics over key steps.
+//
+// Wundrak, Henn & Stork 2006 (§2, §3), after Hoppe 1996 (progressive meshes) and Garland &
+// Heckbert 1997 (quadric error metrics):
+//
+//   quadrics:  Q[t][v] = Σ area · plane² over the faces of v in key step t (a quad's plane is
+//              the mean of its corner normals through its centroid), plus constraint planes
+//              perpendicular to boundary and feature edges
+//   candidate: for each vertex v0, the legal neighbour v1 with the least
+//              error(v0 → v1) = max over key steps t of sqrt((Q[t][v0] + Q[t][v1])(p_t(v1)) / w)
+//   loop:      pop the cheapest candidate (lazy heap, per-vertex temporal marks), collapse,
+//              Q[t][v1] += Q[t][v0], recompute the candidates of every vertex sharing a face
+//              with v1, until a stop condition holds or no legal collapse remains
+//
+// The half-edge collapse v0 → v1 (paper Fig. 2 and 3). Faces holding both vertices lose v0:
+// a triangle vanishes, a quad becomes a triangle. Every other face of v0 takes v1. v1 keeps
+// its position in every time step, so every level of detail uses original positions.
+//
+//   triangles (Fig. 2): fl, fr vanish          quads (Fig. 3): fl, fr become triangles
+//
+//     ---- wl ----            ---- wl ----       wl ----- x ---          wl ----- x ---
+//     \   /  \   /            \     \    /       |   fl   |              |  \  fl |
+//      \ / fl \ /              \     \  /        |        |              |    \   |
+//     - v0 ---- v1 -   ==>    ------ v1 -        v0 ----- v1 ---   ==>   |      v1 ---
+//      / \ fr / \              /     /  \        |   fr   |              |    /   |
+//     /   \  /   \            /     /    \       |        |              |  /  fr |
+//     ---- wr ----            ---- wr ----       wr ----- y ---          wr ----- y ---
+//
+// The wing vertex of a face of the edge is v0's other neighbour in that face: the third corner
+// of a triangle, the corner next to v0 away from v1 in a quad (wl, wr above). The vertex split
+// re-inserts v0 between v1 and each wing vertex (paper §4: vsp(p0, vl, vr, tl, tr), where tl,
+// tr say whether the face was a triangle, so the split knows to re-create a triangle or to
+// turn the triangle back into a quad).
+//
+// Legality is data (legality.h): a table says which vertex kind may collapse into which, and
+// along which kind of edge; then (P1*) second-order neighbours, (P2) boundary, (P3) size, no
+// collapse across a quad's diagonal, and a geometric check in every key step.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "dynpm/core.h"
+
+namespace dynpm {
+
+enum class Placement {
+  kHalfEdge,  // v1 keeps its original position (the paper; positions never re-stored)
+  kOptimal,   // full-edge collapse to the quadric minimiser (QSlim), the better endpoint when the
+              // system is ill-conditioned; needs every step to be a key step
+};
+
+struct SimplifyOptions {
+  // Stop conditions: the simplifier stops at the first one reached. With none set, it runs
+  // until no legal collapse remains.
+  std::optional<uint32_t> target_vertices;  // vertices in faces
+  std::optional<size_t> target_faces;
+  std::optional<double> target_ratio;       // of the input's vertices in faces, in (0, 1]
+  std::optional<double> max_error;          // in units of the bounding-box diagonal
+
+  Placement placement = Placement::kHalfEdge;
+
+  // Time steps whose geometry rates collapses (paper method 1*: cost = max over them). Empty
+  // means every step.
+  std::vector<size_t> key_steps;
+
+  // A collapse that turns a moved face's normal by more than this, in any key step, is
+  // rejected (foldovers); so is one that leaves a face without area or a quad non-convex.
+  double max_normal_rotation_degrees = 90.0;
+  // Weight of the planes through boundary and feature edges, perpendicular to their faces,
+  // relative to the area-weighted face planes (each constraint plane weighs
+  // boundary_weight · |edge|²). VCG calls this BoundaryQuadricWeight.
+  double boundary_weight = 1.0;
+
+  // Features: their vertices only slide along them, or stay (docs/simplify.md).
+  bool keep_part_boundaries = true;    // edges between faces of different part ids
+  std::vector<uint32_t> locked_vertices;
+  std::vector<Edge> feature_edges;     // user feature lines (vertex pairs joined by an edge)
+
+  // Test mode: validate() the whole mesh after every collapse and fail at the first problem.
+  bool check_every_collapse = false;
+  unsigned threads = 0;  // 0: one per hardware thread
+};
+
+// One face of the collapsed edge, as the vertex split needs it.
+struct CollapseWing {
+  uint32_t face = kNoIndex;       // original face id
+  uint32_t vertex = kNoVertex;    // v0's other neighbour in the face
+  bool was_triangle = false;      // true: the face vanished; false: a quad became a triangle
+  bool v1_follows_v0 = false;     // orientation: v1 comes right after v0 in the face
+};
+
+// What one collapse did. Spans stay valid only during the listener call.
+struct CollapseRecord {
+  uint32_t v0 = kNoVertex;  // removed
+  uint32_t v1 = kNoVertex;  // kept
+  std::array<CollapseWing, 4> wings{};
+  uint8_t wing_count = 0;                 // 1 at a boundary, 2 inside, 3+ at a T-joint
+  std::span<const uint32_t> moved_faces;  // faces of v0 (not holding v1) that now hold v1
+  double error = 0;                       // of this collapse, in bounding-box diagonals
+  // Placement::kOptimal: v1's new position in each key step (xyz per step); empty otherwise.
+  std::span<const float> v1_new_positions;
+};
+
+class CollapseListener {
+ public:
+  virtual ~CollapseListener() = default;
+  virtual void on_collapse(const CollapseRecord& record) = 0;
+};
+
+struct SimplifyResult {
+  Topology topology;                   // live faces in input order, vertices renumbered
+  std::vector<uint32_t> original_vertex;  // new vertex → input vertex
+  // Positions in every key step (xyz per vertex), only for Placement::kOptimal, where v1 moves.
+  std::vector<std::vector<float>> key_step_positions;
+  std::vector<size_t> key_steps;
+  size_t collapses = 0;
+  double max_error = 0;                // largest collapse error done, in diagonals
+  bool target_reached = false;         // false: no legal collapse remained first
+  std::string stop_reason;
+};
+
+// Simplifies the animation; the input is not changed. Errors: invalid input (validate()
+// errors), unreadable steps, options that cannot hold (optimal placement without every step as
+// a key step), or, in test mode, the first collapse after which validation fails.
+Result<SimplifyResult> simplify(const Topology& topology, const FrameSource& frames,
+                                const SimplifyOptions& options,
+                                CollapseListener* listener = nullptr);
+
+}  // namespace dynpm

@@ -1,0 +1,435 @@
+// Exact closest-point queries on a triangulated surface: the measuring half of the Metro-style
+// Hausdorff distance (hausdorff.cpp is the sampling half).
+//
+// closest_point_on_triangle() follows Ericson, Real-Time Collision Detection (2005), §5.1.5:
+// the plane of the triangle is cut into seven Voronoi regions (three vertices, three edges, the
+// face) and p's region is found from six dot products, without a square root.
+//
+// TriangleBvh is a bounding-volume hierarchy built top down by the surface area heuristic
+// (MacDonald and Booth 1990) evaluated in 16 bins along the longest axis of the centroids
+// (Wald 2007, "On fast construction of SAH-based bounding volume hierarchies"). Nodes are
+// stored depth first in one array, a left child right after its parent. A query descends into
+// the nearer child first and skips every box farther away than the best triangle so far, so
+// the answer is the exact minimum over all triangles: pruning only skips boxes that cannot hold
+// anything closer. Samples come in runs of close neighbours, so a query may start from the
+// previous answer's leaf and climb towards the root (a bottom-up traversal): its distance bounds
+// the search at once, and at each level one box test usually shows the sibling is too far.
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <thread>
+
+#include "dynpm/eval.h"
+
+namespace dynpm {
+namespace {
+
+inline Point3 sub(const Point3& a, const Point3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+inline double dot(const Point3& a, const Point3& b) {
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+inline Point3 along(const Point3& a, const Point3& d, double t) {
+  return {a[0] + t * d[0], a[1] + t * d[1], a[2] + t * d[2]};
+}
+inline Point3 to_point(const std::array<float, 3>& f) { return {f[0], f[1], f[2]}; }
+
+Point3 closest_point_on_segment(const Point3& p, const Point3& a, const Point3& b) {
+  const Point3 ab = sub(b, a);
+  const double length2 = dot(ab, ab);
+  if (length2 <= 0) return a;
+  return along(a, ab, std::clamp(dot(sub(p, a), ab) / length2, 0.0, 1.0));
+}
+
+double squared_distance(const Point3& a, const Point3& b) {
+  const Point3 d = sub(a, b);
+  return dot(d, d);
+}
+
+// A degenerate triangle has no face region: its closest point lies on one of its sides.
+Point3 closest_point_on_sides(const Point3& p, const Point3& a, const Point3& b, const Point3& c) {
+  Point3 best = closest_point_on_segment(p, a, b);
+  for (const Point3& q : {closest_point_on_segment(p, b, c), closest_point_on_segment(p, c, a)})
+    if (squared_distance(p, q) < squared_distance(p, best)) best = q;
+  return best;
+}
+
+double squared_distance_to_box(const Point3& p, const TriangleBvh::Node& node) {
+  // Branch-free: the gap along an axis is lo − p below the box, p − hi above it, else 0.
+  double d2 = 0;
+  for (int k = 0; k < 3; ++k) {
+    const double below = double(node.lo[k]) - p[k], above = p[k] - double(node.hi[k]);
+    const double gap = std::max(std::max(below, above), 0.0);
+    d2 += gap * gap;
+  }
+  return d2;
+}
+
+struct Box {
+  std::array<float, 3> lo{kInf, kInf, kInf}, hi{-kInf, -kInf, -kInf};
+  static constexpr float kInf = std::numeric_limits<float>::infinity();
+
+  void extend(const std::array<float, 3>& p) {
+    for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], p[k]), hi[k] = std::max(hi[k], p[k]);
+  }
+  void extend(const Box& b) {
+    for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], b.lo[k]), hi[k] = std::max(hi[k], b.hi[k]);
+  }
+  bool empty() const { return lo[0] > hi[0]; }
+  // Half the surface area: the SAH only compares areas.
+  double half_area() const {
+    if (empty()) return 0;
+    const double x = hi[0] - lo[0], y = hi[1] - lo[1], z = hi[2] - lo[2];
+    return x * y + y * z + z * x;
+  }
+};
+
+// Top-down binned-SAH construction over items: runs of up to four consecutive triangles of one
+// face (a quad's star, which no split would separate usefully), or single triangles. The items'
+// boxes sit in one array that is partitioned in place, so every pass over a node's range reads
+// memory in order; a child's bounds come from its parent's bins, so each level costs one binning
+// pass and one partition. Large subtrees are built on their own threads into their own node
+// arrays and spliced in afterwards: the tree is the same whatever the number of threads.
+class BvhBuilder {
+ public:
+  static constexpr int kBins = 16;
+  static constexpr uint32_t kMaxLeafTriangles = 8;  // a leaf never holds more (unless one item)
+  static constexpr double kTraversalCost = 1.0;     // relative to one triangle test
+  // Below this depth, splits halve the range (median of the centroids), so no input can make
+  // the tree deeper than kSahDepth + log2(#items) and overflow a query's stack.
+  static constexpr int kSahDepth = 40;
+  static constexpr uint32_t kParallelMinimum = 1u << 15;  // smaller subtrees: one thread
+
+  struct Item {
+    Box box;
+    std::array<float, 3> centroid;
+    uint32_t first;  // its triangles: [first, first + count) of the input
+    uint32_t count;
+  };
+
+  BvhBuilder(std::span<const SurfaceTriangle> triangles, unsigned threads) {
+    for (uint32_t i = 0; i < triangles.size();) {
+      Item item;
+      item.first = i;
+      item.count = 0;
+      do {
+        const SurfaceTriangle& t = triangles[i];
+        item.box.extend(t.a), item.box.extend(t.b), item.box.extend(t.c);
+        ++item.count, ++i;
+      } while (i < triangles.size() && item.count < 4 && triangles[i].face != kNoIndex &&
+               triangles[i].face == triangles[item.first].face);
+      for (int k = 0; k < 3; ++k) item.centroid[k] = 0.5f * (item.box.lo[k] + item.box.hi[k]);
+      items_.push_back(item);
+    }
+    Range all{0, static_cast<uint32_t>(items_.size()), 0, Box(), Box()};
+    bounds(all);
+    while ((1u << spawn_depth_) < threads) ++spawn_depth_;  // one subtree per thread
+    nodes.reserve(items_.size());
+    build(all, 0, nodes);
+    // Leaves hold item ranges so far: turn them into ranges of triangles in leaf order.
+    std::vector<uint32_t> item_start(items_.size() + 1, 0);
+    for (size_t i = 0; i < items_.size(); ++i) {
+      item_start[i + 1] = item_start[i] + items_[i].count;
+      for (uint32_t t = 0; t < items_[i].count; ++t) order.push_back(items_[i].first + t);
+    }
+    for (TriangleBvh::Node& n : nodes) {
+      if (n.count == 0) continue;
+      const uint32_t begin = n.first, end = n.first + n.count;
+      n.first = item_start[begin];
+      n.count = item_start[end] - item_start[begin];
+    }
+  }
+
+  std::vector<TriangleBvh::Node> nodes;
+  std::vector<uint32_t> order;  // leaf order → input triangle
+
+ private:
+  struct Range {
+    uint32_t begin, end;  // items
+    uint32_t triangles;
+    Box box, centre_box;  // of the items, and of their centroids
+  };
+
+  // Appends the subtree over items_[r.begin, r.end) to `out`, depth first.
+  void build(const Range& r, int depth, std::vector<TriangleBvh::Node>& out) {
+    const uint32_t index = static_cast<uint32_t>(out.size());
+    out.push_back({r.box.lo, r.box.hi, r.begin, r.end - r.begin});
+    if (r.end - r.begin == 1) return;
+    Range left, right;
+    const bool may_be_leaf = r.triangles <= kMaxLeafTriangles;
+    if (depth < kSahDepth ? !split(r, may_be_leaf, left, right)
+                          : may_be_leaf || !median_split(r, left, right))
+      return;  // a leaf
+    if (depth < spawn_depth_ && r.end - r.begin >= kParallelMinimum) {
+      std::vector<TriangleBvh::Node> right_nodes;
+      std::thread worker([&] { build(right, depth + 1, right_nodes); });
+      build(left, depth + 1, out);
+      worker.join();
+      const uint32_t offset = static_cast<uint32_t>(out.size());
+      for (TriangleBvh::Node n : right_nodes) {
+        if (n.count == 0) n.first += offset;
+        out.push_back(n);
+      }
+      out[index].first = offset;
+    } else {
+      build(left, depth + 1, out);  // the left child lands at index + 1
+      out[index].first = static_cast<uint32_t>(out.size());
+      build(right, depth + 1, out);
+    }
+    out[index].count = 0;
+  }
+
+  static int longest_axis(const Box& b) {
+    int axis = 0;
+    for (int k = 1; k < 3; ++k)
+      if (b.hi[k] - b.lo[k] > b.hi[axis] - b.lo[axis]) axis = k;
+    return axis;
+  }
+
+  void bounds(Range& r) const {
+    r.box = Box(), r.centre_box = Box(), r.triangles = 0;
+    for (uint32_t i = r.begin; i < r.end; ++i) {
+      r.box.extend(items_[i].box);
+      r.centre_box.extend(items_[i].centroid);
+      r.triangles += items_[i].count;
+    }
+  }
+
+  // Halves the range at the median centroid along the longest axis (or, if all centroids
+  // coincide, in input order). Always splits a range of two or more items.
+  bool median_split(const Range& r, Range& left, Range& right) {
+    const int axis = longest_axis(r.centre_box);
+    const uint32_t middle = r.begin + (r.end - r.begin) / 2;
+    std::nth_element(items_.begin() + r.begin, items_.begin() + middle, items_.begin() + r.end,
+                     [&](const Item& s, const Item& t) {
+                       return s.centroid[axis] < t.centroid[axis] ||
+                              (s.centroid[axis] == t.centroid[axis] && s.first < t.first);
+                     });
+    left.begin = r.begin, left.end = middle;
+    right.begin = middle, right.end = r.end;
+    bounds(left), bounds(right);
+    return true;
+  }
+
+  // Splits at the cheapest bin boundary along the longest centroid axis, unless a leaf is
+  // allowed and cheaper (then returns false).
+  bool split(const Range& r, bool may_be_leaf, Range& left, Range& right) {
+    const int axis = longest_axis(r.centre_box);
+    const float lo = r.centre_box.lo[axis], extent = r.centre_box.hi[axis] - lo;
+    if (!(extent > 0)) return !may_be_leaf && median_split(r, left, right);
+    const double scale = kBins / double(extent);  // double: a tiny extent must not overflow
+    auto bin_of = [&](const Item& item) {
+      return std::min(kBins - 1, static_cast<int>((double(item.centroid[axis]) - lo) * scale));
+    };
+    std::array<Box, kBins> bin_box, bin_centre;
+    std::array<uint32_t, kBins> bin_items{}, bin_triangles{};
+    for (uint32_t i = r.begin; i < r.end; ++i) {
+      const int b = bin_of(items_[i]);
+      bin_box[b].extend(items_[i].box);
+      bin_centre[b].extend(items_[i].centroid);
+      ++bin_items[b];
+      bin_triangles[b] += items_[i].count;
+    }
+    // Sweep from the right, then from the left: the cost of splitting after bin b, weighing
+    // each side's box area by the triangles it holds.
+    std::array<double, kBins> right_cost{};
+    Box sweep;
+    uint32_t n = 0;
+    for (int b = kBins - 1; b > 0; --b) {
+      sweep.extend(bin_box[b]);
+      n += bin_triangles[b];
+      right_cost[b - 1] = sweep.half_area() * n;
+    }
+    sweep = Box();
+    n = 0;
+    uint32_t items = 0;
+    double best_cost = std::numeric_limits<double>::infinity();
+    int best_bin = -1;
+    for (int b = 0; b < kBins - 1; ++b) {
+      sweep.extend(bin_box[b]);
+      n += bin_triangles[b];
+      items += bin_items[b];
+      if (items == 0 || items == r.end - r.begin) continue;
+      const double cost = sweep.half_area() * n + right_cost[b];
+      if (cost < best_cost) best_cost = cost, best_bin = b;
+    }
+    // extent > 0 puts the smallest and the largest centroid in bins 0 and kBins − 1.
+    assert(best_bin >= 0);
+    if (may_be_leaf &&
+        kTraversalCost * r.box.half_area() + best_cost >= r.box.half_area() * r.triangles)
+      return false;
+    auto middle = std::partition(items_.begin() + r.begin, items_.begin() + r.end,
+                                 [&](const Item& item) { return bin_of(item) <= best_bin; });
+    left = Range{r.begin, static_cast<uint32_t>(middle - items_.begin()), 0, Box(), Box()};
+    right = Range{left.end, r.end, 0, Box(), Box()};
+    for (int b = 0; b < kBins; ++b) {
+      Range& side = b <= best_bin ? left : right;
+      side.box.extend(bin_box[b]);
+      side.centre_box.extend(bin_centre[b]);
+      side.triangles += bin_triangles[b];
+    }
+    return true;
+  }
+
+  std::vector<Item> items_;
+  int spawn_depth_ = 0;
+};
+
+}  // namespace
+
+Point3 closest_point_on_triangle(const Point3& p, const Point3& a, const Point3& b,
+                                 const Point3& c) {
+  const Point3 ab = sub(b, a), ac = sub(c, a), ap = sub(p, a);
+  const double d1 = dot(ab, ap), d2 = dot(ac, ap);
+  if (d1 <= 0 && d2 <= 0) return a;  // vertex region of a
+
+  const Point3 bp = sub(p, b);
+  const double d3 = dot(ab, bp), d4 = dot(ac, bp);
+  if (d3 >= 0 && d4 <= d3) return b;  // vertex region of b
+
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return along(a, ab, d1 / (d1 - d3));  // edge ab
+
+  const Point3 cp = sub(p, c);
+  const double d5 = dot(ab, cp), d6 = dot(ac, cp);
+  if (d6 >= 0 && d5 <= d6) return c;  // vertex region of c
+
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return along(a, ac, d2 / (d2 - d6));  // edge ac
+
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0)  // edge bc
+    return along(b, sub(c, b), (d4 - d3) / ((d4 - d3) + (d5 - d6)));
+
+  // Face region: p projects inside; (va, vb, vc) are its barycentric weights times the area.
+  const double sum = va + vb + vc;
+  if (!(sum > 0)) return closest_point_on_sides(p, a, b, c);
+  const double v = vb / sum, w = vc / sum;
+  return {a[0] + ab[0] * v + ac[0] * w, a[1] + ab[1] * v + ac[1] * w,
+          a[2] + ab[2] * v + ac[2] * w};
+}
+
+std::vector<SurfaceTriangle> surface_triangles(const Topology& topology,
+                                               std::span<const float> positions) {
+  assert(positions.size() == size_t{topology.vertex_count} * 3);
+  std::vector<SurfaceTriangle> triangles;
+  triangles.reserve(topology.faces.size() + 3 * topology.quad_count());
+  auto vertex = [&](uint32_t v) {
+    assert(v < topology.vertex_count);
+    return std::array<float, 3>{positions[3 * size_t{v}], positions[3 * size_t{v} + 1],
+                                positions[3 * size_t{v} + 2]};
+  };
+  for (uint32_t f = 0; f < topology.faces.size(); ++f) {
+    const Face& face = topology.faces[f];
+    const int degree = face.degree();
+    if (degree == 3) {
+      triangles.push_back({vertex(face.v[0]), vertex(face.v[1]), vertex(face.v[2]), f});
+    } else if (degree == 4) {
+      std::array<std::array<float, 3>, 4> corner;
+      for (int i = 0; i < 4; ++i) corner[i] = vertex(face.v[i]);
+      std::array<float, 3> centroid;
+      for (int k = 0; k < 3; ++k)
+        centroid[k] = static_cast<float>(
+            (double(corner[0][k]) + corner[1][k] + corner[2][k] + corner[3][k]) * 0.25);
+      for (int i = 0; i < 4; ++i) triangles.push_back({corner[i], corner[(i + 1) % 4], centroid, f});
+    }
+  }
+  return triangles;
+}
+
+TriangleBvh::TriangleBvh(std::span<const SurfaceTriangle> triangles, unsigned threads) {
+  assert(triangles.size() < kNoIndex);
+  if (triangles.empty()) return;
+  if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
+  BvhBuilder builder(triangles, threads);
+  nodes_ = std::move(builder.nodes);
+  original_ = std::move(builder.order);
+  triangles_.resize(triangles.size());
+  leaf_position_.resize(triangles.size());
+  for (uint32_t i = 0; i < original_.size(); ++i) {
+    triangles_[i] = triangles[original_[i]];
+    leaf_position_[original_[i]] = i;
+  }
+  parent_.assign(nodes_.size(), kNoIndex);
+  leaf_of_.resize(triangles.size());
+  for (uint32_t n = 0; n < nodes_.size(); ++n) {
+    const Node& node = nodes_[n];
+    if (node.count == 0) {
+      parent_[n + 1] = parent_[node.first] = n;
+    } else {
+      for (uint32_t i = node.first; i < node.first + node.count; ++i) leaf_of_[i] = n;
+    }
+  }
+}
+
+// Depth-first search of the subtree at `node`, nearer child first; a pending entry keeps its
+// box distance so that it can be dropped once something closer has been found.
+void TriangleBvh::descend(const Point3& p, uint32_t node, double& best, uint32_t& best_leaf,
+                          Point3& best_point) const {
+  struct Pending {
+    uint32_t node;
+    double d2;
+  };
+  std::array<Pending, 2 * BvhBuilder::kSahDepth + 40> stack;
+  size_t top = 0;
+  while (node != kNoIndex) {
+    const Node& n = nodes_[node];
+    if (n.count > 0) {
+      for (uint32_t i = n.first; i < n.first + n.count; ++i) {
+        const SurfaceTriangle& t = triangles_[i];
+        const Point3 q = closest_point_on_triangle(p, to_point(t.a), to_point(t.b), to_point(t.c));
+        const double d2 = squared_distance(p, q);
+        if (d2 < best) best = d2, best_leaf = i, best_point = q;
+      }
+    } else {
+      uint32_t near = node + 1, far = n.first;
+      double near_d2 = squared_distance_to_box(p, nodes_[near]);
+      double far_d2 = squared_distance_to_box(p, nodes_[far]);
+      if (far_d2 < near_d2) std::swap(near, far), std::swap(near_d2, far_d2);
+      if (near_d2 < best) {
+        if (far_d2 < best) {
+          assert(top < stack.size());
+          stack[top++] = {far, far_d2};
+        }
+        node = near;
+        continue;
+      }
+    }
+    node = kNoIndex;  // the next pending box that may still hold something closer
+    while (top > 0 && node == kNoIndex) {
+      const Pending& pending = stack[--top];
+      if (pending.d2 < best) node = pending.node;
+    }
+  }
+}
+
+TriangleBvh::Hit TriangleBvh::closest(const Point3& p, double max_squared_distance,
+                                      uint32_t hint) const {
+  Hit hit;
+  if (nodes_.empty()) return hit;
+  double best = max_squared_distance;
+  uint32_t best_leaf = kNoIndex;
+  Point3 best_point{0, 0, 0};
+  if (hint == kNoIndex) {
+    if (squared_distance_to_box(p, nodes_[0]) < best) descend(p, 0, best, best_leaf, best_point);
+  } else {
+    // The hint's leaf first, then, climbing to the root, the sibling subtree at each level:
+    // together they are the whole tree, and near the hint most siblings are too far to enter.
+    assert(hint < leaf_position_.size());
+    uint32_t node = leaf_of_[leaf_position_[hint]];
+    descend(p, node, best, best_leaf, best_point);
+    for (uint32_t parent = parent_[node]; parent != kNoIndex; node = parent, parent = parent_[node]) {
+      const uint32_t sibling = node == parent + 1 ? nodes_[parent].first : parent + 1;
+      if (squared_distance_to_box(p, nodes_[sibling]) < best)
+        descend(p, sibling, best, best_leaf, best_point);
+    }
+  }
+  if (best_leaf != kNoIndex) {
+    hit.squared_distance = best;
+    hit.point = best_point;
+    hit.triangle = original_[best_leaf];
+    hit.face = triangles_[best_leaf].face;
+  }
+  return hit;
+}
+
+}  // namespace dynpm

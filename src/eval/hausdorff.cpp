@@ -1,0 +1,451 @@
+// The Hausdorff distance between two surfaces, measured as Metro does: P. Cignoni, C. Rocchini,
+// R. Scopigno, "Metro: measuring error on simplified surfaces", Computer Graphics Forum 17(2),
+// 1998. The paper's Tables 1–3 report this distance between an animation and its simplified
+// version, per time step, in % of the bounding-box diagonal.
+//
+// The one-sided distance from surface S to surface T is the largest distance from a point of S
+// to its closest point on T. Metro estimates it by sampling S densely and measuring every
+// sample exactly:
+//
+//   1. Sample S. Metro samples three kinds of places, and so do we:
+//        vertices  every vertex in a face, once (corners are where maxima like to sit);
+//        edges     every edge once, at n = ⌊length / h + u⌋ stratified points, where h is the
+//                  spacing of the area samples, sqrt(area / N), and u is uniform in [0, 1);
+//        faces     every triangle (quads as four triangles through their centroid, §5 of the
+//                  paper) gets ⌊N · area_i / area + u⌋ uniform points: in expectation exactly
+//                  proportional to area, so their mean is an unbiased area-weighted mean. The
+//                  points are stratified (one per cell of a regular subdivision, as Metro's
+//                  "similar triangles" sampling), which covers each triangle evenly.
+//      N, the area sample count, is 10 × the face count of the larger mesh by default.
+//   2. For each sample p, d(p) = |p − closest point of T| from a BVH over T's triangles
+//      (bvh.cpp): an exact distance, not an approximation.
+//   3. max over all samples; mean and RMS over the area samples only, so that they estimate
+//      the surface integrals (1/|S|) ∫ d and sqrt((1/|S|) ∫ d²) without the vertex and edge
+//      samples tilting them.
+//
+// Both directions are measured and the Hausdorff distance is the larger maximum.
+//
+// Determinism: the samples are cut into jobs by position in the vertex, edge and triangle lists
+// (never by thread), each job draws from its own generator seeded from (seed, direction, kind,
+// job), and job results are combined in job order. So the result depends on the seed only, not
+// on the thread count or scheduling. The generator is SplitMix64 (Steele, Lea, Flood 2014),
+// written here because std::uniform_real_distribution differs between standard libraries.
+#include <algorithm>
+#include <atomic>
+#include <cassert>
+#include <cmath>
+#include <string>
+#include <thread>
+
+#include "dynpm/eval.h"
+
+namespace dynpm {
+namespace {
+
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
+// SplitMix64: a 64-bit counter passed through a strong mixing function.
+class Random {
+ public:
+  explicit Random(uint64_t seed) : state_(seed) {}
+  uint64_t next() { return mix(state_ += 0x9e3779b97f4a7c15ull); }
+  double uniform() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }  // [0, 1)
+  static uint64_t mix(uint64_t z) {
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return z ^ (z >> 31);
+  }
+
+ private:
+  uint64_t state_;
+};
+
+uint64_t job_seed(uint64_t seed, uint64_t direction, uint64_t kind, uint64_t job) {
+  uint64_t h = Random::mix(seed + 0x632be59bd9b4e019ull);
+  for (uint64_t part : {direction, kind, job}) h = Random::mix(h ^ (part + 0x9e3779b97f4a7c15ull));
+  return h;
+}
+
+// Runs work(i) for i in [0, n) on up to `threads` threads; which thread runs which i does not
+// matter to the caller, which writes each i's result to its own slot.
+template <class Work>
+void parallel_for(size_t n, unsigned threads, const Work& work) {
+  threads = std::max(1u, std::min<unsigned>(threads, static_cast<unsigned>(std::min<size_t>(n, 1024))));
+  std::atomic<size_t> next{0};
+  auto worker = [&] {
+    for (size_t i = next++; i < n; i = next++) work(i);
+  };
+  std::vector<std::thread> pool;
+  for (unsigned t = 1; t < threads; ++t) pool.emplace_back(worker);
+  worker();
+  for (std::thread& t : pool) t.join();
+}
+
+// ---------------------------------------------------------------------------------------------
+// The inputs: checked once per topology, positions once per step.
+
+struct PreparedTopology {
+  const Topology* topology = nullptr;
+  std::vector<uint32_t> vertices;  // the vertices in some face, ascending
+  std::vector<Edge> edges;         // every edge once, grouped by smaller vertex
+};
+
+Result<PreparedTopology> prepare(const char* name, const Topology& topology) {
+  PreparedTopology prepared;
+  prepared.topology = &topology;
+  const uint32_t n = topology.vertex_count;
+  if (topology.faces.empty()) return Status::error(std::string(name) + ": the mesh has no faces");
+  std::vector<uint32_t> row_start(size_t{n} + 2, 0);
+  for (size_t f = 0; f < topology.faces.size(); ++f) {
+    const Face& face = topology.faces[f];
+    const int degree = face.degree();
+    if (degree < 3)
+      return Status::error(std::string(name) + ": face " + std::to_string(f) + " has " +
+                           std::to_string(degree) + " corners");
+    for (int i = 0; i < degree; ++i) {
+      if (face.v[i] >= n)
+        return Status::error(std::string(name) + ": face " + std::to_string(f) + " names vertex " +
+                             std::to_string(face.v[i]) + " of " + std::to_string(n));
+      ++row_start[std::min(face.v[i], face.v[(i + 1) % degree]) + 2];
+    }
+  }
+  // Edges in compressed rows by smaller vertex, then sorted and deduplicated per row.
+  for (size_t v = 2; v < row_start.size(); ++v) row_start[v] += row_start[v - 1];
+  std::vector<uint32_t> larger(row_start.back());
+  std::vector<char> referenced(n, 0);
+  for (const Face& face : topology.faces) {
+    const int degree = face.degree();
+    for (int i = 0; i < degree; ++i) {
+      const uint32_t a = face.v[i], b = face.v[(i + 1) % degree];
+      larger[row_start[std::min(a, b) + 1]++] = std::max(a, b);
+      referenced[a] = 1;
+    }
+  }
+  for (uint32_t v = 0; v < n; ++v) {
+    if (referenced[v]) prepared.vertices.push_back(v);
+    auto first = larger.begin() + row_start[v], last = larger.begin() + row_start[v + 1];
+    std::sort(first, last);
+    for (auto it = first; it != last; ++it)
+      if (it == first || *it != *(it - 1)) prepared.edges.push_back({v, *it});
+  }
+  return prepared;
+}
+
+Status check_positions(const char* name, const Topology& topology,
+                       std::span<const float> positions) {
+  if (positions.size() != size_t{topology.vertex_count} * 3)
+    return Status::error(std::string(name) + ": " + std::to_string(positions.size()) +
+                         " coordinates for " + std::to_string(topology.vertex_count) +
+                         " vertices");
+  for (size_t i = 0; i < positions.size(); ++i)
+    if (!std::isfinite(positions[i]))
+      return Status::error(std::string(name) + ": vertex " + std::to_string(i / 3) +
+                           " has a non-finite coordinate");
+  return Status();
+}
+
+// ---------------------------------------------------------------------------------------------
+// Sampling one surface and measuring against the other.
+
+struct Tally {
+  double max = -1;  // -1: no sample yet
+  Point3 max_at{0, 0, 0};
+  double area_sum = 0, area_sum2 = 0;  // over the area samples
+  double all_sum = 0, all_sum2 = 0;    // over every sample (for a surface without area)
+  uint64_t vertex_samples = 0, edge_samples = 0, face_samples = 0;
+
+  void merge(const Tally& t) {  // in job order, so ties keep the earlier sample
+    if (t.max > max) max = t.max, max_at = t.max_at;
+    area_sum += t.area_sum, area_sum2 += t.area_sum2;
+    all_sum += t.all_sum, all_sum2 += t.all_sum2;
+    vertex_samples += t.vertex_samples, edge_samples += t.edge_samples;
+    face_samples += t.face_samples;
+  }
+
+  OneSidedDistance result() const {
+    OneSidedDistance d;
+    d.max = std::max(max, 0.0);
+    d.max_at = max_at;
+    d.vertex_samples = vertex_samples, d.edge_samples = edge_samples;
+    d.face_samples = face_samples;
+    const uint64_t all = vertex_samples + edge_samples + face_samples;
+    if (face_samples > 0) {
+      d.mean = area_sum / double(face_samples);
+      d.rms = std::sqrt(area_sum2 / double(face_samples));
+    } else if (all > 0) {
+      d.mean = all_sum / double(all);
+      d.rms = std::sqrt(all_sum2 / double(all));
+    }
+    return d;
+  }
+};
+
+enum SampleKind : uint32_t { kVertexSamples, kEdgeSamples, kFaceSamples };
+
+// One direction: samples on `from`, distances to `to`.
+struct Direction {
+  const PreparedTopology* from = nullptr;
+  std::span<const float> from_positions;
+  std::vector<SurfaceTriangle> from_triangles;
+  double face_density = 0;  // area samples per unit area
+  double edge_density = 0;  // edge samples per unit length
+  const TriangleBvh* to = nullptr;
+};
+
+struct Job {
+  uint32_t direction;
+  SampleKind kind;
+  size_t begin, end;  // a range of vertices, edges or triangles of `from`
+};
+
+double triangle_area(const SurfaceTriangle& t) {
+  const double ab[3] = {double(t.b[0]) - t.a[0], double(t.b[1]) - t.a[1], double(t.b[2]) - t.a[2]};
+  const double ac[3] = {double(t.c[0]) - t.a[0], double(t.c[1]) - t.a[1], double(t.c[2]) - t.a[2]};
+  const double x = ab[1] * ac[2] - ab[2] * ac[1], y = ab[2] * ac[0] - ab[0] * ac[2],
+               z = ab[0] * ac[1] - ab[1] * ac[0];
+  return 0.5 * std::sqrt(x * x + y * y + z * z);
+}
+
+// ⌊expected + u⌋: an integer whose mean is `expected`.
+uint64_t random_round(double expected, Random& random) {
+  const double whole = std::floor(expected);
+  return static_cast<uint64_t>(whole) + (random.uniform() < expected - whole ? 1 : 0);
+}
+
+// n points uniformly distributed on a triangle, stratified: the triangle is cut into k² similar
+// triangles (k = ⌈√n⌉, k rows of "up" and "down" cells), n of the cells are chosen uniformly
+// at random (Knuth's selection sampling), and each gets one uniform point. Every point of the
+// triangle is equally likely, as with plain uniform sampling, but the points cover it evenly,
+// and the cells are visited row by row in alternating directions, so each point is close to
+// the previous one and the previous answer is a good hint for the next query.
+// emit(u, v) receives coordinates along the edges ab and ac (u, v ≥ 0, u + v ≤ 1).
+template <class Emit>
+void sample_triangle(uint64_t n, Random& random, const Emit& emit) {
+  if (n == 0) return;
+  const uint64_t k = static_cast<uint64_t>(std::ceil(std::sqrt(double(n))));
+  const double scale = 1.0 / double(k);
+  uint64_t cells_left = k * k, wanted = n;
+  for (uint64_t row = 0; row < k; ++row) {
+    const uint64_t cells = 2 * (k - row) - 1;  // up, down, up, …, up
+    for (uint64_t c = 0; c < cells; ++c, --cells_left) {
+      if (random.uniform() * double(cells_left) >= double(wanted)) continue;
+      --wanted;
+      const uint64_t cell = row % 2 == 0 ? c : cells - 1 - c;
+      const double u0 = double(cell / 2), v0 = double(row);
+      double r = random.uniform(), s = random.uniform();
+      if (r + s > 1) r = 1 - r, s = 1 - s;
+      if (cell % 2 == 0)  // up: (u0, v0), (u0 + 1, v0), (u0, v0 + 1)
+        emit((u0 + r) * scale, (v0 + s) * scale);
+      else  // down: (u0 + 1, v0 + 1), (u0, v0 + 1), (u0 + 1, v0)
+        emit((u0 + 1 - r) * scale, (v0 + 1 - s) * scale);
+    }
+  }
+  assert(wanted == 0);
+}
+
+Tally run_job(const Job& job, const Direction& d, uint64_t seed, size_t job_index) {
+  Random random(job_seed(seed, job.direction, job.kind, job_index));
+  Tally tally;
+  uint32_t hint = kNoIndex;  // consecutive samples are close: the last hit bounds the next
+  auto measure = [&](const Point3& p, uint64_t& counter, bool area_sample) {
+    const TriangleBvh::Hit hit = d.to->closest(p, kInfinity, hint);
+    hint = hit.triangle;
+    const double distance = std::sqrt(hit.squared_distance);
+    if (distance > tally.max) tally.max = distance, tally.max_at = p;
+    tally.all_sum += distance, tally.all_sum2 += distance * distance;
+    if (area_sample) tally.area_sum += distance, tally.area_sum2 += distance * distance;
+    ++counter;
+  };
+  auto vertex = [&](uint32_t v) {
+    const float* x = &d.from_positions[3 * size_t{v}];
+    return Point3{x[0], x[1], x[2]};
+  };
+  switch (job.kind) {
+    case kVertexSamples:
+      for (size_t i = job.begin; i < job.end; ++i)
+        measure(vertex(d.from->vertices[i]), tally.vertex_samples, false);
+      break;
+    case kEdgeSamples:
+      for (size_t i = job.begin; i < job.end; ++i) {
+        const Point3 a = vertex(d.from->edges[i].a), b = vertex(d.from->edges[i].b);
+        const Point3 ab{b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+        const double length = std::sqrt(ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2]);
+        const uint64_t n = random_round(length * d.edge_density, random);
+        for (uint64_t k = 0; k < n; ++k) {  // one point in each of n equal pieces
+          const double t = (double(k) + random.uniform()) / double(n);
+          measure({a[0] + t * ab[0], a[1] + t * ab[1], a[2] + t * ab[2]}, tally.edge_samples,
+                  false);
+        }
+      }
+      break;
+    case kFaceSamples:
+      for (size_t i = job.begin; i < job.end; ++i) {
+        const SurfaceTriangle& t = d.from_triangles[i];
+        const uint64_t n = random_round(triangle_area(t) * d.face_density, random);
+        const Point3 a{t.a[0], t.a[1], t.a[2]};
+        const Point3 ab{double(t.b[0]) - a[0], double(t.b[1]) - a[1], double(t.b[2]) - a[2]};
+        const Point3 ac{double(t.c[0]) - a[0], double(t.c[1]) - a[1], double(t.c[2]) - a[2]};
+        sample_triangle(n, random, [&](double u, double v) {
+          measure({a[0] + u * ab[0] + v * ac[0], a[1] + u * ab[1] + v * ac[1],
+                   a[2] + u * ab[2] + v * ac[2]},
+                  tally.face_samples, true);
+        });
+      }
+      break;
+  }
+  return tally;
+}
+
+// Jobs of about kSamplesPerJob samples each, cut by list position only.
+constexpr double kSamplesPerJob = 8192;
+
+void add_jobs(std::vector<Job>& jobs, uint32_t direction, SampleKind kind, size_t count,
+              double samples_per_item) {
+  const size_t per_job = static_cast<size_t>(
+      std::clamp(kSamplesPerJob / std::max(samples_per_item, 1e-9), 16.0, 65536.0));
+  for (size_t begin = 0; begin < count; begin += per_job)
+    jobs.push_back({direction, kind, begin, std::min(count, begin + per_job)});
+}
+
+Result<HausdorffResult> evaluate(const PreparedTopology& a, std::span<const float> a_positions,
+                                 const PreparedTopology& b, std::span<const float> b_positions,
+                                 const HausdorffOptions& options) {
+  assert(options.samples_per_face >= 0 && std::isfinite(options.samples_per_face));
+  DYNPM_RETURN_IF_ERROR(check_positions("A", *a.topology, a_positions));
+  DYNPM_RETURN_IF_ERROR(check_positions("B", *b.topology, b_positions));
+  const size_t larger = std::max(a.topology->faces.size(), b.topology->faces.size());
+  const double area_samples = options.face_samples > 0
+                                  ? double(options.face_samples)
+                                  : std::round(options.samples_per_face * double(larger));
+
+  std::array<Direction, 2> directions;
+  directions[0].from = &a, directions[0].from_positions = a_positions;
+  directions[1].from = &b, directions[1].from_positions = b_positions;
+  for (Direction& d : directions) d.from_triangles = surface_triangles(*d.from->topology, d.from_positions);
+  const unsigned threads = options.threads > 0 ? options.threads
+                                               : std::max(1u, std::thread::hardware_concurrency());
+  const TriangleBvh a_bvh(directions[0].from_triangles, threads);
+  const TriangleBvh b_bvh(directions[1].from_triangles, threads);
+  directions[0].to = &b_bvh, directions[1].to = &a_bvh;
+
+  std::vector<Job> jobs;
+  for (uint32_t k = 0; k < 2; ++k) {
+    Direction& d = directions[k];
+    double area = 0;
+    for (const SurfaceTriangle& t : d.from_triangles) area += triangle_area(t);
+    if (area > 0 && area_samples > 0) {
+      d.face_density = area_samples / area;
+      if (options.sample_edges) d.edge_density = std::sqrt(d.face_density);
+    }
+    if (options.sample_vertices) add_jobs(jobs, k, kVertexSamples, d.from->vertices.size(), 1);
+    if (d.edge_density > 0) {
+      double length = 0;
+      for (const Edge& e : d.from->edges) {
+        double l2 = 0;
+        for (int c = 0; c < 3; ++c) {
+          const double x = double(d.from_positions[3 * size_t{e.a} + c]) -
+                           d.from_positions[3 * size_t{e.b} + c];
+          l2 += x * x;
+        }
+        length += std::sqrt(l2);
+      }
+      add_jobs(jobs, k, kEdgeSamples, d.from->edges.size(),
+               length * d.edge_density / double(d.from->edges.size()));
+    }
+    if (d.face_density > 0)
+      add_jobs(jobs, k, kFaceSamples, d.from_triangles.size(),
+               area_samples / double(d.from_triangles.size()));
+  }
+
+  std::vector<Tally> tallies(jobs.size());
+  parallel_for(jobs.size(), threads, [&](size_t i) {
+    tallies[i] = run_job(jobs[i], directions[jobs[i].direction], options.seed, i);
+  });
+  std::array<Tally, 2> total;
+  for (size_t i = 0; i < jobs.size(); ++i) total[jobs[i].direction].merge(tallies[i]);
+
+  HausdorffResult r;
+  r.a_to_b = total[0].result();
+  r.b_to_a = total[1].result();
+  r.hausdorff = std::max(r.a_to_b.max, r.b_to_a.max);
+  r.mean = 0.5 * (r.a_to_b.mean + r.b_to_a.mean);
+  r.rms = std::sqrt(0.5 * (r.a_to_b.rms * r.a_to_b.rms + r.b_to_a.rms * r.b_to_a.rms));
+  if (options.reference_diagonal > 0) {
+    r.diagonal = options.reference_diagonal;
+  } else {
+    BoundingBox box;
+    box.extend(a_positions);
+    r.diagonal = box.diagonal();
+  }
+  return r;
+}
+
+void summarize(HausdorffSteps& s) {
+  auto over = [&](auto&& value) {
+    OverSteps o;
+    for (const HausdorffResult& r : s.steps) {
+      o.mean += value(r);
+      o.max = std::max(o.max, value(r));
+    }
+    if (!s.steps.empty()) o.mean /= double(s.steps.size());
+    return o;
+  };
+  s.hausdorff = over([](const HausdorffResult& r) { return r.hausdorff; });
+  s.mean = over([](const HausdorffResult& r) { return r.mean; });
+  s.rms = over([](const HausdorffResult& r) { return r.rms; });
+  s.a_to_b_max = over([](const HausdorffResult& r) { return r.a_to_b.max; });
+  s.b_to_a_max = over([](const HausdorffResult& r) { return r.b_to_a.max; });
+}
+
+}  // namespace
+
+Result<HausdorffResult> hausdorff(const Topology& a_topology, std::span<const float> a_positions,
+                                  const Topology& b_topology, std::span<const float> b_positions,
+                                  const HausdorffOptions& options) {
+  auto a = prepare("A", a_topology);
+  if (!a) return a.status();
+  auto b = prepare("B", b_topology);
+  if (!b) return b.status();
+  return evaluate(*a, a_positions, *b, b_positions, options);
+}
+
+Result<HausdorffSteps> hausdorff_steps(const Topology& a_topology, const FrameSource& a_frames,
+                                       const Topology& b_topology, const FrameSource& b_frames,
+                                       const StepsOptions& options) {
+  const size_t a_steps = a_frames.step_count(), b_steps = b_frames.step_count();
+  if (a_steps == 0 || b_steps == 0) return Status::error("no time steps to compare");
+  if (a_steps != b_steps && a_steps != 1 && b_steps != 1)
+    return Status::error("A has " + std::to_string(a_steps) + " time steps and B " +
+                         std::to_string(b_steps) + "; step-by-step comparison needs equal counts");
+  if (a_frames.vertex_count() != a_topology.vertex_count ||
+      b_frames.vertex_count() != b_topology.vertex_count)
+    return Status::error("the time steps and the faces disagree on the vertex count");
+  auto a = prepare("A", a_topology);
+  if (!a) return a.status();
+  auto b = prepare("B", b_topology);
+  if (!b) return b.status();
+
+  HausdorffSteps result;
+  const size_t steps = std::max(a_steps, b_steps);
+  std::vector<float> a_xyz(size_t{a_topology.vertex_count} * 3);
+  std::vector<float> b_xyz(size_t{b_topology.vertex_count} * 3);
+  BoundingBox a_box;
+  for (size_t t = 0; t < steps; ++t) {
+    if (t == 0 || a_steps > 1) {
+      DYNPM_RETURN_IF_ERROR(a_frames.read_step(t, a_xyz));
+      a_box.extend(a_xyz);
+    }
+    if (t == 0 || b_steps > 1) DYNPM_RETURN_IF_ERROR(b_frames.read_step(t, b_xyz));
+    auto r = evaluate(*a, a_xyz, *b, b_xyz, options.hausdorff);
+    if (!r) return Status::error("step " + std::to_string(t) + ": " + r.message());
+    result.steps.push_back(*r);
+    if (options.progress) options.progress(t + 1, steps);
+  }
+  result.diagonal = options.hausdorff.reference_diagonal > 0 ? options.hausdorff.reference_diagonal
+                                                             : a_box.diagonal();
+  for (HausdorffResult& r : result.steps) r.diagonal = result.diagonal;
+  summarize(result);
+  return result;
+}
+
+}  // namespace dynpm

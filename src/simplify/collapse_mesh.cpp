@@ -1,0 +1,157 @@
+#include "collapse_mesh.h"
+
+#include <algorithm>
+
+namespace dynpm::simplification {
+
+CollapseMesh::CollapseMesh(const Topology& topology) : faces_(topology.faces) {
+  const uint32_t n = topology.vertex_count;
+  list_start_.assign(n, 0);
+  list_size_.assign(n, 0);
+  list_capacity_.assign(n, 0);
+  for (const Face& f : faces_)
+    for (uint32_t c : f.v)
+      if (c != kNoVertex) ++list_capacity_[c];
+  uint32_t total = 0;
+  for (uint32_t v = 0; v < n; ++v) {
+    list_start_[v] = total;
+    list_capacity_[v] += 2;  // room to grow before a list must move
+    total += list_capacity_[v];
+  }
+  pool_.resize(total);
+  for (uint32_t f = 0; f < faces_.size(); ++f)
+    for (uint32_t c : faces_[f].v)
+      if (c != kNoVertex) pool_[list_start_[c] + list_size_[c]++] = f;
+  for (uint32_t v = 0; v < n; ++v) live_vertices_ += list_size_[v] > 0 ? 1 : 0;
+  live_faces_ = faces_.size();
+}
+
+void CollapseMesh::neighbours(uint32_t v, std::vector<uint32_t>& out) const {
+  out.clear();
+  for (uint32_t f : faces_of(v)) {
+    const Face& face = faces_[f];
+    const int d = face.degree();
+    const int i = corner_of(face, v);
+    for (uint32_t w : {face.v[(i + 1) % d], face.v[(i + d - 1) % d]})
+      if (std::find(out.begin(), out.end(), w) == out.end()) out.push_back(w);
+  }
+}
+
+void CollapseMesh::second_order_neighbours(uint32_t v, std::vector<uint32_t>& out) const {
+  out.clear();
+  for (uint32_t f : faces_of(v))
+    for (uint32_t w : faces_[f].v)
+      if (w != kNoVertex && w != v && std::find(out.begin(), out.end(), w) == out.end())
+        out.push_back(w);
+}
+
+void CollapseMesh::remove_face_from(uint32_t v, uint32_t f) {
+  uint32_t* list = pool_.data() + list_start_[v];
+  uint32_t& size = list_size_[v];
+  for (uint32_t k = 0; k < size; ++k) {
+    if (list[k] != f) continue;
+    list[k] = list[--size];
+    return;
+  }
+}
+
+void CollapseMesh::reserve_list(uint32_t v, uint32_t size) {
+  if (size <= list_capacity_[v]) return;
+  // Move the list to the end of the pool with room to grow; the old block is abandoned.
+  const uint32_t capacity = size + size / 2 + 2;
+  const uint32_t start = static_cast<uint32_t>(pool_.size());
+  pool_.resize(pool_.size() + capacity);
+  std::copy_n(pool_.begin() + list_start_[v], list_size_[v], pool_.begin() + start);
+  list_start_[v] = start;
+  list_capacity_[v] = capacity;
+}
+
+void CollapseMesh::collapse(uint32_t v0, uint32_t v1, CollapseRecord& record,
+                            std::vector<uint32_t>& moved) {
+  record.v0 = v0;
+  record.v1 = v1;
+  record.wing_count = 0;
+  moved.clear();
+  // Copy: v0's list is rewritten below while we walk it.
+  std::array<uint32_t, 64> local;
+  std::vector<uint32_t> spill;
+  std::span<const uint32_t> v0_faces = faces_of(v0);
+  if (v0_faces.size() <= local.size()) {
+    std::copy(v0_faces.begin(), v0_faces.end(), local.begin());
+    v0_faces = {local.data(), v0_faces.size()};
+  } else {
+    spill.assign(v0_faces.begin(), v0_faces.end());
+    v0_faces = spill;
+  }
+
+  for (uint32_t f : v0_faces) {
+    Face& face = faces_[f];
+    const int d = face.degree();
+    const int i0 = corner_of(face, v0);
+    const int i1 = corner_of(face, v1);
+    if (i1 < 0) {  // the face moves to v1
+      face.v[i0] = v1;
+      moved.push_back(f);
+      continue;
+    }
+    // A face of the edge: record its wing, then shrink it.
+    const bool v1_follows = face.v[(i0 + 1) % d] == v1;
+    assert((v1_follows || face.v[(i0 + d - 1) % d] == v1) && "collapse across a quad diagonal");
+    if (record.wing_count < record.wings.size()) {
+      CollapseWing& wing = record.wings[record.wing_count++];
+      wing.face = f;
+      wing.vertex = v1_follows ? face.v[(i0 + d - 1) % d] : face.v[(i0 + 1) % d];
+      wing.was_triangle = d == 3;
+      wing.v1_follows_v0 = v1_follows;
+    }
+    if (d == 3) {  // a triangle vanishes
+      for (uint32_t c : face.v)
+        if (c != v0 && c != kNoVertex) remove_face_from(c, f);
+      face.v = {kNoVertex, kNoVertex, kNoVertex, kNoVertex};
+      --live_faces_;
+    } else {  // a quad becomes a triangle: drop v0, keep the cyclic order
+      for (int k = i0; k < 3; ++k) face.v[k] = face.v[k + 1];
+      face.v[3] = kNoVertex;
+    }
+  }
+
+  reserve_list(v1, list_size_[v1] + static_cast<uint32_t>(moved.size()));
+  for (uint32_t f : moved) pool_[list_start_[v1] + list_size_[v1]++] = f;
+  list_size_[v0] = 0;
+  --live_vertices_;
+  // Legality ((P2), (P1*)) guarantees no vertex but v0 is left without faces.
+  for (uint8_t k = 0; k < record.wing_count; ++k)
+    assert(list_size_[record.wings[k].vertex] > 0 && "a collapse orphaned a wing vertex");
+  assert(list_size_[v1] > 0 && "a collapse orphaned v1");
+  record.moved_faces = moved;
+}
+
+Topology CollapseMesh::to_topology(const Topology& input,
+                                   std::vector<uint32_t>& original_vertex) const {
+  std::vector<uint32_t> new_id(input.vertex_count, kNoVertex);
+  original_vertex.clear();
+  for (uint32_t v = 0; v < input.vertex_count; ++v) {
+    if (!vertex_alive(v)) continue;
+    new_id[v] = static_cast<uint32_t>(original_vertex.size());
+    original_vertex.push_back(v);
+  }
+  Topology out;
+  out.vertex_count = static_cast<uint32_t>(original_vertex.size());
+  out.node_ids.reserve(original_vertex.size());
+  for (uint32_t v : original_vertex) out.node_ids.push_back(input.node_ids[v]);
+  out.faces.reserve(live_faces_);
+  out.part_ids.reserve(live_faces_);
+  out.element_ids.reserve(live_faces_);
+  for (uint32_t f = 0; f < faces_.size(); ++f) {
+    if (!face_alive(f)) continue;
+    Face face = faces_[f];
+    for (uint32_t& c : face.v)
+      if (c != kNoVertex) c = new_id[c];
+    out.faces.push_back(face);
+    out.part_ids.push_back(input.part_ids[f]);
+    out.element_ids.push_back(input.element_ids[f]);
+  }
+  return out;
+}
+
+}  // namespace dynpm::simplification

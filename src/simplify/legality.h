@@ -1,0 +1,65 @@
+// Which collapses are legal, as data (the habit of meshoptimizer's kCanCollapse table).
+//
+// Every vertex has a class, fixed for the whole run because collapses never change it:
+//   interior  all its edges have two faces of one part
+//   boundary  exactly two boundary edges (one face each)
+//   feature   exactly two feature edges: non-manifold (3+ faces, a T-joint of shells), between
+//             two parts (when part boundaries are kept), or given by the user; no boundary edge
+//   locked    user-locked, or where features meet: more than two boundary or feature edges,
+//             boundary and feature edges together, a pinched (several-fan) vertex
+// and kCanCollapse[class(v0)][class(v1)] says along which edges v0 may move onto v1. So a
+// boundary vertex only slides along its boundary ((P2) holds by construction), a feature vertex
+// only along its feature line, and a locked vertex never moves.
+#pragma once
+
+#include <cstdint>
+
+namespace dynpm::simplification {
+
+enum class VertexClass : uint8_t { kInterior = 0, kBoundary = 1, kFeature = 2, kLocked = 3 };
+
+enum class Along : uint8_t {
+  kNever,         // v0 may not collapse into v1
+  kAnyEdge,       // along any edge
+  kBoundaryEdge,  // only along an edge with one face
+  kFeatureEdge,   // only along a feature edge
+};
+
+// kCanCollapse[v0][v1]
+inline constexpr Along kCanCollapse[4][4] = {
+    //               v1: interior          boundary             feature              locked
+    /* interior */ {Along::kAnyEdge, Along::kAnyEdge, Along::kAnyEdge, Along::kAnyEdge},
+    /* boundary */ {Along::kNever, Along::kBoundaryEdge, Along::kBoundaryEdge, Along::kBoundaryEdge},
+    /* feature  */ {Along::kNever, Along::kNever, Along::kFeatureEdge, Along::kFeatureEdge},
+    /* locked   */ {Along::kNever, Along::kNever, Along::kNever, Along::kNever},
+};
+
+inline Along can_collapse(VertexClass v0, VertexClass v1) {
+  return kCanCollapse[static_cast<int>(v0)][static_cast<int>(v1)];
+}
+
+}  // namespace dynpm::simplification
+
+#include <vector>
+
+#include "collapse_mesh.h"
+
+namespace dynpm::simplification {
+
+// Marks per vertex, reused across tests: a vertex is marked when mark[v] == the current stamp.
+struct VertexMarks {
+  explicit VertexMarks(uint32_t vertex_count) : mark(vertex_count, 0) {}
+  std::vector<uint32_t> mark;
+  uint32_t stamp = 0;
+};
+
+// (P1*) (paper §2): every vertex that shares a face with v0 and a face with v1 shares one face
+// with both. `edge_faces` are the faces holding both v0 and v1.
+bool second_order_neighbours_ok(const CollapseMesh& mesh, uint32_t v0, uint32_t v1,
+                                std::span<const uint32_t> edge_faces, VertexMarks& marks);
+
+// Hoppe's (P1), kept to show in tests where it is not enough (the paper's Figure 5): every
+// vertex joined by an edge to both v0 and v1 shares a face with both.
+bool first_order_neighbours_ok(const CollapseMesh& mesh, uint32_t v0, uint32_t v1);
+
+}  // namespace dynpm::simplification

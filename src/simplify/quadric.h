@@ -1,0 +1,75 @@
+// Garland & Heckbert 1997 quadric error metric, in double precision. A quadric is the sum of
+// weighted squared distances to a set of planes n·p + d = 0; Q(p) = pᵀAp + 2bᵀp + c with A
+// symmetric 3×3. The plane weights are kept too (w), so Q(p) / w is a weighted mean squared
+// distance: an error in length units, comparable across meshes (meshoptimizer does the same).
+#pragma once
+
+#include <array>
+#include <cmath>
+#include <optional>
+
+namespace dynpm::simplification {
+
+struct Vec3 {
+  double x = 0, y = 0, z = 0;
+};
+inline Vec3 operator+(Vec3 a, Vec3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+inline Vec3 operator-(Vec3 a, Vec3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+inline Vec3 operator*(Vec3 a, double s) { return {a.x * s, a.y * s, a.z * s}; }
+inline double dot(Vec3 a, Vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+inline Vec3 cross(Vec3 a, Vec3 b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+inline double length(Vec3 a) { return std::sqrt(dot(a, a)); }
+inline Vec3 normalized(Vec3 a) {
+  const double l = length(a);
+  return l > 0 ? a * (1.0 / l) : Vec3{};
+}
+inline Vec3 load(const float* p) { return {p[0], p[1], p[2]}; }
+
+struct Quadric {
+  // Upper triangle of A (xx xy xz yy yz zz), b (x y z), c, and the total plane weight.
+  double xx = 0, xy = 0, xz = 0, yy = 0, yz = 0, zz = 0;
+  double bx = 0, by = 0, bz = 0, c = 0;
+  double w = 0;
+
+  // Adds weight · (n·p + d)² for a unit normal n.
+  void add_plane(Vec3 n, double d, double weight) {
+    xx += weight * n.x * n.x, xy += weight * n.x * n.y, xz += weight * n.x * n.z;
+    yy += weight * n.y * n.y, yz += weight * n.y * n.z, zz += weight * n.z * n.z;
+    bx += weight * n.x * d, by += weight * n.y * d, bz += weight * n.z * d;
+    c += weight * d * d;
+    w += weight;
+  }
+
+  Quadric& operator+=(const Quadric& q) {
+    xx += q.xx, xy += q.xy, xz += q.xz, yy += q.yy, yz += q.yz, zz += q.zz;
+    bx += q.bx, by += q.by, bz += q.bz, c += q.c, w += q.w;
+    return *this;
+  }
+  friend Quadric operator+(Quadric a, const Quadric& b) { return a += b; }
+
+  // Σ weight · distance², never negative.
+  double evaluate(Vec3 p) const {
+    const double v = p.x * (xx * p.x + xy * p.y + xz * p.z) + p.y * (xy * p.x + yy * p.y + yz * p.z) +
+                     p.z * (xz * p.x + yz * p.y + zz * p.z) + 2 * (bx * p.x + by * p.y + bz * p.z) + c;
+    return v > 0 ? v : 0;
+  }
+  // Weighted mean squared distance.
+  double mean_squared(Vec3 p) const { return w > 0 ? evaluate(p) / w : 0; }
+
+  // The point minimising Q (A p = −b), if A is well-conditioned enough to trust it.
+  std::optional<Vec3> minimiser() const {
+    // Cofactors of the symmetric A.
+    const double c00 = yy * zz - yz * yz, c01 = xz * yz - xy * zz, c02 = xy * yz - xz * yy;
+    const double det = xx * c00 + xy * c01 + xz * c02;
+    const double scale = xx + yy + zz;  // trace: the size of A's eigenvalues
+    if (!(std::fabs(det) > 1e-9 * scale * scale * scale) || scale <= 0) return std::nullopt;
+    const double c11 = xx * zz - xz * xz, c12 = xy * xz - xx * yz, c22 = xx * yy - xy * xy;
+    const double inv = -1.0 / det;
+    return Vec3{inv * (c00 * bx + c01 * by + c02 * bz), inv * (c01 * bx + c11 * by + c12 * bz),
+                inv * (c02 * bx + c12 * by + c22 * bz)};
+  }
+};
+
+}  // namespace dynpm::simplification
