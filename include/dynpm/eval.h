@@ -64,13 +64,28 @@ class TriangleBvh {
   explicit TriangleBvh(std::span<const SurfaceTriangle> triangles, unsigned threads = 0);
 
   // The closest point of all triangles to p, or a Hit with triangle == kNoIndex if none is
-  // closer than sqrt(max_squared_distance). Coordinates must be finite. `hint` (a triangle
-  // likely near p, e.g. the previous query's) only makes the search faster: the search starts
-  // at the hint's leaf and climbs, visiting the other subtrees only where they may hold
-  // something closer. The distance is the same with or without it.
+  // closer than sqrt(max_squared_distance). Coordinates must be finite.
   Hit closest(const Point3& p,
-              double max_squared_distance = std::numeric_limits<double>::infinity(),
-              uint32_t hint = kNoIndex) const;
+              double max_squared_distance = std::numeric_limits<double>::infinity()) const;
+
+  // No tree is deeper than this (the build halves ranges below a fixed depth).
+  static constexpr size_t kMaxDepth = 96;
+
+  // Where the previous query of a run ended: its leaf, and for each ancestor of the leaf a
+  // clearance (no triangle outside that ancestor's subtree is closer than this to `origin`).
+  // Samples come in runs of close neighbours: a query with a cursor tests the cursor's leaf
+  // first and climbs towards the root, entering only the sibling subtrees that may hold
+  // something closer, and stops as soon as the best distance so far is below an ancestor's
+  // clearance − |p − origin| (box distances are 1-Lipschitz, so nothing outside can beat it).
+  // One cursor per thread; the answer is the same as without one.
+  struct Cursor {
+    uint32_t leaf = kNoIndex;
+    uint32_t levels = 0;  // ancestors of the leaf: the root is ancestor `levels`
+    Point3 origin{0, 0, 0};
+    std::array<double, kMaxDepth> sibling;    // [k]: lower bound, origin to ancestor k's other child
+    std::array<double, kMaxDepth> clearance;  // [k]: min of sibling[k + 1 …]; ∞ at the root
+  };
+  Hit closest(const Point3& p, Cursor& cursor) const;
 
   size_t triangle_count() const { return triangles_.size(); }
   size_t node_count() const { return nodes_.size(); }
@@ -85,8 +100,9 @@ class TriangleBvh {
   };
 
  private:
-  void descend(const Point3& p, uint32_t node, double& best, uint32_t& best_leaf,
-               Point3& best_point) const;
+  struct Best;
+  void descend(const Point3& p, uint32_t node, Best& best) const;
+  Hit hit(const Best& best) const;
 
   std::vector<Node> nodes_;
   std::vector<uint32_t> parent_;            // per node; kNoIndex for the root

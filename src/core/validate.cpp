@@ -29,10 +29,10 @@ void check_faces(const Topology& topology, ValidationReport& report,
   face_ok.assign(faces.size(), 1);
   for (uint32_t fi = 0; fi < faces.size(); ++fi) {
     const Face& f = faces[fi];
-    const std::string where = "face " + std::to_string(fi) + " " + face_text(f);
+    auto where = [&] { return "face " + std::to_string(fi) + " " + face_text(f); };
     if (f.v[0] == kNoVertex || f.v[1] == kNoVertex || f.v[2] == kNoVertex) {
       report.add({ProblemKind::kFaceDegree, Severity::kError, fi, kNoIndex, kNoIndex,
-                  where + ": (M3) a face needs at least 3 corners, it has " +
+                  where() + ": (M3) a face needs at least 3 corners, it has " +
                       std::to_string(f.degree())});
       face_ok[fi] = 0;
       continue;
@@ -40,7 +40,7 @@ void check_faces(const Topology& topology, ValidationReport& report,
     for (int i = 0; i < 4; ++i) {
       if (f.v[i] != kNoVertex && f.v[i] >= topology.vertex_count) {
         report.add({ProblemKind::kIndexOutOfRange, Severity::kError, fi, f.v[i], kNoIndex,
-                    where + ": corner " + std::to_string(i) + " names vertex " +
+                    where() + ": corner " + std::to_string(i) + " names vertex " +
                         std::to_string(f.v[i]) + ", but there are only " +
                         std::to_string(topology.vertex_count) + " vertices"});
         face_ok[fi] = 0;
@@ -48,7 +48,7 @@ void check_faces(const Topology& topology, ValidationReport& report,
       for (int j = 0; j < i; ++j) {
         if (f.v[i] != kNoVertex && f.v[i] == f.v[j]) {
           report.add({ProblemKind::kRepeatedVertex, Severity::kError, fi, f.v[i], kNoIndex,
-                      where + ": vertex " + std::to_string(f.v[i]) + " appears twice"});
+                      where() + ": vertex " + std::to_string(f.v[i]) + " appears twice"});
           face_ok[fi] = 0;
         }
       }
@@ -95,7 +95,7 @@ void check_connectivity(const Topology& good, const std::vector<uint32_t>& origi
     ++valence[edge.a];
     ++valence[edge.b];
     auto ef = adj.faces_of_edge(e);
-    const std::string name = "edge (" + std::to_string(edge.a) + ", " + std::to_string(edge.b) + ")";
+    auto name = [&] { return "edge (" + std::to_string(edge.a) + ", " + std::to_string(edge.b) + ")"; };
     if (ef.size() >= 3) {
       std::string list;
       for (uint32_t f : ef) {
@@ -104,7 +104,7 @@ void check_connectivity(const Topology& good, const std::vector<uint32_t>& origi
       }
       report.add({ProblemKind::kNonManifoldEdge, Severity::kFeature, original_face[ef[0]], edge.a,
                   kNoIndex,
-                  name + ": (M1) shared by " + std::to_string(ef.size()) + " faces (" + list +
+                  name() + ": (M1) shared by " + std::to_string(ef.size()) + " faces (" + list +
                       "); kept as a feature"});
     } else if (ef.size() == 2) {
       // Consistent orientation: the two faces walk the edge in opposite directions.
@@ -117,7 +117,7 @@ void check_connectivity(const Topology& good, const std::vector<uint32_t>& origi
       if (walks_a_to_b(good.faces[ef[0]]) == walks_a_to_b(good.faces[ef[1]]))
         report.add({ProblemKind::kInconsistentOrientation, Severity::kWarning,
                     original_face[ef[1]], edge.a, kNoIndex,
-                    name + ": faces " + std::to_string(original_face[ef[0]]) + " and " +
+                    name() + ": faces " + std::to_string(original_face[ef[0]]) + " and " +
                         std::to_string(original_face[ef[1]]) +
                         " walk it in the same direction (flipped normal)"});
     }
@@ -125,19 +125,19 @@ void check_connectivity(const Topology& good, const std::vector<uint32_t>& origi
 
   for (uint32_t v = 0; v < good.vertex_count; ++v) {
     const uint8_t kind = adj.vertex_kind(v);
-    const std::string name = "vertex " + std::to_string(v);
+    auto name = [&] { return "vertex " + std::to_string(v); };
     if (kind & kUnreferencedVertex) {
       report.add({ProblemKind::kUnreferencedVertex, Severity::kWarning, kNoIndex, v, kNoIndex,
-                  name + ": in no face"});
+                  name() + ": in no face"});
     } else if (adj.is_feature_vertex(v)) {
       report.add({ProblemKind::kNonManifoldVertex, Severity::kFeature, kNoIndex, v, kNoIndex,
-                  name + ": (M1) its neighbourhood is not a disc or half-disc" +
+                  name() + ": (M1) its neighbourhood is not a disc or half-disc" +
                       ((kind & kOnNonManifoldEdge) ? " (on a non-manifold edge)"
                                                    : " (faces form several fans)") +
                       "; kept as a feature"});
     } else if (!(kind & kBoundaryVertex) && valence[v] < 3) {
       report.add({ProblemKind::kInnerValence, Severity::kError, kNoIndex, v, kNoIndex,
-                  name + ": (M2) inner vertex with valence " + std::to_string(valence[v]) +
+                  name() + ": (M2) inner vertex with valence " + std::to_string(valence[v]) +
                       ", at least 3 needed"});
     }
   }
@@ -157,25 +157,25 @@ void check_frames(const Topology& topology, const FrameSource& frames, Validatio
   }
   std::vector<float> xyz(size_t{topology.vertex_count} * 3);
   for (uint32_t t = 0; t < frames.step_count(); ++t) {
-    const std::string step = "step " + std::to_string(t);
+    auto step = [&] { return "step " + std::to_string(t); };
     const size_t floats = frames.step_float_count(t);
     if (floats != xyz.size()) {
       report.add({ProblemKind::kStepVertexCount, Severity::kError, kNoIndex, kNoIndex, t,
-                  step + ": holds " + std::to_string(floats / 3) +
+                  step() + ": holds " + std::to_string(floats / 3) +
                       (floats % 3 ? " and a partial" : "") + " vertices, expected " +
                       std::to_string(topology.vertex_count)});
       continue;
     }
     if (Status s = frames.read_step(t, xyz); !s.ok()) {
       report.add({ProblemKind::kUnreadableStep, Severity::kError, kNoIndex, kNoIndex, t,
-                  step + ": " + s.message()});
+                  step() + ": " + s.message()});
       continue;
     }
     for (uint32_t v = 0; v < topology.vertex_count; ++v) {
       const float* p = &xyz[size_t{v} * 3];
       if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
         report.add({ProblemKind::kNonFinitePosition, Severity::kError, kNoIndex, v, t,
-                    step + ", vertex " + std::to_string(v) + ": position (" +
+                    step() + ", vertex " + std::to_string(v) + ": position (" +
                         std::to_string(p[0]) + ", " + std::to_string(p[1]) + ", " +
                         std::to_string(p[2]) + ") is not finite"});
     }

@@ -8,11 +8,21 @@
 //   P. Cignoni. Mesh simplification (lecture): lazy heap with temporal marks, boundary quadrics.
 //
 // Roles kept apart: cost (quadric.h), legality (legality.h + the checks below), the mesh being
-// changed (collapse_mesh.h), the queue (a lazy binary heap, one candidate per vertex, stamped
-// with the vertex's version), and the listener (CollapseListener). Read top to bottom: key
-// steps and quadrics, vertex classes, one candidate, the loop, the public entry.
+// changed (collapse_mesh.h), the queue, and the listener (CollapseListener). Read top to
+// bottom: key steps and quadrics, vertex classes, one collapse's cost and legality, the loop,
+// the public entry.
+//
+// The queue is the lecture's lazy heap with temporal marks: every directed edge v0 → v1 the
+// vertex classes allow is pushed with its cost and the time (collapse count) it was rated.
+// A collapse changes the quadric of v1 only, so only v1's edges are re-rated; entries of v0
+// and v1 rated before that time are stale and skipped when popped. Legality is checked when an
+// entry is popped, on the mesh as it is then; an illegal entry is dropped, and its vertex is
+// marked so that its edges are re-rated as soon as its neighbourhood changes. When the heap
+// runs dry before the target, every edge is rated again once: only if that finds no legal
+// collapse does the simplifier report that none remains.
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <numeric>
 #include <string>
 #include <unordered_set>
@@ -45,9 +55,8 @@ struct EdgeFaces {
 // Scratch space for one thread.
 struct Scratch {
   explicit Scratch(uint32_t vertex_count) : marks(vertex_count) {}
-  std::vector<uint32_t> neighbours, ring;
-  std::vector<std::pair<double, uint32_t>> options;  // (error, v1) of the legal-by-class collapses
-  std::vector<Vec3> placement;  // per key step, for the candidate under test
+  std::vector<std::pair<uint32_t, uint8_t>> edges;  // (neighbour, quads on the edge)
+  std::vector<Vec3> placement;  // per key step, for the collapse under test
   VertexMarks marks;
 };
 
@@ -63,6 +72,13 @@ bool quad_is_convex(const Vec3* p, Vec3 normal) {
   for (int i = 0; i < 4; ++i)
     if (dot(cross(p[(i + 1) % 4] - p[i], p[(i + 3) % 4] - p[i]), normal) <= 0) return false;
   return true;
+}
+
+// The bits of a non-negative float order like the float.
+uint32_t float_bits(float value) {
+  uint32_t bits;
+  std::memcpy(&bits, &value, sizeof bits);
+  return bits;
 }
 
 class Simplifier {
@@ -85,13 +101,16 @@ class Simplifier {
   bool is_feature_edge(uint32_t a, uint32_t b, std::span<const uint32_t> faces) const;
   EdgeFaces edge_faces(uint32_t v0, uint32_t v1) const;
   double collapse_error(uint32_t v0, uint32_t v1, std::vector<Vec3>& placement) const;
+  double half_edge_error(uint32_t v0, uint32_t v1) const;
   bool topology_allows(uint32_t v0, uint32_t v1, const EdgeFaces& edge, Scratch& s) const;
   bool face_stays_sound(const Face& face, size_t k, uint32_t skip, uint32_t moved, Vec3 target) const;
   bool geometry_allows(uint32_t v0, uint32_t v1, const std::vector<Vec3>& placement) const;
-  void best_candidate(uint32_t v0, Scratch& s, double& error, uint32_t& target) const;
+  bool legal(uint32_t v0, uint32_t v1, Scratch& s) const;
 
-  void recompute(uint32_t v, Scratch& s);
-  void push(uint32_t v);
+  struct Entry;
+  bool stale(const Entry& e) const;
+  void rate_edges_of(uint32_t v, Scratch& s, std::vector<Entry>& out) const;
+  void rate_all_edges();
   Status collapse(uint32_t v0, uint32_t v1, double error, Scratch& s);
   Status check_mesh(size_t collapse_index) const;
   bool stop_reached(std::string& reason) const;
@@ -112,18 +131,21 @@ class Simplifier {
   std::vector<uint32_t> component_, component_live_;  // (P3) per connected component
   TopologyStats initial_stats_;
 
-  // The queue: the best candidate of each vertex, and heap entries stamped with the vertex's
-  // version at push time; an entry whose stamp is old is skipped on pop (temporal marks).
+  // The queue (see the top of this file). time_ counts collapses; changed_[v] is the time v's
+  // quadric last changed; an entry rated before that time is stale.
+  // Ordered by one integer: the error rounded to 6 significant bits, then the quads the
+  // collapse turns into triangles (fewer first), then the exact error.
   struct Entry {
-    double error;
-    uint32_t vertex, version;
-    bool operator>(const Entry& o) const {
-      return error != o.error ? error > o.error : vertex > o.vertex;  // deterministic ties
-    }
+    uint64_t key;
+    uint32_t v0, v1, time;
+    bool operator>(const Entry& o) const { return key > o.key; }
   };
-  std::vector<Entry> heap_;
-  std::vector<double> candidate_error_;
-  std::vector<uint32_t> candidate_target_, version_;
+  static Entry make_entry(float error, uint8_t quads, uint32_t v0, uint32_t v1, uint32_t time);
+  std::vector<Entry> heap_, fresh_;
+  std::vector<uint32_t> changed_;
+  std::vector<uint8_t> rejected_;  // an entry of this vertex was dropped as illegal
+  uint32_t time_ = 1;
+  size_t heap_size_after_cleanup_ = 0;
 
   std::vector<uint32_t> moved_, ring_;
   std::vector<float> record_positions_;
@@ -317,6 +339,14 @@ double Simplifier::collapse_error(uint32_t v0, uint32_t v1, std::vector<Vec3>& p
   return std::sqrt(worst) / diagonal_;
 }
 
+// collapse_error() for half-edge placement, without the placement.
+double Simplifier::half_edge_error(uint32_t v0, uint32_t v1) const {
+  double worst = 0;
+  for (size_t k = 0; k < key_count(); ++k)
+    worst = std::max(worst, (quadric(v0, k) + quadric(v1, k)).mean_squared(position(v1, k)));
+  return std::sqrt(worst) / diagonal_;
+}
+
 bool Simplifier::topology_allows(uint32_t v0, uint32_t v1, const EdgeFaces& edge, Scratch& s) const {
   // (P3): a component keeps more than 4 vertices, or more than 3 at a boundary.
   const bool at_border = class_[v0] != VertexClass::kInterior || class_[v1] != VertexClass::kInterior;
@@ -370,54 +400,89 @@ bool Simplifier::geometry_allows(uint32_t v0, uint32_t v1, const std::vector<Vec
   return true;
 }
 
-// The cheapest legal collapse of v0 into one of its neighbours (target kNoVertex if none):
-// rate every neighbour the vertex classes allow, then run the costlier checks cheapest first
-// until one passes.
-void Simplifier::best_candidate(uint32_t v0, Scratch& s, double& error, uint32_t& target) const {
-  error = std::numeric_limits<double>::infinity();
-  target = kNoVertex;
-  const VertexClass c0 = class_[v0];
-  if (c0 == VertexClass::kLocked || !mesh_.vertex_alive(v0)) return;
-  mesh_.neighbours(v0, s.neighbours);
-  s.options.clear();
-  for (uint32_t v1 : s.neighbours) {
-    const Along along = can_collapse(c0, class_[v1]);
-    if (along == Along::kNever) continue;
-    s.options.emplace_back(collapse_error(v0, v1, s.placement), v1);
+// Whether v0 may collapse into v1 now: the edge kind the vertex classes ask for, (P3), (P1*),
+// and no fold or degenerate face in any key step.
+bool Simplifier::legal(uint32_t v0, uint32_t v1, Scratch& s) const {
+  const EdgeFaces edge = edge_faces(v0, v1);
+  if (edge.count == 0 || edge.diagonal || edge.too_many) return false;
+  const Along along = can_collapse(class_[v0], class_[v1]);
+  if (along == Along::kBoundaryEdge && edge.count != 1) return false;
+  if (along == Along::kFeatureEdge &&
+      !is_feature_edge(v0, v1, std::span<const uint32_t>(edge.faces.data(), edge.count)))
+    return false;
+  if (!topology_allows(v0, v1, edge, s)) return false;
+  if (optimal()) collapse_error(v0, v1, s.placement);
+  else s.placement.clear();
+  return geometry_allows(v0, v1, s.placement);
+}
+
+Simplifier::Entry Simplifier::make_entry(float error, uint8_t quads, uint32_t v0, uint32_t v1,
+                                         uint32_t time) {
+  const uint32_t bits = float_bits(error);
+  const uint64_t coarse = bits >> 17;  // sign (0), exponent, 6 mantissa bits
+  const uint64_t key = (coarse << 49) | (uint64_t{std::min<uint8_t>(quads, 3)} << 47) |
+                       (uint64_t{bits & ((1u << 17) - 1)} << 30);
+  return {key, v0, v1, time};
+}
+
+bool Simplifier::stale(const Entry& e) const {
+  return changed_[e.v0] > e.time || changed_[e.v1] > e.time;
+}
+
+// Both directions of every edge at v that the vertex classes allow, with their cost.
+void Simplifier::rate_edges_of(uint32_t v, Scratch& s, std::vector<Entry>& out) const {
+  // The edges at v and, for each, how many of its faces are quads: gathered from v's faces.
+  auto& edges = s.edges;
+  edges.clear();
+  for (uint32_t f : mesh_.faces_of(v)) {
+    const Face& face = mesh_.face(f);
+    const int d = face.degree();
+    const int i = corner_of(face, v);
+    for (uint32_t w : {face.v[(i + 1) % d], face.v[(i + d - 1) % d]}) {
+      auto it = std::find_if(edges.begin(), edges.end(), [w](const auto& e) { return e.first == w; });
+      if (it == edges.end()) edges.emplace_back(w, uint8_t{0}), it = edges.end() - 1;
+      it->second += d == 4;
+    }
   }
-  std::sort(s.options.begin(), s.options.end());
-  for (const auto& [e, v1] : s.options) {
-    const EdgeFaces edge = edge_faces(v0, v1);
-    if (edge.count == 0 || edge.diagonal || edge.too_many) continue;
-    const Along along = can_collapse(c0, class_[v1]);
-    if (along == Along::kBoundaryEdge && edge.count != 1) continue;
-    if (along == Along::kFeatureEdge &&
-        !is_feature_edge(v0, v1, std::span<const uint32_t>(edge.faces.data(), edge.count)))
-      continue;
-    if (!topology_allows(v0, v1, edge, s)) continue;
-    if (optimal()) collapse_error(v0, v1, s.placement);
-    else s.placement.clear();
-    if (!geometry_allows(v0, v1, s.placement)) continue;
-    error = e;
-    target = v1;
-    return;
+  for (auto [w, quads] : edges) {
+    for (auto [a, b] : {std::pair{v, w}, std::pair{w, v}}) {
+      if (can_collapse(class_[a], class_[b]) == Along::kNever) continue;
+      // Among collapses of nearly equal error (within 1/64), prefer those that remove
+      // triangles to those that turn quads into triangles: FE users want their quads.
+      const float error = static_cast<float>(optimal() ? collapse_error(a, b, s.placement)
+                                                       : half_edge_error(a, b));
+      out.push_back(make_entry(error, quads, a, b, time_));
+    }
   }
+}
+
+// Every edge once, in parallel: at the start, and when the heap runs dry.
+void Simplifier::rate_all_edges() {
+  const uint32_t n = input_.vertex_count;
+  const unsigned threads = thread_count(options_.threads);
+  std::vector<std::vector<Entry>> parts(threads);
+  std::vector<Scratch> scratch(threads, Scratch(0));
+  parallel_for(n, threads, [&](size_t begin, size_t end, unsigned t) {
+    std::vector<Entry>& out = parts[t];
+    for (size_t v = begin; v < end; ++v) {
+      if (!mesh_.vertex_alive(static_cast<uint32_t>(v))) continue;
+      const size_t first = out.size();
+      rate_edges_of(static_cast<uint32_t>(v), scratch[t], out);
+      // Each edge from its smaller end only.
+      out.erase(std::remove_if(out.begin() + static_cast<ptrdiff_t>(first), out.end(),
+                               [&](const Entry& e) { return std::min(e.v0, e.v1) != v; }),
+                out.end());
+    }
+  });
+  heap_.clear();
+  for (const auto& part : parts) heap_.insert(heap_.end(), part.begin(), part.end());
+  std::make_heap(heap_.begin(), heap_.end(), std::greater<>());
+  heap_size_after_cleanup_ = heap_.size();
+  std::fill(rejected_.begin(), rejected_.end(), 0);
 }
 
 // ---------------------------------------------------------------------------------------------
 // The loop
-
-void Simplifier::push(uint32_t v) {
-  if (candidate_target_[v] == kNoVertex) return;
-  heap_.push_back({candidate_error_[v], v, version_[v]});
-  std::push_heap(heap_.begin(), heap_.end(), std::greater<>());
-}
-
-void Simplifier::recompute(uint32_t v, Scratch& s) {
-  ++version_[v];
-  best_candidate(v, s, candidate_error_[v], candidate_target_[v]);
-  push(v);
-}
 
 Status Simplifier::collapse(uint32_t v0, uint32_t v1, double error, Scratch& s) {
   std::vector<Vec3>& placement = s.placement;
@@ -437,23 +502,32 @@ Status Simplifier::collapse(uint32_t v0, uint32_t v1, double error, Scratch& s) 
   }
   if (optimal())
     record.v1_new_positions = {&positions_[size_t{v1} * key_count() * 3], key_count() * 3};
-  ++version_[v0];  // its queued entries are now stale
-  candidate_target_[v0] = kNoVertex;
+  changed_[v0] = changed_[v1] = ++time_;  // their queued entries are now stale
   ++collapses_;
   max_error_done_ = std::max(max_error_done_, error);
   if (listener_) listener_->on_collapse(record);
   if (options_.check_every_collapse) DYNPM_RETURN_IF_ERROR(check_mesh(collapses_));
 
-  // Everything whose neighbourhood, quadric or position changed: v1 and every vertex sharing a
-  // face with it.
+  // v1's quadric changed: re-rate its edges. Neighbours with a dropped entry get another
+  // chance, since their surroundings changed.
+  fresh_.clear();
+  rate_edges_of(v1, s, fresh_);
   mesh_.second_order_neighbours(v1, ring_);
-  recompute(v1, s);
-  for (uint32_t w : ring_) recompute(w, s);
+  for (uint32_t w : ring_) {
+    if (!rejected_[w]) continue;
+    rejected_[w] = 0;
+    rate_edges_of(w, s, fresh_);
+  }
+  for (const Entry& e : fresh_) {
+    heap_.push_back(e);
+    std::push_heap(heap_.begin(), heap_.end(), std::greater<>());
+  }
 
-  // Drop stale entries when they outnumber the live ones.
-  if (heap_.size() > 4 * size_t{mesh_.live_vertices()} + 1024) {
-    std::erase_if(heap_, [&](const Entry& e) { return e.version != version_[e.vertex]; });
+  // Garbage-collect stale entries when the heap has doubled since the last clean-up.
+  if (heap_.size() > 2 * heap_size_after_cleanup_ + 1024) {
+    std::erase_if(heap_, [&](const Entry& e) { return stale(e); });
     std::make_heap(heap_.begin(), heap_.end(), std::greater<>());
+    heap_size_after_cleanup_ = heap_.size();
   }
   return {};
 }
@@ -506,30 +580,26 @@ Result<SimplifyResult> Simplifier::run() {
     target_vertices_ = std::max(target_vertices_, by_ratio);
   }
 
-  // Every vertex's first candidate, in parallel; then the heap.
-  const uint32_t n = input_.vertex_count;
-  candidate_error_.assign(n, 0);
-  candidate_target_.assign(n, kNoVertex);
-  version_.assign(n, 0);
-  const unsigned threads = thread_count(options_.threads);
-  std::vector<Scratch> scratch(threads, Scratch(n));
-  parallel_for(n, threads, [&](size_t begin, size_t end, unsigned t) {
-    for (size_t v = begin; v < end; ++v)
-      best_candidate(static_cast<uint32_t>(v), scratch[t], candidate_error_[v], candidate_target_[v]);
-  });
-  heap_.reserve(size_t{n} * 2);
-  for (uint32_t v = 0; v < n; ++v)
-    if (candidate_target_[v] != kNoVertex) heap_.push_back({candidate_error_[v], v, 0});
-  std::make_heap(heap_.begin(), heap_.end(), std::greater<>());
+  changed_.assign(input_.vertex_count, 0);
+  rejected_.assign(input_.vertex_count, 0);
+  rate_all_edges();
+  ++time_;
+  Scratch s(input_.vertex_count);
 
   SimplifyResult result;
-  Scratch& s = scratch[0];
+  bool rated_again = false;  // every edge was re-rated since the last collapse
   while (true) {
     if (stop_reached(result.stop_reason)) {
       result.target_reached = true;
       break;
     }
     if (heap_.empty()) {
+      if (!rated_again) {  // edges dropped as illegal may have become legal
+        rate_all_edges();
+        ++time_;
+        rated_again = true;
+        continue;
+      }
       result.stop_reason = "no legal collapse remains at " + std::to_string(mesh_.live_vertices()) +
                            " vertices";
       break;
@@ -537,18 +607,22 @@ Result<SimplifyResult> Simplifier::run() {
     std::pop_heap(heap_.begin(), heap_.end(), std::greater<>());
     const Entry entry = heap_.back();
     heap_.pop_back();
-    const uint32_t v0 = entry.vertex;
-    if (entry.version != version_[v0]) continue;  // stale
-    if (options_.max_error && entry.error > *options_.max_error) {
+    if (stale(entry)) continue;
+    if (options_.max_error && half_edge_error(entry.v0, entry.v1) > *options_.max_error &&
+        (!optimal() || collapse_error(entry.v0, entry.v1, s.placement) > *options_.max_error)) {
       result.target_reached = true;
       result.stop_reason = "the next collapse would exceed the maximum error";
       break;
     }
-    const uint32_t v1 = candidate_target_[v0];
-    // (P3) depends on the component's size, which other collapses change.
-    const bool at_border = class_[v0] != VertexClass::kInterior || class_[v1] != VertexClass::kInterior;
-    if (component_live_[component_[v0]] <= (at_border ? 3u : 4u)) continue;
-    DYNPM_RETURN_IF_ERROR(collapse(v0, v1, entry.error, s));
+    if (!legal(entry.v0, entry.v1, s)) {
+      rejected_[entry.v0] = 1;
+      continue;
+    }
+    // The cost exactly as rated (the heap keeps it as float).
+    const double error = optimal() ? collapse_error(entry.v0, entry.v1, s.placement)
+                                   : half_edge_error(entry.v0, entry.v1);
+    DYNPM_RETURN_IF_ERROR(collapse(entry.v0, entry.v1, error, s));
+    rated_again = false;
   }
 
   result.topology = mesh_.to_topology(input_, result.original_vertex);
