@@ -125,6 +125,7 @@ class TempDir {
 };
 
 inline std::string source_dir() { return DYNPM_SOURCE_DIR; }
+inline std::string sample_dir() { return DYNPM_SAMPLE_DIR; }
 inline std::string shared_data() { return DYNPM_SHARED_DATA; }
 
 }  // namespace dynpm::test

@@ -1,6 +1,7 @@
 // Animations as sequences of per-step files: real CalculiX results, mismatches, streaming.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
 
 #include "dynpm/io.h"
@@ -67,6 +68,30 @@ INSTANTIATE_TEST_SUITE_P(
       std::replace(name.begin(), name.end(), '-', '_');
       return name;
     });
+
+TEST(Sequence, ReadsTheShippedCalculixSample) {
+  // data/hat-rail: gmsh + CalculiX, made by scripts/sample/make_sample.sh.
+  auto a = read_animation(glob(test::sample_dir() + "/frame_*.obj"));
+  ASSERT_TRUE(a.ok()) << a.message();
+  EXPECT_EQ(a->topology.vertex_count, 2608u);
+  EXPECT_EQ(a->topology.quad_count(), 2435u);
+  EXPECT_EQ(a->topology.triangle_count(), 123u);
+  EXPECT_EQ(a->step_count(), 31u);
+  const ValidationReport report = validate(*a);
+  EXPECT_TRUE(report.ok());
+  EXPECT_EQ(report.count(Severity::kWarning), 0u);
+  // The free end is pushed 120 mm in +y: the largest displacement in the last step.
+  double max_displacement = 0;
+  for (uint32_t v = 0; v < a->topology.vertex_count; ++v) {
+    double d2 = 0;
+    for (int k = 0; k < 3; ++k) {
+      const double d = a->frames.step(30)[v * 3 + k] - a->frames.step(0)[v * 3 + k];
+      d2 += d * d;
+    }
+    max_displacement = std::max(max_displacement, std::sqrt(d2));
+  }
+  EXPECT_NEAR(max_displacement, 124.5945, 0.01);  // times.csv of the sample
+}
 
 TEST(Sequence, StepTimesComeFromTheFiles) {
   test::TempDir dir;
