@@ -22,7 +22,6 @@
 // collapse does the simplifier report that none remains.
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <numeric>
 #include <string>
 #include <unordered_set>
@@ -55,7 +54,7 @@ struct EdgeFaces {
 // Scratch space for one thread.
 struct Scratch {
   explicit Scratch(uint32_t vertex_count) : marks(vertex_count) {}
-  std::vector<std::pair<uint32_t, uint8_t>> edges;  // (neighbour, quads on the edge)
+  std::vector<uint32_t> neighbours;
   std::vector<Vec3> placement;  // per key step, for the collapse under test
   VertexMarks marks;
 };
@@ -72,13 +71,6 @@ bool quad_is_convex(const Vec3* p, Vec3 normal) {
   for (int i = 0; i < 4; ++i)
     if (dot(cross(p[(i + 1) % 4] - p[i], p[(i + 3) % 4] - p[i]), normal) <= 0) return false;
   return true;
-}
-
-// The bits of a non-negative float order like the float.
-uint32_t float_bits(float value) {
-  uint32_t bits;
-  std::memcpy(&bits, &value, sizeof bits);
-  return bits;
 }
 
 class Simplifier {
@@ -133,14 +125,11 @@ class Simplifier {
 
   // The queue (see the top of this file). time_ counts collapses; changed_[v] is the time v's
   // quadric last changed; an entry rated before that time is stale.
-  // Ordered by one integer: the error rounded to 6 significant bits, then the quads the
-  // collapse turns into triangles (fewer first), then the exact error.
   struct Entry {
-    uint64_t key;
+    float error;
     uint32_t v0, v1, time;
-    bool operator>(const Entry& o) const { return key > o.key; }
+    bool operator>(const Entry& o) const { return error > o.error; }
   };
-  static Entry make_entry(float error, uint8_t quads, uint32_t v0, uint32_t v1, uint32_t time);
   std::vector<Entry> heap_, fresh_;
   std::vector<uint32_t> changed_;
   std::vector<uint8_t> rejected_;  // an entry of this vertex was dropped as illegal
@@ -416,42 +405,18 @@ bool Simplifier::legal(uint32_t v0, uint32_t v1, Scratch& s) const {
   return geometry_allows(v0, v1, s.placement);
 }
 
-Simplifier::Entry Simplifier::make_entry(float error, uint8_t quads, uint32_t v0, uint32_t v1,
-                                         uint32_t time) {
-  const uint32_t bits = float_bits(error);
-  const uint64_t coarse = bits >> 17;  // sign (0), exponent, 6 mantissa bits
-  const uint64_t key = (coarse << 49) | (uint64_t{std::min<uint8_t>(quads, 3)} << 47) |
-                       (uint64_t{bits & ((1u << 17) - 1)} << 30);
-  return {key, v0, v1, time};
-}
-
 bool Simplifier::stale(const Entry& e) const {
   return changed_[e.v0] > e.time || changed_[e.v1] > e.time;
 }
 
 // Both directions of every edge at v that the vertex classes allow, with their cost.
 void Simplifier::rate_edges_of(uint32_t v, Scratch& s, std::vector<Entry>& out) const {
-  // The edges at v and, for each, how many of its faces are quads: gathered from v's faces.
-  auto& edges = s.edges;
-  edges.clear();
-  for (uint32_t f : mesh_.faces_of(v)) {
-    const Face& face = mesh_.face(f);
-    const int d = face.degree();
-    const int i = corner_of(face, v);
-    for (uint32_t w : {face.v[(i + 1) % d], face.v[(i + d - 1) % d]}) {
-      auto it = std::find_if(edges.begin(), edges.end(), [w](const auto& e) { return e.first == w; });
-      if (it == edges.end()) edges.emplace_back(w, uint8_t{0}), it = edges.end() - 1;
-      it->second += d == 4;
-    }
-  }
-  for (auto [w, quads] : edges) {
+  mesh_.neighbours(v, s.neighbours);
+  for (uint32_t w : s.neighbours) {
     for (auto [a, b] : {std::pair{v, w}, std::pair{w, v}}) {
       if (can_collapse(class_[a], class_[b]) == Along::kNever) continue;
-      // Among collapses of nearly equal error (within 1/64), prefer those that remove
-      // triangles to those that turn quads into triangles: FE users want their quads.
-      const float error = static_cast<float>(optimal() ? collapse_error(a, b, s.placement)
-                                                       : half_edge_error(a, b));
-      out.push_back(make_entry(error, quads, a, b, time_));
+      const double error = optimal() ? collapse_error(a, b, s.placement) : half_edge_error(a, b);
+      out.push_back({static_cast<float>(error), a, b, time_});
     }
   }
 }
@@ -608,8 +573,7 @@ Result<SimplifyResult> Simplifier::run() {
     const Entry entry = heap_.back();
     heap_.pop_back();
     if (stale(entry)) continue;
-    if (options_.max_error && half_edge_error(entry.v0, entry.v1) > *options_.max_error &&
-        (!optimal() || collapse_error(entry.v0, entry.v1, s.placement) > *options_.max_error)) {
+    if (options_.max_error && entry.error > *options_.max_error) {
       result.target_reached = true;
       result.stop_reason = "the next collapse would exceed the maximum error";
       break;
