@@ -16,20 +16,22 @@ namespace {
 const VerbSpec kSpec{
     "simplify",
     "dynpm simplify INPUT... -o OUTPUT (--ratio R | --vertices N | --faces N | --max-error E)\n"
-    "                      [--placement half|optimal] [--key-steps all|LIST] [--json]",
+    "                      [--placement half|optimal] [--key-steps all|paper|auto:K|LIST] [--json]",
     "Simplifies a mixed triangle/quad mesh or animation by half-edge collapses (Wundrak et al.\n"
     "2006): a collapsed quad becomes a triangle, a collapsed triangle vanishes, legality by\n"
     "(P1*), (P2), (P3); cost by area-weighted quadrics, the max over the key steps. Boundaries,\n"
     "part boundaries and non-manifold edges (T-joints) only slide along themselves.\n"
     "OUTPUT is a mesh file (.obj .ply .vtk), or a pattern with {:03d} for an animation.\n"
-    "--max-error is in units of the bounding-box diagonal (0.001), or in percent (0.1%).",
+    "--max-error is in units of the bounding-box diagonal (0.001), or in percent (0.1%).\n"
+    "Key steps (paper §3): all; paper = first, last and the strongest deformation in between;\n"
+    "auto:K = K steps, each the farthest (largest vertex displacement) from those chosen.",
     {{"--output", "-o", true, "OUTPUT", "output mesh, or pattern with {:03d} for several steps"},
      {"--ratio", "", true, "R", "keep this fraction of the vertices, e.g. 0.05"},
      {"--vertices", "", true, "N", "keep N vertices"},
      {"--faces", "", true, "N", "stop at N faces"},
      {"--max-error", "", true, "E", "stop before a collapse's error exceeds E"},
      {"--placement", "", true, "half|optimal", "half-edge (default, the paper) or optimal (QSlim)"},
-     {"--key-steps", "", true, "all|LIST", "steps that rate collapses: all (default) or 0,12,24"},
+     {"--key-steps", "", true, "RULE", "steps that rate collapses: all (default), paper, auto:K, 0,12,24"},
      {"--boundary-weight", "", true, "W", "weight of boundary/feature constraint planes (1)"},
      {"--ignore-parts", "", false, "", "let collapses cross part boundaries"},
      {"--ascii", "", false, "", "write PLY and VTK as text"},
@@ -44,20 +46,6 @@ Result<double> parse_number(const std::string& flag, const std::string& text) {
   } catch (...) {
   }
   return Status::error("dynpm simplify: " + flag + " needs a number, got '" + text + "'");
-}
-
-Result<std::vector<size_t>> parse_steps(const std::string& text) {
-  std::vector<size_t> steps;
-  if (text == "all") return steps;
-  size_t pos = 0;
-  while (pos <= text.size()) {
-    const size_t comma = std::min(text.find(',', pos), text.size());
-    auto v = parse_number("--key-steps", text.substr(pos, comma - pos));
-    if (!v || *v < 0) return Status::error("dynpm simplify: --key-steps takes 'all' or a list such as 0,12,24");
-    steps.push_back(static_cast<size_t>(*v));
-    pos = comma + 1;
-  }
-  return steps;
 }
 
 // A progress bar on stderr for long runs (only on a terminal).
@@ -124,11 +112,8 @@ int run_simplify(std::span<char* const> arguments) {
     if (*v == "optimal") options.placement = Placement::kOptimal;
     else if (*v != "half") return fail_usage("dynpm simplify: --placement is half or optimal");
   }
-  if (auto v = args->value("--key-steps")) {
-    auto steps = parse_steps(*v);
-    if (!steps) return fail_usage(steps.message());
-    options.key_steps = *steps;
-  }
+  auto key_rule = parse_key_step_rule(args->value("--key-steps").value_or("all"));
+  if (!key_rule) return fail_usage("dynpm simplify: " + key_rule.message());
   if (auto v = args->value("--boundary-weight")) {
     auto r = parse_number("--boundary-weight", *v);
     if (!r) return fail_usage(r.message());
@@ -152,6 +137,14 @@ int run_simplify(std::span<char* const> arguments) {
                       " time steps; give an output pattern such as 'out_{:03d}.obj'");
 
   const auto start = std::chrono::steady_clock::now();
+  auto key_steps = choose_key_steps(frames, *key_rule);
+  if (!key_steps) {
+    std::cerr << "dynpm simplify: " << key_steps.message() << "\n";
+    return kExitFailure;
+  }
+  options.key_steps = key_steps->steps;
+  if (!args->has("--json"))
+    for (const std::string& reason : key_steps->reasons) std::printf("key step  %s\n", reason.c_str());
   const size_t vertices_in = input.vertex_count;
   size_t expected = 0;
   if (options.target_vertices) expected = vertices_in - std::min<size_t>(vertices_in, *options.target_vertices);

@@ -131,3 +131,38 @@ Result<SimplifyResult> simplify(const Topology& topology, const FrameSource& fra
                                 CollapseListener* listener = nullptr);
 
 }  // namespace dynpm
+
+namespace dynpm {
+
+// Which time steps rate the collapses (paper §3 and Table 3). A crash result changes little
+// from one step to the next, so a few well-chosen steps rate almost as well as all of them, at
+// a fraction of the time and memory.
+struct KeyStepRule {
+  enum class Kind {
+    kAll,       // every step
+    kPaper,     // first, last, and the step in between farthest from the first (paper §3)
+    kAuto,      // `count` steps, greedily: start with the first, then always add the step
+                // farthest from those chosen (largest vertex displacement)
+    kExplicit,  // the given steps
+  };
+  Kind kind = Kind::kAll;
+  size_t count = 3;           // kAuto
+  std::vector<size_t> steps;  // kExplicit
+};
+
+// "all", "paper", "auto:K" or a list "0,12,24".
+Result<KeyStepRule> parse_key_step_rule(const std::string& text);
+
+struct KeyStepChoice {
+  std::vector<size_t> steps;         // ascending
+  std::vector<std::string> reasons;  // one line per chosen step, for the user
+};
+
+// Reads the steps it needs through the FrameSource (each step once, whatever the rule).
+// Distances between steps are the largest vertex displacement, measured on at most
+// kMaxProbeVertices vertices spread evenly over the mesh, so that a 5 M-node, 100-step result
+// is compared in bounded memory.
+inline constexpr uint32_t kMaxProbeVertices = 65536;
+Result<KeyStepChoice> choose_key_steps(const FrameSource& frames, const KeyStepRule& rule);
+
+}  // namespace dynpm
