@@ -2,7 +2,8 @@
 # dynpm.sh — the project's two commands, on a fresh Debian 12 machine:
 #   ./dynpm.sh demo   install what is missing, build (Release), run dynpm on the shipped sample
 #   ./dynpm.sh test   install what is missing, build with -Werror, run every test (CTest)
-# Also: ./dynpm.sh build (just build), ./dynpm.sh deps (just install).
+# Also: ./dynpm.sh sanitize (every test under AddressSanitizer + UndefinedBehaviorSanitizer),
+#       ./dynpm.sh build (just build), ./dynpm.sh deps (just install).
 set -euo pipefail
 cd "$(dirname "$0")"
 
@@ -37,7 +38,8 @@ unpack_sample() {
 }
 
 build_release() {
-  cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release -DDYNPM_BUILD_TESTS=OFF >/dev/null
+  cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release -DDYNPM_BUILD_TESTS=OFF \
+    -DDYNPM_BUILD_BENCH=OFF >/dev/null
   cmake --build build/release
 }
 
@@ -74,8 +76,18 @@ case "${1:-}" in
     cmake --build build/test
     DYNPM_REQUIRE_THIRD_PARTY=1 ctest --test-dir build/test --output-on-failure -j "$(nproc)"
     ;;
+  sanitize)
+    install_packages "${BUILD_PACKAGES[@]}" "${TEST_PACKAGES[@]}"
+    cmake -S . -B build/sanitize -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDYNPM_WERROR=ON \
+      -DDYNPM_ASSERTS=ON -DDYNPM_BUILD_TESTS=ON \
+      -DCMAKE_CXX_FLAGS="-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer" \
+      -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" >/dev/null
+    cmake --build build/sanitize
+    DYNPM_REQUIRE_THIRD_PARTY=1 ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
+      ctest --test-dir build/sanitize --output-on-failure -j "$(nproc)"
+    ;;
   *)
-    echo "usage: ./dynpm.sh demo | test | build | deps" >&2
+    echo "usage: ./dynpm.sh demo | test | sanitize | build | deps" >&2
     exit 2
     ;;
 esac

@@ -3,14 +3,15 @@
 
 Every simplifier is a command template. It is run as-is (no shell) after substituting
 {input}, {output}, {target} (vertex count) and {ratio} (target / input vertices), and must
-write the simplified OBJ to {output} and print one JSON line on stdout with at least
+write the simplified mesh to {output} (OBJ, quads allowed) and print one JSON object on
+stdout (one line, or pretty-printed at the end of the output) with at least
 
     {"vertices_out": int, "faces_out": int, "seconds": float}
 
 ("seconds" = simplification only, no file I/O). Optional keys: "peer", "input",
-"vertices_in", "faces_in", "target_vertices", "peak_rss_mb" (if missing, the child's ru_maxrss
-from wait4 is used instead: an upper bound, as Linux carries the forking Python's high-water
-mark across exec), plus any extra keys (kept in --json-out).
+"vertices_in", "faces_in", "target_vertices", "peak_rss_mb" (if missing, the runner polls
+the child's VmHWM every 5 ms: it can miss a peak in the last few ms and sees only that
+process, not its children), plus any extra keys (kept in --json-out).
 
 The Hausdorff command template gets {a} (the input, reference of the % diagonal) and {b} (the
 simplified output) and must print a JSON line with "hausdorff_pct".
@@ -92,8 +93,24 @@ def expand(template, values):
     return out
 
 
+def vm_hwm_kb(pid):
+    """VmHWM (peak RSS, KiB) of a running process, 0 if unreadable."""
+    try:
+        with open("/proc/%d/status" % pid) as f:
+            for line in f:
+                if line.startswith("VmHWM:"):
+                    return int(line.split()[1])
+    except (OSError, ValueError):
+        pass
+    return 0
+
+
 def run_cmd(argv, timeout):
-    """Runs argv; returns (rc, stdout, stderr, wall seconds, child peak RSS in MB)."""
+    """Runs argv; returns (rc, stdout, stderr, wall seconds, child peak RSS in MB).
+
+    The RSS is the child's VmHWM polled every 5 ms (the last value before it exits), or wait4's
+    ru_maxrss if never read (that one can include this Python's pages: Linux keeps the pre-exec
+    high-water mark)."""
     t0 = time.monotonic()
     with tempfile.TemporaryFile() as out, tempfile.TemporaryFile() as err:
         try:
@@ -101,10 +118,12 @@ def run_cmd(argv, timeout):
         except OSError as e:
             return 127, "", str(e), 0.0, 0.0
         deadline = t0 + timeout
+        hwm_kb = 0
         while True:
             pid, status, ru = os.wait4(p.pid, os.WNOHANG)
             if pid:
                 break
+            hwm_kb = max(hwm_kb, vm_hwm_kb(p.pid))
             if time.monotonic() > deadline:
                 p.kill()
                 pid, status, ru = os.wait4(p.pid, 0)
@@ -115,21 +134,33 @@ def run_cmd(argv, timeout):
         wall = time.monotonic() - t0
         out.seek(0)
         err.seek(0)
+        rss_kb = hwm_kb if hwm_kb else ru.ru_maxrss
         return (p.returncode, out.read().decode(errors="replace"), err.read().decode(errors="replace"),
-                wall, ru.ru_maxrss / 1024)
+                wall, rss_kb / 1024)
 
 
 def last_json(text, key):
-    for line in reversed(text.strip().splitlines()):
-        line = line.strip()
-        if line.startswith("{"):
+    """The last JSON object on stdout holding `key`: a single line, or a pretty-printed
+    object running to the end of the output (e.g. dynpm's --json)."""
+    lines = text.strip().splitlines()
+    for i in range(len(lines) - 1, -1, -1):
+        if not lines[i].lstrip().startswith("{"):
+            continue
+        for chunk in (lines[i], "\n".join(lines[i:])):
             try:
-                d = json.loads(line)
+                d = json.loads(chunk)
             except ValueError:
                 continue
-            if key in d:
+            if isinstance(d, dict) and key in d:
                 return d
     return None
+
+
+def failure(rc, err, what):
+    last = (err.strip().splitlines() or [""])[-1][:200]
+    if rc == 0:
+        return "no JSON with %s on stdout" % what
+    return "failed (rc %d): %s" % (rc, last)
 
 
 def machine_info():
@@ -223,7 +254,7 @@ def notes_for(res):
     if len(set(res["vertices_out_all"])) > 1:
         n.append("V out varies: %s" % sorted(set(res["vertices_out_all"])))
     if res.get("rss_from_wait4"):
-        n.append("RSS from wait4 (upper bound)")
+        n.append("RSS polled by the runner")
     if res.get("error"):
         n.append(res["error"])
     return "; ".join(n)
@@ -301,14 +332,14 @@ def main():
                     rc, out, err, wall, rss = run_cmd(argv, args.timeout)
                     d = last_json(out, "vertices_out") if rc == 0 else None
                     if d is None or not os.path.exists(outp):
-                        res["error"] = "failed (rc %d): %s" % (rc, (err.strip().splitlines() or [""])[-1][:200])
+                        res["error"] = (failure(rc, err, "vertices_out") if d is None
+                                        else "no output file %s" % outp)
                         log("  " + res["error"])
                         break
                     res["json"] = d
                     res.setdefault("json_first", d)
                     res["seconds_all"].append(float(d["seconds"]))
-                    # The command's own figure wins: wait4's ru_maxrss can include pages of
-                    # this forking Python process (Linux keeps the pre-exec high-water mark).
+                    # The command's own figure wins over the polled one.
                     res["rss_all"].append(float(d["peak_rss_mb"]) if "peak_rss_mb" in d else rss)
                     res["rss_from_wait4"] = "peak_rss_mb" not in d
                     res["vertices_out_all"].append(int(d["vertices_out"]))
@@ -326,7 +357,7 @@ def main():
                         rc, out, err, wall, _ = run_cmd(hargv, args.timeout)
                         h = last_json(out, "hausdorff_pct") if rc == 0 else None
                         if h is None:
-                            res["hausdorff_error"] = "rc %d: %s" % (rc, (err.strip().splitlines() or [""])[-1][:200])
+                            res["hausdorff_error"] = failure(rc, err, "hausdorff_pct")
                             log("  hausdorff failed: " + res["hausdorff_error"])
                         else:
                             res["hausdorff_pct"] = float(h["hausdorff_pct"])

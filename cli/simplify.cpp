@@ -61,6 +61,18 @@ class ProgressListener final : public CollapseListener {
   size_t expected_, done_ = 0;
 };
 
+// The process's peak resident memory in MB (VmHWM), or 0 where /proc is not there.
+double peak_rss_mb() {
+  std::FILE* f = std::fopen("/proc/self/status", "r");
+  if (!f) return 0;
+  char line[256];
+  double kb = 0;
+  while (std::fgets(line, sizeof line, f))
+    if (std::sscanf(line, "VmHWM: %lf kB", &kb) == 1) break;
+  std::fclose(f);
+  return kb / 1024.0;
+}
+
 }  // namespace
 
 int run_simplify(std::span<char* const> arguments) {
@@ -204,6 +216,7 @@ int run_simplify(std::span<char* const> arguments) {
     j.value("target_reached", result->target_reached);
     j.value("stop_reason", result->stop_reason);
     j.value("seconds", seconds);
+    j.value("peak_rss_mb", peak_rss_mb());
     j.end_object();
     std::cout << j.str();
   } else {
@@ -213,8 +226,8 @@ int run_simplify(std::span<char* const> arguments) {
                 t.faces.size(), t.quad_count(), t.triangle_count());
     std::printf("key steps %zu of %zu; %zu collapses; largest error %.4g%% of the diagonal\n",
                 result->key_steps.size(), steps, result->collapses, 100 * result->max_error);
-    std::printf("%s%s; %.3f s\n", result->target_reached ? "" : "stopped early: ",
-                result->stop_reason.c_str(), seconds);
+    std::printf("%s%s; %.3f s; peak memory %.0f MB\n", result->target_reached ? "" : "stopped early: ",
+                result->stop_reason.c_str(), seconds, peak_rss_mb());
   }
   return kExitOk;
 }

@@ -5,7 +5,8 @@
 //   {"peer":..,"input":..,"vertices_in":..,"faces_in":..,"target_vertices":..,
 //    "vertices_out":..,"faces_out":..,"seconds":..,"peak_rss_mb":.., <extra fields>}
 // "seconds" is the simplification only (no file I/O, no building of the library's mesh
-// structure: that is "setup_seconds"). "peak_rss_mb" is the process peak (getrusage).
+// structure: that is "setup_seconds"). "peak_rss_mb" is the process peak (VmHWM): input mesh,
+// library structures and output included.
 #pragma once
 
 #include <sys/resource.h>
@@ -59,10 +60,21 @@ class Timer {
   std::chrono::steady_clock::time_point t0_;
 };
 
+// Peak RSS of this process image: VmHWM from /proc/self/status. Not getrusage's ru_maxrss:
+// Linux carries the parent's high-water mark across fork+exec into it, so a driver started
+// by a 14 MB Python process would never report less than 14 MB.
 inline double peak_rss_mb() {
+  if (std::FILE* f = std::fopen("/proc/self/status", "r")) {
+    char line[256];
+    long kb = -1;
+    while (std::fgets(line, sizeof line, f))
+      if (std::sscanf(line, "VmHWM: %ld kB", &kb) == 1) break;
+    std::fclose(f);
+    if (kb >= 0) return static_cast<double>(kb) / 1024.0;
+  }
   struct rusage ru {};
   getrusage(RUSAGE_SELF, &ru);
-  return static_cast<double>(ru.ru_maxrss) / 1024.0;  // ru_maxrss is in KiB on Linux
+  return static_cast<double>(ru.ru_maxrss) / 1024.0;  // KiB on Linux
 }
 
 inline std::string json_string(const std::string& s) {
