@@ -8,9 +8,10 @@ set -euo pipefail
 cd "$(dirname "$0")"
 
 # Debian packages: the toolchain and test libraries; the third-party tools the tests compare
-# against (meshio writes and reads files nobody here wrote; python3-vtk9 is VTK's own reader).
+# against (meshio writes and reads files nobody here wrote; python3-vtk9 is VTK's own reader;
+# libcgal-dev's Hausdorff distance checks dynpm's).
 BUILD_PACKAGES=(g++ cmake ninja-build xz-utils)
-TEST_PACKAGES=(libgtest-dev libgmock-dev python3-meshio python3-vtk9)
+TEST_PACKAGES=(libgtest-dev libgmock-dev python3-meshio python3-vtk9 libcgal-dev)
 
 install_packages() {
   local missing=()

@@ -57,9 +57,9 @@ Mesh bumpy_grid(uint32_t n) {
   for (uint32_t j = 0; j <= n; ++j)
     for (uint32_t i = 0; i <= n; ++i) {
       const double x = kSide * i / n, y = kSide * j / n;
-      m.positions.insert(m.positions.end(),
-                         {float(x), float(y),
-                          float(3.1 * std::sin(x / 1.37 * 0.05) * std::cos(y / 1.37 * 0.07))});
+      m.positions.insert(
+          m.positions.end(),
+          {float(x), float(y), float(3.1 * std::sin(x / 1.37 * 0.05) * std::cos(y / 1.37 * 0.07))});
     }
   for (uint32_t j = 0; j < n; ++j)
     for (uint32_t i = 0; i < n; ++i) {
@@ -115,34 +115,40 @@ int main(int argc, char** argv) {
 
   dynpm::HausdorffResult result;
   double cpu = 0;
-  const auto seconds = timed_runs(runs, [&] {
-    auto r = dynpm::hausdorff(a.topology, a.positions, b.topology, b.positions, options);
-    if (!r) {
-      std::fprintf(stderr, "%s\n", r.message().c_str());
-      std::exit(1);
-    }
-    result = *r;
-  }, &cpu);
+  const auto seconds = timed_runs(
+      runs,
+      [&] {
+        auto r = dynpm::hausdorff(a.topology, a.positions, b.topology, b.positions, options);
+        if (!r) {
+          std::fprintf(stderr, "%s\n", r.message().c_str());
+          std::exit(1);
+        }
+        result = *r;
+      },
+      &cpu);
   const auto samples = [](const dynpm::OneSidedDistance& d) {
     return double(d.vertex_samples + d.edge_samples + d.face_samples);
   };
   const double total = samples(result.a_to_b) + samples(result.b_to_a);
-  std::printf("samples: A→B %.0f (%llu area, %llu edge, %llu vertex), B→A %.0f (%llu area, "
-              "%llu edge, %llu vertex)\n",
-              samples(result.a_to_b), (unsigned long long)result.a_to_b.face_samples,
-              (unsigned long long)result.a_to_b.edge_samples,
-              (unsigned long long)result.a_to_b.vertex_samples, samples(result.b_to_a),
-              (unsigned long long)result.b_to_a.face_samples,
-              (unsigned long long)result.b_to_a.edge_samples,
-              (unsigned long long)result.b_to_a.vertex_samples);
-  std::printf("hausdorff %.6g (%.4f %% of %.6g), A→B %.4f %%, B→A %.4f %%, mean %.4f %%, rms "
-              "%.4f %%\n",
-              result.hausdorff, result.percent(result.hausdorff), result.diagonal,
-              result.percent(result.a_to_b.max), result.percent(result.b_to_a.max),
-              result.percent(result.mean), result.percent(result.rms));
+  std::printf(
+      "samples: A→B %.0f (%llu area, %llu edge, %llu vertex), B→A %.0f (%llu area, "
+      "%llu edge, %llu vertex)\n",
+      samples(result.a_to_b), (unsigned long long)result.a_to_b.face_samples,
+      (unsigned long long)result.a_to_b.edge_samples,
+      (unsigned long long)result.a_to_b.vertex_samples, samples(result.b_to_a),
+      (unsigned long long)result.b_to_a.face_samples,
+      (unsigned long long)result.b_to_a.edge_samples,
+      (unsigned long long)result.b_to_a.vertex_samples);
+  std::printf(
+      "hausdorff %.6g (%.4f %% of %.6g), A→B %.4f %%, B→A %.4f %%, mean %.4f %%, rms "
+      "%.4f %%\n",
+      result.hausdorff, result.percent(result.hausdorff), result.diagonal,
+      result.percent(result.a_to_b.max), result.percent(result.b_to_a.max),
+      result.percent(result.mean), result.percent(result.rms));
   const double median = seconds[seconds.size() / 2];
-  std::printf("hausdorff(), both directions: median %.3f s of %d runs (min %.3f, max %.3f), "
-              "%.2f M samples/s; %.3f s CPU\n",
-              median, runs, seconds.front(), seconds.back(), total / median / 1e6, cpu);
+  std::printf(
+      "hausdorff(), both directions: median %.3f s of %d runs (min %.3f, max %.3f), "
+      "%.2f M samples/s; %.3f s CPU\n",
+      median, runs, seconds.front(), seconds.back(), total / median / 1e6, cpu);
   return 0;
 }

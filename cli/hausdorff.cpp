@@ -24,7 +24,8 @@ const VerbSpec kSpec{
     "triangles through their centroid. A and B are each a mesh file or a quoted glob of step\n"
     "files ('frames/frame_*.obj'); two sequences are compared step by step, and a single mesh\n"
     "against every step of a sequence. Results depend on the seed only, not on the threads.",
-    {{"--samples", "", true, "N", "area samples on each surface (default 10 per face of the larger)"},
+    {{"--samples", "", true, "N",
+      "area samples on each surface (default 10 per face of the larger)"},
      {"--samples-per-face", "", true, "K", "area samples per face of the larger mesh (default 10)"},
      {"--seed", "", true, "S", "seed of the sampling (default 1)"},
      {"--diagonal", "", true, "D", "percentages of D instead of A's bounding-box diagonal"},
@@ -87,30 +88,33 @@ std::string describe(const std::vector<std::string>& files, const AnimationStrea
   return text;
 }
 
+// `label` comes padded to the 14 columns of the other labels ("→" is one column, three bytes).
 void print_one_sided(const char* label, const OneSidedDistance& d, const HausdorffResult& r) {
-  std::printf("%-14smax %.6g (%.4g %%)  mean %.6g (%.4g %%)  rms %.6g (%.4g %%)\n", label, d.max,
+  std::printf("%smax %.6g (%.4g %%)  mean %.6g (%.4g %%)  rms %.6g (%.4g %%)\n", label, d.max,
               r.percent(d.max), d.mean, r.percent(d.mean), d.rms, r.percent(d.rms));
 }
 
 void print_text(const std::string& a, const std::string& b, const HausdorffSteps& s,
                 const HausdorffResult& all, bool diagonal_given) {
   std::printf("A             %s\nB             %s\n", a.c_str(), b.c_str());
-  std::printf("samples       A: %llu area, %llu edge, %llu vertex; B: %llu area, %llu edge, "
-              "%llu vertex%s\n",
-              static_cast<unsigned long long>(all.a_to_b.face_samples),
-              static_cast<unsigned long long>(all.a_to_b.edge_samples),
-              static_cast<unsigned long long>(all.a_to_b.vertex_samples),
-              static_cast<unsigned long long>(all.b_to_a.face_samples),
-              static_cast<unsigned long long>(all.b_to_a.edge_samples),
-              static_cast<unsigned long long>(all.b_to_a.vertex_samples),
-              s.steps.size() > 1 ? " (all steps)" : "");
+  std::printf(
+      "samples       A: %llu area, %llu edge, %llu vertex; B: %llu area, %llu edge, "
+      "%llu vertex%s\n",
+      static_cast<unsigned long long>(all.a_to_b.face_samples),
+      static_cast<unsigned long long>(all.a_to_b.edge_samples),
+      static_cast<unsigned long long>(all.a_to_b.vertex_samples),
+      static_cast<unsigned long long>(all.b_to_a.face_samples),
+      static_cast<unsigned long long>(all.b_to_a.edge_samples),
+      static_cast<unsigned long long>(all.b_to_a.vertex_samples),
+      s.steps.size() > 1 ? " (all steps)" : "");
   std::printf("diagonal      %.6g (%s)\n", s.diagonal,
-              diagonal_given                ? "--diagonal"
+              diagonal_given       ? "--diagonal"
               : s.steps.size() > 1 ? "A's bounding box over all steps"
                                    : "A's bounding box");
   if (s.steps.size() > 1) {
-    std::printf("\n%6s  %12s  %10s  %10s  %10s  %10s   (%% of the diagonal)\n", "step",
-                "hausdorff", "mean", "rms", "A→B max", "B→A max");
+    std::printf(
+        "\n  step     hausdorff        mean         rms     A→B max     B→A max"
+        "   (%% of the diagonal)\n");
     for (size_t t = 0; t < s.steps.size(); ++t) {
       const HausdorffResult& r = s.steps[t];
       std::printf("%6zu  %12.5g  %10.5g  %10.5g  %10.5g  %10.5g\n", t, r.percent(r.hausdorff),
@@ -124,8 +128,8 @@ void print_text(const std::string& a, const std::string& b, const HausdorffSteps
     }
     std::printf("\nover all steps (max of maxima, mean of means, RMS of RMS values):\n");
   }
-  print_one_sided("A → B", all.a_to_b, all);
-  print_one_sided("B → A", all.b_to_a, all);
+  print_one_sided("A → B         ", all.a_to_b, all);
+  print_one_sided("B → A         ", all.b_to_a, all);
   std::printf("two-sided     hausdorff %.6g (%.4g %%)  mean %.6g (%.4g %%)  rms %.6g (%.4g %%)\n",
               all.hausdorff, all.percent(all.hausdorff), all.mean, all.percent(all.mean), all.rms,
               all.percent(all.rms));
@@ -224,9 +228,10 @@ int run_hausdorff(std::span<char* const> arguments) {
     const char* name;
     bool integral;
   };
-  for (const NumberFlag& flag : {NumberFlag{"--samples", true}, NumberFlag{"--samples-per-face", false},
-                                 NumberFlag{"--seed", true}, NumberFlag{"--diagonal", false},
-                                 NumberFlag{"--threads", true}}) {
+  for (const NumberFlag& flag :
+       {NumberFlag{"--samples", true}, NumberFlag{"--samples-per-face", false},
+        NumberFlag{"--seed", true}, NumberFlag{"--diagonal", false},
+        NumberFlag{"--threads", true}}) {
     const auto text = args->value(flag.name);
     if (!text) continue;
     const auto whole = parse_number<uint64_t>(*text);
@@ -261,8 +266,7 @@ int run_hausdorff(std::span<char* const> arguments) {
     }
     streams[side] = std::move(*stream);
   }
-  const size_t steps =
-      std::max(streams[0].frames->step_count(), streams[1].frames->step_count());
+  const size_t steps = std::max(streams[0].frames->step_count(), streams[1].frames->step_count());
   if (steps > 1)
     options.progress = [](size_t done, size_t total) { progress("measuring step", done, total); };
   auto result = hausdorff_steps(streams[0].topology, *streams[0].frames, streams[1].topology,

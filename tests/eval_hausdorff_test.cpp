@@ -20,7 +20,6 @@ class TestRandom {
  public:
   explicit TestRandom(uint32_t seed) : engine_(seed) {}
   double uniform(double lo, double hi) { return lo + (hi - lo) * (engine_() / 4294967296.0); }
-  uint32_t below(uint32_t n) { return engine_() % n; }
   std::array<float, 3> point(double lo, double hi) {
     return {float(uniform(lo, hi)), float(uniform(lo, hi)), float(uniform(lo, hi))};
   }
@@ -122,21 +121,32 @@ TEST(EvalBvh, AnswersExactlyLikeBruteForce) {
     const auto triangles = random_triangles(random, soup);
     const TriangleBvh bvh(triangles);
     ASSERT_EQ(bvh.triangle_count(), triangles.size());
+    TriangleBvh::Cursor far_cursor, near_cursor;
     for (int i = 0; i < 2000; ++i) {
       const Point3 p = to_point(random.point(-8, 8));
       double best = std::numeric_limits<double>::infinity();
       for (const SurfaceTriangle& t : triangles)
-        best = std::min(best, distance2(p, closest_point_on_triangle(p, to_point(t.a),
-                                                                     to_point(t.b), to_point(t.c))));
+        best = std::min(best, distance2(p, closest_point_on_triangle(
+                                               p, to_point(t.a), to_point(t.b), to_point(t.c))));
       const TriangleBvh::Hit hit = bvh.closest(p);
       ASSERT_EQ(hit.squared_distance, best) << "soup " << soup << " query " << i;
       ASSERT_LT(hit.triangle, triangles.size());
       EXPECT_EQ(hit.face, triangles[hit.triangle].face);
       EXPECT_NEAR(distance2(p, hit.point), best, 1e-9);
-      // A hint changes nothing but speed.
-      const uint32_t hint = random.below(uint32_t(triangles.size()));
-      ASSERT_EQ(bvh.closest(p, std::numeric_limits<double>::infinity(), hint).squared_distance,
-                best);
+      // A cursor changes nothing but speed: one carried over from far away queries,
+      EXPECT_EQ(bvh.closest(p, far_cursor).squared_distance, best);
+      // and one walking in small steps, which mostly skips the tree.
+      for (int k = 0; k < 5; ++k) {
+        const Point3 q{p[0] + 0.05 * k, p[1] - 0.03 * k, p[2] + 0.02 * k};
+        double nearest = std::numeric_limits<double>::infinity();
+        for (const SurfaceTriangle& t : triangles)
+          nearest =
+              std::min(nearest, distance2(q, closest_point_on_triangle(
+                                                 q, to_point(t.a), to_point(t.b), to_point(t.c))));
+        const TriangleBvh::Hit walked = bvh.closest(q, near_cursor);
+        ASSERT_EQ(walked.squared_distance, nearest) << "soup " << soup << " walk " << i;
+        ASSERT_LT(near_cursor.leaf, bvh.node_count());
+      }
       // A bound below the answer finds nothing; one above finds the same.
       EXPECT_EQ(bvh.closest(p, best * 0.99).triangle, kNoIndex);
       EXPECT_EQ(bvh.closest(p, best * 1.01 + 1e-12).squared_distance, best);
@@ -264,9 +274,9 @@ test::Mesh bumpy_sphere(uint32_t n, float bump) {
   m.topology = Topology::with_vertices(2 + n * (2 * n));
   auto add = [&](double theta, double phi) {
     const double r = 1 + bump * std::sin(5 * theta) * std::cos(3 * phi);
-    m.positions.insert(m.positions.end(), {float(r * std::sin(theta) * std::cos(phi)),
-                                           float(r * std::sin(theta) * std::sin(phi)),
-                                           float(r * std::cos(theta))});
+    m.positions.insert(m.positions.end(),
+                       {float(r * std::sin(theta) * std::cos(phi)),
+                        float(r * std::sin(theta) * std::sin(phi)), float(r * std::cos(theta))});
   };
   const double pi = std::acos(-1.0);
   add(0, 0);
@@ -293,8 +303,8 @@ TEST(EvalHausdorff, SameSeedSameResultOnAnyThreadCount) {
     options.threads = threads;
     auto again = measure(a, b, options);
     ASSERT_TRUE(again.ok());
-    for (auto [x, y] : {std::pair{&first->a_to_b, &again->a_to_b},
-                        std::pair{&first->b_to_a, &again->b_to_a}}) {
+    for (auto [x, y] :
+         {std::pair{&first->a_to_b, &again->a_to_b}, std::pair{&first->b_to_a, &again->b_to_a}}) {
       EXPECT_EQ(x->max, y->max) << threads << " threads";
       EXPECT_EQ(x->mean, y->mean) << threads << " threads";
       EXPECT_EQ(x->rms, y->rms) << threads << " threads";
@@ -348,6 +358,22 @@ TEST(EvalHausdorff, InputErrorsAreStatusesNotCrashes) {
                    .ok());
 }
 
+TEST(EvalHausdorff, SurfacesWithoutAreaHaveVertexAndEdgeSamplesOnly) {
+  //  A: two triangles squashed onto the segment 0–2 of the x axis; B: the unit square.
+  test::Mesh flat;
+  flat.topology = Topology::with_vertices(3);
+  flat.positions = {0, 0, 0, 1, 0, 0, 2, 0, 0};
+  flat.topology.add_triangle(0, 1, 2);
+  flat.topology.add_triangle(2, 1, 0);
+  auto r = measure(flat, test::quad_grid(1, 1));
+  ASSERT_TRUE(r.ok()) << r.message();
+  EXPECT_EQ(r->a_to_b.face_samples, 0u);
+  EXPECT_EQ(r->a_to_b.vertex_samples, 3u);
+  EXPECT_DOUBLE_EQ(r->a_to_b.max, 1.0);  // vertex 2 is 1 from the square's corner (1, 0)
+  EXPECT_GT(r->a_to_b.mean, 0.0);        // over the vertex samples, as nothing has area
+  EXPECT_NEAR(r->b_to_a.max, 1.0, 1e-12);  // the square's corner (0, 1) is 1 from the segment
+}
+
 Frames frames_at_heights(const test::Mesh& m, std::initializer_list<float> heights) {
   Frames frames(m.topology.vertex_count);
   for (float z : heights) {
@@ -376,7 +402,7 @@ TEST(EvalHausdorffSteps, EachStepAgainstTheSameStepWithMeanAndMaxOverSteps) {
   EXPECT_LT(r->steps[1].hausdorff, 1e-12);
   EXPECT_DOUBLE_EQ(r->steps[2].hausdorff, 0.25);
   EXPECT_DOUBLE_EQ(r->hausdorff.max, 0.5);
-  EXPECT_DOUBLE_EQ(r->hausdorff.mean, 0.25);
+  EXPECT_NEAR(r->hausdorff.mean, 0.25, 1e-12);
   EXPECT_DOUBLE_EQ(r->rms.max, 0.5);
   // One diagonal for all steps: A's box over all steps (6 × 4 × 2).
   EXPECT_NEAR(r->diagonal, std::sqrt(56.0), 1e-12);
@@ -436,9 +462,9 @@ TEST(EvalCli, HausdorffOfTwoMeshFilesAsTextAndJson) {
   EXPECT_FALSE(contains(json.output, "per_step")) << json.output;
 
   EXPECT_EQ(dynpm_cli("hausdorff " + dir.file("a.obj")).exit_code, 2);
-  EXPECT_EQ(dynpm_cli("hausdorff --samples x " + dir.file("a.obj") + " " + dir.file("b.ply"))
-                .exit_code,
-            2);
+  EXPECT_EQ(
+      dynpm_cli("hausdorff --samples x " + dir.file("a.obj") + " " + dir.file("b.ply")).exit_code,
+      2);
   EXPECT_EQ(dynpm_cli("hausdorff " + dir.file("a.obj") + " " + dir.file("none.obj")).exit_code, 1);
   EXPECT_EQ(dynpm_cli("hausdorff --help").exit_code, 0);
 }
@@ -454,8 +480,8 @@ TEST(EvalCli, HausdorffOfTwoStepSequencesReportsEachStep) {
   EXPECT_LT(json_number(same.output, "hausdorff"), 1e-9) << same.output;
   EXPECT_TRUE(contains(same.output, "\"per_step\"")) << same.output;
 
-  auto moving = dynpm_cli("hausdorff --json --samples-per-face 2 " + dir + "/frame_000.obj " +
-                          steps);
+  auto moving =
+      dynpm_cli("hausdorff --json --samples-per-face 2 " + dir + "/frame_000.obj " + steps);
   ASSERT_EQ(moving.exit_code, 0) << moving.output;
   EXPECT_TRUE(contains(moving.output, "\"steps\": 3")) << moving.output;
   // Per step: step 0 against itself is 0; the tube then moves away from its rest state.

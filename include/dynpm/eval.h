@@ -71,19 +71,23 @@ class TriangleBvh {
   // No tree is deeper than this (the build halves ranges below a fixed depth).
   static constexpr size_t kMaxDepth = 96;
 
-  // Where the previous query of a run ended: its leaf, and for each ancestor of the leaf a
-  // clearance (no triangle outside that ancestor's subtree is closer than this to `origin`).
-  // Samples come in runs of close neighbours: a query with a cursor tests the cursor's leaf
-  // first and climbs towards the root, entering only the sibling subtrees that may hold
-  // something closer, and stops as soon as the best distance so far is below an ancestor's
-  // clearance − |p − origin| (box distances are 1-Lipschitz, so nothing outside can beat it).
-  // One cursor per thread; the answer is the same as without one.
+  // The memory of a run of queries. Samples come in runs of close neighbours: a query with a
+  // cursor tests the previous answer's leaf first, then climbs towards the root, entering only
+  // the sibling subtrees that may hold something closer, and stops at the first ancestor whose
+  // clearance (a lower bound on the distance to every triangle outside it, remembered from
+  // earlier queries less the distance travelled since: box distances are 1-Lipschitz) shows
+  // that nothing outside can beat the best so far. One cursor per thread; the answer is the
+  // same as without one.
   struct Cursor {
-    uint32_t leaf = kNoIndex;
-    uint32_t levels = 0;  // ancestors of the leaf: the root is ancestor `levels`
-    Point3 origin{0, 0, 0};
-    std::array<double, kMaxDepth> sibling;    // [k]: lower bound, origin to ancestor k's other child
-    std::array<double, kMaxDepth> clearance;  // [k]: min of sibling[k + 1 …]; ∞ at the root
+    uint32_t leaf = kNoIndex;  // the previous answer's leaf
+    Point3 last{0, 0, 0};      // the previous query point
+    double travel = 0;         // length of the path of query points so far
+    // Indexed by depth of the leaf's ancestors (0: the root), stamped with `travel` (value +
+    // travel when measured, so value now ≥ stamped − travel): clearance[d] bounds the distance
+    // to everything outside the ancestor at depth d (−∞: unknown), sibling[d] to the subtree
+    // of the other child of the ancestor at depth d − 1.
+    std::array<double, kMaxDepth> clearance;
+    std::array<double, kMaxDepth> sibling;
   };
   Hit closest(const Point3& p, Cursor& cursor) const;
 
@@ -106,6 +110,7 @@ class TriangleBvh {
 
   std::vector<Node> nodes_;
   std::vector<uint32_t> parent_;            // per node; kNoIndex for the root
+  std::vector<uint8_t> depth_;              // per node; 0 for the root
   std::vector<SurfaceTriangle> triangles_;  // in leaf order
   std::vector<uint32_t> leaf_of_;           // per triangle in leaf order: its leaf node
   std::vector<uint32_t> original_;          // leaf order → index given to the constructor
@@ -136,9 +141,9 @@ struct HausdorffOptions {
 
 // Distances from samples on one surface to the other surface.
 struct OneSidedDistance {
-  double max = 0;   // over every sample (vertices, edges, faces)
-  double mean = 0;  // over the area samples: the area-weighted mean distance
-  double rms = 0;   // over the area samples: root of the area-weighted mean squared distance
+  double max = 0;          // over every sample (vertices, edges, faces)
+  double mean = 0;         // over the area samples: the area-weighted mean distance
+  double rms = 0;          // over the area samples: root of the area-weighted mean squared distance
   Point3 max_at{0, 0, 0};  // the sample where the max was found
   uint64_t vertex_samples = 0, edge_samples = 0, face_samples = 0;
 };
@@ -151,9 +156,7 @@ struct HausdorffResult {
   double rms = 0;           // two-sided: sqrt((a_to_b.rms² + b_to_a.rms²) / 2)
   double diagonal = 0;      // the reference length of the percentages
 
-  double percent(double distance) const {
-    return diagonal > 0 ? 100.0 * distance / diagonal : 0.0;
-  }
+  double percent(double distance) const { return diagonal > 0 ? 100.0 * distance / diagonal : 0.0; }
 };
 
 // A against B at one step each. Errors (not asserts, the inputs may come from files): positions

@@ -12,8 +12,10 @@
 // the nearer child first and skips every box farther away than the best triangle so far, so
 // the answer is the exact minimum over all triangles: pruning only skips boxes that cannot hold
 // anything closer. Samples come in runs of close neighbours, so a query may start from the
-// previous answer's leaf and climb towards the root (a bottom-up traversal): its distance bounds
-// the search at once, and at each level one box test usually shows the sibling is too far.
+// previous answer's leaf (a Cursor) and climb towards the root (a bottom-up traversal): the
+// leaf's distance bounds the search at once, at each level one box test usually shows the
+// sibling is too far, and the box distances remembered from the previous query (less the
+// distance moved since) let the climb stop early, often at the leaf itself.
 #include <algorithm>
 #include <cassert>
 #include <cmath>
@@ -24,7 +26,9 @@
 namespace dynpm {
 namespace {
 
-inline Point3 sub(const Point3& a, const Point3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+inline Point3 sub(const Point3& a, const Point3& b) {
+  return {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+}
 inline double dot(const Point3& a, const Point3& b) {
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
@@ -94,9 +98,10 @@ class BvhBuilder {
   static constexpr int kBins = 16;
   static constexpr uint32_t kMaxLeafTriangles = 8;  // a leaf never holds more (unless one item)
   static constexpr double kTraversalCost = 1.0;     // relative to one triangle test
-  // Below this depth, splits halve the range (median of the centroids), so no input can make
+  // Deeper than this, splits halve the range (median of the centroids), so no input can make
   // the tree deeper than kSahDepth + log2(#items) and overflow a query's stack.
   static constexpr int kSahDepth = 40;
+  static_assert(kSahDepth + 34 < TriangleBvh::kMaxDepth);
   static constexpr uint32_t kParallelMinimum = 1u << 15;  // smaller subtrees: one thread
 
   struct Item {
@@ -304,8 +309,7 @@ Point3 closest_point_on_triangle(const Point3& p, const Point3& a, const Point3&
   const double sum = va + vb + vc;
   if (!(sum > 0)) return closest_point_on_sides(p, a, b, c);
   const double v = vb / sum, w = vc / sum;
-  return {a[0] + ab[0] * v + ac[0] * w, a[1] + ab[1] * v + ac[1] * w,
-          a[2] + ab[2] * v + ac[2] * w};
+  return {a[0] + ab[0] * v + ac[0] * w, a[1] + ab[1] * v + ac[1] * w, a[2] + ab[2] * v + ac[2] * w};
 }
 
 std::vector<SurfaceTriangle> surface_triangles(const Topology& topology,
@@ -330,7 +334,8 @@ std::vector<SurfaceTriangle> surface_triangles(const Topology& topology,
       for (int k = 0; k < 3; ++k)
         centroid[k] = static_cast<float>(
             (double(corner[0][k]) + corner[1][k] + corner[2][k] + corner[3][k]) * 0.25);
-      for (int i = 0; i < 4; ++i) triangles.push_back({corner[i], corner[(i + 1) % 4], centroid, f});
+      for (int i = 0; i < 4; ++i)
+        triangles.push_back({corner[i], corner[(i + 1) % 4], centroid, f});
     }
   }
   return triangles;
@@ -350,26 +355,34 @@ TriangleBvh::TriangleBvh(std::span<const SurfaceTriangle> triangles, unsigned th
     leaf_position_[original_[i]] = i;
   }
   parent_.assign(nodes_.size(), kNoIndex);
+  depth_.assign(nodes_.size(), 0);
   leaf_of_.resize(triangles.size());
-  for (uint32_t n = 0; n < nodes_.size(); ++n) {
+  for (uint32_t n = 0; n < nodes_.size(); ++n) {  // parents come before their children
     const Node& node = nodes_[n];
     if (node.count == 0) {
       parent_[n + 1] = parent_[node.first] = n;
+      depth_[n + 1] = depth_[node.first] = static_cast<uint8_t>(depth_[n] + 1);
     } else {
       for (uint32_t i = node.first; i < node.first + node.count; ++i) leaf_of_[i] = n;
     }
   }
 }
 
+// The best triangle so far (leaf order) and its closest point.
+struct TriangleBvh::Best {
+  double d2;
+  uint32_t triangle = kNoIndex;
+  Point3 point{0, 0, 0};
+};
+
 // Depth-first search of the subtree at `node`, nearer child first; a pending entry keeps its
 // box distance so that it can be dropped once something closer has been found.
-void TriangleBvh::descend(const Point3& p, uint32_t node, double& best, uint32_t& best_leaf,
-                          Point3& best_point) const {
+void TriangleBvh::descend(const Point3& p, uint32_t node, Best& best) const {
   struct Pending {
     uint32_t node;
     double d2;
   };
-  std::array<Pending, 2 * BvhBuilder::kSahDepth + 40> stack;
+  std::array<Pending, kMaxDepth> stack;
   size_t top = 0;
   while (node != kNoIndex) {
     const Node& n = nodes_[node];
@@ -378,15 +391,15 @@ void TriangleBvh::descend(const Point3& p, uint32_t node, double& best, uint32_t
         const SurfaceTriangle& t = triangles_[i];
         const Point3 q = closest_point_on_triangle(p, to_point(t.a), to_point(t.b), to_point(t.c));
         const double d2 = squared_distance(p, q);
-        if (d2 < best) best = d2, best_leaf = i, best_point = q;
+        if (d2 < best.d2) best = {d2, i, q};
       }
     } else {
       uint32_t near = node + 1, far = n.first;
       double near_d2 = squared_distance_to_box(p, nodes_[near]);
       double far_d2 = squared_distance_to_box(p, nodes_[far]);
       if (far_d2 < near_d2) std::swap(near, far), std::swap(near_d2, far_d2);
-      if (near_d2 < best) {
-        if (far_d2 < best) {
+      if (near_d2 < best.d2) {
+        if (far_d2 < best.d2) {
           assert(top < stack.size());
           stack[top++] = {far, far_d2};
         }
@@ -397,39 +410,75 @@ void TriangleBvh::descend(const Point3& p, uint32_t node, double& best, uint32_t
     node = kNoIndex;  // the next pending box that may still hold something closer
     while (top > 0 && node == kNoIndex) {
       const Pending& pending = stack[--top];
-      if (pending.d2 < best) node = pending.node;
+      if (pending.d2 < best.d2) node = pending.node;
     }
   }
 }
 
-TriangleBvh::Hit TriangleBvh::closest(const Point3& p, double max_squared_distance,
-                                      uint32_t hint) const {
-  Hit hit;
-  if (nodes_.empty()) return hit;
-  double best = max_squared_distance;
-  uint32_t best_leaf = kNoIndex;
-  Point3 best_point{0, 0, 0};
-  if (hint == kNoIndex) {
-    if (squared_distance_to_box(p, nodes_[0]) < best) descend(p, 0, best, best_leaf, best_point);
-  } else {
-    // The hint's leaf first, then, climbing to the root, the sibling subtree at each level:
-    // together they are the whole tree, and near the hint most siblings are too far to enter.
-    assert(hint < leaf_position_.size());
-    uint32_t node = leaf_of_[leaf_position_[hint]];
-    descend(p, node, best, best_leaf, best_point);
-    for (uint32_t parent = parent_[node]; parent != kNoIndex; node = parent, parent = parent_[node]) {
-      const uint32_t sibling = node == parent + 1 ? nodes_[parent].first : parent + 1;
-      if (squared_distance_to_box(p, nodes_[sibling]) < best)
-        descend(p, sibling, best, best_leaf, best_point);
+TriangleBvh::Hit TriangleBvh::hit(const Best& best) const {
+  Hit h;
+  if (best.triangle == kNoIndex) return h;
+  h.squared_distance = best.d2;
+  h.point = best.point;
+  h.triangle = original_[best.triangle];
+  h.face = triangles_[best.triangle].face;
+  return h;
+}
+
+TriangleBvh::Hit TriangleBvh::closest(const Point3& p, double max_squared_distance) const {
+  Best best{max_squared_distance};
+  if (!nodes_.empty() && squared_distance_to_box(p, nodes_[0]) < best.d2) descend(p, 0, best);
+  return hit(best);
+}
+
+TriangleBvh::Hit TriangleBvh::closest(const Point3& p, Cursor& cursor) const {
+  constexpr double kInfinity = std::numeric_limits<double>::infinity();
+  Best best{kInfinity};
+  if (nodes_.empty()) return hit(best);
+  Cursor& c = cursor;
+  if (c.leaf == kNoIndex) {
+    descend(p, 0, best);
+    if (best.triangle == kNoIndex) return hit(best);  // only if every distance overflowed
+    c.leaf = leaf_of_[best.triangle];
+    c.last = p;
+    c.clearance[0] = kInfinity;  // nothing is outside the root
+    for (uint32_t d = 1; d <= depth_[c.leaf]; ++d) c.clearance[d] = -kInfinity;
+    return hit(best);
+  }
+  assert(c.leaf < nodes_.size() && nodes_[c.leaf].count > 0);
+  c.travel += std::sqrt(squared_distance(p, c.last));
+  c.last = p;
+  const double travel = c.travel;
+  descend(p, c.leaf, best);
+  const uint32_t leaf_depth = depth_[c.leaf];
+  uint32_t node = c.leaf, depth = leaf_depth;
+  uint32_t improved_at = 0;  // depth of the sibling subtree holding the answer; 0: the leaf
+  for (; depth > 0; --depth) {
+    // Nothing outside the ancestor at this depth can be closer? The margin covers rounding.
+    const double stamped = c.clearance[depth];
+    const double reach = (stamped - travel) - 1e-12 * (std::abs(stamped) + travel);
+    if (reach > 0 && best.d2 <= reach * reach) break;
+    const uint32_t parent = parent_[node];
+    const uint32_t sibling = node == parent + 1 ? nodes_[parent].first : parent + 1;
+    const double d2 = squared_distance_to_box(p, nodes_[sibling]);
+    c.sibling[depth] = std::sqrt(d2) + travel;
+    if (d2 < best.d2) {
+      const uint32_t before = best.triangle;
+      descend(p, sibling, best);
+      if (best.triangle != before) improved_at = depth;
     }
+    node = parent;
   }
-  if (best_leaf != kNoIndex) {
-    hit.squared_distance = best;
-    hit.point = best_point;
-    hit.triangle = original_[best_leaf];
-    hit.face = triangles_[best_leaf].face;
+  // Below the depth where the climb stopped, the clearances follow from the fresh siblings.
+  for (uint32_t d = depth + 1; d <= leaf_depth; ++d)
+    c.clearance[d] = std::min(c.clearance[d - 1], c.sibling[d]);
+  if (improved_at > 0) {
+    // A new leaf, under the same ancestors down to depth improved_at − 1 (their clearances
+    // still hold); below that its surroundings are unknown.
+    c.leaf = leaf_of_[best.triangle];
+    for (uint32_t d = improved_at; d <= depth_[c.leaf]; ++d) c.clearance[d] = -kInfinity;
   }
-  return hit;
+  return hit(best);
 }
 
 }  // namespace dynpm

@@ -14,8 +14,9 @@
 //        faces     every triangle (quads as four triangles through their centroid, §5 of the
 //                  paper) gets ⌊N · area_i / area + u⌋ uniform points: in expectation exactly
 //                  proportional to area, so their mean is an unbiased area-weighted mean. The
-//                  points are stratified (one per cell of a regular subdivision, as Metro's
-//                  "similar triangles" sampling), which covers each triangle evenly.
+//                  points are stratified (one per cell of a regular subdivision, in the
+//                  spirit of Metro's "similar triangles" sampling): each triangle is covered
+//                  evenly.
 //      N, the area sample count, is 10 × the face count of the larger mesh by default.
 //   2. For each sample p, d(p) = |p − closest point of T| from a BVH over T's triangles
 //      (bvh.cpp): an exact distance, not an approximation.
@@ -41,8 +42,6 @@
 
 namespace dynpm {
 namespace {
-
-constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 // SplitMix64: a 64-bit counter passed through a strong mixing function.
 class Random {
@@ -70,7 +69,8 @@ uint64_t job_seed(uint64_t seed, uint64_t direction, uint64_t kind, uint64_t job
 // matter to the caller, which writes each i's result to its own slot.
 template <class Work>
 void parallel_for(size_t n, unsigned threads, const Work& work) {
-  threads = std::max(1u, std::min<unsigned>(threads, static_cast<unsigned>(std::min<size_t>(n, 1024))));
+  threads =
+      std::max(1u, std::min<unsigned>(threads, static_cast<unsigned>(std::min<size_t>(n, 1024))));
   std::atomic<size_t> next{0};
   auto worker = [&] {
     for (size_t i = next++; i < n; i = next++) work(i);
@@ -135,8 +135,7 @@ Status check_positions(const char* name, const Topology& topology,
                        std::span<const float> positions) {
   if (positions.size() != size_t{topology.vertex_count} * 3)
     return Status::error(std::string(name) + ": " + std::to_string(positions.size()) +
-                         " coordinates for " + std::to_string(topology.vertex_count) +
-                         " vertices");
+                         " coordinates for " + std::to_string(topology.vertex_count) + " vertices");
   for (size_t i = 0; i < positions.size(); ++i)
     if (!std::isfinite(positions[i]))
       return Status::error(std::string(name) + ": vertex " + std::to_string(i / 3) +
@@ -246,10 +245,9 @@ void sample_triangle(uint64_t n, Random& random, const Emit& emit) {
 Tally run_job(const Job& job, const Direction& d, uint64_t seed, size_t job_index) {
   Random random(job_seed(seed, job.direction, job.kind, job_index));
   Tally tally;
-  uint32_t hint = kNoIndex;  // consecutive samples are close: the last hit bounds the next
+  TriangleBvh::Cursor cursor;  // consecutive samples are close: start where the last one ended
   auto measure = [&](const Point3& p, uint64_t& counter, bool area_sample) {
-    const TriangleBvh::Hit hit = d.to->closest(p, kInfinity, hint);
-    hint = hit.triangle;
+    const TriangleBvh::Hit hit = d.to->closest(p, cursor);
     const double distance = std::sqrt(hit.squared_distance);
     if (distance > tally.max) tally.max = distance, tally.max_at = p;
     tally.all_sum += distance, tally.all_sum2 += distance * distance;
@@ -321,9 +319,10 @@ Result<HausdorffResult> evaluate(const PreparedTopology& a, std::span<const floa
   std::array<Direction, 2> directions;
   directions[0].from = &a, directions[0].from_positions = a_positions;
   directions[1].from = &b, directions[1].from_positions = b_positions;
-  for (Direction& d : directions) d.from_triangles = surface_triangles(*d.from->topology, d.from_positions);
-  const unsigned threads = options.threads > 0 ? options.threads
-                                               : std::max(1u, std::thread::hardware_concurrency());
+  for (Direction& d : directions)
+    d.from_triangles = surface_triangles(*d.from->topology, d.from_positions);
+  const unsigned threads =
+      options.threads > 0 ? options.threads : std::max(1u, std::thread::hardware_concurrency());
   const TriangleBvh a_bvh(directions[0].from_triangles, threads);
   const TriangleBvh b_bvh(directions[1].from_triangles, threads);
   directions[0].to = &b_bvh, directions[1].to = &a_bvh;
@@ -343,8 +342,8 @@ Result<HausdorffResult> evaluate(const PreparedTopology& a, std::span<const floa
       for (const Edge& e : d.from->edges) {
         double l2 = 0;
         for (int c = 0; c < 3; ++c) {
-          const double x = double(d.from_positions[3 * size_t{e.a} + c]) -
-                           d.from_positions[3 * size_t{e.b} + c];
+          const double x =
+              double(d.from_positions[3 * size_t{e.a} + c]) - d.from_positions[3 * size_t{e.b} + c];
           l2 += x * x;
         }
         length += std::sqrt(l2);
