@@ -1,5 +1,7 @@
 #include "args.h"
 
+#include <iostream>
+
 namespace dynpm::cli {
 
 std::optional<std::string> Args::value(const std::string& name) const {
@@ -51,6 +53,21 @@ Result<Args> parse_args(std::span<char* const> arguments, const VerbSpec& spec) 
     args.set_value(flag->name, *inline_value);
   }
   return args;
+}
+
+std::optional<int> parse_verb_args(std::span<char* const> arguments, const VerbSpec& spec,
+                                   Args& args) {
+  auto parsed = parse_args(arguments, spec);
+  if (!parsed) {
+    std::cerr << parsed.message() << "\n";
+    return 2;  // bad usage
+  }
+  if (parsed->has("--help")) {
+    std::cout << help_text(spec);
+    return 0;
+  }
+  args = std::move(parsed).value();
+  return std::nullopt;
 }
 
 std::string help_text(const VerbSpec& spec) {

@@ -47,6 +47,12 @@ class Args {
 
 // Parses arguments after the verb; --help is always accepted and reported as the flag "--help".
 Result<Args> parse_args(std::span<char* const> arguments, const VerbSpec& spec);
+
+// What every verb does first: parse its arguments into `args`. On a usage error it prints the
+// message, on --help the help text, and returns the exit code the verb must return at once;
+// otherwise nothing.
+std::optional<int> parse_verb_args(std::span<char* const> arguments, const VerbSpec& spec,
+                                   Args& args);
 std::string help_text(const VerbSpec& spec);
 
 }  // namespace dynpm::cli

@@ -24,17 +24,10 @@ const VerbSpec kSpec{
 }  // namespace
 
 int run_convert(std::span<char* const> arguments) {
-  auto args = parse_args(arguments, kSpec);
-  if (!args) {
-    std::cerr << args.message() << "\n";
-    return kExitUsage;
-  }
-  if (args->has("--help")) {
-    std::cout << help_text(kSpec);
-    return kExitOk;
-  }
-  const auto output = args->value("--output");
-  if (args->positional.empty() || !output) {
+  Args args;
+  if (auto exit_code = parse_verb_args(arguments, kSpec, args)) return *exit_code;
+  const auto output = args.value("--output");
+  if (args.positional.empty() || !output) {
     std::cerr << "dynpm convert: needs INPUT... and -o OUTPUT\n\n" << help_text(kSpec);
     return kExitUsage;
   }
@@ -43,7 +36,7 @@ int run_convert(std::span<char* const> arguments) {
               << ": cannot tell the output format from the extension (use .obj, .ply or .vtk)\n";
     return kExitUsage;
   }
-  auto stream = open_inputs(args->positional, args->has("--split-polygons"));
+  auto stream = open_inputs(args.positional, args.has("--split-polygons"));
   if (!stream) {
     std::cerr << "dynpm convert: " << stream.message() << "\n";
     return kExitFailure;
@@ -59,7 +52,7 @@ int run_convert(std::span<char* const> arguments) {
   }
 
   WriteOptions options;
-  options.binary = !args->has("--ascii");
+  options.binary = !args.has("--ascii");
   std::vector<float> xyz(size_t{frames.vertex_count()} * 3);
   std::string first, last;
   for (size_t t = 0; t < steps; ++t) {

@@ -208,16 +208,9 @@ void print_json(const std::vector<std::string>& a, const std::vector<std::string
 }  // namespace
 
 int run_hausdorff(std::span<char* const> arguments) {
-  auto args = parse_args(arguments, kSpec);
-  if (!args) {
-    std::cerr << args.message() << "\n";
-    return kExitUsage;
-  }
-  if (args->has("--help")) {
-    std::cout << help_text(kSpec);
-    return kExitOk;
-  }
-  if (args->positional.size() != 2) {
+  Args args;
+  if (auto exit_code = parse_verb_args(arguments, kSpec, args)) return *exit_code;
+  if (args.positional.size() != 2) {
     std::cerr << "dynpm hausdorff: needs two inputs, A and B (quote a glob of step files)\n\n"
               << help_text(kSpec);
     return kExitUsage;
@@ -232,7 +225,7 @@ int run_hausdorff(std::span<char* const> arguments) {
        {NumberFlag{"--samples", true}, NumberFlag{"--samples-per-face", false},
         NumberFlag{"--seed", true}, NumberFlag{"--diagonal", false},
         NumberFlag{"--threads", true}}) {
-    const auto text = args->value(flag.name);
+    const auto text = args.value(flag.name);
     if (!text) continue;
     const auto whole = parse_number<uint64_t>(*text);
     const auto real = parse_number<double>(*text);
@@ -252,14 +245,14 @@ int run_hausdorff(std::span<char* const> arguments) {
   std::vector<std::string> files[2];
   AnimationStream streams[2];
   for (int side = 0; side < 2; ++side) {
-    const std::string argument = args->positional[side];
+    const std::string argument = args.positional[side];
     auto expanded = expand_inputs(std::span<const std::string>(&argument, 1));
     if (!expanded) {
       std::cerr << "dynpm hausdorff: " << expanded.message() << "\n";
       return kExitFailure;
     }
     files[side] = *expanded;
-    auto stream = open_inputs(files[side], args->has("--split-polygons"));
+    auto stream = open_inputs(files[side], args.has("--split-polygons"));
     if (!stream) {
       std::cerr << "dynpm hausdorff: " << stream.message() << "\n";
       return kExitFailure;
@@ -276,7 +269,7 @@ int run_hausdorff(std::span<char* const> arguments) {
     return kExitFailure;
   }
   const HausdorffResult all = over_all_steps(*result);
-  if (args->has("--json"))
+  if (args.has("--json"))
     print_json(files[0], files[1], *result, all, h.seed);
   else
     print_text(describe(files[0], streams[0]), describe(files[1], streams[1]), *result, all,

@@ -159,21 +159,14 @@ void print_json(std::span<const std::string> inputs, const Topology& topology,
 }  // namespace
 
 int run_info(std::span<char* const> arguments) {
-  auto args = parse_args(arguments, kSpec);
-  if (!args) {
-    std::cerr << args.message() << "\n";
-    return kExitUsage;
-  }
-  if (args->has("--help")) {
-    std::cout << help_text(kSpec);
-    return kExitOk;
-  }
-  if (args->positional.empty()) {
+  Args args;
+  if (auto exit_code = parse_verb_args(arguments, kSpec, args)) return *exit_code;
+  if (args.positional.empty()) {
     std::cerr << "dynpm info: no input given\n\n" << help_text(kSpec);
     return kExitUsage;
   }
   size_t problems = 10;
-  if (auto n = args->value("--problems")) {
+  if (auto n = args.value("--problems")) {
     try {
       problems = std::stoul(*n);
     } catch (...) {
@@ -181,12 +174,12 @@ int run_info(std::span<char* const> arguments) {
       return kExitUsage;
     }
   }
-  auto inputs = expand_inputs(args->positional);
+  auto inputs = expand_inputs(args.positional);
   if (!inputs) {
     std::cerr << "dynpm info: " << inputs.message() << "\n";
     return kExitFailure;
   }
-  auto stream = open_inputs(*inputs, args->has("--split-polygons"));
+  auto stream = open_inputs(*inputs, args.has("--split-polygons"));
   if (!stream) {
     std::cerr << "dynpm info: " << stream.message() << "\n";
     return kExitFailure;
@@ -202,7 +195,7 @@ int run_info(std::span<char* const> arguments) {
     }
   }
   const TopologyStats stats = topology_stats(topology, Adjacency::build(topology));
-  if (args->has("--json"))
+  if (args.has("--json"))
     print_json(*inputs, topology, frames, stats, frames.box, report);
   else
     print_text(*inputs, topology, frames, stats, frames.box, report, problems);

@@ -76,17 +76,10 @@ double peak_rss_mb() {
 }  // namespace
 
 int run_simplify(std::span<char* const> arguments) {
-  auto args = parse_args(arguments, kSpec);
-  if (!args) {
-    std::cerr << args.message() << "\n";
-    return kExitUsage;
-  }
-  if (args->has("--help")) {
-    std::cout << help_text(kSpec);
-    return kExitOk;
-  }
-  const auto output = args->value("--output");
-  if (args->positional.empty() || !output) {
+  Args args;
+  if (auto exit_code = parse_verb_args(arguments, kSpec, args)) return *exit_code;
+  const auto output = args.value("--output");
+  if (args.positional.empty() || !output) {
     std::cerr << "dynpm simplify: needs INPUT... and -o OUTPUT\n\n" << help_text(kSpec);
     return kExitUsage;
   }
@@ -95,22 +88,22 @@ int run_simplify(std::span<char* const> arguments) {
     std::cerr << message << "\n";
     return kExitUsage;
   };
-  if (auto v = args->value("--ratio")) {
+  if (auto v = args.value("--ratio")) {
     auto r = parse_number("--ratio", *v);
     if (!r) return fail_usage(r.message());
     options.target_ratio = *r;
   }
-  if (auto v = args->value("--vertices")) {
+  if (auto v = args.value("--vertices")) {
     auto r = parse_number("--vertices", *v);
     if (!r || *r < 0) return fail_usage("dynpm simplify: --vertices needs a count");
     options.target_vertices = static_cast<uint32_t>(*r);
   }
-  if (auto v = args->value("--faces")) {
+  if (auto v = args.value("--faces")) {
     auto r = parse_number("--faces", *v);
     if (!r || *r < 0) return fail_usage("dynpm simplify: --faces needs a count");
     options.target_faces = static_cast<size_t>(*r);
   }
-  if (auto v = args->value("--max-error")) {
+  if (auto v = args.value("--max-error")) {
     std::string text = *v;
     const bool percent = !text.empty() && text.back() == '%';
     if (percent) text.pop_back();
@@ -120,22 +113,22 @@ int run_simplify(std::span<char* const> arguments) {
   }
   if (!options.target_ratio && !options.target_vertices && !options.target_faces && !options.max_error)
     return fail_usage("dynpm simplify: give a target: --ratio, --vertices, --faces or --max-error");
-  if (auto v = args->value("--placement")) {
+  if (auto v = args.value("--placement")) {
     if (*v == "optimal") options.placement = Placement::kOptimal;
     else if (*v != "half") return fail_usage("dynpm simplify: --placement is half or optimal");
   }
-  auto key_rule = parse_key_step_rule(args->value("--key-steps").value_or("all"));
+  auto key_rule = parse_key_step_rule(args.value("--key-steps").value_or("all"));
   if (!key_rule) return fail_usage("dynpm simplify: " + key_rule.message());
-  if (auto v = args->value("--boundary-weight")) {
+  if (auto v = args.value("--boundary-weight")) {
     auto r = parse_number("--boundary-weight", *v);
     if (!r) return fail_usage(r.message());
     options.boundary_weight = *r;
   }
-  options.keep_part_boundaries = !args->has("--ignore-parts");
+  options.keep_part_boundaries = !args.has("--ignore-parts");
   if (format_from_extension(*output) == FileFormat::kUnknown)
     return fail_usage("dynpm simplify: " + *output + ": use .obj, .ply or .vtk");
 
-  auto stream = open_inputs(args->positional, args->has("--split-polygons"));
+  auto stream = open_inputs(args.positional, args.has("--split-polygons"));
   if (!stream) {
     std::cerr << "dynpm simplify: " << stream.message() << "\n";
     return kExitFailure;
@@ -155,7 +148,7 @@ int run_simplify(std::span<char* const> arguments) {
     return kExitFailure;
   }
   options.key_steps = key_steps->steps;
-  if (!args->has("--json"))
+  if (!args.has("--json"))
     for (const std::string& reason : key_steps->reasons) std::printf("key step  %s\n", reason.c_str());
   const size_t vertices_in = input.vertex_count;
   size_t expected = 0;
@@ -172,7 +165,7 @@ int run_simplify(std::span<char* const> arguments) {
 
   // Write every step: the surviving vertices at their positions in that step.
   WriteOptions write;
-  write.binary = !args->has("--ascii");
+  write.binary = !args.has("--ascii");
   std::vector<float> step(size_t{input.vertex_count} * 3), out;
   for (size_t t = 0; t < steps; ++t) {
     progress("writing step", t + 1, steps);
@@ -196,7 +189,7 @@ int run_simplify(std::span<char* const> arguments) {
   }
 
   const Topology& t = result->topology;
-  if (args->has("--json")) {
+  if (args.has("--json")) {
     Json j;
     j.begin_object();
     j.value("vertices_in", uint64_t{input.vertex_count});
