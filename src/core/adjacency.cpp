@@ -70,74 +70,68 @@ Adjacency Adjacency::build(const Topology& topology) {
     adj.vertex_face_start_ = std::move(start);
   }
 
-  // edges (a, b), a < b, with their faces, grouped by a
+  // One pass over the vertices: gather every (neighbour w, face) pair around a vertex from its
+  // faces, sorted by w. Runs with w > a are the edges (a, w) with their faces; a run of
+  // exactly two faces is a manifold edge, which joins those faces into one fan — a vertex
+  // whose faces form more than one fan is non-manifold. No hashing, no edge look-up, no
+  // allocation per vertex, and a deterministic edge order.
+  adj.vertex_kind_.assign(vertex_count, kInteriorVertex);
   adj.vertex_edge_start_.assign(size_t{vertex_count} + 1, 0);
-  std::vector<std::pair<uint32_t, uint32_t>> incident;  // (other endpoint, face)
+  std::vector<std::pair<uint32_t, uint32_t>> around;  // (neighbour w, index into a's faces)
+  std::vector<uint32_t> fan;                          // union-find over a's faces
+  auto root = [&fan](uint32_t x) {
+    while (fan[x] != x) x = fan[x] = fan[fan[x]];
+    return x;
+  };
   for (uint32_t a = 0; a < vertex_count; ++a) {
     adj.vertex_edge_start_[a] = static_cast<uint32_t>(adj.edges_.size());
-    incident.clear();
-    for (uint32_t fi : adj.faces_of_vertex(a)) {
-      const Face& f = faces[fi];
+    const auto af = adj.faces_of_vertex(a);
+    if (af.empty()) {
+      adj.vertex_kind_[a] |= kUnreferencedVertex;
+      continue;
+    }
+    around.clear();
+    for (uint32_t k = 0; k < af.size(); ++k) {
+      const Face& f = faces[af[k]];
       const int degree = f.degree();
       for (int i = 0; i < degree; ++i) {
         if (f.v[i] != a) continue;
-        for (uint32_t b : {next_corner(f, i, degree), prev_corner(f, i, degree)})
-          if (b > a && b != kNoVertex) incident.emplace_back(b, fi);
+        // Both edges at the corner: with inconsistent orientation one of them may be
+        // "previous" in both of its faces.
+        for (uint32_t w : {next_corner(f, i, degree), prev_corner(f, i, degree)})
+          if (w != a && w != kNoVertex) around.emplace_back(w, k);
       }
     }
-    std::sort(incident.begin(), incident.end());
-    incident.erase(std::unique(incident.begin(), incident.end()), incident.end());
-    for (size_t k = 0; k < incident.size(); ++k) {
-      if (k == 0 || incident[k].first != incident[k - 1].first) {
+    std::sort(around.begin(), around.end());  // faces ascend within a run: af is ascending
+    around.erase(std::unique(around.begin(), around.end()), around.end());
+    fan.resize(af.size());
+    std::iota(fan.begin(), fan.end(), 0u);
+    size_t joined = 0;
+    for (size_t i = 0; i < around.size();) {
+      size_t j = i;
+      while (j < around.size() && around[j].first == around[i].first) ++j;
+      if (j - i == 2) {
+        const uint32_t x = root(around[i].second), y = root(around[i + 1].second);
+        if (x != y) fan[x] = y, ++joined;
+      }
+      if (around[i].first > a) {
         adj.edge_face_start_.push_back(static_cast<uint32_t>(adj.edge_faces_.size()));
-        adj.edges_.push_back(Edge{a, incident[k].first});
+        adj.edges_.push_back(Edge{a, around[i].first});
+        for (size_t k = i; k < j; ++k) adj.edge_faces_.push_back(af[around[k].second]);
       }
-      adj.edge_faces_.push_back(incident[k].second);
+      i = j;
     }
+    if (af.size() - joined > 1) adj.vertex_kind_[a] |= kNonManifoldFan;
   }
   adj.edge_face_start_.push_back(static_cast<uint32_t>(adj.edge_faces_.size()));
   adj.vertex_edge_start_[vertex_count] = static_cast<uint32_t>(adj.edges_.size());
 
-  // vertex kinds
-  adj.vertex_kind_.assign(vertex_count, kInteriorVertex);
+  // Boundary and non-manifold edges mark their vertices.
   for (size_t e = 0; e < adj.edges_.size(); ++e) {
     const size_t n = adj.faces_of_edge(e).size();
     const uint8_t flag = n == 1 ? kBoundaryVertex : n >= 3 ? kOnNonManifoldEdge : 0;
     adj.vertex_kind_[adj.edges_[e].a] |= flag;
     adj.vertex_kind_[adj.edges_[e].b] |= flag;
-  }
-  // A vertex's faces must form one fan: join faces across the manifold edges at the vertex.
-  std::vector<uint32_t> local;
-  for (uint32_t v = 0; v < vertex_count; ++v) {
-    auto vf = adj.faces_of_vertex(v);
-    if (vf.empty()) {
-      adj.vertex_kind_[v] |= kUnreferencedVertex;
-      continue;
-    }
-    UnionFind fans(vf.size());
-    size_t joined = 0;
-    for (uint32_t k = 0; k < vf.size(); ++k) {
-      const Face& f = faces[vf[k]];
-      const int degree = f.degree();
-      for (int i = 0; i < degree; ++i) {
-        if (f.v[i] != v) continue;
-        // Both edges at the corner: with inconsistent orientation one of them may be
-        // "previous" in both of its faces.
-        for (uint32_t w : {next_corner(f, i, degree), prev_corner(f, i, degree)}) {
-          auto e = adj.find_edge(v, w);
-          if (!e) continue;
-          auto ef = adj.faces_of_edge(*e);
-          if (ef.size() != 2) continue;
-          const uint32_t other = ef[0] == vf[k] ? ef[1] : ef[0];
-          const auto pos = static_cast<uint32_t>(std::find(vf.begin(), vf.end(), other) - vf.begin());
-          if (fans.find(k) != fans.find(pos)) {
-            fans.unite(k, pos);
-            ++joined;
-          }
-        }
-      }
-    }
-    if (vf.size() - joined > 1) adj.vertex_kind_[v] |= kNonManifoldFan;
   }
   return adj;
 }

@@ -238,6 +238,19 @@ void Simplifier::build_quadrics(const Adjacency& adjacency) {
   const uint32_t n = input_.vertex_count;
   const size_t k_count = key_count();
   quadrics_.assign(size_t{n} * k_count, Quadric{});
+  // Which edges of each face carry a constraint plane: bit c is the edge from corner c to the
+  // next corner, set when that edge is a boundary or feature edge.
+  std::vector<uint8_t> constrained(input_.faces.size(), 0);
+  for (size_t e = 0; e < adjacency.edge_count(); ++e) {
+    const Edge edge = adjacency.edge(e);
+    const auto faces = adjacency.faces_of_edge(e);
+    if (faces.size() != 1 && !is_feature_edge(edge.a, edge.b, faces)) continue;
+    for (uint32_t f : faces) {
+      const Face& face = input_.faces[f];
+      const int d = face.degree(), c = corner_of(face, edge.a);
+      constrained[f] |= static_cast<uint8_t>(1u << (face.v[(c + 1) % d] == edge.b ? c : (c + d - 1) % d));
+    }
+  }
   // Gathered per vertex (no two threads write one quadric); each face's plane is computed once
   // per corner, which is cheaper than storing a plane per face and step.
   parallel_for(size_t{n} * k_count, thread_count(options_.threads), [&](size_t begin, size_t end,
@@ -267,13 +280,10 @@ void Simplifier::build_quadrics(const Adjacency& adjacency) {
 
         // Constraint planes through v's boundary and feature edges in this face,
         // perpendicular to the face, weighted by the squared edge length.
-        const int i0 = corner_of(face, v);
-        for (int other : {(i0 + 1) % d, (i0 + d - 1) % d}) {
-          const uint32_t w = face.v[other];
-          auto e = adjacency.find_edge(v, w);
-          if (!e) continue;
-          const auto edge_faces = adjacency.faces_of_edge(*e);
-          if (edge_faces.size() != 1 && !is_feature_edge(v, w, edge_faces)) continue;
+        const int i0 = corner_of(face, v), before = (i0 + d - 1) % d;
+        for (int other : {(i0 + 1) % d, before}) {
+          const int edge_bit = other == before ? before : i0;
+          if (!(constrained[f] & (1u << edge_bit))) continue;
           const Vec3 along = p[other] - p[i0];
           const Vec3 m = normalized(cross(along, normal));
           if (length(m) == 0) continue;
