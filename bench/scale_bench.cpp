@@ -3,7 +3,11 @@
 // several key-step rules. Peak memory is read from the process (VmHWM) and reported beyond
 // what the input animation itself holds.
 //
-//   scale_bench [--tiles N] [--steps S] [--ratio R] [--rules all,auto:3] CRASHBOX_FOLDER
+//   scale_bench [--tiles N] [--steps S] [--ratio R] [--rules all,auto:3]
+//               [--write-triangles FILE.obj] CRASHBOX_FOLDER
+//
+// --write-triangles writes the vehicle's last step with every quad split in two and stops: a
+// ≥ 1 M-triangle input for the side-by-side run with the peers (bench/simplify_bench.py).
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -33,12 +37,13 @@ double rss_mb(const char* field) {
 int main(int argc, char** argv) {
   int tiles = 205, steps = 25;
   double ratio = 0.05;
-  std::string rules = "all,auto:3", folder;
+  std::string rules = "all,auto:3", folder, triangles_path;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--tiles") && i + 1 < argc) tiles = std::atoi(argv[++i]);
     else if (!std::strcmp(argv[i], "--steps") && i + 1 < argc) steps = std::atoi(argv[++i]);
     else if (!std::strcmp(argv[i], "--ratio") && i + 1 < argc) ratio = std::atof(argv[++i]);
     else if (!std::strcmp(argv[i], "--rules") && i + 1 < argc) rules = argv[++i];
+    else if (!std::strcmp(argv[i], "--write-triangles") && i + 1 < argc) triangles_path = argv[++i];
     else folder = argv[i];
   }
   auto paths = dynpm::expand_inputs(std::vector<std::string>{folder + "/frame_*.obj"});
@@ -81,6 +86,17 @@ int main(int argc, char** argv) {
     vehicle.frames.add_step(std::move(xyz), double(s));
   }
   box = dynpm::Animation{};
+  if (!triangles_path.empty()) {
+    dynpm::Topology triangles = dynpm::Topology::with_vertices(vehicle.topology.vertex_count);
+    for (const dynpm::Face& f : vehicle.topology.faces) {
+      triangles.add_triangle(f.v[0], f.v[1], f.v[2]);
+      if (!f.is_triangle()) triangles.add_triangle(f.v[0], f.v[2], f.v[3]);
+    }
+    const dynpm::Status s = dynpm::write_mesh(triangles_path, triangles, vehicle.frames.step(size_t(steps - 1)));
+    std::printf("wrote %s: %u vertices, %zu triangles\n", triangles_path.c_str(), triangles.vertex_count,
+                triangles.faces.size());
+    return s.ok() ? 0 : 1;
+  }
   const double input_mb = rss_mb("VmRSS:");
   std::printf("vehicle: %d parts, %u vertices, %zu faces, %d steps; input in memory %.0f MB\n", tiles,
               vehicle.topology.vertex_count, vehicle.topology.faces.size(), steps, input_mb);

@@ -273,6 +273,23 @@ TEST(Simplify, CalculixCrashBoxStaysValidAfterEveryCollapse) {
   EXPECT_TRUE(r->target_reached);
 }
 
+TEST(Simplify, ShippedSampleKeepsQuadsAtHalfTheVertices) {
+  // data/hat-rail, every step rating the collapses.
+  auto paths = expand_inputs(std::vector<std::string>{test::sample_dir() + "/frame_*.obj"});
+  ASSERT_TRUE(paths.ok());
+  auto a = read_animation(*paths);
+  ASSERT_TRUE(a.ok()) << a.message();
+  SimplifyOptions options;
+  options.target_ratio = 0.5;
+  auto r = simplify(a->topology, a->frames, options);
+  ASSERT_TRUE(r.ok()) << r.message();
+  const double quad_share = double(r->topology.quad_count()) / double(r->topology.faces.size());
+  std::printf("hat rail at 50%% of vertices: %zu quads, %zu triangles (quads %.0f%% of faces)\n",
+              r->topology.quad_count(), r->topology.triangle_count(), 100 * quad_share);
+  EXPECT_GT(quad_share, 0.5);  // 62 % when written
+  EXPECT_TRUE(validate(r->topology).ok());
+}
+
 TEST(Simplify, CalculixMixedCrashBoxKeepsQuadsAtHalfTheVertices) {
   const std::string folder = test::shared_data() + "/crashbox-mixed-5k/obj";
   if (!std::filesystem::exists(folder)) GTEST_SKIP() << "../shared/data is not beside the project";
