@@ -6,11 +6,11 @@
 //   quadrics:  Q[t][v] = Σ area · plane² over the faces of v in key step t (a quad's plane is
 //              the mean of its corner normals through its centroid), plus constraint planes
 //              perpendicular to boundary and feature edges
-//   candidate: for each vertex v0, the legal neighbour v1 with the least
-//              error(v0 → v1) = max over key steps t of sqrt((Q[t][v0] + Q[t][v1])(p_t(v1)) / w)
-//   loop:      pop the cheapest candidate (lazy heap, per-vertex temporal marks), collapse,
-//              Q[t][v1] += Q[t][v0], recompute the candidates of every vertex sharing a face
-//              with v1, until a stop condition holds or no legal collapse remains
+//   rate:      every edge both ways, error(v0 → v1) = max over key steps t of
+//              sqrt((Q[t][v0] + Q[t][v1])(p_t(v1)) / w), into a lazy heap (temporal marks)
+//   loop:      pop the cheapest; skip it if v0 or v1 changed since it was rated; check its
+//              legality on the mesh as it is now; collapse; Q[t][v1] += Q[t][v0]; re-rate the
+//              edges of v1; until a stop condition holds or no legal collapse remains
 //
 // The half-edge collapse v0 → v1 (paper Fig. 2 and 3). Faces holding both vertices lose v0:
 // a triangle vanishes, a quad becomes a triangle. Every other face of v0 takes v1. v1 keeps

@@ -296,7 +296,7 @@ void Simplifier::build_quadrics(const Adjacency& adjacency) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// One candidate: cost, topology, geometry
+// One collapse: cost, topology, geometry
 
 EdgeFaces Simplifier::edge_faces(uint32_t v0, uint32_t v1) const {
   EdgeFaces edge;
