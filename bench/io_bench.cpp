@@ -37,7 +37,8 @@ dynpm::Animation bumpy_grid(uint32_t n) {
   xyz.reserve(size_t{a.topology.vertex_count} * 3);
   for (uint32_t j = 0; j <= n; ++j)
     for (uint32_t i = 0; i <= n; ++i)
-      xyz.insert(xyz.end(), {i * 1.37f, j * 1.37f, 3.1f * std::sin(i * 0.05f) * std::cos(j * 0.07f)});
+      xyz.insert(xyz.end(),
+                 {i * 1.37f, j * 1.37f, 3.1f * std::sin(i * 0.05f) * std::cos(j * 0.07f)});
   for (uint32_t j = 0; j < n; ++j)
     for (uint32_t i = 0; i < n; ++i) {
       const uint32_t v = j * (n + 1) + i;
@@ -62,9 +63,10 @@ void bench_file(const std::string& path, int runs) {
   auto a = dynpm::read_mesh(path);
   const double adjacency = median_seconds(runs, [&] { dynpm::Adjacency::build(a->topology); });
   const double validation = median_seconds(runs, [&] { dynpm::validate(*a); });
-  std::printf("%-40s %9zu faces %7.1f MB  read %6.3f s (%5.0f MB/s)  adjacency %6.3f s  validate %6.3f s\n",
-              std::filesystem::path(path).filename().c_str(), faces, mb, read, mb / read, adjacency,
-              validation);
+  std::printf(
+      "%-40s %9zu faces %7.1f MB  read %6.3f s (%5.0f MB/s)  adjacency %6.3f s  validate %6.3f s\n",
+      std::filesystem::path(path).filename().c_str(), faces, mb, read, mb / read, adjacency,
+      validation);
 }
 
 }  // namespace
@@ -73,8 +75,10 @@ int main(int argc, char** argv) {
   int runs = 5;
   std::vector<std::string> files;
   for (int i = 1; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--runs") == 0 && i + 1 < argc) runs = std::atoi(argv[++i]);
-    else files.push_back(argv[i]);
+    if (std::strcmp(argv[i], "--runs") == 0 && i + 1 < argc)
+      runs = std::atoi(argv[++i]);
+    else
+      files.push_back(argv[i]);
   }
   std::printf("median of %d runs\n", runs);
   if (files.empty()) {

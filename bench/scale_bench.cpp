@@ -39,18 +39,25 @@ int main(int argc, char** argv) {
   double ratio = 0.05;
   std::string rules = "all,auto:3", folder, triangles_path;
   for (int i = 1; i < argc; ++i) {
-    if (!std::strcmp(argv[i], "--tiles") && i + 1 < argc) tiles = std::atoi(argv[++i]);
-    else if (!std::strcmp(argv[i], "--steps") && i + 1 < argc) steps = std::atoi(argv[++i]);
-    else if (!std::strcmp(argv[i], "--ratio") && i + 1 < argc) ratio = std::atof(argv[++i]);
-    else if (!std::strcmp(argv[i], "--rules") && i + 1 < argc) rules = argv[++i];
-    else if (!std::strcmp(argv[i], "--write-triangles") && i + 1 < argc) triangles_path = argv[++i];
-    else folder = argv[i];
+    if (!std::strcmp(argv[i], "--tiles") && i + 1 < argc)
+      tiles = std::atoi(argv[++i]);
+    else if (!std::strcmp(argv[i], "--steps") && i + 1 < argc)
+      steps = std::atoi(argv[++i]);
+    else if (!std::strcmp(argv[i], "--ratio") && i + 1 < argc)
+      ratio = std::atof(argv[++i]);
+    else if (!std::strcmp(argv[i], "--rules") && i + 1 < argc)
+      rules = argv[++i];
+    else if (!std::strcmp(argv[i], "--write-triangles") && i + 1 < argc)
+      triangles_path = argv[++i];
+    else
+      folder = argv[i];
   }
   auto paths = dynpm::expand_inputs(std::vector<std::string>{folder + "/frame_*.obj"});
   if (!paths) return std::fprintf(stderr, "%s\n", paths.message().c_str()), 1;
   // Steps spread over the whole run.
   std::vector<std::string> chosen;
-  for (int s = 0; s < steps; ++s) chosen.push_back((*paths)[size_t(s) * (paths->size() - 1) / size_t(steps - 1)]);
+  for (int s = 0; s < steps; ++s)
+    chosen.push_back((*paths)[size_t(s) * (paths->size() - 1) / size_t(steps - 1)]);
   auto box = dynpm::read_animation(chosen);
   if (!box) return std::fprintf(stderr, "%s\n", box.message().c_str()), 1;
 
@@ -62,7 +69,8 @@ int main(int argc, char** argv) {
   const int columns = int(std::ceil(std::sqrt(double(tiles))));
   for (int t = 0; t < tiles; ++t) {
     const uint32_t offset = one.vertex_count * uint32_t(t);
-    for (uint32_t v = 0; v < one.vertex_count; ++v) vehicle.topology.node_ids.push_back(int64_t(offset + v) + 1);
+    for (uint32_t v = 0; v < one.vertex_count; ++v)
+      vehicle.topology.node_ids.push_back(int64_t(offset + v) + 1);
     for (const dynpm::Face& f : one.faces) {
       dynpm::Face g = f;
       for (uint32_t& c : g.v)
@@ -92,14 +100,15 @@ int main(int argc, char** argv) {
       triangles.add_triangle(f.v[0], f.v[1], f.v[2]);
       if (!f.is_triangle()) triangles.add_triangle(f.v[0], f.v[2], f.v[3]);
     }
-    const dynpm::Status s = dynpm::write_mesh(triangles_path, triangles, vehicle.frames.step(size_t(steps - 1)));
-    std::printf("wrote %s: %u vertices, %zu triangles\n", triangles_path.c_str(), triangles.vertex_count,
-                triangles.faces.size());
+    const dynpm::Status s =
+        dynpm::write_mesh(triangles_path, triangles, vehicle.frames.step(size_t(steps - 1)));
+    std::printf("wrote %s: %u vertices, %zu triangles\n", triangles_path.c_str(),
+                triangles.vertex_count, triangles.faces.size());
     return s.ok() ? 0 : 1;
   }
   const double input_mb = rss_mb("VmRSS:");
-  std::printf("vehicle: %d parts, %u vertices, %zu faces, %d steps; input in memory %.0f MB\n", tiles,
-              vehicle.topology.vertex_count, vehicle.topology.faces.size(), steps, input_mb);
+  std::printf("vehicle: %d parts, %u vertices, %zu faces, %d steps; input in memory %.0f MB\n",
+              tiles, vehicle.topology.vertex_count, vehicle.topology.faces.size(), steps, input_mb);
 
   size_t start = 0;
   while (start <= rules.size()) {
@@ -114,12 +123,15 @@ int main(int argc, char** argv) {
     options.target_ratio = ratio;
     options.key_steps = keys->steps;
     auto result = dynpm::simplify(vehicle.topology, vehicle.frames, options);
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
     if (!result) return std::fprintf(stderr, "%s\n", result.message().c_str()), 1;
     const double peak = rss_mb("VmHWM:");
-    std::printf("key steps %-8s (%2zu): %8.2f s, %u vertices left, peak %.0f MB = %.0f B per vertex beyond the input\n",
-                text.c_str(), keys->steps.size(), seconds, result->topology.vertex_count, peak,
-                (peak - input_mb) * 1024 * 1024 / vehicle.topology.vertex_count);
+    std::printf(
+        "key steps %-8s (%2zu): %8.2f s, %u vertices left, peak %.0f MB = %.0f B per vertex beyond "
+        "the input\n",
+        text.c_str(), keys->steps.size(), seconds, result->topology.vertex_count, peak,
+        (peak - input_mb) * 1024 * 1024 / vehicle.topology.vertex_count);
   }
   return 0;
 }

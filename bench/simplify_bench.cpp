@@ -24,14 +24,17 @@ int main(int argc, char** argv) {
       runs = std::atoi(argv[++i]);
     } else if (!std::strcmp(argv[i], "--ratios") && i + 1 < argc) {
       ratios.clear();
-      for (char* p = std::strtok(argv[++i], ","); p; p = std::strtok(nullptr, ",")) ratios.push_back(std::atof(p));
+      for (char* p = std::strtok(argv[++i], ","); p; p = std::strtok(nullptr, ","))
+        ratios.push_back(std::atof(p));
     } else if (!std::strcmp(argv[i], "--placement") && i + 1 < argc) {
-      placement = std::strcmp(argv[++i], "optimal") == 0 ? dynpm::Placement::kOptimal : dynpm::Placement::kHalfEdge;
+      placement = std::strcmp(argv[++i], "optimal") == 0 ? dynpm::Placement::kOptimal
+                                                         : dynpm::Placement::kHalfEdge;
     } else {
       files.push_back(argv[i]);
     }
   }
-  std::printf("%-24s %8s %9s %9s %8s %10s\n", "input", "ratio", "vertices", "faces", "seconds", "collapses/s");
+  std::printf("%-24s %8s %9s %9s %8s %10s\n", "input", "ratio", "vertices", "faces", "seconds",
+              "collapses/s");
   for (const std::string& path : files) {
     auto mesh = dynpm::read_mesh(path);
     if (!mesh) {
@@ -47,7 +50,8 @@ int main(int argc, char** argv) {
       for (int r = 0; r < runs; ++r) {
         const auto start = std::chrono::steady_clock::now();
         auto result = dynpm::simplify(mesh->topology, mesh->frames, options);
-        seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+        seconds.push_back(
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
         if (!result) {
           std::fprintf(stderr, "%s\n", result.message().c_str());
           return 1;

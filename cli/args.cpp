@@ -36,8 +36,8 @@ Result<Args> parse_args(std::span<char* const> arguments, const VerbSpec& spec) 
     for (const FlagSpec& f : spec.flags)
       if (f.name == arg || (!f.short_name.empty() && f.short_name == arg)) flag = &f;
     if (!flag)
-      return Status::error("dynpm " + spec.name + ": unknown option '" + arg +
-                           "' (see dynpm " + spec.name + " --help)");
+      return Status::error("dynpm " + spec.name + ": unknown option '" + arg + "' (see dynpm " +
+                           spec.name + " --help)");
     if (!flag->takes_value) {
       if (inline_value)
         return Status::error("dynpm " + spec.name + ": " + flag->name + " takes no value");
@@ -76,8 +76,10 @@ std::string help_text(const VerbSpec& spec) {
   for (const FlagSpec& f : spec.flags) {
     std::string left = "  " + (f.short_name.empty() ? "" : f.short_name + ", ") + f.name;
     if (f.takes_value) left += " " + f.value_name;
-    if (left.size() < 28) left.resize(28, ' ');
-    else left += "\n" + std::string(28, ' ');
+    if (left.size() < 28)
+      left.resize(28, ' ');
+    else
+      left += "\n" + std::string(28, ' ');
     text += left + f.help + "\n";
   }
   text += "  -h, --help                show this help\n";

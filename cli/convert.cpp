@@ -66,8 +66,8 @@ int run_convert(std::span<char* const> arguments) {
       std::cerr << "dynpm convert: " << s.message() << "\n";
       return kExitFailure;
     }
-    options.comment = "dynpm: step " + std::to_string(t) + ", time " +
-                      std::to_string(frames.step_time(t));
+    options.comment =
+        "dynpm: step " + std::to_string(t) + ", time " + std::to_string(frames.step_time(t));
     if (Status s = write_mesh(*path, stream->topology, xyz, options); !s.ok()) {
       std::cerr << "dynpm convert: " << s.message() << "\n";
       return kExitFailure;

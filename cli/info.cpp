@@ -78,9 +78,9 @@ void print_text(std::span<const std::string> inputs, const Topology& topology,
   out << "components    " << stats.components << "\n";
   out << "euler         " << stats.euler_characteristic << "\n";
   if (!box.empty)
-    out << "bounding box  [" << box.min[0] << ", " << box.min[1] << ", " << box.min[2]
-        << "] … [" << box.max[0] << ", " << box.max[1] << ", " << box.max[2]
-        << "] over all steps, diagonal " << box.diagonal() << "\n";
+    out << "bounding box  [" << box.min[0] << ", " << box.min[1] << ", " << box.min[2] << "] … ["
+        << box.max[0] << ", " << box.max[1] << ", " << box.max[2] << "] over all steps, diagonal "
+        << box.diagonal() << "\n";
   out << "validation    " << (report.ok() ? "ok" : "INVALID") << " ("
       << report.count(Severity::kError) << " errors, " << report.count(Severity::kFeature)
       << " features, " << report.count(Severity::kWarning) << " warnings)\n";

@@ -31,7 +31,8 @@ const VerbSpec kSpec{
      {"--faces", "", true, "N", "stop at N faces"},
      {"--max-error", "", true, "E", "stop before a collapse's error exceeds E"},
      {"--placement", "", true, "half|optimal", "half-edge (default, the paper) or optimal (QSlim)"},
-     {"--key-steps", "", true, "RULE", "steps that rate collapses: all (default), paper, auto:K, 0,12,24"},
+     {"--key-steps", "", true, "RULE",
+      "steps that rate collapses: all (default), paper, auto:K, 0,12,24"},
      {"--boundary-weight", "", true, "W", "weight of boundary/feature constraint planes (1)"},
      {"--ignore-parts", "", false, "", "let collapses cross part boundaries"},
      {"--ascii", "", false, "", "write PLY and VTK as text"},
@@ -53,7 +54,8 @@ class ProgressListener final : public CollapseListener {
  public:
   explicit ProgressListener(size_t expected) : expected_(std::max<size_t>(expected, 1)) {}
   void on_collapse(const CollapseRecord&) override {
-    if (++done_ % 4096 == 0) progress("simplifying (collapses)", std::min(done_, expected_), expected_);
+    if (++done_ % 4096 == 0)
+      progress("simplifying (collapses)", std::min(done_, expected_), expected_);
   }
   void finish() { progress("simplifying (collapses)", expected_, expected_); }
 
@@ -111,11 +113,14 @@ int run_simplify(std::span<char* const> arguments) {
     if (!r) return fail_usage(r.message());
     options.max_error = percent ? *r / 100.0 : *r;
   }
-  if (!options.target_ratio && !options.target_vertices && !options.target_faces && !options.max_error)
+  if (!options.target_ratio && !options.target_vertices && !options.target_faces &&
+      !options.max_error)
     return fail_usage("dynpm simplify: give a target: --ratio, --vertices, --faces or --max-error");
   if (auto v = args.value("--placement")) {
-    if (*v == "optimal") options.placement = Placement::kOptimal;
-    else if (*v != "half") return fail_usage("dynpm simplify: --placement is half or optimal");
+    if (*v == "optimal")
+      options.placement = Placement::kOptimal;
+    else if (*v != "half")
+      return fail_usage("dynpm simplify: --placement is half or optimal");
   }
   auto key_rule = parse_key_step_rule(args.value("--key-steps").value_or("all"));
   if (!key_rule) return fail_usage("dynpm simplify: " + key_rule.message());
@@ -149,15 +154,19 @@ int run_simplify(std::span<char* const> arguments) {
   }
   options.key_steps = key_steps->steps;
   if (!args.has("--json"))
-    for (const std::string& reason : key_steps->reasons) std::printf("key step  %s\n", reason.c_str());
+    for (const std::string& reason : key_steps->reasons)
+      std::printf("key step  %s\n", reason.c_str());
   const size_t vertices_in = input.vertex_count;
   size_t expected = 0;
-  if (options.target_vertices) expected = vertices_in - std::min<size_t>(vertices_in, *options.target_vertices);
-  if (options.target_ratio) expected = std::max(expected, size_t(double(vertices_in) * (1 - *options.target_ratio)));
+  if (options.target_vertices)
+    expected = vertices_in - std::min<size_t>(vertices_in, *options.target_vertices);
+  if (options.target_ratio)
+    expected = std::max(expected, size_t(double(vertices_in) * (1 - *options.target_ratio)));
   ProgressListener listener(expected ? expected : vertices_in);
   auto result = simplify(input, frames, options, &listener);
   listener.finish();
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (!result) {
     std::cerr << "dynpm simplify: " << result.message() << "\n";
     return kExitFailure;
@@ -177,10 +186,12 @@ int run_simplify(std::span<char* const> arguments) {
         return kExitFailure;
       }
       out.clear();
-      for (uint32_t v : result->original_vertex) out.insert(out.end(), &step[size_t{v} * 3], &step[size_t{v} * 3] + 3);
+      for (uint32_t v : result->original_vertex)
+        out.insert(out.end(), &step[size_t{v} * 3], &step[size_t{v} * 3] + 3);
     }
     auto path = pattern ? step_path(*output, t) : Result<std::string>(*output);
-    write.comment = "dynpm simplify: step " + std::to_string(t) + ", time " + std::to_string(frames.step_time(t));
+    write.comment = "dynpm simplify: step " + std::to_string(t) + ", time " +
+                    std::to_string(frames.step_time(t));
     Status s = path ? write_mesh(*path, result->topology, out, write) : path.status();
     if (!s.ok()) {
       std::cerr << "dynpm simplify: " << s.message() << "\n";
@@ -214,13 +225,15 @@ int run_simplify(std::span<char* const> arguments) {
     std::cout << j.str();
   } else {
     std::printf("input   %u vertices, %zu faces (%zu quads, %zu triangles), %zu steps\n",
-                input.vertex_count, input.faces.size(), input.quad_count(), input.triangle_count(), steps);
+                input.vertex_count, input.faces.size(), input.quad_count(), input.triangle_count(),
+                steps);
     std::printf("output  %u vertices, %zu faces (%zu quads, %zu triangles)\n", t.vertex_count,
                 t.faces.size(), t.quad_count(), t.triangle_count());
     std::printf("key steps %zu of %zu; %zu collapses; largest error %.4g%% of the diagonal\n",
                 result->key_steps.size(), steps, result->collapses, 100 * result->max_error);
-    std::printf("%s%s; %.3f s; peak memory %.0f MB\n", result->target_reached ? "" : "stopped early: ",
-                result->stop_reason.c_str(), seconds, peak_rss_mb());
+    std::printf("%s%s; %.3f s; peak memory %.0f MB\n",
+                result->target_reached ? "" : "stopped early: ", result->stop_reason.c_str(),
+                seconds, peak_rss_mb());
   }
   return kExitOk;
 }

@@ -25,7 +25,8 @@ TEST(Cli, InfoOnTheCalculixCrashBox) {
   auto r = dynpm_cli("info '" + crashbox_glob() + "'");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_TRUE(contains(r.output, "vertices      3003")) << r.output;
-  EXPECT_TRUE(contains(r.output, "2937 faces") || contains(r.output, "2937 (2937 quads, 0 triangles)"))
+  EXPECT_TRUE(contains(r.output, "2937 faces") ||
+              contains(r.output, "2937 (2937 quads, 0 triangles)"))
       << r.output;
   EXPECT_TRUE(contains(r.output, "time steps    26")) << r.output;
   EXPECT_TRUE(contains(r.output, "validation    ok")) << r.output;
@@ -80,10 +81,8 @@ TEST(Cli, ConvertAnAnimationToPlyAndBackKeepsEverything) {
   auto r = dynpm_cli("convert '" + crashbox_glob() + "' -o " + dir.file("step_{:02d}.ply"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_TRUE(contains(r.output, "wrote 26 steps")) << r.output;
-  auto original = read_animation(
-      *expand_inputs(std::vector<std::string>{crashbox_glob()}));
-  auto converted = read_animation(
-      *expand_inputs(std::vector<std::string>{dir.file("step_*.ply")}));
+  auto original = read_animation(*expand_inputs(std::vector<std::string>{crashbox_glob()}));
+  auto converted = read_animation(*expand_inputs(std::vector<std::string>{dir.file("step_*.ply")}));
   ASSERT_TRUE(original.ok() && converted.ok()) << converted.message();
   EXPECT_EQ(converted->topology.faces, original->topology.faces);
   ASSERT_EQ(converted->step_count(), 26u);

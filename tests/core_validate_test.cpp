@@ -156,8 +156,8 @@ TEST(Validate, FieldSizesMustMatch) {
 TEST(Validate, ReportsEveryProblemNotJustTheFirst) {
   auto m = quad_grid(3, 3);
   m.topology.faces[0].v[1] = m.topology.faces[0].v[0];  // repeated vertex
-  m.topology.faces[4].v[3] = 1000;                     // out of range
-  m.topology.part_ids.push_back(0);                    // array size
+  m.topology.faces[4].v[3] = 1000;                      // out of range
+  m.topology.part_ids.push_back(0);                     // array size
   auto a = m.animation();
   a.frames.step(0)[0] = std::nanf("");  // non-finite
   const ValidationReport r = validate(a);

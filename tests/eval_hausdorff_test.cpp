@@ -369,8 +369,8 @@ TEST(EvalHausdorff, SurfacesWithoutAreaHaveVertexAndEdgeSamplesOnly) {
   ASSERT_TRUE(r.ok()) << r.message();
   EXPECT_EQ(r->a_to_b.face_samples, 0u);
   EXPECT_EQ(r->a_to_b.vertex_samples, 3u);
-  EXPECT_DOUBLE_EQ(r->a_to_b.max, 1.0);  // vertex 2 is 1 from the square's corner (1, 0)
-  EXPECT_GT(r->a_to_b.mean, 0.0);        // over the vertex samples, as nothing has area
+  EXPECT_DOUBLE_EQ(r->a_to_b.max, 1.0);    // vertex 2 is 1 from the square's corner (1, 0)
+  EXPECT_GT(r->a_to_b.mean, 0.0);          // over the vertex samples, as nothing has area
   EXPECT_NEAR(r->b_to_a.max, 1.0, 1e-12);  // the square's corner (0, 1) is 1 from the segment
 }
 

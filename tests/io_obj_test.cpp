@@ -57,7 +57,8 @@ TEST(Obj, ReadsTheCommonFaceFormsNegativeIndicesCommentsAndCrlf) {
 
 TEST(Obj, TimeIsTakenFromTheHeaderComment) {
   test::TempDir dir;
-  write_text(dir.file("t.obj"), "# cb5.frd frame 3: time 0.12 (frd block 3)\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  write_text(dir.file("t.obj"),
+             "# cb5.frd frame 3: time 0.12 (frd block 3)\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
   auto a = read_mesh(dir.file("t.obj"));
   ASSERT_TRUE(a.ok());
   EXPECT_DOUBLE_EQ(a->frames.step_time(0), 0.12);
@@ -65,8 +66,7 @@ TEST(Obj, TimeIsTakenFromTheHeaderComment) {
 
 TEST(Obj, PolygonsNeedTheSplitOption) {
   test::TempDir dir;
-  write_text(dir.file("penta.obj"),
-             "v 0 0 0\nv 1 0 0\nv 2 1 0\nv 1 2 0\nv 0 1 0\nf 1 2 3 4 5\n");
+  write_text(dir.file("penta.obj"), "v 0 0 0\nv 1 0 0\nv 2 1 0\nv 1 2 0\nv 0 1 0\nf 1 2 3 4 5\n");
   auto refused = read_mesh(dir.file("penta.obj"));
   ASSERT_FALSE(refused.ok());
   EXPECT_NE(refused.message().find("penta.obj:6"), std::string::npos) << refused.message();
@@ -113,7 +113,10 @@ INSTANTIATE_TEST_SUITE_P(
         BadObj{"relative_too_far", "v 0 0 0\nv 1 0 0\nf -1 -2 -3\n", ":3: relative index -3"},
         BadObj{"bad_corner", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 x\n", ":4: a face corner"},
         BadObj{"no_faces", "v 0 0 0\n", "no faces"},
-        BadObj{"garbage", "\x7f" "ELF\x02\x01\x01\x00\x00garbage", ":1: binary data"}),
+        BadObj{"garbage",
+               "\x7f"
+               "ELF\x02\x01\x01\x00\x00garbage",
+               ":1: binary data"}),
     [](const ::testing::TestParamInfo<BadObj>& param) { return std::string(param.param.name); });
 
 TEST(Obj, MissingFileAndDirectoryAreClearErrors) {

@@ -112,7 +112,8 @@ TEST(Ply, HugeCountsAreRejectedBeforeAllocation) {
 TEST(Ply, BadHeadersAreClearErrors) {
   test::TempDir dir;
   const std::pair<const char*, const char*> cases[] = {
-      {"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nend_header\n", "lacks x, y or z"},
+      {"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nend_header\n",
+       "lacks x, y or z"},
       {"ply\nformat ascii 1.0\nelement vertex 1\n", "never ends"},
       {"ply\nformat weird 1.0\nend_header\n", "unknown PLY format"},
       {"ply\nelement vertex 1\nproperty float x\nend_header\n", "no 'format' line"},

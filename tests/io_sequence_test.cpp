@@ -59,15 +59,15 @@ TEST_P(SharedCrashBox, ReadsWithTheRightCounts) {
   EXPECT_GT(a->frames.step_time(a->step_count() - 1), a->frames.step_time(1));
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    CalculiX, SharedCrashBox,
-    ::testing::Values(SharedAnimation{"crashbox-s", 3003, 2937, 0, 26},
-                      SharedAnimation{"crashbox-mixed-5k", 4929, 4827, 16, 41}),
-    [](const ::testing::TestParamInfo<SharedAnimation>& param) {
-      std::string name = param.param.folder;
-      std::replace(name.begin(), name.end(), '-', '_');
-      return name;
-    });
+INSTANTIATE_TEST_SUITE_P(CalculiX, SharedCrashBox,
+                         ::testing::Values(SharedAnimation{"crashbox-s", 3003, 2937, 0, 26},
+                                           SharedAnimation{"crashbox-mixed-5k", 4929, 4827, 16,
+                                                           41}),
+                         [](const ::testing::TestParamInfo<SharedAnimation>& param) {
+                           std::string name = param.param.folder;
+                           std::replace(name.begin(), name.end(), '-', '_');
+                           return name;
+                         });
 
 TEST(Sequence, ReadsTheShippedCalculixSample) {
   // data/hat-rail: gmsh + CalculiX, made by scripts/sample/make_sample.sh.

@@ -23,7 +23,8 @@ std::string vtk_summary(const std::string& path) {
       "a = p.GetCellData().GetArray('part_id')\n"
       "print('cell part_id', *[int(a.GetValue(i)) for i in range(a.GetNumberOfTuples())])\n"
       "a = p.GetPointData().GetArray('plastic_strain')\n"
-      "print('point plastic_strain', *[round(a.GetValue(i), 3) for i in range(a.GetNumberOfTuples())])\n";
+      "print('point plastic_strain', *[round(a.GetValue(i), 3) for i in "
+      "range(a.GetNumberOfTuples())])\n";
   auto r = test::run_command(test::vtk_python() + " -c \"" + script + "\" " + path);
   EXPECT_EQ(r.exit_code, 0) << r.output;
   return r.output;
@@ -65,8 +66,8 @@ TEST(ThirdPartyFiles, DynpmReadsMeshioPlyAndObjWithQuads) {
       "meshio.write(d + '/b.ply', m, binary=True)\n"
       "meshio.write(d + '/a.ply', m, binary=False)\n"
       "meshio.write(d + '/m.obj', m)\n";
-  auto r = test::run_command(test::meshio_python() + " -c \"" + script + "\" " +
-                             dir.path().string());
+  auto r =
+      test::run_command(test::meshio_python() + " -c \"" + script + "\" " + dir.path().string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   for (const char* name : {"b.ply", "a.ply", "m.obj"}) {
     auto a = read_mesh(dir.file(name));

@@ -23,7 +23,8 @@ Result<SimplifyResult> simplify_checked(const test::Mesh& m, SimplifyOptions opt
 test::Mesh wavy_grid(uint32_t nx, uint32_t ny) {
   auto m = test::quad_grid(nx, ny);
   for (size_t v = 0; v < m.positions.size(); v += 3)
-    m.positions[v + 2] = 0.3f * std::sin(m.positions[v] * 0.9f) * std::cos(m.positions[v + 1] * 0.7f);
+    m.positions[v + 2] =
+        0.3f * std::sin(m.positions[v] * 0.9f) * std::cos(m.positions[v + 1] * 0.7f);
   return m;
 }
 
@@ -152,7 +153,9 @@ test::Mesh panel_with_rib() {
   test::Mesh m = test::quad_grid(8, 4, 1);
   const uint32_t panel_vertices = m.topology.vertex_count;
   auto line = [](uint32_t i) { return 2 * 9 + i; };  // panel vertex (i, 2)
-  auto rib = [&](uint32_t i, uint32_t k) { return k == 0 ? line(i) : panel_vertices + (k - 1) * 9 + i; };
+  auto rib = [&](uint32_t i, uint32_t k) {
+    return k == 0 ? line(i) : panel_vertices + (k - 1) * 9 + i;
+  };
   m.topology.vertex_count += 3 * 9;
   for (uint32_t k = 1; k <= 3; ++k)
     for (uint32_t i = 0; i <= 8; ++i) {
@@ -160,7 +163,8 @@ test::Mesh panel_with_rib() {
       m.topology.node_ids.push_back(int64_t(m.topology.node_ids.size()) + 1);
     }
   for (uint32_t k = 0; k < 3; ++k)
-    for (uint32_t i = 0; i < 8; ++i) m.topology.add_quad(rib(i, k), rib(i + 1, k), rib(i + 1, k + 1), rib(i, k + 1), 2);
+    for (uint32_t i = 0; i < 8; ++i)
+      m.topology.add_quad(rib(i, k), rib(i + 1, k), rib(i + 1, k + 1), rib(i, k + 1), 2);
   return m;
 }
 
@@ -209,8 +213,10 @@ TEST(Simplify, PartBoundariesOnlySlideAlongThemselves) {
       if (c == kNoVertex) continue;
       const float x = m.positions[r->original_vertex[c] * 3];
       // Faces of part 1 stay left of the joint, part 2 right of it.
-      if (r->topology.part_ids[f] == 1) EXPECT_LE(x, 5.f);
-      else EXPECT_GE(x, 5.f);
+      if (r->topology.part_ids[f] == 1)
+        EXPECT_LE(x, 5.f);
+      else
+        EXPECT_GE(x, 5.f);
     }
   }
 }

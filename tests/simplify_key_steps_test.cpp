@@ -118,7 +118,8 @@ TEST(KeySteps, NoFaceFoldsOverInAnyKeyStep) {
   ASSERT_TRUE(r.ok()) << r.message();
   for (size_t t = 0; t < 2; ++t) {
     std::vector<float> xyz;
-    for (uint32_t v : r->original_vertex) xyz.insert(xyz.end(), &frames.step(t)[v * 3], &frames.step(t)[v * 3] + 3);
+    for (uint32_t v : r->original_vertex)
+      xyz.insert(xyz.end(), &frames.step(t)[v * 3], &frames.step(t)[v * 3] + 3);
     EXPECT_GT(lowest_normal_z(r->topology, xyz), 0) << "step " << t;
   }
 

@@ -20,7 +20,8 @@ std::vector<uint32_t> faces_of_edge(const CollapseMesh& mesh, uint32_t v0, uint3
 
 bool p1_star(const CollapseMesh& mesh, uint32_t v0, uint32_t v1) {
   VertexMarks marks(mesh.vertex_count());
-  return simplification::second_order_neighbours_ok(mesh, v0, v1, faces_of_edge(mesh, v0, v1), marks);
+  return simplification::second_order_neighbours_ok(mesh, v0, v1, faces_of_edge(mesh, v0, v1),
+                                                    marks);
 }
 
 // Figure 4, triangles: the inner vertex 2 has valence 3 (faces 0-1-2, 1-3-2, 3-0-2). Collapsing

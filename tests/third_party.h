@@ -23,7 +23,8 @@ inline CommandResult run_command(const std::string& command) {
   if (!pipe) return result;
   std::array<char, 4096> buffer;
   size_t n;
-  while ((n = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0) result.output.append(buffer.data(), n);
+  while ((n = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0)
+    result.output.append(buffer.data(), n);
   const int status = ::pclose(pipe);
   result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return result;
@@ -52,12 +53,13 @@ inline std::string vtk_python() {
 }  // namespace dynpm::test
 
 // Skips (or, where third-party tools are required, fails) when a tool is missing.
-#define DYNPM_REQUIRE_PYTHON(python, package)                                          \
-  do {                                                                                 \
-    if ((python).empty()) {                                                            \
+#define DYNPM_REQUIRE_PYTHON(python, package)                                           \
+  do {                                                                                  \
+    if ((python).empty()) {                                                             \
       if (::dynpm::test::third_party_required()) FAIL() << package " is not installed"; \
-      GTEST_SKIP() << package " is not installed";                                     \
-    }                                                                                  \
+      GTEST_SKIP() << package " is not installed";                                      \
+    }                                                                                   \
   } while (0)
-#define DYNPM_REQUIRE_MESHIO() DYNPM_REQUIRE_PYTHON(::dynpm::test::meshio_python(), "python3-meshio")
+#define DYNPM_REQUIRE_MESHIO() \
+  DYNPM_REQUIRE_PYTHON(::dynpm::test::meshio_python(), "python3-meshio")
 #define DYNPM_REQUIRE_VTK() DYNPM_REQUIRE_PYTHON(::dynpm::test::vtk_python(), "python3-vtk9")

@@ -143,10 +143,10 @@ struct Edge {
 // What the neighbourhood of a vertex looks like; flags combine.
 enum VertexKind : uint8_t {
   kInteriorVertex = 0,
-  kBoundaryVertex = 1 << 0,       // on an edge with one face
-  kOnNonManifoldEdge = 1 << 1,    // on an edge with three or more faces (a T-joint of shells)
-  kNonManifoldFan = 1 << 2,       // its faces form more than one fan (bow-tie, pinched shells)
-  kUnreferencedVertex = 1 << 3,   // in no face
+  kBoundaryVertex = 1 << 0,      // on an edge with one face
+  kOnNonManifoldEdge = 1 << 1,   // on an edge with three or more faces (a T-joint of shells)
+  kNonManifoldFan = 1 << 2,      // its faces form more than one fan (bow-tie, pinched shells)
+  kUnreferencedVertex = 1 << 3,  // in no face
 };
 
 // Vertex → faces and edge → faces in compressed rows; built in O(#F) from a topology whose
@@ -193,21 +193,21 @@ TopologyStats topology_stats(const Topology& topology, const Adjacency& adjacenc
 // Validation
 
 enum class ProblemKind {
-  kArraySize,               // part/element/node id arrays not parallel to faces/vertices
-  kIndexOutOfRange,         // a corner names a vertex ≥ vertex_count
-  kFaceDegree,              // (M3) fewer than 3 corners
-  kRepeatedVertex,          // a corner appears twice in one face
-  kDuplicateFace,           // two faces over the same vertex set
-  kNonManifoldEdge,         // (M1) an edge with 3+ faces: accepted, kept as a feature
-  kNonManifoldVertex,       // (M1) a vertex with several fans: accepted, kept as a feature
-  kInnerValence,            // (M2) an inner vertex with fewer than 3 neighbours
-  kInconsistentOrientation, // two faces walk their shared edge the same way
-  kUnreferencedVertex,      // a vertex in no face
-  kStepVertexCount,         // a time step has another vertex count
-  kNonFinitePosition,       // NaN or Inf coordinate
-  kFieldSize,               // a scalar field has the wrong number of steps or values
-  kUnreadableStep,          // a FrameSource failed to deliver a step
-  kNoSteps,                 // an animation without any time step
+  kArraySize,                // part/element/node id arrays not parallel to faces/vertices
+  kIndexOutOfRange,          // a corner names a vertex ≥ vertex_count
+  kFaceDegree,               // (M3) fewer than 3 corners
+  kRepeatedVertex,           // a corner appears twice in one face
+  kDuplicateFace,            // two faces over the same vertex set
+  kNonManifoldEdge,          // (M1) an edge with 3+ faces: accepted, kept as a feature
+  kNonManifoldVertex,        // (M1) a vertex with several fans: accepted, kept as a feature
+  kInnerValence,             // (M2) an inner vertex with fewer than 3 neighbours
+  kInconsistentOrientation,  // two faces walk their shared edge the same way
+  kUnreferencedVertex,       // a vertex in no face
+  kStepVertexCount,          // a time step has another vertex count
+  kNonFinitePosition,        // NaN or Inf coordinate
+  kFieldSize,                // a scalar field has the wrong number of steps or values
+  kUnreadableStep,           // a FrameSource failed to deliver a step
+  kNoSteps,                  // an animation without any time step
 };
 
 enum class Severity {

@@ -62,8 +62,8 @@ Result<std::vector<std::string>> expand_inputs(std::span<const std::string> argu
 bool natural_less(const std::string& a, const std::string& b);
 
 struct WriteOptions {
-  bool binary = true;  // PLY and VTK; OBJ is always text
-  std::string comment; // a line of provenance written into the file's header
+  bool binary = true;   // PLY and VTK; OBJ is always text
+  std::string comment;  // a line of provenance written into the file's header
 };
 
 // One time step of a topology with its positions (3 · vertex_count floats). Per-vertex scalar

@@ -33,7 +33,7 @@ class Status {
 template <class T>
 class Result {
  public:
-  Result(T value) : state_(std::move(value)) {}  // NOLINT: implicit on purpose
+  Result(T value) : state_(std::move(value)) {}        // NOLINT: implicit on purpose
   Result(Status status) : state_(std::move(status)) {  // NOLINT: implicit on purpose
     assert(!std::get<Status>(state_).ok() && "a Result built from a Status must carry an error");
   }
@@ -41,9 +41,18 @@ class Result {
   bool ok() const { return std::holds_alternative<T>(state_); }
   explicit operator bool() const { return ok(); }
 
-  T& value() & { assert(ok()); return std::get<T>(state_); }
-  const T& value() const& { assert(ok()); return std::get<T>(state_); }
-  T&& value() && { assert(ok()); return std::get<T>(std::move(state_)); }
+  T& value() & {
+    assert(ok());
+    return std::get<T>(state_);
+  }
+  const T& value() const& {
+    assert(ok());
+    return std::get<T>(state_);
+  }
+  T&& value() && {
+    assert(ok());
+    return std::get<T>(std::move(state_));
+  }
   T* operator->() { return &value(); }
   const T* operator->() const { return &value(); }
   T& operator*() & { return value(); }
@@ -62,8 +71,8 @@ class Result {
 }  // namespace dynpm
 
 // Early return of a failed Status or Result from a function returning Status or Result<U>.
-#define DYNPM_RETURN_IF_ERROR(expr)                      \
-  do {                                                   \
-    auto dynpm_status_ = (expr);                         \
-    if (!dynpm_status_.ok()) return dynpm_status_.status();      \
+#define DYNPM_RETURN_IF_ERROR(expr)                         \
+  do {                                                      \
+    auto dynpm_status_ = (expr);                            \
+    if (!dynpm_status_.ok()) return dynpm_status_.status(); \
   } while (0)

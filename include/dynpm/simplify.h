@@ -58,8 +58,8 @@ struct SimplifyOptions {
   // until no legal collapse remains.
   std::optional<uint32_t> target_vertices;  // vertices in faces
   std::optional<size_t> target_faces;
-  std::optional<double> target_ratio;       // of the input's vertices in faces, in (0, 1]
-  std::optional<double> max_error;          // in units of the bounding-box diagonal
+  std::optional<double> target_ratio;  // of the input's vertices in faces, in (0, 1]
+  std::optional<double> max_error;     // in units of the bounding-box diagonal
 
   Placement placement = Placement::kHalfEdge;
 
@@ -76,9 +76,9 @@ struct SimplifyOptions {
   double boundary_weight = 1.0;
 
   // Features: their vertices only slide along them, or stay (docs/simplify.md).
-  bool keep_part_boundaries = true;    // edges between faces of different part ids
+  bool keep_part_boundaries = true;  // edges between faces of different part ids
   std::vector<uint32_t> locked_vertices;
-  std::vector<Edge> feature_edges;     // user feature lines (vertex pairs joined by an edge)
+  std::vector<Edge> feature_edges;  // user feature lines (vertex pairs joined by an edge)
 
   // Test mode: validate() the whole mesh after every collapse and fail at the first problem.
   bool check_every_collapse = false;
@@ -87,10 +87,10 @@ struct SimplifyOptions {
 
 // One face of the collapsed edge, as the vertex split needs it.
 struct CollapseWing {
-  uint32_t face = kNoIndex;       // original face id
-  uint32_t vertex = kNoVertex;    // v0's other neighbour in the face
-  bool was_triangle = false;      // true: the face vanished; false: a quad became a triangle
-  bool v1_follows_v0 = false;     // orientation: v1 comes right after v0 in the face
+  uint32_t face = kNoIndex;     // original face id
+  uint32_t vertex = kNoVertex;  // v0's other neighbour in the face
+  bool was_triangle = false;    // true: the face vanished; false: a quad became a triangle
+  bool v1_follows_v0 = false;   // orientation: v1 comes right after v0 in the face
 };
 
 // What one collapse did. Spans stay valid only during the listener call.
@@ -112,14 +112,14 @@ class CollapseListener {
 };
 
 struct SimplifyResult {
-  Topology topology;                   // live faces in input order, vertices renumbered
+  Topology topology;                      // live faces in input order, vertices renumbered
   std::vector<uint32_t> original_vertex;  // new vertex → input vertex
   // Positions in every key step (xyz per vertex), only for Placement::kOptimal, where v1 moves.
   std::vector<std::vector<float>> key_step_positions;
   std::vector<size_t> key_steps;
   size_t collapses = 0;
-  double max_error = 0;                // largest collapse error done, in diagonals
-  bool target_reached = false;         // false: no legal collapse remained first
+  double max_error = 0;         // largest collapse error done, in diagonals
+  bool target_reached = false;  // false: no legal collapse remained first
   std::string stop_reason;
 };
 

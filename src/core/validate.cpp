@@ -95,7 +95,9 @@ void check_connectivity(const Topology& good, const std::vector<uint32_t>& origi
     ++valence[edge.a];
     ++valence[edge.b];
     auto ef = adj.faces_of_edge(e);
-    auto name = [&] { return "edge (" + std::to_string(edge.a) + ", " + std::to_string(edge.b) + ")"; };
+    auto name = [&] {
+      return "edge (" + std::to_string(edge.a) + ", " + std::to_string(edge.b) + ")";
+    };
     if (ef.size() >= 3) {
       std::string list;
       for (uint32_t f : ef) {
@@ -115,8 +117,8 @@ void check_connectivity(const Topology& good, const std::vector<uint32_t>& origi
         return false;
       };
       if (walks_a_to_b(good.faces[ef[0]]) == walks_a_to_b(good.faces[ef[1]]))
-        report.add({ProblemKind::kInconsistentOrientation, Severity::kWarning,
-                    original_face[ef[1]], edge.a, kNoIndex,
+        report.add({ProblemKind::kInconsistentOrientation, Severity::kWarning, original_face[ef[1]],
+                    edge.a, kNoIndex,
                     name() + ": faces " + std::to_string(original_face[ef[0]]) + " and " +
                         std::to_string(original_face[ef[1]]) +
                         " walk it in the same direction (flipped normal)"});

@@ -14,10 +14,11 @@ namespace dynpm::io {
 
 struct ParsedMesh {
   Topology topology;
-  std::vector<float> positions;       // 3 · vertex_count
-  std::vector<uint32_t> face_places;  // per face, the line (text) or byte offset (binary) it came from
+  std::vector<float> positions;  // 3 · vertex_count
+  std::vector<uint32_t>
+      face_places;  // per face, the line (text) or byte offset (binary) it came from
   bool places_are_lines = true;
-  std::optional<double> time;         // from a "time <t>" note in the header comments
+  std::optional<double> time;  // from a "time <t>" note in the header comments
 };
 
 Result<ParsedMesh> parse_obj(std::string_view text, const std::string& path,

@@ -258,8 +258,9 @@ Status write_mesh(const std::string& path, const Topology& topology,
     case FileFormat::kPly: bytes = io::write_ply(topology, positions, options); break;
     case FileFormat::kVtk: bytes = io::write_vtk(topology, positions, options, point_fields); break;
     case FileFormat::kUnknown:
-      return Status::error(path + ": cannot tell the output format from the extension "
-                                  "(use .obj, .ply or .vtk)");
+      return Status::error(path +
+                           ": cannot tell the output format from the extension "
+                           "(use .obj, .ply or .vtk)");
   }
   return io::write_file_atomically(path, bytes);
 }
@@ -275,8 +276,9 @@ struct StepField {
 Result<StepField> find_step_field(const std::string& pattern) {
   const size_t open = pattern.find('{');
   if (open == std::string::npos)
-    return Status::error(pattern + ": an output for several steps needs a step field such as "
-                                   "'frame_{:03d}.obj'");
+    return Status::error(pattern +
+                         ": an output for several steps needs a step field such as "
+                         "'frame_{:03d}.obj'");
   const size_t close = pattern.find('}', open);
   if (close == std::string::npos) return Status::error(pattern + ": '{' without '}'");
   if (pattern.find('{', close) != std::string::npos)

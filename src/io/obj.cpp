@@ -13,7 +13,9 @@
 namespace dynpm::io {
 namespace {
 
-inline bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v'; }
+inline bool is_space(char c) {
+  return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v';
+}
 
 inline const char* skip_spaces(const char* p, const char* end) {
   while (p < end && is_space(*p)) ++p;
@@ -136,9 +138,10 @@ Result<ParsedMesh> parse_obj(std::string_view text, const std::string& path,
   std::set<std::string, std::less<>> ignored;
   size_t split_count = 0;
   bool seen_data = false;
-  std::vector<int64_t> raw;           // raw corner indices of the current face
+  std::vector<int64_t> raw;  // raw corner indices of the current face
   std::vector<uint32_t> corners;
-  std::vector<std::pair<uint32_t, int64_t>> forward;  // (face, line) with indices past the vertices seen so far
+  std::vector<std::pair<uint32_t, int64_t>>
+      forward;  // (face, line) with indices past the vertices seen so far
 
   mesh.positions.reserve(text.size() / 24);
   mesh.topology.faces.reserve(text.size() / 48);
@@ -260,8 +263,8 @@ std::string write_obj(const Topology& topology, std::span<const float> positions
     }
     out += '\n';
   }
-  const bool write_groups = topology.parts().size() > 1 ||
-                            (!topology.part_ids.empty() && topology.part_ids[0] != 0);
+  const bool write_groups =
+      topology.parts().size() > 1 || (!topology.part_ids.empty() && topology.part_ids[0] != 0);
   int64_t current_part = int64_t{INT32_MIN} - 1;
   for (size_t fi = 0; fi < topology.faces.size(); ++fi) {
     if (write_groups && topology.part_ids[fi] != current_part) {

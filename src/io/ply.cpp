@@ -31,9 +31,13 @@ std::optional<ScalarType> scalar_type(std::string_view name) {
 
 size_t size_of(ScalarType t) {
   switch (t) {
-    case ScalarType::kInt8: case ScalarType::kUInt8: return 1;
-    case ScalarType::kInt16: case ScalarType::kUInt16: return 2;
-    case ScalarType::kInt32: case ScalarType::kUInt32: case ScalarType::kFloat32: return 4;
+    case ScalarType::kInt8:
+    case ScalarType::kUInt8: return 1;
+    case ScalarType::kInt16:
+    case ScalarType::kUInt16: return 2;
+    case ScalarType::kInt32:
+    case ScalarType::kUInt32:
+    case ScalarType::kFloat32: return 4;
     case ScalarType::kFloat64: return 8;
   }
   return 1;
@@ -68,14 +72,49 @@ class BodyReader {
       std::reverse(b, b + n);
     pos_ += n;
     switch (type) {
-      case ScalarType::kInt8: { int8_t v; std::memcpy(&v, b, 1); out = v; break; }
+      case ScalarType::kInt8: {
+        int8_t v;
+        std::memcpy(&v, b, 1);
+        out = v;
+        break;
+      }
       case ScalarType::kUInt8: out = b[0]; break;
-      case ScalarType::kInt16: { int16_t v; std::memcpy(&v, b, 2); out = v; break; }
-      case ScalarType::kUInt16: { uint16_t v; std::memcpy(&v, b, 2); out = v; break; }
-      case ScalarType::kInt32: { int32_t v; std::memcpy(&v, b, 4); out = v; break; }
-      case ScalarType::kUInt32: { uint32_t v; std::memcpy(&v, b, 4); out = v; break; }
-      case ScalarType::kFloat32: { float v; std::memcpy(&v, b, 4); out = v; break; }
-      case ScalarType::kFloat64: { double v; std::memcpy(&v, b, 8); out = v; break; }
+      case ScalarType::kInt16: {
+        int16_t v;
+        std::memcpy(&v, b, 2);
+        out = v;
+        break;
+      }
+      case ScalarType::kUInt16: {
+        uint16_t v;
+        std::memcpy(&v, b, 2);
+        out = v;
+        break;
+      }
+      case ScalarType::kInt32: {
+        int32_t v;
+        std::memcpy(&v, b, 4);
+        out = v;
+        break;
+      }
+      case ScalarType::kUInt32: {
+        uint32_t v;
+        std::memcpy(&v, b, 4);
+        out = v;
+        break;
+      }
+      case ScalarType::kFloat32: {
+        float v;
+        std::memcpy(&v, b, 4);
+        out = v;
+        break;
+      }
+      case ScalarType::kFloat64: {
+        double v;
+        std::memcpy(&v, b, 8);
+        out = v;
+        break;
+      }
     }
     return true;
   }
@@ -83,9 +122,11 @@ class BodyReader {
   // Ascii PLY puts one record per line; a record must not run into the next line.
   bool end_record() {
     if (encoding_ != Encoding::kAscii) return true;
-    while (pos_ < body_.size() && (body_[pos_] == ' ' || body_[pos_] == '\t' || body_[pos_] == '\r'))
+    while (pos_ < body_.size() &&
+           (body_[pos_] == ' ' || body_[pos_] == '\t' || body_[pos_] == '\r'))
       ++pos_;
-    if (pos_ < body_.size() && body_[pos_] != '\n') return fail("more values than the header declares");
+    if (pos_ < body_.size() && body_[pos_] != '\n')
+      return fail("more values than the header declares");
     if (pos_ < body_.size()) ++pos_, ++line_;
     return true;
   }
@@ -104,7 +145,8 @@ class BodyReader {
 
  private:
   bool read_ascii(double& out) {
-    while (pos_ < body_.size() && (body_[pos_] == ' ' || body_[pos_] == '\t' || body_[pos_] == '\r'))
+    while (pos_ < body_.size() &&
+           (body_[pos_] == ' ' || body_[pos_] == '\t' || body_[pos_] == '\r'))
       ++pos_;
     if (pos_ >= body_.size()) return fail("the file ends inside the data (truncated)");
     if (body_[pos_] == '\n') return fail("fewer values on this line than the header declares");
@@ -171,10 +213,14 @@ Result<Header> parse_header(std::string_view bytes, const std::string& path) {
       if (!header.time) header.time = time_from_comment(text);
     } else if (words[0] == "format") {
       if (words.size() < 2) return Status::error(where + ": 'format' without an encoding");
-      if (words[1] == "ascii") header.encoding = Encoding::kAscii;
-      else if (words[1] == "binary_little_endian") header.encoding = Encoding::kBinaryLittle;
-      else if (words[1] == "binary_big_endian") header.encoding = Encoding::kBinaryBig;
-      else return Status::error(where + ": unknown PLY format '" + std::string(words[1]) + "'");
+      if (words[1] == "ascii")
+        header.encoding = Encoding::kAscii;
+      else if (words[1] == "binary_little_endian")
+        header.encoding = Encoding::kBinaryLittle;
+      else if (words[1] == "binary_big_endian")
+        header.encoding = Encoding::kBinaryBig;
+      else
+        return Status::error(where + ": unknown PLY format '" + std::string(words[1]) + "'");
       saw_format = true;
     } else if (words[0] == "element") {
       uint64_t count = 0;
@@ -199,8 +245,9 @@ Result<Header> parse_header(std::string_view bytes, const std::string& path) {
           return Status::error(where + ": unknown property type '" + std::string(words[1]) + "'");
         property = {std::string(words[2]), *type, false, ScalarType::kUInt8};
       } else {
-        return Status::error(where + ": expected 'property <type> <name>' or "
-                                     "'property list <count type> <item type> <name>'");
+        return Status::error(where +
+                             ": expected 'property <type> <name>' or "
+                             "'property list <count type> <item type> <name>'");
       }
       header.elements.back().properties.push_back(property);
     } else if (words[0] == "end_header") {
@@ -243,7 +290,8 @@ Result<ParsedMesh> parse_ply(std::string_view bytes, const std::string& path,
     auto check_count = [&](const Element& e) -> Status {
       size_t min_record = 0;
       for (const Property& p : e.properties)
-        min_record += header->encoding == Encoding::kAscii ? 2 : size_of(p.is_list ? p.count_type : p.type);
+        min_record +=
+            header->encoding == Encoding::kAscii ? 2 : size_of(p.is_list ? p.count_type : p.type);
       if (min_record > 0 && e.count > reader.remaining() / min_record)
         return Status::error(path + ": element '" + e.name + "' claims " + std::to_string(e.count) +
                              " records, more than the " + std::to_string(reader.remaining()) +
@@ -255,7 +303,8 @@ Result<ParsedMesh> parse_ply(std::string_view bytes, const std::string& path,
     int x = -1, y = -1, z = -1, node = -1, list = -1, part = -1, elem = -1;
     if (is_vertex) {
       if (have_vertices) return Status::error(path + ": two 'vertex' elements");
-      x = find_property(element, "x"), y = find_property(element, "y"), z = find_property(element, "z");
+      x = find_property(element, "x"), y = find_property(element, "y"),
+      z = find_property(element, "z");
       node = find_property(element, "node_id");
       if (x < 0 || y < 0 || z < 0)
         return Status::error(path + ": the vertex element lacks x, y or z");
@@ -317,8 +366,7 @@ Result<ParsedMesh> parse_ply(std::string_view bytes, const std::string& path,
         }
       }
       if (is_face) {
-        if (!have_vertices)
-          return Status::error(path + ": faces come before the vertex element");
+        if (!have_vertices) return Status::error(path + ": faces come before the vertex element");
         DYNPM_RETURN_IF_ERROR(add_polygon(corners, part_id, element_id, place, reader.where(),
                                           options, mesh, split_count));
       }
@@ -391,7 +439,8 @@ std::string write_ply(const Topology& topology, std::span<const float> positions
       append_le(out, static_cast<uint8_t>(degree));
       for (int i = 0; i < degree; ++i) append_le(out, static_cast<int32_t>(f.v[i]));
       append_le(out, topology.part_ids[fi]);
-      element_int ? append_le(out, static_cast<int32_t>(id)) : append_le(out, static_cast<double>(id));
+      element_int ? append_le(out, static_cast<int32_t>(id))
+                  : append_le(out, static_cast<double>(id));
     } else {
       text(degree, ' ');
       for (int i = 0; i < degree; ++i) text(f.v[i], ' ');

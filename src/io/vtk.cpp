@@ -78,7 +78,8 @@ std::string write_vtk(const Topology& topology, std::span<const float> positions
   }
   size_t corner_total = 0;
   for (const Face& f : topology.faces) corner_total += static_cast<size_t>(f.degree()) + 1;
-  vtk.line("POLYGONS " + std::to_string(topology.faces.size()) + " " + std::to_string(corner_total));
+  vtk.line("POLYGONS " + std::to_string(topology.faces.size()) + " " +
+           std::to_string(corner_total));
   for (const Face& f : topology.faces) {
     const int degree = f.degree();
     vtk.value(static_cast<int32_t>(degree));

@@ -14,7 +14,8 @@ namespace {
 double max_displacement(std::span<const float> a, std::span<const float> b) {
   double worst = 0;
   for (size_t i = 0; i + 2 < a.size(); i += 3) {
-    const double dx = double{a[i]} - b[i], dy = double{a[i + 1]} - b[i + 1], dz = double{a[i + 2]} - b[i + 2];
+    const double dx = double{a[i]} - b[i], dy = double{a[i + 1]} - b[i + 1],
+                 dz = double{a[i + 2]} - b[i + 2];
     worst = std::max(worst, dx * dx + dy * dy + dz * dz);
   }
   return std::sqrt(worst);
@@ -31,7 +32,8 @@ std::string format_mm(double d) {
 Result<KeyStepRule> parse_key_step_rule(const std::string& text) {
   KeyStepRule rule;
   const auto bad = [&] {
-    return Status::error("key steps '" + text + "': use all, paper, auto:K or a list such as 0,12,24");
+    return Status::error("key steps '" + text +
+                         "': use all, paper, auto:K or a list such as 0,12,24");
   };
   if (text == "all") return rule;
   if (text == "paper") {
@@ -76,8 +78,9 @@ Result<KeyStepChoice> choose_key_steps(const FrameSource& frames, const KeyStepR
     choice.steps.erase(std::unique(choice.steps.begin(), choice.steps.end()), choice.steps.end());
     for (size_t t : choice.steps) {
       if (t >= steps)
-        return Status::error("key step " + std::to_string(t) + " does not exist (the animation has " +
-                             std::to_string(steps) + " steps, 0 to " + std::to_string(steps - 1) + ")");
+        return Status::error("key step " + std::to_string(t) +
+                             " does not exist (the animation has " + std::to_string(steps) +
+                             " steps, 0 to " + std::to_string(steps - 1) + ")");
       choice.reasons.push_back("step " + std::to_string(t) + ": given");
     }
     return choice;
@@ -90,7 +93,8 @@ Result<KeyStepChoice> choose_key_steps(const FrameSource& frames, const KeyStepR
   std::vector<float> xyz(size_t{n} * 3);
   for (size_t t = 0; t < steps; ++t) {
     DYNPM_RETURN_IF_ERROR(frames.read_step(t, xyz));
-    for (uint32_t v = 0; v < n; v += stride) probes[t].insert(probes[t].end(), &xyz[size_t{v} * 3], &xyz[size_t{v} * 3] + 3);
+    for (uint32_t v = 0; v < n; v += stride)
+      probes[t].insert(probes[t].end(), &xyz[size_t{v} * 3], &xyz[size_t{v} * 3] + 3);
   }
 
   if (rule.kind == Kind::kPaper) {
@@ -130,13 +134,15 @@ Result<KeyStepChoice> choose_key_steps(const FrameSource& frames, const KeyStepR
     }
     if (farthest <= 0) break;  // every step coincides with a chosen one
     choice.steps.push_back(next);
-    choice.reasons.push_back("step " + std::to_string(next) + ": farthest from the steps chosen before (" +
-                             format_mm(farthest) + ")");
+    choice.reasons.push_back("step " + std::to_string(next) +
+                             ": farthest from the steps chosen before (" + format_mm(farthest) +
+                             ")");
   }
   // Keep the reasons in the order the steps will be listed.
   std::vector<size_t> order(choice.steps.size());
   for (size_t i = 0; i < order.size(); ++i) order[i] = i;
-  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return choice.steps[a] < choice.steps[b]; });
+  std::sort(order.begin(), order.end(),
+            [&](size_t a, size_t b) { return choice.steps[a] < choice.steps[b]; });
   KeyStepChoice sorted;
   for (size_t i : order) {
     sorted.steps.push_back(choice.steps[i]);

@@ -26,13 +26,15 @@ enum class Along : uint8_t {
 };
 
 // kCanCollapse[v0][v1]
+// clang-format off
 inline constexpr Along kCanCollapse[4][4] = {
-    //               v1: interior          boundary             feature              locked
-    /* interior */ {Along::kAnyEdge, Along::kAnyEdge, Along::kAnyEdge, Along::kAnyEdge},
-    /* boundary */ {Along::kNever, Along::kBoundaryEdge, Along::kBoundaryEdge, Along::kBoundaryEdge},
-    /* feature  */ {Along::kNever, Along::kNever, Along::kFeatureEdge, Along::kFeatureEdge},
-    /* locked   */ {Along::kNever, Along::kNever, Along::kNever, Along::kNever},
+  //        v1: interior        boundary             feature              locked
+  /* interior */ {Along::kAnyEdge, Along::kAnyEdge,      Along::kAnyEdge,      Along::kAnyEdge},
+  /* boundary */ {Along::kNever,   Along::kBoundaryEdge, Along::kBoundaryEdge, Along::kBoundaryEdge},
+  /* feature  */ {Along::kNever,   Along::kNever,        Along::kFeatureEdge,  Along::kFeatureEdge},
+  /* locked   */ {Along::kNever,   Along::kNever,        Along::kNever,        Along::kNever},
 };
+// clang-format on
 
 inline Along can_collapse(VertexClass v0, VertexClass v1) {
   return kCanCollapse[static_cast<int>(v0)][static_cast<int>(v1)];

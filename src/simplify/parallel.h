@@ -17,7 +17,8 @@ inline unsigned thread_count(unsigned requested) {
 // body(begin, end, thread_index)
 template <class Body>
 void parallel_for(size_t n, unsigned threads, Body&& body) {
-  threads = static_cast<unsigned>(std::min<size_t>(std::max(1u, threads), std::max<size_t>(n / 4096, 1)));
+  threads =
+      static_cast<unsigned>(std::min<size_t>(std::max(1u, threads), std::max<size_t>(n / 4096, 1)));
   if (threads <= 1) {
     body(size_t{0}, n, 0u);
     return;

@@ -51,8 +51,9 @@ struct Quadric {
 
   // Σ weight · distance², never negative.
   double evaluate(Vec3 p) const {
-    const double v = p.x * (xx * p.x + xy * p.y + xz * p.z) + p.y * (xy * p.x + yy * p.y + yz * p.z) +
-                     p.z * (xz * p.x + yz * p.y + zz * p.z) + 2 * (bx * p.x + by * p.y + bz * p.z) + c;
+    const double v =
+        p.x * (xx * p.x + xy * p.y + xz * p.z) + p.y * (xy * p.x + yy * p.y + yz * p.z) +
+        p.z * (xz * p.x + yz * p.y + zz * p.z) + 2 * (bx * p.x + by * p.y + bz * p.z) + c;
     return v > 0 ? v : 0;
   }
   // Weighted mean squared distance.

@@ -85,9 +85,13 @@ class Simplifier {
 
  private:
   size_t key_count() const { return key_steps_.size(); }
-  Vec3 position(uint32_t v, size_t k) const { return load(&positions_[(size_t{v} * key_count() + k) * 3]); }
+  Vec3 position(uint32_t v, size_t k) const {
+    return load(&positions_[(size_t{v} * key_count() + k) * 3]);
+  }
   Quadric& quadric(uint32_t v, size_t k) { return quadrics_[size_t{v} * key_count() + k]; }
-  const Quadric& quadric(uint32_t v, size_t k) const { return quadrics_[size_t{v} * key_count() + k]; }
+  const Quadric& quadric(uint32_t v, size_t k) const {
+    return quadrics_[size_t{v} * key_count() + k];
+  }
   bool optimal() const { return options_.placement == Placement::kOptimal; }
 
   bool is_feature_edge(uint32_t a, uint32_t b, std::span<const uint32_t> faces) const;
@@ -95,7 +99,8 @@ class Simplifier {
   double collapse_error(uint32_t v0, uint32_t v1, std::vector<Vec3>& placement) const;
   double half_edge_error(uint32_t v0, uint32_t v1) const;
   bool topology_allows(uint32_t v0, uint32_t v1, const EdgeFaces& edge, Scratch& s) const;
-  bool face_stays_sound(const Face& face, size_t k, uint32_t skip, uint32_t moved, Vec3 target) const;
+  bool face_stays_sound(const Face& face, size_t k, uint32_t skip, uint32_t moved,
+                        Vec3 target) const;
   bool geometry_allows(uint32_t v0, uint32_t v1, const std::vector<Vec3>& placement) const;
   bool legal(uint32_t v0, uint32_t v1, Scratch& s) const;
 
@@ -113,7 +118,8 @@ class Simplifier {
   CollapseMesh mesh_;
 
   std::vector<size_t> key_steps_;
-  std::vector<float> positions_;   // #V × #key steps × xyz (vertex-major: one vertex's steps together)
+  std::vector<float>
+      positions_;  // #V × #key steps × xyz (vertex-major: one vertex's steps together)
   std::vector<Quadric> quadrics_;  // #V × #key steps
   double diagonal_ = 1;
   double cos_max_rotation_ = 0;
@@ -158,12 +164,14 @@ Status Simplifier::load_key_steps(const FrameSource& frames) {
     key_steps_.erase(std::unique(key_steps_.begin(), key_steps_.end()), key_steps_.end());
     for (size_t t : key_steps_)
       if (t >= steps)
-        return Status::error("key step " + std::to_string(t) + " does not exist (the animation has " +
-                             std::to_string(steps) + " steps)");
+        return Status::error("key step " + std::to_string(t) +
+                             " does not exist (the animation has " + std::to_string(steps) +
+                             " steps)");
   }
   if (optimal() && key_steps_.size() != steps)
-    return Status::error("optimal placement moves vertices in every step, so every step must be a "
-                         "key step (use --key-steps all or half-edge placement)");
+    return Status::error(
+        "optimal placement moves vertices in every step, so every step must be a "
+        "key step (use --key-steps all or half-edge placement)");
 
   const uint32_t n = input_.vertex_count;
   const size_t k_count = key_steps_.size();
@@ -248,51 +256,53 @@ void Simplifier::build_quadrics(const Adjacency& adjacency) {
     for (uint32_t f : faces) {
       const Face& face = input_.faces[f];
       const int d = face.degree(), c = corner_of(face, edge.a);
-      constrained[f] |= static_cast<uint8_t>(1u << (face.v[(c + 1) % d] == edge.b ? c : (c + d - 1) % d));
+      constrained[f] |=
+          static_cast<uint8_t>(1u << (face.v[(c + 1) % d] == edge.b ? c : (c + d - 1) % d));
     }
   }
   // Gathered per vertex (no two threads write one quadric); each face's plane is computed once
   // per corner, which is cheaper than storing a plane per face and step.
-  parallel_for(size_t{n} * k_count, thread_count(options_.threads), [&](size_t begin, size_t end,
-                                                                        unsigned) {
-    for (size_t i = begin; i < end; ++i) {
-      const uint32_t v = static_cast<uint32_t>(i / k_count);
-      const size_t k = i % k_count;
-      Quadric q;
-      for (uint32_t f : adjacency.faces_of_vertex(v)) {
-        const Face& face = input_.faces[f];
-        const int d = face.degree();
-        Vec3 p[4];
-        for (int c = 0; c < d; ++c) p[c] = position(face.v[c], k);
-        // The face's plane: a triangle's own; for a quad, possibly skew, the mean of its corner
-        // normals through its centroid (paper §2). Weighted by area.
-        const Vec3 area2 = doubled_vector_area(p, d);
-        const double area = 0.5 * length(area2);
-        if (area <= 0) continue;
-        Vec3 normal = normalized(area2), centre = p[0];
-        if (d == 4) {
-          Vec3 sum{};
-          for (int c = 0; c < 4; ++c) sum = sum + normalized(cross(p[(c + 1) % 4] - p[c], p[(c + 3) % 4] - p[c]));
-          if (length(sum) > 0) normal = normalized(sum);
-          centre = (p[0] + p[1] + p[2] + p[3]) * 0.25;
-        }
-        q.add_plane(normal, -dot(normal, centre), area);
+  parallel_for(
+      size_t{n} * k_count, thread_count(options_.threads), [&](size_t begin, size_t end, unsigned) {
+        for (size_t i = begin; i < end; ++i) {
+          const uint32_t v = static_cast<uint32_t>(i / k_count);
+          const size_t k = i % k_count;
+          Quadric q;
+          for (uint32_t f : adjacency.faces_of_vertex(v)) {
+            const Face& face = input_.faces[f];
+            const int d = face.degree();
+            Vec3 p[4];
+            for (int c = 0; c < d; ++c) p[c] = position(face.v[c], k);
+            // The face's plane: a triangle's own; for a quad, possibly skew, the mean of its corner
+            // normals through its centroid (paper §2). Weighted by area.
+            const Vec3 area2 = doubled_vector_area(p, d);
+            const double area = 0.5 * length(area2);
+            if (area <= 0) continue;
+            Vec3 normal = normalized(area2), centre = p[0];
+            if (d == 4) {
+              Vec3 sum{};
+              for (int c = 0; c < 4; ++c)
+                sum = sum + normalized(cross(p[(c + 1) % 4] - p[c], p[(c + 3) % 4] - p[c]));
+              if (length(sum) > 0) normal = normalized(sum);
+              centre = (p[0] + p[1] + p[2] + p[3]) * 0.25;
+            }
+            q.add_plane(normal, -dot(normal, centre), area);
 
-        // Constraint planes through v's boundary and feature edges in this face,
-        // perpendicular to the face, weighted by the squared edge length.
-        const int i0 = corner_of(face, v), before = (i0 + d - 1) % d;
-        for (int other : {(i0 + 1) % d, before}) {
-          const int edge_bit = other == before ? before : i0;
-          if (!(constrained[f] & (1u << edge_bit))) continue;
-          const Vec3 along = p[other] - p[i0];
-          const Vec3 m = normalized(cross(along, normal));
-          if (length(m) == 0) continue;
-          q.add_plane(m, -dot(m, p[i0]), options_.boundary_weight * dot(along, along));
+            // Constraint planes through v's boundary and feature edges in this face,
+            // perpendicular to the face, weighted by the squared edge length.
+            const int i0 = corner_of(face, v), before = (i0 + d - 1) % d;
+            for (int other : {(i0 + 1) % d, before}) {
+              const int edge_bit = other == before ? before : i0;
+              if (!(constrained[f] & (1u << edge_bit))) continue;
+              const Vec3 along = p[other] - p[i0];
+              const Vec3 m = normalized(cross(along, normal));
+              if (length(m) == 0) continue;
+              q.add_plane(m, -dot(m, p[i0]), options_.boundary_weight * dot(along, along));
+            }
+          }
+          quadric(v, k) = q;
         }
-      }
-      quadric(v, k) = q;
-    }
-  });
+      });
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -328,7 +338,8 @@ double Simplifier::collapse_error(uint32_t v0, uint32_t v1, std::vector<Vec3>& p
     if (moves) {
       if (auto m = q.minimiser()) {
         p = *m;
-      } else if (class_[v1] == VertexClass::kInterior && q.evaluate(position(v0, k)) < q.evaluate(p)) {
+      } else if (class_[v1] == VertexClass::kInterior &&
+                 q.evaluate(position(v0, k)) < q.evaluate(p)) {
         p = position(v0, k);  // ill-conditioned: the better endpoint
       }
     }
@@ -346,12 +357,15 @@ double Simplifier::half_edge_error(uint32_t v0, uint32_t v1) const {
   return std::sqrt(worst) / diagonal_;
 }
 
-bool Simplifier::topology_allows(uint32_t v0, uint32_t v1, const EdgeFaces& edge, Scratch& s) const {
+bool Simplifier::topology_allows(uint32_t v0, uint32_t v1, const EdgeFaces& edge,
+                                 Scratch& s) const {
   // (P3): a component keeps more than 4 vertices, or more than 3 at a boundary.
-  const bool at_border = class_[v0] != VertexClass::kInterior || class_[v1] != VertexClass::kInterior;
+  const bool at_border =
+      class_[v0] != VertexClass::kInterior || class_[v1] != VertexClass::kInterior;
   if (component_live_[component_[v0]] <= (at_border ? 3u : 4u)) return false;
   // (P1*): otherwise the collapse leaves a vertex of valence two (paper Fig. 4 and 5).
-  return second_order_neighbours_ok(mesh_, v0, v1, std::span(edge.faces.data(), edge.count), s.marks);
+  return second_order_neighbours_ok(mesh_, v0, v1, std::span(edge.faces.data(), edge.count),
+                                    s.marks);
 }
 
 // Whether a face stays sound in key step k when vertex `moved` goes to `target` and vertex
@@ -374,12 +388,14 @@ bool Simplifier::face_stays_sound(const Face& face, size_t k, uint32_t skip, uin
   if (new_length <= 1e-12 * diagonal_ * diagonal_) return false;  // no area left
   if (old_length > 0 && dot(old_normal, new_normal) < cos_max_rotation_ * old_length * new_length)
     return false;  // folds over
-  if (n == 4 && quad_is_convex(before, old_normal) && !quad_is_convex(after, new_normal)) return false;
+  if (n == 4 && quad_is_convex(before, old_normal) && !quad_is_convex(after, new_normal))
+    return false;
   return true;
 }
 
 // No moved face may fold over or degenerate in any key step.
-bool Simplifier::geometry_allows(uint32_t v0, uint32_t v1, const std::vector<Vec3>& placement) const {
+bool Simplifier::geometry_allows(uint32_t v0, uint32_t v1,
+                                 const std::vector<Vec3>& placement) const {
   for (size_t k = 0; k < key_count(); ++k) {
     for (uint32_t f : mesh_.faces_of(v0)) {
       const Face& face = mesh_.face(f);
@@ -393,7 +409,8 @@ bool Simplifier::geometry_allows(uint32_t v0, uint32_t v1, const std::vector<Vec
     if (!optimal()) continue;
     for (uint32_t f : mesh_.faces_of(v1)) {  // v1 itself moves
       const Face& face = mesh_.face(f);
-      if (!face.contains(v0) && !face_stays_sound(face, k, kNoVertex, v1, placement[k])) return false;
+      if (!face.contains(v0) && !face_stays_sound(face, k, kNoVertex, v1, placement[k]))
+        return false;
     }
   }
   return true;
@@ -410,8 +427,10 @@ bool Simplifier::legal(uint32_t v0, uint32_t v1, Scratch& s) const {
       !is_feature_edge(v0, v1, std::span<const uint32_t>(edge.faces.data(), edge.count)))
     return false;
   if (!topology_allows(v0, v1, edge, s)) return false;
-  if (optimal()) collapse_error(v0, v1, s.placement);
-  else s.placement.clear();
+  if (optimal())
+    collapse_error(v0, v1, s.placement);
+  else
+    s.placement.clear();
   return geometry_allows(v0, v1, s.placement);
 }
 
@@ -575,8 +594,8 @@ Result<SimplifyResult> Simplifier::run() {
         rated_again = true;
         continue;
       }
-      result.stop_reason = "no legal collapse remains at " + std::to_string(mesh_.live_vertices()) +
-                           " vertices";
+      result.stop_reason =
+          "no legal collapse remains at " + std::to_string(mesh_.live_vertices()) + " vertices";
       break;
     }
     std::pop_heap(heap_.begin(), heap_.end(), std::greater<>());
