@@ -41,9 +41,7 @@ import tempfile
 import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-SHARED = os.path.normpath(os.path.join(ROOT, "..", "shared", "data"))
-if not os.path.isdir(SHARED):
-    SHARED = "/work/shared/data"
+SHARED = os.path.normpath(os.path.join(ROOT, "..", "shared", "data"))  # ../shared beside the project
 
 DEFAULT_INPUTS = [
     os.path.join(SHARED, "meshes", "bunny.obj"),
