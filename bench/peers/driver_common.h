@@ -18,6 +18,8 @@
 #include <utility>
 #include <vector>
 
+#include "obj_io.h"
+
 namespace peers {
 
 struct Args {
@@ -117,5 +119,24 @@ class Json {
   }
   std::vector<std::pair<std::string, std::string>> kv_;
 };
+
+// The keys every driver reports (the contract above); each driver adds its own after them.
+inline Json result_json(const char* peer, const Args& args, const TriSoup& in, std::size_t target,
+                        std::size_t vertices_out, std::size_t faces_out, double seconds,
+                        double setup_seconds) {
+  Json j;
+  j.add("peer", peer)
+      .add("input", args.input)
+      .add("vertices_in", in.V.size())
+      .add("faces_in", in.faces_in)
+      .add("target_vertices", target)
+      .add("vertices_out", vertices_out)
+      .add("faces_out", faces_out)
+      .add("seconds", seconds)
+      .add("peak_rss_mb", peak_rss_mb())
+      .add("triangles_in", in.F.size())
+      .add("setup_seconds", setup_seconds);
+  return j;
+}
 
 }  // namespace peers

@@ -68,19 +68,9 @@ int main(int argc, char** argv) {
   surface_mesh_to_arrays(mesh, outV, outF);
   if (auto err = write_obj(args.output, outV, outF); !err.empty()) die(kPeer, err);
 
-  Json j;
-  j.add("peer", kPeer)
-      .add("input", args.input)
-      .add("vertices_in", in.V.size())
-      .add("faces_in", in.faces_in)
-      .add("target_vertices", args.vertices)
-      .add("vertices_out", outV.size())
-      .add("faces_out", outF.size())
-      .add("seconds", secs)
-      .add("peak_rss_mb", peak_rss_mb())
-      .add("triangles_in", in.F.size())
-      .add("setup_seconds", setup_seconds)
-      .add("soup_was_mesh", info.was_polygon_mesh)
+  Json j = result_json(kPeer, args, in, args.vertices, outV.size(), outF.size(), secs,
+                       setup_seconds);
+  j.add("soup_was_mesh", info.was_polygon_mesh)
       .add("vertices_duplicated", info.duplicated)
       .add("vertices_mesh", vertices_mesh)
       .add("edges_removed", removed)

@@ -99,19 +99,9 @@ int main(int argc, char** argv) {
   compact(outV, outF);
   if (auto err = write_obj(args.output, outV, outF); !err.empty()) die(kPeer, err);
 
-  Json j;
-  j.add("peer", kPeer)
-      .add("input", args.input)
-      .add("vertices_in", in.V.size())
-      .add("faces_in", in.faces_in)
-      .add("target_vertices", target_v)
-      .add("vertices_out", outV.size())
-      .add("faces_out", outF.size())
-      .add("seconds", best_secs)
-      .add("peak_rss_mb", peak_rss_mb())
-      .add("triangles_in", in.F.size())
-      .add("setup_seconds", setup_seconds)
-      .add("welded_vertices", welded)
+  Json j = result_json(kPeer, args, in, target_v, outV.size(), outF.size(), best_secs,
+                       setup_seconds);
+  j.add("welded_vertices", welded)
       .add("target_indices", best_t)
       .add("search_calls", calls)
       .add("search_seconds", search_secs)

@@ -91,19 +91,9 @@ int main(int argc, char** argv) {
   compact(outV, outF);
   if (auto err = write_obj(args.output, outV, outF); !err.empty()) die(kPeer, err);
 
-  Json j;
-  j.add("peer", kPeer)
-      .add("input", args.input)
-      .add("vertices_in", in.V.size())
-      .add("faces_in", in.faces_in)
-      .add("target_vertices", args.vertices)
-      .add("vertices_out", outV.size())
-      .add("faces_out", outF.size())
-      .add("seconds", secs)
-      .add("peak_rss_mb", peak_rss_mb())
-      .add("triangles_in", in.F.size())
-      .add("setup_seconds", setup_seconds)
-      .add("faces_rejected", rejected)
+  Json j = result_json(kPeer, args, in, args.vertices, outV.size(), outF.size(), secs,
+                       setup_seconds);
+  j.add("faces_rejected", rejected)
       .add("isolated_vertices_dropped", isolated)
       .add("collapses", collapses)
       .add("version", std::string("OpenMesh ") + std::to_string(OM_GET_VER) + "." + std::to_string(OM_GET_MAJ));

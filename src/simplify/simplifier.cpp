@@ -479,8 +479,8 @@ void Simplifier::rate_all_edges() {
 // The loop
 
 Status Simplifier::collapse(uint32_t v0, uint32_t v1, double error, Scratch& s) {
-  std::vector<Vec3>& placement = s.placement;
-  if (optimal()) collapse_error(v0, v1, placement);  // the same placement the candidate had
+  // Optimal placement: s.placement holds v1's new positions, computed with `error`.
+  const std::vector<Vec3>& placement = s.placement;
 
   CollapseRecord record;
   record.error = error;
@@ -611,7 +611,8 @@ Result<SimplifyResult> Simplifier::run() {
       rejected_[entry.v0] = 1;
       continue;
     }
-    // The cost exactly as rated (the heap keeps it as float).
+    // The cost exactly as rated (the heap keeps it as float), and with optimal placement the
+    // positions collapse() moves v1 to.
     const double error = optimal() ? collapse_error(entry.v0, entry.v1, s.placement)
                                    : half_edge_error(entry.v0, entry.v1);
     DYNPM_RETURN_IF_ERROR(collapse(entry.v0, entry.v1, error, s));
