@@ -17,7 +17,7 @@ Result<AnimationStream> open_inputs(std::span<const std::string> arguments, bool
   ReadOptions options;
   options.split_polygons = split_polygons;
   options.warn = [](const std::string& note) { std::cerr << "warning: " << note << "\n"; };
-  return open_animation(*paths, options);
+  return open_input(*paths, options);
 }
 
 void progress(const std::string& label, size_t done, size_t total) {

@@ -82,6 +82,12 @@ class FrameSource {
   virtual Status read_step(size_t t, std::span<float> out) const = 0;
   // Number of xyz floats step t holds, when a source can know it without reading the step.
   virtual size_t step_float_count(size_t /*t*/) const { return size_t{vertex_count()} * 3; }
+
+  // Per-vertex scalar result fields the source can deliver at every step (a solver's plastic
+  // strain, von Mises stress, |U| …), read one step at a time like the positions.
+  virtual std::vector<std::string> field_names() const { return {}; }
+  // Fills out (vertex_count floats) with field `field` (an index into field_names()) at step t.
+  virtual Status read_field(size_t field, size_t t, std::span<float> out) const;
 };
 
 // All steps in memory, one contiguous xyz array per step.

@@ -24,7 +24,17 @@
 
 namespace dynpm {
 
-enum class FileFormat { kUnknown, kObj, kPly, kVtk };
+enum class FileFormat {
+  kUnknown,
+  kObj,
+  kPly,
+  kVtk,     // legacy VTK: polydata (mesh per file) or unstructured grid
+  kVtu,     // VTK XML unstructured grid
+  kPvd,     // ParaView collection of per-step VTU/VTK files
+  kFrd,     // CalculiX result (all steps in one file)
+  kExodus,  // Exodus II (netCDF), all steps in one file
+  kD3plot,  // LS-DYNA d3plot family (d3plot, d3plot01, …)
+};
 
 const char* to_string(FileFormat format);
 // By extension (case-insensitive): .obj, .ply, .vtk.
@@ -53,6 +63,12 @@ Result<AnimationStream> open_animation(std::span<const std::string> paths,
 // open_animation() followed by reading every step.
 Result<Animation> read_animation(std::span<const std::string> paths,
                                  const ReadOptions& options = {});
+
+// Any input the command line accepts: one solver result holding every step (FRD, Exodus,
+// d3plot family, PVD, VTU, legacy VTK unstructured grid), or one mesh file per step (OBJ, PLY,
+// VTK polydata), told apart by content. Steps stay on disk until asked for.
+Result<AnimationStream> open_input(std::span<const std::string> paths,
+                                   const ReadOptions& options = {});
 
 // Command-line inputs to files: an argument with * ? or [ is a glob (error if it matches
 // nothing), its matches sorted naturally (frame_2 before frame_10); other arguments are kept

@@ -69,6 +69,10 @@ Status Frames::read_step(size_t t, std::span<float> out) const {
   return {};
 }
 
+Status FrameSource::read_field(size_t field, size_t /*t*/, std::span<float> /*out*/) const {
+  return Status::error("this input has no result field " + std::to_string(field));
+}
+
 Result<Animation> load_all_steps(AnimationStream stream) {
   assert(stream.frames);
   Animation animation;
@@ -79,6 +83,16 @@ Result<Animation> load_all_steps(AnimationStream stream) {
     std::vector<float> xyz(size_t{source.vertex_count()} * 3);
     DYNPM_RETURN_IF_ERROR(source.read_step(t, xyz));
     animation.frames.add_step(std::move(xyz), source.step_time(t));
+  }
+  const std::vector<std::string> names = source.field_names();
+  for (size_t f = 0; f < names.size(); ++f) {
+    ScalarField field{names[f], {}};
+    for (size_t t = 0; t < source.step_count(); ++t) {
+      std::vector<float> values(source.vertex_count());
+      DYNPM_RETURN_IF_ERROR(source.read_field(f, t, values));
+      field.steps.push_back(std::move(values));
+    }
+    animation.fields.push_back(std::move(field));
   }
   return animation;
 }

@@ -33,6 +33,14 @@ std::string write_ply(const Topology& topology, std::span<const float> positions
 std::string write_vtk(const Topology& topology, std::span<const float> positions,
                       const WriteOptions& options, std::span<const NamedValues> point_fields);
 
+// Solver results that hold every time step in one file (or one family of files). Each opens
+// the file, reads the mesh at once and streams the steps through the returned FrameSource.
+Result<AnimationStream> open_frd(const std::string& path, const ReadOptions& options);
+Result<AnimationStream> open_exodus(const std::string& path, const ReadOptions& options);
+Result<AnimationStream> open_d3plot(const std::string& path, const ReadOptions& options);
+// .pvd collections, .vtu files and legacy .vtk unstructured grids.
+Result<AnimationStream> open_vtk_series(const std::string& path, const ReadOptions& options);
+
 // "time <number>" in a header comment ("# cb5.frd frame 3: time 0.12 (frd block 3)").
 std::optional<double> time_from_comment(std::string_view comment);
 

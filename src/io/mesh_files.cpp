@@ -135,6 +135,11 @@ const char* to_string(FileFormat format) {
     case FileFormat::kObj: return "OBJ";
     case FileFormat::kPly: return "PLY";
     case FileFormat::kVtk: return "VTK";
+    case FileFormat::kVtu: return "VTU";
+    case FileFormat::kPvd: return "PVD";
+    case FileFormat::kFrd: return "CalculiX FRD";
+    case FileFormat::kExodus: return "Exodus II";
+    case FileFormat::kD3plot: return "LS-DYNA d3plot";
     case FileFormat::kUnknown: return "unknown";
   }
   return "unknown";
@@ -145,6 +150,12 @@ FileFormat format_from_extension(const std::string& path) {
   if (ext == ".obj") return FileFormat::kObj;
   if (ext == ".ply") return FileFormat::kPly;
   if (ext == ".vtk") return FileFormat::kVtk;
+  if (ext == ".vtu") return FileFormat::kVtu;
+  if (ext == ".pvd") return FileFormat::kPvd;
+  if (ext == ".frd") return FileFormat::kFrd;
+  if (ext == ".e" || ext == ".exo" || ext == ".ex2" || ext == ".exii") return FileFormat::kExodus;
+  if (std::filesystem::path(path).filename().string().starts_with("d3plot"))
+    return FileFormat::kD3plot;
   return FileFormat::kUnknown;
 }
 
@@ -154,9 +165,40 @@ Result<FileFormat> detect_format(const std::string& path) {
   std::string_view text = *head;
   if (text.substr(0, 4) == "ply\n" || text.substr(0, 5) == "ply\r\n") return FileFormat::kPly;
   if (text.substr(0, 14) == "# vtk DataFile") return FileFormat::kVtk;
+  // netCDF classic / 64-bit offset / CDF5, or HDF5 (netCDF-4): Exodus II is netCDF.
+  if (text.substr(0, 3) == "CDF" || text.substr(0, 8) == "\x89HDF\r\n\x1a\n")
+    return FileFormat::kExodus;
+  if (text.substr(0, 6) == "    1C") return FileFormat::kFrd;
+  if (text.find("<VTKFile") != std::string_view::npos || text.starts_with("<?xml")) {
+    auto more = io::read_file_head(path, 4096);
+    if (!more) return more.status();
+    if (more->find("\"Collection\"") != std::string::npos) return FileFormat::kPvd;
+    if (more->find("\"UnstructuredGrid\"") != std::string::npos) return FileFormat::kVtu;
+  }
   const FileFormat by_name = format_from_extension(path);
   if (by_name != FileFormat::kUnknown) return by_name;
-  return Status::error(path + ": cannot tell the file format (expected .obj, .ply or .vtk)");
+  return Status::error(path +
+                       ": cannot tell the file format (expected OBJ, PLY, VTK, VTU, PVD, "
+                       "CalculiX .frd, Exodus II or an LS-DYNA d3plot)");
+}
+
+Result<AnimationStream> open_input(std::span<const std::string> paths,
+                                   const ReadOptions& options) {
+  if (paths.empty()) return Status::error("no input file given");
+  auto format = detect_format(paths[0]);
+  if (!format) return format.status();
+  const bool whole_result = *format == FileFormat::kFrd || *format == FileFormat::kExodus ||
+                            *format == FileFormat::kD3plot || *format == FileFormat::kPvd;
+  if (whole_result && paths.size() > 1)
+    return Status::error(paths[1] + ": a " + std::string(to_string(*format)) +
+                         " result holds every time step; give it alone");
+  switch (*format) {
+    case FileFormat::kFrd: return io::open_frd(paths[0], options);
+    case FileFormat::kExodus: return io::open_exodus(paths[0], options);
+    case FileFormat::kD3plot: return io::open_d3plot(paths[0], options);
+    case FileFormat::kPvd: return io::open_vtk_series(paths[0], options);
+    default: return open_animation(paths, options);
+  }
 }
 
 Result<Animation> read_mesh(const std::string& path, const ReadOptions& options) {
@@ -257,7 +299,7 @@ Status write_mesh(const std::string& path, const Topology& topology,
     case FileFormat::kObj: bytes = io::write_obj(topology, positions, options); break;
     case FileFormat::kPly: bytes = io::write_ply(topology, positions, options); break;
     case FileFormat::kVtk: bytes = io::write_vtk(topology, positions, options, point_fields); break;
-    case FileFormat::kUnknown:
+    default:
       return Status::error(path +
                            ": cannot tell the output format from the extension "
                            "(use .obj, .ply or .vtk)");
