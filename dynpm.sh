@@ -10,7 +10,7 @@ cd "$(dirname "$0")"
 # Debian packages: the toolchain and test libraries; the third-party tools the tests compare
 # against (meshio writes and reads files nobody here wrote; python3-vtk9 is VTK's own reader;
 # libcgal-dev's Hausdorff distance checks dynpm's).
-BUILD_PACKAGES=(g++ cmake ninja-build xz-utils)
+BUILD_PACKAGES=(g++ cmake ninja-build xz-utils pkg-config libzstd-dev libnetcdf-dev)
 TEST_PACKAGES=(libgtest-dev libgmock-dev python3-meshio python3-vtk9 libcgal-dev)
 
 install_packages() {

@@ -1,0 +1,2 @@
+// Placeholder: filled by the reader work of issue 7.
+#include <gtest/gtest.h>
