@@ -18,6 +18,10 @@ int run_info(std::span<char* const> arguments);
 int run_convert(std::span<char* const> arguments);
 int run_hausdorff(std::span<char* const> arguments);
 int run_simplify(std::span<char* const> arguments);
+int run_build(std::span<char* const> arguments);
+int run_extract(std::span<char* const> arguments);
+int run_eval(std::span<char* const> arguments);
+int run_view(std::span<char* const> arguments);
 
 // Globs → files, then open them as one animation; reader notes go to stderr.
 Result<AnimationStream> open_inputs(std::span<const std::string> arguments, bool split_polygons);

@@ -41,6 +41,10 @@ const char* kUsage =
     "  convert   convert a mesh or animation between OBJ, PLY and VTK\n"
     "  hausdorff Metro-style distance between two meshes or step sequences\n"
     "  simplify  simplify a mixed triangle/quad mesh or animation\n"
+    "  build     pre-process an animation into a progressive mesh (.dpm)\n"
+    "  extract   a .dpm at a chosen resolution and time step, as OBJ/PLY/VTK\n"
+    "  eval      Hausdorff error of a .dpm against the original, per resolution and step\n"
+    "  view      browse a .dpm in the web browser (time and resolution sliders)\n"
     "\n"
     "Run 'dynpm <verb> --help' for a verb's options.\n";
 
@@ -63,6 +67,10 @@ int main(int argc, char** argv) {
   if (verb == "convert") return dynpm::cli::run_convert(rest);
   if (verb == "hausdorff") return dynpm::cli::run_hausdorff(rest);
   if (verb == "simplify") return dynpm::cli::run_simplify(rest);
+  if (verb == "build") return dynpm::cli::run_build(rest);
+  if (verb == "extract") return dynpm::cli::run_extract(rest);
+  if (verb == "eval") return dynpm::cli::run_eval(rest);
+  if (verb == "view") return dynpm::cli::run_view(rest);
   std::cerr << "dynpm: unknown verb '" << verb << "'\n\n" << kUsage;
   return dynpm::cli::kExitUsage;
 }

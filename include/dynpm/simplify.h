@@ -91,6 +91,7 @@ struct CollapseWing {
   uint32_t vertex = kNoVertex;  // v0's other neighbour in the face
   bool was_triangle = false;    // true: the face vanished; false: a quad became a triangle
   bool v1_follows_v0 = false;   // orientation: v1 comes right after v0 in the face
+  uint8_t v0_slot = 0;          // v0's corner slot in the face before the collapse
 };
 
 // What one collapse did. Spans stay valid only during the listener call.

@@ -103,6 +103,7 @@ void CollapseMesh::collapse(uint32_t v0, uint32_t v1, CollapseRecord& record,
       wing.vertex = v1_follows ? face.v[(i0 + d - 1) % d] : face.v[(i0 + 1) % d];
       wing.was_triangle = d == 3;
       wing.v1_follows_v0 = v1_follows;
+      wing.v0_slot = static_cast<uint8_t>(i0);
     }
     if (d == 3) {  // a triangle vanishes
       for (uint32_t c : face.v)

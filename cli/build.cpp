@@ -1,0 +1,13 @@
+// dynpm build — being written (issues 4, 6, 8).
+#include <iostream>
+
+#include "commands.h"
+
+namespace dynpm::cli {
+
+int run_build(std::span<char* const> /*arguments*/) {
+  std::cerr << "dynpm build: not available yet\n";
+  return kExitFailure;
+}
+
+}  // namespace dynpm::cli
