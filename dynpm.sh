@@ -9,13 +9,19 @@ cd "$(dirname "$0")"
 
 # Debian packages: the toolchain and test libraries; the third-party tools the tests compare
 # against (meshio writes and reads files nobody here wrote; python3-vtk9 is VTK's own reader;
-# libcgal-dev's Hausdorff distance checks dynpm's).
-BUILD_PACKAGES=(g++ cmake ninja-build xz-utils pkg-config libzstd-dev libnetcdf-dev)
-TEST_PACKAGES=(libgtest-dev libgmock-dev python3-meshio python3-vtk9 libcgal-dev)
+# libcgal-dev's Hausdorff distance checks dynpm's; the viewer's tests run in Node.js and Debian's
+# headless Chromium).
+BUILD_PACKAGES=(g++ cmake ninja-build xz-utils pkg-config libzstd-dev libnetcdf-dev zlib1g-dev libcpp-httplib-dev)
+TEST_PACKAGES=(libgtest-dev libgmock-dev python3-meshio python3-vtk9 libcgal-dev nodejs npm chromium calculix-ccx)
+
+# Node.js from another source (NodeSource's nodejs bundles npm and conflicts with Debian's npm)
+# counts as installed when its command is on PATH.
+declare -A PACKAGE_COMMAND=([nodejs]=node [npm]=npm)
 
 install_packages() {
   local missing=()
   for p in "$@"; do
+    [ -n "${PACKAGE_COMMAND[$p]:-}" ] && command -v "${PACKAGE_COMMAND[$p]}" >/dev/null && continue
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
   done
   [ ${#missing[@]} -eq 0 ] && return 0
@@ -38,7 +44,18 @@ unpack_sample() {
   fi
 }
 
+# The viewer's npm packages (three.js, fzstd, playwright-core), exactly as package-lock.json
+# says; the build compiles three.js and fzstd into dynpm (viewer/embed/assets.cmake).
+viewer_modules() {
+  command -v npm >/dev/null || return 0
+  if [ ! -f viewer/node_modules/.package-lock.json ] ||
+    [ viewer/package-lock.json -nt viewer/node_modules/.package-lock.json ]; then
+    (cd viewer && npm ci --no-audit --no-fund --loglevel=error)
+  fi
+}
+
 build_release() {
+  viewer_modules
   cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release -DDYNPM_BUILD_TESTS=OFF \
     -DDYNPM_BUILD_BENCH=OFF >/dev/null
   cmake --build build/release
@@ -71,6 +88,7 @@ case "${1:-}" in
     ;;
   test)
     install_packages "${BUILD_PACKAGES[@]}" "${TEST_PACKAGES[@]}"
+    viewer_modules
     # Optimised, warnings as errors, assertions on.
     cmake -S . -B build/test -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDYNPM_WERROR=ON \
       -DDYNPM_ASSERTS=ON -DDYNPM_BUILD_TESTS=ON >/dev/null
@@ -79,6 +97,7 @@ case "${1:-}" in
     ;;
   sanitize)
     install_packages "${BUILD_PACKAGES[@]}" "${TEST_PACKAGES[@]}"
+    viewer_modules
     cmake -S . -B build/sanitize -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDYNPM_WERROR=ON \
       -DDYNPM_ASSERTS=ON -DDYNPM_BUILD_TESTS=ON \
       -DCMAKE_CXX_FLAGS="-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer" \

@@ -86,4 +86,14 @@ std::string help_text(const VerbSpec& spec) {
   return text;
 }
 
+Result<double> parse_number(const std::string& flag, const std::string& text) {
+  try {
+    size_t used = 0;
+    const double v = std::stod(text, &used);
+    if (used == text.size()) return v;
+  } catch (...) {
+  }
+  return Status::error(flag + " needs a number, got '" + text + "'");
+}
+
 }  // namespace dynpm::cli

@@ -55,4 +55,7 @@ std::optional<int> parse_verb_args(std::span<char* const> arguments, const VerbS
                                    Args& args);
 std::string help_text(const VerbSpec& spec);
 
+// A flag's value as a number; the error names the flag ("--ratio needs a number, got 'x'").
+Result<double> parse_number(const std::string& flag, const std::string& text);
+
 }  // namespace dynpm::cli

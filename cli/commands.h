@@ -29,4 +29,7 @@ Result<AnimationStream> open_inputs(std::span<const std::string> arguments, bool
 // Progress on stderr ("label 12/26"), only when stderr is a terminal.
 void progress(const std::string& label, size_t done, size_t total);
 
+// The process's peak resident memory in MB (VmHWM), or 0 where /proc is not there.
+double peak_rss_mb();
+
 }  // namespace dynpm::cli

@@ -12,9 +12,10 @@ namespace {
 const VerbSpec kSpec{
     "info",
     "dynpm info INPUT... [--json] [--problems N] [--split-polygons]",
-    "Reads a mesh (OBJ, PLY) or an animation given as one file per time step (a list or a\n"
-    "glob such as 'frames/frame_*.obj', sorted naturally) and prints vertices, faces\n"
-    "(triangles and quads), time steps, edges, boundary, non-manifold edges and vertices,\n"
+    "Reads a mesh (OBJ, PLY, VTK, VTU), an animation given as one file per time step (a list\n"
+    "or a glob such as 'frames/frame_*.obj', sorted naturally) or a result holding every step\n"
+    "(CalculiX .frd, .pvd, Exodus II, d3plot) and prints vertices, faces (triangles and\n"
+    "quads), time steps, result fields, edges, boundary, non-manifold edges and vertices,\n"
     "parts, the bounding box over all steps, and the validation result: the paper's (M1)\n"
     "manifold, (M2) inner valence >= 3, (M3) face degree >= 3, and more.\n"
     "Exit code: 0 valid, 1 unreadable input, 2 bad usage, 3 read but invalid.",
@@ -31,6 +32,10 @@ class BoxingSource final : public FrameSource {
   size_t step_count() const override { return source_.step_count(); }
   double step_time(size_t t) const override { return source_.step_time(t); }
   size_t step_float_count(size_t t) const override { return source_.step_float_count(t); }
+  std::vector<std::string> field_names() const override { return source_.field_names(); }
+  Status read_field(size_t field, size_t t, std::span<float> out) const override {
+    return source_.read_field(field, t, out);
+  }
   Status read_step(size_t t, std::span<float> out) const override {
     progress("reading step", t + 1, step_count());
     Status s = source_.read_step(t, out);
@@ -68,6 +73,11 @@ void print_text(std::span<const std::string> inputs, const Topology& topology,
     out << " (t = " << frames.step_time(0) << " … " << frames.step_time(frames.step_count() - 1)
         << ")";
   out << "\n";
+  if (const auto fields = frames.field_names(); !fields.empty()) {
+    out << "fields        " << fields.size() << " (";
+    for (size_t i = 0; i < fields.size(); ++i) out << (i ? ", " : "") << fields[i];
+    out << ") per vertex and step\n";
+  }
   out << "edges         " << stats.edges << "\n";
   out << "boundary      " << stats.boundary_edges << " edges in " << stats.boundary_loops
       << " loops\n";
@@ -114,6 +124,9 @@ void print_json(std::span<const std::string> inputs, const Topology& topology,
   j.value("steps", uint64_t{frames.step_count()});
   j.begin_array("times");
   for (size_t t = 0; t < frames.step_count(); ++t) j.item(frames.step_time(t));
+  j.end_array();
+  j.begin_array("fields");
+  for (const std::string& name : frames.field_names()) j.item(name);
   j.end_array();
   j.value("edges", uint64_t{stats.edges});
   j.value("boundary_edges", uint64_t{stats.boundary_edges});

@@ -27,6 +27,17 @@ void progress(const std::string& label, size_t done, size_t total) {
   std::fflush(stderr);
 }
 
+double peak_rss_mb() {
+  std::FILE* f = std::fopen("/proc/self/status", "r");
+  if (!f) return 0;
+  char line[256];
+  double kb = 0;
+  while (std::fgets(line, sizeof line, f))
+    if (std::sscanf(line, "VmHWM: %lf kB", &kb) == 1) break;
+  std::fclose(f);
+  return kb / 1024.0;
+}
+
 }  // namespace dynpm::cli
 
 namespace {

@@ -39,16 +39,6 @@ const VerbSpec kSpec{
      {"--json", "", false, "", "print the result as JSON"},
      {"--split-polygons", "", false, "", "fan-split faces with more than 4 corners"}}};
 
-Result<double> parse_number(const std::string& flag, const std::string& text) {
-  try {
-    size_t used = 0;
-    const double v = std::stod(text, &used);
-    if (used == text.size()) return v;
-  } catch (...) {
-  }
-  return Status::error("dynpm simplify: " + flag + " needs a number, got '" + text + "'");
-}
-
 // A progress bar on stderr for long runs (only on a terminal).
 class ProgressListener final : public CollapseListener {
  public:
@@ -63,18 +53,6 @@ class ProgressListener final : public CollapseListener {
   size_t expected_, done_ = 0;
 };
 
-// The process's peak resident memory in MB (VmHWM), or 0 where /proc is not there.
-double peak_rss_mb() {
-  std::FILE* f = std::fopen("/proc/self/status", "r");
-  if (!f) return 0;
-  char line[256];
-  double kb = 0;
-  while (std::fgets(line, sizeof line, f))
-    if (std::sscanf(line, "VmHWM: %lf kB", &kb) == 1) break;
-  std::fclose(f);
-  return kb / 1024.0;
-}
-
 }  // namespace
 
 int run_simplify(std::span<char* const> arguments) {
@@ -86,7 +64,8 @@ int run_simplify(std::span<char* const> arguments) {
     return kExitUsage;
   }
   SimplifyOptions options;
-  auto fail_usage = [](const std::string& message) {
+  auto fail_usage = [](std::string message) {
+    if (!message.starts_with("dynpm ")) message = "dynpm simplify: " + message;
     std::cerr << message << "\n";
     return kExitUsage;
   };

@@ -8,7 +8,57 @@
 //         negative (relative) indices, comments, CRLF; `g` groups become part ids.
 //   PLY   read ascii and binary little/big-endian, write ascii and binary little-endian; the
 //         face properties part_id and element_id and the vertex property node_id round-trip.
-//   VTK   legacy polydata, written (binary): points, polygons, part ids, point scalar fields.
+//   VTK   legacy, written as polydata (binary): points, polygons, part ids, point scalar fields.
+//         Read: file versions 2.0 to 5.1 (counted cell lists and OFFSETS/CONNECTIVITY), ascii
+//         or binary (big-endian, as the format says), POLYDATA (POLYGONS, TRIANGLE_STRIPS) and
+//         UNSTRUCTURED_GRID. One step per file; a list of files is a sequence.
+//   VTU   VTK XML UnstructuredGrid, read: ascii, inline base64 and appended (raw or base64)
+//         DataArrays, UInt32/UInt64 headers, either byte order, zlib compression (when built
+//         with zlib; otherwise a clear error); one Piece. One step per file.
+//   PVD   ParaView collection: its DataSets (one part per time step; files relative to the
+//         .pvd) read as a sequence of .vtu/.vtk steps at the collection's timesteps.
+//         VTK cells (all three): triangles, quads, pixels, polygons (> 4 corners need
+//         split_polygons), triangle strips; quadratic and Lagrange triangles and quads keep
+//         their corners (one warning); solids, vertices and lines are skipped with a warning
+//         that counts them (no outer faces are made). One-component CELL_DATA named part,
+//         part_id, PartId, pid, GeometryIds or gmsh:physical gives part ids, element_id the
+//         element numbers (else cell number + 1); POINT_DATA node_id gives node numbers, every
+//         other one-component point array is a field; multi-component arrays are ignored
+//         (one warning). Times: "time <t>" in a legacy title, TimeValue/TIME field data.
+//   FRD   CalculiX result, read: node (2C), element (3C) and nodal result (100C) blocks, ASCII
+//         short/long or binary (float/double, native byte order; what *NODE OUTPUT and
+//         *ELEMENT OUTPUT write). Shells S3, S4/S4R, S6, S8/S8R are faces (quadratic ones by
+//         their corners, one warning); solids and beams are skipped with one warning that
+//         counts them (ccx writes shells as 20-node bricks unless *NODE FILE, OUTPUT=2D: a file
+//         with no shell is an error saying so). Vertices are the nodes the shells use, in
+//         ascending node number; faces in ascending element number; part id = the element's
+//         material number (its group where that is set). Step 0 is the undeformed mesh at time
+//         0, then one step per DISP block at its 100C time (as frame_000, frame_001, … of the
+//         OBJ sequences made from .frd files). Fields: STRESS → "S_MISES" (von Mises), PE →
+//         "PEEQ", any other one-component block by its name; zeros at step 0 and where a step
+//         has no such block; blocks pair with a DISP block by step number and time. Opening
+//         scans the file once and keeps only where each block starts; a step is parsed when
+//         read. A gzip-compressed file is refused ("gunzip it first").
+//   d3plot  LS-DYNA binary database, read: the family d3plot, d3plot01, … (found beside the
+//         first file, whatever its name: qd_d3plot, run.d3plot), 4- or 8-byte words in either
+//         byte order, told apart by which reading gives a plausible control block. Shells (4
+//         nodes + part; a repeated 4th node is a triangle) are faces; solids and thick shells
+//         give their outer faces; beams are ignored with a warning. Ids come from the NARBS
+//         section (node, element and part user numbers). Opening indexes where every state
+//         starts (a state may run on into the next file; LS-DYNA's zero padding is skipped);
+//         read_step() reads only that state's coordinates (IU; the geometry when IU = 0).
+//         Fields: "temperature" (IT), "|V|" (IV). SPH, airbags, CFD, rigid-road and rigid-body
+//         sections and higher-order solids are refused with a clear error.
+//   Exodus II  read through netCDF (classic, 64-bit offset, netCDF-4/HDF5): coordx/y/z or
+//         coord; connect<b> by elem_type: SHELL*, QUAD*, TRI* are faces; HEX, TETRA, WEDGE,
+//         PYRAMID (and their higher-order forms, by corners) give the outer faces of the solid
+//         blocks — faces used by exactly one element, outward; BEAM, BAR and others are ignored
+//         with a warning. Part ids from eb_prop1, ids from node_num_map / elem_num_map, times
+//         from time_whole. Nodal DISPL_X/Y/Z (or DISP_X…) displace the coordinates; the other
+//         nodal variables are fields. Classic files are checked against the sizes their header
+//         declares (netCDF would read a cut file's missing bytes as zeros).
+//   Both: nodes no face uses are dropped (vertex i is the i-th used node, node_ids keeps the
+//   original numbers); a file with no time step gives its mesh as one step at time 0.
 //
 // An animation is a sequence of per-step files over one face list (frame_000.obj,
 // frame_001.obj, …). open_animation() reads the first file's faces and streams the positions

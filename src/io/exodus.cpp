@@ -1,10 +1,637 @@
-// Exodus II reader.
+// Exodus II reader, through the netCDF C library (classic, 64-bit offset and netCDF-4/HDF5).
+//
+// Exodus II is netCDF with conventions (Sandia's "EXODUS II: A Finite Element Data Model"):
+//   dims  num_nodes, num_dim, num_elem, num_el_blk, num_el_in_blk<b>, num_nod_per_el<b>,
+//         time_step (unlimited), num_nod_var
+//   vars  coordx coordy [coordz] (or coord[num_dim][num_nodes]); connect<b> with the attribute
+//         elem_type; eb_prop1 (block ids); node_num_map, elem_num_map (user numbers);
+//         time_whole; name_nod_var; vals_nod_var<i>[time_step][num_nodes] (or one vals_nod_var
+//         [time_step][num_nod_var][num_nodes] in old files)
+// Shell and 2-D blocks (SHELL*, QUAD*, TRI*) become faces; solid blocks (HEX, TETRA, WEDGE,
+// PYRAMID) give their outer faces; beams, bars and others are ignored with a warning. Nodal
+// variables named DISPL_X/Y/Z (or DISP_X, DISPLX, DISPLACEMENT_X, …) move the nodes: positions
+// are coordinates + displacement. The other nodal variables are scalar fields.
+#include <netcdf.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <optional>
+
+#include "file_bytes.h"
 #include "formats.h"
+#include "solid_surface.h"
 
 namespace dynpm::io {
+namespace {
 
-Result<AnimationStream> open_exodus(const std::string& path, const ReadOptions& /*options*/) {
-  return Status::error(path + ": reading Exodus II files is not implemented yet");
+std::string upper(std::string s) {
+  for (char& ch : s) ch = static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
+  return s;
+}
+
+std::string trimmed(std::string s) {
+  while (!s.empty() && (s.back() == '\0' || s.back() == ' ')) s.pop_back();
+  const size_t nul = s.find('\0');
+  if (nul != std::string::npos) s.resize(nul);
+  return s;
+}
+
+// An open netCDF file; closed when the last owner lets go. netCDF keeps its own state per id,
+// so every call names the file and the variable on failure.
+class NcFile {
+ public:
+  NcFile(std::string path, int id, uint64_t file_size, bool compressed)
+      : path_(std::move(path)), id_(id), file_size_(file_size), compressed_(compressed) {}
+  ~NcFile() { nc_close(id_); }
+  NcFile(const NcFile&) = delete;
+  NcFile& operator=(const NcFile&) = delete;
+
+  const std::string& path() const { return path_; }
+  int id() const { return id_; }
+
+  Status error(const std::string& what, int code) const {
+    return Status::error(path_ + ": " + what + ": " + nc_strerror(code));
+  }
+  std::optional<size_t> dim(const std::string& name) const {
+    int d;
+    size_t len;
+    if (nc_inq_dimid(id_, name.c_str(), &d) != NC_NOERR) return std::nullopt;
+    if (nc_inq_dimlen(id_, d, &len) != NC_NOERR) return std::nullopt;
+    return len;
+  }
+  std::optional<int> var(const std::string& name) const {
+    int v;
+    if (nc_inq_varid(id_, name.c_str(), &v) != NC_NOERR) return std::nullopt;
+    return v;
+  }
+  // The lengths of a variable's dimensions.
+  Result<std::vector<size_t>> shape(int var, const std::string& name) const {
+    int ndims = 0;
+    if (int rc = nc_inq_varndims(id_, var, &ndims); rc != NC_NOERR) return error(name, rc);
+    std::vector<int> dims(static_cast<size_t>(std::max(ndims, 0)));
+    if (int rc = nc_inq_vardimid(id_, var, dims.data()); rc != NC_NOERR) return error(name, rc);
+    std::vector<size_t> lengths(dims.size());
+    for (size_t i = 0; i < dims.size(); ++i)
+      if (int rc = nc_inq_dimlen(id_, dims[i], &lengths[i]); rc != NC_NOERR) return error(name, rc);
+    return lengths;
+  }
+  // Refuses to read `count` values of a variable when they could not be in a file this size:
+  // uncompressed formats store every value; deflate, netCDF-4's usual filter, shrinks data at
+  // most about 1032:1.
+  Status check_count(int var, const std::string& name, size_t count) const {
+    nc_type type;
+    size_t type_size = 8;
+    if (nc_inq_vartype(id_, var, &type) == NC_NOERR) nc_inq_type(id_, type, nullptr, &type_size);
+    const double stored = double(count) * double(type_size);
+    const double limit = compressed_ ? double(file_size_) * 1100.0 + 65536.0 : double(file_size_);
+    if (stored > limit)
+      return Status::error(path_ + ": " + name + ": " + std::to_string(count) +
+                           " values cannot be stored in a file of " + std::to_string(file_size_) +
+                           " bytes (a corrupt header?)");
+    return {};
+  }
+  Result<std::vector<double>> doubles(int var, const std::string& name,
+                                      std::span<const size_t> start,
+                                      std::span<const size_t> count) const {
+    size_t total = 1;
+    for (size_t c : count) total *= c;
+    DYNPM_RETURN_IF_ERROR(check_count(var, name, total));
+    std::vector<double> values(total);
+    if (total == 0) return values;
+    if (int rc = nc_get_vara_double(id_, var, start.data(), count.data(), values.data());
+        rc != NC_NOERR)
+      return error(name, rc);
+    return values;
+  }
+  // The whole variable.
+  Result<std::vector<double>> doubles(int var, const std::string& name) const {
+    auto dims = shape(var, name);
+    if (!dims) return dims.status();
+    std::vector<size_t> start(dims->size(), 0);
+    return doubles(var, name, start, *dims);
+  }
+  Result<std::vector<long long>> integers(int var, const std::string& name) const {
+    auto dims = shape(var, name);
+    if (!dims) return dims.status();
+    size_t total = 1;
+    for (size_t c : *dims) total *= c;
+    DYNPM_RETURN_IF_ERROR(check_count(var, name, total));
+    std::vector<long long> values(total);
+    if (total == 0) return values;
+    if (int rc = nc_get_var_longlong(id_, var, values.data()); rc != NC_NOERR)
+      return error(name, rc);
+    return values;
+  }
+  std::string text_attribute(int var, const char* attribute) const {
+    size_t len = 0;
+    if (nc_inq_attlen(id_, var, attribute, &len) != NC_NOERR || len > 4096) return "";
+    std::string s(len, '\0');
+    if (nc_get_att_text(id_, var, attribute, s.data()) != NC_NOERR) return "";
+    return trimmed(s);
+  }
+
+ private:
+  std::string path_;
+  int id_;
+  uint64_t file_size_;
+  bool compressed_;
+};
+
+// netCDF's classic formats (CDF-1, CDF-2 "64-bit offset", CDF-5) read a file cut short as if
+// the missing bytes were zeros, so the reader checks the file holds every byte the header
+// describes. The header layout is netCDF's "classic format specification"; this walks it to
+// find where the last variable's data ends. nullopt: `bytes` is too short to hold the header.
+class ClassicHeader {
+ public:
+  explicit ClassicHeader(std::string_view bytes) : b_(bytes) {}
+
+  std::optional<uint64_t> data_end() {
+    if (b_.size() < 4 || b_.substr(0, 3) != "CDF") return std::nullopt;
+    version_ = b_[3];
+    pos_ = 4;
+    const uint64_t numrecs = count();
+    // Dimensions: their lengths, 0 for the record (unlimited) dimension.
+    std::vector<uint64_t> dim_lengths;
+    uint64_t tag = u32(), n = count();
+    if (tag == 0x0A)
+      for (uint64_t i = 0; i < n && ok_; ++i) {
+        skip_name();
+        dim_lengths.push_back(count());
+      }
+    skip_attributes();
+    uint64_t end = 0, record_size = 0;
+    struct RecordVar {
+      uint64_t begin, size;
+    };
+    std::vector<RecordVar> record_vars;
+    tag = u32(), n = count();
+    if (tag == 0x0B)
+      for (uint64_t i = 0; i < n && ok_; ++i) {
+        skip_name();
+        const uint64_t rank = count();
+        bool record = false;
+        uint64_t elements = 1;
+        for (uint64_t d = 0; d < rank && ok_; ++d) {
+          const uint64_t id = count();
+          if (id >= dim_lengths.size()) return fail();
+          if (d == 0 && dim_lengths[id] == 0)
+            record = true;
+          else
+            elements = std::min<uint64_t>(elements * std::max<uint64_t>(dim_lengths[id], 0),
+                                          uint64_t{1} << 50);
+        }
+        skip_attributes();
+        const uint64_t type_size = size_of(u32());
+        count();  // vsize: recomputed below, the header's may be clipped to 32 bits
+        const uint64_t begin = version_ == 1 ? u32() : u64();
+        const uint64_t size = (elements * type_size + 3) / 4 * 4;
+        if (record) {
+          record_vars.push_back({begin, size});
+          record_size += size;
+        } else {
+          end = std::max(end, begin + size);
+        }
+      }
+    if (!ok_) return std::nullopt;
+    for (const auto& r : record_vars)
+      if (numrecs > 0 && numrecs != 0xffffffffu)
+        end = std::max(end, r.begin + (numrecs - 1) * record_size + r.size);
+    return end;
+  }
+  // True if parsing stopped because the bytes ran out (rather than a malformed header).
+  bool needs_more() const { return !ok_ && pos_ > b_.size(); }
+
+ private:
+  std::optional<uint64_t> fail() {
+    ok_ = false;
+    return std::nullopt;
+  }
+  uint64_t u32() {
+    if (pos_ + 4 > b_.size()) return ok_ = false, pos_ = b_.size() + 1, 0;
+    uint64_t v = 0;
+    for (int i = 0; i < 4; ++i) v = (v << 8) | static_cast<unsigned char>(b_[pos_ + i]);
+    pos_ += 4;
+    return v;
+  }
+  uint64_t u64() {
+    const uint64_t high = u32();
+    return (high << 32) | u32();
+  }
+  uint64_t count() { return version_ == 5 ? u64() : u32(); }
+  void skip(uint64_t bytes) {
+    if (bytes > b_.size()) bytes = b_.size() + 1;
+    pos_ += (bytes + 3) / 4 * 4;
+    if (pos_ > b_.size()) ok_ = false;
+  }
+  void skip_name() { skip(count()); }
+  void skip_attributes() {
+    const uint64_t tag = u32(), n = count();
+    if (tag != 0x0C) return;
+    for (uint64_t i = 0; i < n && ok_; ++i) {
+      skip_name();
+      const uint64_t type_size = size_of(u32());
+      const uint64_t values = count();
+      skip(std::min<uint64_t>(values, uint64_t{1} << 50) * type_size);
+    }
+  }
+  static uint64_t size_of(uint64_t type) {
+    switch (type) {
+      case NC_BYTE:
+      case NC_CHAR:
+      case NC_UBYTE: return 1;
+      case NC_SHORT:
+      case NC_USHORT: return 2;
+      case NC_DOUBLE:
+      case NC_INT64:
+      case NC_UINT64: return 8;
+      default: return 4;
+    }
+  }
+
+  std::string_view b_;
+  uint64_t pos_ = 0;
+  char version_ = 1;
+  bool ok_ = true;
+};
+
+// Checks a classic-format file is as long as its header says.
+Status check_classic_size(const std::string& path, uint64_t file_size) {
+  std::string head;
+  for (uint64_t n = uint64_t{1} << 16;; n *= 4) {
+    auto bytes = read_file_head(path, static_cast<size_t>(std::min(n, file_size)));
+    if (!bytes) return bytes.status();
+    ClassicHeader header(*bytes);
+    const auto end = header.data_end();
+    if (end) {
+      if (*end > file_size)
+        return Status::error(path + ": byte " + std::to_string(file_size) +
+                             ": the file ends before its data does (the header describes " +
+                             std::to_string(*end) + " bytes): cut short?");
+      return {};
+    }
+    if (!header.needs_more() || bytes->size() >= file_size)
+      return Status::error(path + ": byte " + std::to_string(bytes->size()) +
+                           ": the netCDF header is cut short or malformed");
+  }
+}
+
+// Where a nodal variable's values for one step live.
+struct NodalVariable {
+  std::string name;
+  int var = -1;
+  std::string var_name;
+  bool combined = false;  // vals_nod_var[time][index][node]
+  size_t index = 0;
+};
+
+class ExodusSource final : public FrameSource {
+ public:
+  ExodusSource(std::shared_ptr<const NcFile> file, size_t node_count, std::vector<uint32_t> kept,
+               std::vector<float> coordinates, std::vector<double> times,
+               std::vector<NodalVariable> displacement, std::vector<NodalVariable> fields)
+      : file_(std::move(file)),
+        node_count_(node_count),
+        kept_(std::move(kept)),
+        coordinates_(std::move(coordinates)),
+        times_(std::move(times)),
+        displacement_(std::move(displacement)),
+        fields_(std::move(fields)) {}
+
+  uint32_t vertex_count() const override { return static_cast<uint32_t>(coordinates_.size() / 3); }
+  size_t step_count() const override { return std::max<size_t>(times_.size(), 1); }
+  double step_time(size_t t) const override { return times_.empty() ? 0.0 : times_[t]; }
+
+  Status read_step(size_t t, std::span<float> out) const override {
+    assert(t < step_count() && out.size() == coordinates_.size());
+    std::copy(coordinates_.begin(), coordinates_.end(), out.begin());
+    if (times_.empty()) return {};
+    for (size_t axis = 0; axis < displacement_.size(); ++axis) {
+      auto values = read_nodal(displacement_[axis], t);
+      if (!values) return values.status();
+      for (size_t v = 0; v < out.size() / 3; ++v)
+        out[3 * v + axis] += static_cast<float>((*values)[kept_.empty() ? v : kept_[v]]);
+    }
+    return {};
+  }
+
+  std::vector<std::string> field_names() const override {
+    std::vector<std::string> names;
+    for (const auto& f : fields_) names.push_back(f.name);
+    return names;
+  }
+  Status read_field(size_t field, size_t t, std::span<float> out) const override {
+    assert(field < fields_.size() && out.size() == vertex_count());
+    if (times_.empty()) {
+      std::fill(out.begin(), out.end(), 0.0f);
+      return {};
+    }
+    auto values = read_nodal(fields_[field], t);
+    if (!values) return values.status();
+    for (size_t v = 0; v < out.size(); ++v)
+      out[v] = static_cast<float>((*values)[kept_.empty() ? v : kept_[v]]);
+    return {};
+  }
+
+ private:
+  Result<std::vector<double>> read_nodal(const NodalVariable& nodal, size_t t) const {
+    if (nodal.combined) {
+      const size_t start[3] = {t, nodal.index, 0}, count[3] = {1, 1, node_count_};
+      return file_->doubles(nodal.var, nodal.var_name + " (" + nodal.name + ")", start, count);
+    }
+    const size_t start[2] = {t, 0}, count[2] = {1, node_count_};
+    return file_->doubles(nodal.var, nodal.var_name + " (" + nodal.name + ")", start, count);
+  }
+
+  std::shared_ptr<const NcFile> file_;
+  size_t node_count_;
+  std::vector<uint32_t> kept_;
+  std::vector<float> coordinates_;
+  std::vector<double> times_;
+  std::vector<NodalVariable> displacement_;
+  std::vector<NodalVariable> fields_;
+};
+
+// The displacement component (0, 1, 2) a nodal variable name stands for, if it is one:
+// DISPL_X, DISP_X, DISPLX, DISPX, DISPLACEMENT_X, displacement_x, … .
+std::optional<size_t> displacement_axis(const std::string& name) {
+  const std::string u = upper(name);
+  if (!u.starts_with("DISP") || u.size() < 5) return std::nullopt;
+  std::string stem = u.substr(0, u.size() - 1);
+  while (!stem.empty() && (stem.back() == '_' || stem.back() == '-')) stem.pop_back();
+  if (stem != "DISP" && stem != "DISPL" && stem != "DISPLACEMENT") return std::nullopt;
+  const char axis = u.back();
+  if (axis < 'X' || axis > 'Z') return std::nullopt;
+  return static_cast<size_t>(axis - 'X');
+}
+
+enum class BlockKind { kFace, kSolid, kIgnored };
+
+struct BlockType {
+  BlockKind kind = BlockKind::kIgnored;
+  int corners = 0;  // face: 3 or 4
+  SolidKind solid = SolidKind::kHex;
+};
+
+BlockType block_type(const std::string& elem_type, size_t nodes_per_element) {
+  const std::string t = upper(elem_type);
+  auto face = [&](int corners) {
+    return nodes_per_element >= size_t(corners) ? BlockType{BlockKind::kFace, corners}
+                                                : BlockType{};
+  };
+  auto solid = [&](SolidKind kind) {
+    return nodes_per_element >= size_t(corner_count(kind)) ? BlockType{BlockKind::kSolid, 0, kind}
+                                                           : BlockType{};
+  };
+  if (t.starts_with("TRI")) return face(3);  // TRI, TRI3, TRIANGLE, TRISHELL, TRI6, …
+  if (t.starts_with("QUAD")) return face(4);
+  if (t.starts_with("SHELL")) return nodes_per_element == 3 ? face(3) : face(4);
+  if (t.starts_with("HEX")) return solid(SolidKind::kHex);
+  if (t.starts_with("TET")) return solid(SolidKind::kTet);
+  if (t.starts_with("WEDGE")) return solid(SolidKind::kWedge);
+  if (t.starts_with("PYRA")) return solid(SolidKind::kPyramid);
+  return {};
+}
+
+}  // namespace
+
+Result<AnimationStream> open_exodus(const std::string& path, const ReadOptions& options) {
+  std::error_code ec;
+  const uint64_t file_size = std::filesystem::file_size(path, ec);
+  if (ec) return Status::error(path + ": " + ec.message());
+  int id = -1;
+  if (int rc = nc_open(path.c_str(), NC_NOWRITE, &id); rc != NC_NOERR)
+    return Status::error(path + ": not a readable netCDF (Exodus II) file: " + nc_strerror(rc));
+  int format = 0, mode = 0;
+  nc_inq_format_extended(id, &format, &mode);
+  auto file = std::make_shared<const NcFile>(path, id, file_size, format != NC_FORMATX_NC3);
+  if (format == NC_FORMATX_NC3) DYNPM_RETURN_IF_ERROR(check_classic_size(path, file_size));
+  const NcFile& nc = *file;
+
+  // Nodes.
+  const auto node_count = nc.dim("num_nodes");
+  const auto dims = nc.dim("num_dim");
+  if (!node_count || !dims)
+    return Status::error(path + ": no num_nodes or num_dim dimension: not an Exodus II file");
+  if (*dims < 1 || *dims > 3)
+    return Status::error(path + ": num_dim is " + std::to_string(*dims) + " (expected 2 or 3)");
+  if (*node_count >= kNoVertex) return Status::error(path + ": too many nodes");
+  const size_t n = *node_count;
+  std::vector<std::vector<double>> axes;
+  if (auto coord = nc.var("coord")) {
+    auto all = nc.doubles(*coord, "coord");
+    if (!all) return all.status();
+    if (all->size() != *dims * n)
+      return Status::error(path + ": coord: " + std::to_string(all->size()) +
+                           " values, expected num_dim × num_nodes");
+    for (size_t a = 0; a < *dims; ++a)
+      axes.emplace_back(all->begin() + a * n, all->begin() + (a + 1) * n);
+  } else {
+    for (size_t a = 0; a < *dims; ++a) {
+      const std::string name = std::string("coord") + "xyz"[a];
+      auto var = nc.var(name);
+      if (!var) return Status::error(path + ": no variable " + name + " (node coordinates)");
+      auto values = nc.doubles(*var, name);
+      if (!values) return values.status();
+      if (values->size() != n)
+        return Status::error(path + ": " + name + ": " + std::to_string(values->size()) +
+                             " values for " + std::to_string(n) + " nodes");
+      axes.push_back(std::move(values).value());
+    }
+  }
+
+  // User numbers.
+  Topology topology = Topology::with_vertices(static_cast<uint32_t>(n));
+  if (auto map = nc.var("node_num_map")) {
+    auto ids = nc.integers(*map, "node_num_map");
+    if (!ids) return ids.status();
+    if (ids->size() == n) topology.node_ids.assign(ids->begin(), ids->end());
+  }
+  std::vector<long long> element_ids;
+  if (auto map = nc.var("elem_num_map")) {
+    auto ids = nc.integers(*map, "elem_num_map");
+    if (!ids) return ids.status();
+    element_ids = std::move(ids).value();
+  }
+  std::vector<long long> block_ids;
+  if (auto prop = nc.var("eb_prop1")) {
+    auto ids = nc.integers(*prop, "eb_prop1");
+    if (!ids) return ids.status();
+    block_ids = std::move(ids).value();
+  }
+
+  // Element blocks.
+  const size_t block_count = nc.dim("num_el_blk").value_or(0);
+  SolidSurface solids;
+  size_t element = 0, ignored = 0, degenerate = 0;
+  std::vector<std::string> ignored_types;
+  for (size_t b = 0; b < block_count; ++b) {
+    const std::string suffix = std::to_string(b + 1);
+    const size_t in_block = nc.dim("num_el_in_blk" + suffix).value_or(0);
+    const std::string var_name = "connect" + suffix;
+    const auto var = nc.var(var_name);
+    if (in_block == 0 || !var) continue;
+    auto shape = nc.shape(*var, var_name);
+    if (!shape) return shape.status();
+    if (shape->size() != 2 || (*shape)[0] != in_block)
+      return Status::error(path + ": " + var_name + ": expected num_el_in_blk" + suffix +
+                           " × num_nod_per_el" + suffix + " node numbers");
+    const size_t per_element = (*shape)[1];
+    const std::string elem_type = nc.text_attribute(*var, "elem_type");
+    const BlockType type = block_type(elem_type, per_element);
+    const int32_t part =
+        b < block_ids.size() ? static_cast<int32_t>(block_ids[b]) : static_cast<int32_t>(b + 1);
+    if (type.kind == BlockKind::kIgnored) {
+      ignored += in_block;
+      if (std::find(ignored_types.begin(), ignored_types.end(), elem_type) == ignored_types.end())
+        ignored_types.push_back(elem_type.empty() ? "(no elem_type)" : elem_type);
+      element += in_block;
+      continue;
+    }
+    auto connect = nc.integers(*var, var_name);
+    if (!connect) return connect.status();
+    for (size_t e = 0; e < in_block; ++e, ++element) {
+      const long long* nodes = connect->data() + e * per_element;
+      const int corners = type.kind == BlockKind::kFace ? type.corners : corner_count(type.solid);
+      std::array<uint32_t, 8> v{};
+      for (int k = 0; k < corners; ++k) {
+        if (nodes[k] < 1 || static_cast<unsigned long long>(nodes[k]) > n)
+          return Status::error(path + ": " + var_name + ": element " + std::to_string(e + 1) +
+                               " names node " + std::to_string(nodes[k]) + ", but there are " +
+                               std::to_string(n) + " nodes");
+        v[size_t(k)] = static_cast<uint32_t>(nodes[k] - 1);
+      }
+      const int64_t user_id =
+          element < element_ids.size() ? element_ids[element] : static_cast<int64_t>(element + 1);
+      if (type.kind == BlockKind::kSolid) {
+        solids.add_cell(type.solid, std::span(v.data(), size_t(corners)), part, user_id);
+        continue;
+      }
+      Face face;
+      int distinct = 0;
+      for (int k = 0; k < corners; ++k)
+        if (std::find(face.v.begin(), face.v.begin() + distinct, v[size_t(k)]) ==
+            face.v.begin() + distinct)
+          face.v[size_t(distinct++)] = v[size_t(k)];
+      if (distinct < 3) {
+        ++degenerate;
+        continue;
+      }
+      topology.add_face(face, part, user_id);
+    }
+  }
+  const size_t outer = solids.append_outer_faces(topology);
+  if (options.warn) {
+    if (solids.cell_count() > 0)
+      options.warn(path + ": " + std::to_string(solids.cell_count()) +
+                   " solid elements given as their " + std::to_string(outer) + " outer faces");
+    if (ignored > 0) {
+      std::string types;
+      for (const auto& t : ignored_types) types += (types.empty() ? "" : ", ") + t;
+      options.warn(path + ": " + std::to_string(ignored) + " elements ignored (" + types +
+                   "): neither shells nor solids");
+    }
+    if (degenerate > 0)
+      options.warn(path + ": " + std::to_string(degenerate) +
+                   " faces with fewer than 3 distinct nodes skipped");
+  }
+  if (topology.faces.empty())
+    return Status::error(path + ": no shell faces and no solid elements (" +
+                         std::to_string(element) + " elements in " + std::to_string(block_count) +
+                         " blocks, none of them shells or solids)");
+  std::vector<uint32_t> kept = drop_unused_vertices(topology);
+  std::vector<float> coordinates(size_t{topology.vertex_count} * 3, 0.0f);
+  for (size_t v = 0; v < topology.vertex_count; ++v)
+    for (size_t a = 0; a < axes.size(); ++a)
+      coordinates[3 * v + a] = static_cast<float>(axes[a][kept.empty() ? v : kept[v]]);
+
+  // Time steps; a step whose time was never written (netCDF's fill value) gets its index.
+  std::vector<double> times;
+  const size_t steps = nc.dim("time_step").value_or(0);
+  if (steps > 0) {
+    auto var = nc.var("time_whole");
+    if (var) {
+      auto values = nc.doubles(*var, "time_whole");
+      if (!values) return values.status();
+      times = std::move(values).value();
+    }
+    times.resize(steps, NC_FILL_DOUBLE);
+    for (size_t t = 0; t < steps; ++t)
+      if (!std::isfinite(times[t]) || std::abs(times[t]) >= 0.99 * NC_FILL_FLOAT)
+        times[t] = static_cast<double>(t);
+  } else if (options.warn) {
+    options.warn(path + ": no time step; the mesh is given as one step at time 0");
+  }
+
+  // Nodal variables: displacements move the nodes, the rest are fields.
+  std::vector<NodalVariable> displacement(*dims), fields;
+  const size_t variable_count = nc.dim("num_nod_var").value_or(0);
+  if (variable_count > 0 && steps > 0) {
+    std::vector<std::string> names(variable_count);
+    if (auto var = nc.var("name_nod_var")) {
+      auto shape = nc.shape(*var, "name_nod_var");
+      if (!shape) return shape.status();
+      if (shape->size() == 2 && (*shape)[0] == variable_count && (*shape)[1] <= 4096) {
+        std::string text(variable_count * (*shape)[1], '\0');
+        if (int rc = nc_get_var_text(nc.id(), *var, text.data()); rc != NC_NOERR)
+          return nc.error("name_nod_var", rc);
+        for (size_t i = 0; i < variable_count; ++i)
+          names[i] = trimmed(text.substr(i * (*shape)[1], (*shape)[1]));
+      }
+    }
+    const auto combined = nc.var("vals_nod_var");
+    for (size_t i = 0; i < variable_count; ++i) {
+      NodalVariable nodal;
+      nodal.name = names[i].empty() ? "nodal variable " + std::to_string(i + 1) : names[i];
+      if (combined) {
+        nodal.var = *combined;
+        nodal.var_name = "vals_nod_var";
+        nodal.combined = true;
+        nodal.index = i;
+      } else {
+        nodal.var_name = "vals_nod_var" + std::to_string(i + 1);
+        const auto var = nc.var(nodal.var_name);
+        if (!var) continue;
+        nodal.var = *var;
+      }
+      auto shape = nc.shape(nodal.var, nodal.var_name);
+      if (!shape) return shape.status();
+      const bool fits =
+          nodal.combined ? shape->size() == 3 && (*shape)[1] == variable_count && (*shape)[2] == n
+                         : shape->size() == 2 && (*shape)[1] == n;
+      if (!fits) {
+        if (options.warn)
+          options.warn(path + ": " + nodal.var_name + " (" + nodal.name +
+                       "): not one value per node and step; skipped");
+        continue;
+      }
+      const auto axis = displacement_axis(nodal.name);
+      if (axis && *axis < *dims && displacement[*axis].var < 0)
+        displacement[*axis] = nodal;
+      else
+        fields.push_back(nodal);
+    }
+  }
+  const bool displaced = std::all_of(displacement.begin(), displacement.end(),
+                                     [](const NodalVariable& d) { return d.var >= 0; });
+  if (!displaced) {
+    // A partial set of components is a field like any other.
+    for (auto& d : displacement)
+      if (d.var >= 0) fields.push_back(d);
+    displacement.clear();
+    if (steps > 1 && options.warn)
+      options.warn(path +
+                   ": no nodal displacement (DISPL_X/Y/Z): every step has the initial "
+                   "coordinates");
+  }
+
+  AnimationStream stream;
+  stream.topology = std::move(topology);
+  stream.frames =
+      std::make_unique<ExodusSource>(std::move(file), n, std::move(kept), std::move(coordinates),
+                                     std::move(times), std::move(displacement), std::move(fields));
+  return stream;
 }
 
 }  // namespace dynpm::io

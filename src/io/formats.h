@@ -12,9 +12,16 @@
 
 namespace dynpm::io {
 
+// A per-vertex scalar of one file (VTK point data): vertex_count values.
+struct PointField {
+  std::string name;
+  std::vector<float> values;
+};
+
 struct ParsedMesh {
   Topology topology;
   std::vector<float> positions;  // 3 · vertex_count
+  std::vector<PointField> point_fields;
   std::vector<uint32_t>
       face_places;  // per face, the line (text) or byte offset (binary) it came from
   bool places_are_lines = true;
@@ -25,6 +32,25 @@ Result<ParsedMesh> parse_obj(std::string_view text, const std::string& path,
                              const ReadOptions& options);
 Result<ParsedMesh> parse_ply(std::string_view bytes, const std::string& path,
                              const ReadOptions& options);
+// Legacy VTK (ascii or big-endian binary, file versions 2 to 5.1): POLYDATA or UNSTRUCTURED_GRID.
+Result<ParsedMesh> parse_vtk(std::string_view bytes, const std::string& path,
+                             const ReadOptions& options);
+// VTK XML UnstructuredGrid (.vtu): ascii, base64 and appended DataArrays, zlib-compressed or not.
+Result<ParsedMesh> parse_vtu(std::string_view bytes, const std::string& path,
+                             const ReadOptions& options);
+
+// The data sets of a ParaView collection (.pvd): files resolved against the .pvd's folder, in
+// ascending time (the file order where times tie).
+struct PvdStep {
+  std::string path;
+  double time = 0;
+};
+Result<std::vector<PvdStep>> parse_pvd(std::string_view bytes, const std::string& path);
+
+// open_animation() with the step times given (one per path) instead of read from the files.
+Result<AnimationStream> open_file_sequence(std::span<const std::string> paths,
+                                           std::span<const double> times,
+                                           const ReadOptions& options);
 
 std::string write_obj(const Topology& topology, std::span<const float> positions,
                       const WriteOptions& options);

@@ -6,6 +6,7 @@
 #include <charconv>
 #include <filesystem>
 
+#include "d3plot.h"
 #include "file_bytes.h"
 #include "formats.h"
 
@@ -22,12 +23,16 @@ std::string lowercase_extension(const std::string& path) {
 Result<io::ParsedMesh> parse_mesh_file(const std::string& path, const ReadOptions& options) {
   auto format = detect_format(path);
   if (!format) return format.status();
-  if (*format == FileFormat::kVtk)
-    return Status::error(path + ": reading VTK files is not supported yet (write-only for now)");
+  if (*format == FileFormat::kFrd || *format == FileFormat::kExodus ||
+      *format == FileFormat::kD3plot || *format == FileFormat::kPvd)
+    return Status::error(path + ": a " + std::string(to_string(*format)) +
+                         " file holds every time step, not one step of a sequence; give it alone");
   auto bytes = io::read_file(path);
   if (!bytes) return bytes.status();
   if (bytes->empty()) return Status::error(path + ": the file is empty");
   if (*format == FileFormat::kPly) return io::parse_ply(*bytes, path, options);
+  if (*format == FileFormat::kVtk) return io::parse_vtk(*bytes, path, options);
+  if (*format == FileFormat::kVtu) return io::parse_vtu(*bytes, path, options);
   return io::parse_obj(*bytes, path, options);
 }
 
@@ -47,11 +52,12 @@ class FileSequence final : public FrameSource {
  public:
   FileSequence(std::vector<std::string> paths, std::vector<double> times,
                std::shared_ptr<const Topology> topology, std::vector<float> first_step,
-               ReadOptions options)
+               std::vector<io::PointField> first_fields, ReadOptions options)
       : paths_(std::move(paths)),
         times_(std::move(times)),
         topology_(std::move(topology)),
         first_step_(std::move(first_step)),
+        first_fields_(std::move(first_fields)),
         options_(std::move(options)) {}
 
   uint32_t vertex_count() const override { return topology_->vertex_count; }
@@ -69,6 +75,32 @@ class FileSequence final : public FrameSource {
     DYNPM_RETURN_IF_ERROR(check_same_faces(t, *mesh));
     std::copy(mesh->positions.begin(), mesh->positions.end(), out.begin());
     return {};
+  }
+
+  // The point fields of the first file (VTK point data), looked up by name in the others.
+  std::vector<std::string> field_names() const override {
+    std::vector<std::string> names;
+    for (const io::PointField& f : first_fields_) names.push_back(f.name);
+    return names;
+  }
+  Status read_field(size_t field, size_t t, std::span<float> out) const override {
+    assert(field < first_fields_.size() && t < paths_.size() && out.size() == vertex_count());
+    const std::string& name = first_fields_[field].name;
+    if (t == 0) {
+      std::copy(first_fields_[field].values.begin(), first_fields_[field].values.end(),
+                out.begin());
+      return {};
+    }
+    auto mesh = parse_mesh_file(paths_[t], options_);
+    if (!mesh) return mesh.status();
+    DYNPM_RETURN_IF_ERROR(check_same_faces(t, *mesh));
+    for (const io::PointField& f : mesh->point_fields)
+      if (f.name == name) {
+        std::copy(f.values.begin(), f.values.end(), out.begin());
+        return {};
+      }
+    return Status::error(paths_[t] + ": no point field '" + name + "' (" + paths_[0] +
+                         " has it; every time step must have the same fields)");
   }
 
  private:
@@ -101,6 +133,7 @@ class FileSequence final : public FrameSource {
   std::vector<double> times_;
   std::shared_ptr<const Topology> topology_;
   std::vector<float> first_step_;
+  std::vector<io::PointField> first_fields_;
   ReadOptions options_;
 };
 
@@ -109,6 +142,11 @@ std::optional<double> peek_time(const std::string& path) {
   auto head = io::read_file_head(path, 512);
   if (!head) return std::nullopt;
   std::string_view text = *head;
+  if (text.starts_with("# vtk DataFile")) {  // the title (second line) may say "time <t>"
+    const size_t a = text.find('\n');
+    if (a == std::string_view::npos) return std::nullopt;
+    return io::time_from_comment(text.substr(a + 1, text.find('\n', a + 1) - a - 1));
+  }
   if (text.substr(0, 3) == "ply") {
     for (size_t at = text.find("\ncomment"); at != std::string_view::npos;
          at = text.find("\ncomment", at + 1)) {
@@ -175,8 +213,19 @@ Result<FileFormat> detect_format(const std::string& path) {
     if (more->find("\"Collection\"") != std::string::npos) return FileFormat::kPvd;
     if (more->find("\"UnstructuredGrid\"") != std::string::npos) return FileFormat::kVtu;
   }
+  if (text.starts_with("\x1f\x8b"))
+    return Status::error(path + ": is gzip-compressed; gunzip it first");
   const FileFormat by_name = format_from_extension(path);
   if (by_name != FileFormat::kUnknown) return by_name;
+  // LS-DYNA names its results freely (d3plot, qd_d3plot, run7.d3plot): a plausible control
+  // block, or "d3plot" in the name for a family's continuation files.
+  {
+    auto d3plot_head = io::read_file_head(path, io::kD3plotHeadBytes);
+    if (!d3plot_head) return d3plot_head.status();
+    if (io::looks_like_d3plot(*d3plot_head)) return FileFormat::kD3plot;
+  }
+  if (std::filesystem::path(path).filename().string().find("d3plot") != std::string::npos)
+    return FileFormat::kD3plot;
   return Status::error(path +
                        ": cannot tell the file format (expected OBJ, PLY, VTK, VTU, PVD, "
                        "CalculiX .frd, Exodus II or an LS-DYNA d3plot)");
@@ -208,19 +257,28 @@ Result<Animation> read_mesh(const std::string& path, const ReadOptions& options)
   animation.topology = std::move(mesh->topology);
   animation.frames.set_vertex_count(animation.topology.vertex_count);
   animation.frames.add_step(std::move(mesh->positions), mesh->time.value_or(0.0));
+  for (io::PointField& f : mesh->point_fields)
+    animation.fields.push_back(ScalarField{std::move(f.name), {std::move(f.values)}});
   return animation;
 }
 
-Result<AnimationStream> open_animation(std::span<const std::string> paths,
-                                       const ReadOptions& options) {
+namespace io {
+
+Result<AnimationStream> open_file_sequence(std::span<const std::string> paths,
+                                           std::span<const double> given_times,
+                                           const ReadOptions& options) {
   if (paths.empty()) return Status::error("no input file given");
+  assert(given_times.empty() || given_times.size() == paths.size());
   auto first = parse_mesh_file(paths[0], options);
   if (!first) return first.status();
 
-  std::vector<double> times(paths.size());
-  times[0] = first->time.value_or(0.0);
-  for (size_t t = 1; t < paths.size(); ++t)
-    times[t] = peek_time(paths[t]).value_or(static_cast<double>(t));
+  std::vector<double> times(given_times.begin(), given_times.end());
+  if (times.empty()) {
+    times.resize(paths.size());
+    times[0] = first->time.value_or(0.0);
+    for (size_t t = 1; t < paths.size(); ++t)
+      times[t] = peek_time(paths[t]).value_or(static_cast<double>(t));
+  }
 
   AnimationStream stream;
   auto topology = std::make_shared<const Topology>(first->topology);
@@ -230,8 +288,15 @@ Result<AnimationStream> open_animation(std::span<const std::string> paths,
   quiet.warn = nullptr;
   stream.frames = std::make_unique<FileSequence>(
       std::vector<std::string>(paths.begin(), paths.end()), std::move(times), std::move(topology),
-      std::move(first->positions), std::move(quiet));
+      std::move(first->positions), std::move(first->point_fields), std::move(quiet));
   return stream;
+}
+
+}  // namespace io
+
+Result<AnimationStream> open_animation(std::span<const std::string> paths,
+                                       const ReadOptions& options) {
+  return io::open_file_sequence(paths, {}, options);
 }
 
 Result<Animation> read_animation(std::span<const std::string> paths, const ReadOptions& options) {

@@ -1,4 +1,5 @@
-#include "file_bytes.h"
+// Whole-file reads with clear errors, and atomic writes (temporary name, fsync, rename).
+#include "dynpm/core.h"
 
 #include <unistd.h>
 
@@ -9,7 +10,7 @@
 #include <filesystem>
 #include <memory>
 
-namespace dynpm::io {
+namespace dynpm {
 namespace {
 
 struct FileCloser {
@@ -77,4 +78,4 @@ Status write_file_atomically(const std::string& path, std::string_view bytes) {
   return {};
 }
 
-}  // namespace dynpm::io
+}  // namespace dynpm

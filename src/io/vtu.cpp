@@ -1,0 +1,709 @@
+// VTK XML files: UnstructuredGrid (.vtu) and ParaView collections (.pvd).
+//
+// A .vtu's DataArrays may be ascii, inline base64 ("binary") or in the AppendedData section
+// (raw or base64); binary data start with a UInt32 or UInt64 header (header_type) holding the
+// byte count, or, with compressor="vtkZLibDataCompressor", the block table of zlib-compressed
+// blocks. Byte order per byte_order. Only the first Piece is read (VTK writers use one).
+// The XML is read by a small scanner that knows tags and attributes, nothing else.
+#include <algorithm>
+#include <bit>
+#include <cctype>
+#include <charconv>
+#include <cstring>
+#include <filesystem>
+
+#include "vtk_read.h"
+
+#if DYNPM_HAVE_ZLIB
+#include <zlib.h>
+#endif
+
+namespace dynpm::io {
+namespace {
+
+// ---------------------------------------------------------------------------------------------
+// XML tags
+
+struct Tag {
+  std::string_view name;
+  std::string_view attributes;
+  bool closing = false, empty = false;
+  size_t begin = 0, end = 0;  // the '<' and one past the '>'
+};
+
+class XmlScanner {
+ public:
+  explicit XmlScanner(std::string_view text) : text_(text) {}
+
+  // The next start, end or empty-element tag; comments, <?…?> and <!…> are skipped. false at the
+  // end of the text or on a tag that never closes (error() says so).
+  bool next(Tag& tag) {
+    while (true) {
+      const size_t open = text_.find('<', pos_);
+      if (open == std::string_view::npos) return false;
+      if (text_.compare(open, 4, "<!--") == 0) {
+        const size_t close = text_.find("-->", open + 4);
+        if (close == std::string_view::npos) return broken(open, "a comment never ends");
+        pos_ = close + 3;
+        continue;
+      }
+      if (text_.compare(open, 2, "<?") == 0 || text_.compare(open, 2, "<!") == 0) {
+        const size_t close = text_.find('>', open);
+        if (close == std::string_view::npos) return broken(open, "a tag never ends");
+        pos_ = close + 1;
+        continue;
+      }
+      // The '>' that ends the tag, outside quoted attribute values.
+      size_t i = open + 1;
+      char quote = 0;
+      for (; i < text_.size(); ++i) {
+        const char c = text_[i];
+        if (quote) {
+          if (c == quote) quote = 0;
+        } else if (c == '"' || c == '\'') {
+          quote = c;
+        } else if (c == '>') {
+          break;
+        }
+      }
+      if (i >= text_.size()) return broken(open, "a tag never ends");
+      std::string_view body = text_.substr(open + 1, i - open - 1);
+      tag = Tag();
+      tag.begin = open;
+      tag.end = i + 1;
+      if (!body.empty() && body.front() == '/') {
+        tag.closing = true;
+        body.remove_prefix(1);
+      }
+      if (!body.empty() && body.back() == '/') {
+        tag.empty = true;
+        body.remove_suffix(1);
+      }
+      size_t n = 0;
+      while (n < body.size() && !std::isspace(static_cast<unsigned char>(body[n]))) ++n;
+      tag.name = body.substr(0, n);
+      tag.attributes = body.substr(n);
+      pos_ = tag.end;
+      return true;
+    }
+  }
+
+  void seek(size_t pos) { pos_ = pos; }
+  const std::string& error() const { return error_; }
+  size_t error_at() const { return error_at_; }
+
+ private:
+  bool broken(size_t at, const char* cause) {
+    error_ = cause;
+    error_at_ = at;
+    return false;
+  }
+
+  std::string_view text_;
+  size_t pos_ = 0;
+  std::string error_;
+  size_t error_at_ = 0;
+};
+
+std::string unescape_xml(std::string_view s) {
+  std::string out;
+  for (size_t i = 0; i < s.size(); ++i) {
+    if (s[i] == '&') {
+      static const std::pair<std::string_view, char> kEntities[] = {
+          {"&lt;", '<'}, {"&gt;", '>'}, {"&amp;", '&'}, {"&quot;", '"'}, {"&apos;", '\''}};
+      bool done = false;
+      for (const auto& [entity, c] : kEntities)
+        if (s.compare(i, entity.size(), entity) == 0) {
+          out += c;
+          i += entity.size() - 1;
+          done = true;
+          break;
+        }
+      if (done) continue;
+    }
+    out += s[i];
+  }
+  return out;
+}
+
+// The value of attribute `key` in a tag's attribute text.
+std::optional<std::string> attribute(const Tag& tag, std::string_view key) {
+  std::string_view a = tag.attributes;
+  size_t i = 0;
+  while (i < a.size()) {
+    while (i < a.size() && std::isspace(static_cast<unsigned char>(a[i]))) ++i;
+    const size_t name_start = i;
+    while (i < a.size() && a[i] != '=' && !std::isspace(static_cast<unsigned char>(a[i]))) ++i;
+    const std::string_view name = a.substr(name_start, i - name_start);
+    while (i < a.size() && std::isspace(static_cast<unsigned char>(a[i]))) ++i;
+    if (i >= a.size() || a[i] != '=') {
+      if (name.empty()) break;
+      continue;  // an attribute without a value
+    }
+    ++i;
+    while (i < a.size() && std::isspace(static_cast<unsigned char>(a[i]))) ++i;
+    if (i >= a.size() || (a[i] != '"' && a[i] != '\'')) break;
+    const char quote = a[i++];
+    const size_t value_end = a.find(quote, i);
+    if (value_end == std::string_view::npos) break;
+    if (name == key) return unescape_xml(a.substr(i, value_end - i));
+    i = value_end + 1;
+  }
+  return std::nullopt;
+}
+
+// ---------------------------------------------------------------------------------------------
+// DataArray payloads
+
+enum class Type {
+  kInt8,
+  kUInt8,
+  kInt16,
+  kUInt16,
+  kInt32,
+  kUInt32,
+  kInt64,
+  kUInt64,
+  kFloat32,
+  kFloat64
+};
+
+std::optional<Type> xml_type(std::string_view name) {
+  if (name == "Int8" || name == "Char") return Type::kInt8;
+  if (name == "UInt8") return Type::kUInt8;
+  if (name == "Int16") return Type::kInt16;
+  if (name == "UInt16") return Type::kUInt16;
+  if (name == "Int32") return Type::kInt32;
+  if (name == "UInt32") return Type::kUInt32;
+  if (name == "Int64") return Type::kInt64;
+  if (name == "UInt64") return Type::kUInt64;
+  if (name == "Float32") return Type::kFloat32;
+  if (name == "Float64") return Type::kFloat64;
+  return std::nullopt;
+}
+
+size_t size_of(Type t) {
+  switch (t) {
+    case Type::kInt8:
+    case Type::kUInt8: return 1;
+    case Type::kInt16:
+    case Type::kUInt16: return 2;
+    case Type::kInt32:
+    case Type::kUInt32:
+    case Type::kFloat32: return 4;
+    default: return 8;
+  }
+}
+
+template <class T>
+double load(const unsigned char* p, bool swap) {
+  unsigned char b[sizeof(T)];
+  std::memcpy(b, p, sizeof(T));
+  if (swap) std::reverse(b, b + sizeof(T));
+  T v;
+  std::memcpy(&v, b, sizeof(T));
+  return static_cast<double>(v);
+}
+
+double load(Type t, const unsigned char* p, bool swap) {
+  switch (t) {
+    case Type::kInt8: return load<int8_t>(p, swap);
+    case Type::kUInt8: return load<uint8_t>(p, swap);
+    case Type::kInt16: return load<int16_t>(p, swap);
+    case Type::kUInt16: return load<uint16_t>(p, swap);
+    case Type::kInt32: return load<int32_t>(p, swap);
+    case Type::kUInt32: return load<uint32_t>(p, swap);
+    case Type::kInt64: return load<int64_t>(p, swap);
+    case Type::kUInt64: return load<uint64_t>(p, swap);
+    case Type::kFloat32: return load<float>(p, swap);
+    case Type::kFloat64: return load<double>(p, swap);
+  }
+  return 0;
+}
+
+int base64_value(char c) {
+  if (c >= 'A' && c <= 'Z') return c - 'A';
+  if (c >= 'a' && c <= 'z') return c - 'a' + 26;
+  if (c >= '0' && c <= '9') return c - '0' + 52;
+  if (c == '+') return 62;
+  if (c == '/') return 63;
+  return -1;
+}
+
+// Decodes base64 text, blanks ignored. VTK encodes a binary array's header and its data as two
+// base64 runs, each with its own '=' padding, so decoding goes on after padding.
+// Stops after `limit` output bytes. false on a character that is not base64.
+bool decode_base64(std::string_view text, std::string& out, size_t limit = SIZE_MAX) {
+  uint32_t bits = 0;
+  int have = 0;
+  for (char c : text) {
+    if (out.size() >= limit) return true;
+    if (std::isspace(static_cast<unsigned char>(c))) continue;
+    if (c == '=') {
+      bits = 0, have = 0;  // the end of one run
+      continue;
+    }
+    const int v = base64_value(c);
+    if (v < 0) return false;
+    bits = (bits << 6) | uint32_t(v);
+    have += 6;
+    if (have >= 8) {
+      have -= 8;
+      out += static_cast<char>((bits >> have) & 0xff);
+    }
+  }
+  return true;
+}
+
+// Characters of base64 text that encode n bytes (with padding).
+size_t base64_length(uint64_t n) { return size_t((n + 2) / 3 * 4); }
+
+struct FileInfo {
+  std::string path;
+  bool swap = false;          // byte_order differs from this machine's
+  size_t header_size = 4;     // UInt32 or UInt64
+  bool compressed = false;    // vtkZLibDataCompressor
+  std::string_view appended;  // the bytes after AppendedData's '_'
+  bool appended_base64 = false;
+  size_t appended_at = 0;  // file offset of appended[0]
+};
+
+struct ArrayRef {
+  std::string name;
+  Type type = Type::kFloat32;
+  size_t components = 1;
+  std::string format;        // ascii, binary, appended
+  uint64_t offset = 0;       // appended
+  std::string_view content;  // between the tags (ascii, binary)
+  size_t content_at = 0;     // file offset of the content
+};
+
+class Decoder {
+ public:
+  explicit Decoder(const FileInfo& file) : f_(file) {}
+
+  // The array's values, exactly `count` of them (tuples × components), as doubles.
+  Result<std::vector<double>> values(const ArrayRef& a, uint64_t count) {
+    const std::string where =
+        f_.path + ": byte " + std::to_string(a.content_at) + ": DataArray '" + a.name + "'";
+    std::vector<double> out;
+    if (a.format == "ascii") {
+      if (count > a.content.size() / 2 + 1)
+        return Status::error(where + ": " + std::to_string(count) +
+                             " values expected, more than the text can hold");
+      out.reserve(count);
+      const char* p = a.content.data();
+      const char* end = p + a.content.size();
+      while (true) {
+        while (p < end && std::isspace(static_cast<unsigned char>(*p))) ++p;
+        if (p == end) break;
+        if (*p == '+') ++p;
+        double v = 0;
+        auto [next, ec] = std::from_chars(p, end, v);
+        if (ec == std::errc::result_out_of_range)
+          v = 0;
+        else if (ec != std::errc() ||
+                 (next < end && !std::isspace(static_cast<unsigned char>(*next))))
+          return Status::error(where + ": value " + std::to_string(out.size() + 1) +
+                               " is not a number");
+        if (out.size() == count)
+          return Status::error(where + ": more than the " + std::to_string(count) +
+                               " values expected");
+        out.push_back(v);
+        p = next;
+      }
+      if (out.size() != count)
+        return Status::error(where + ": " + std::to_string(out.size()) + " values, expected " +
+                             std::to_string(count));
+      return out;
+    }
+    const size_t size = size_of(a.type);
+    if (count > (uint64_t(1) << 40) / size) return Status::error(where + ": too many values");
+    const uint64_t expected = count * size;
+    std::string bytes;
+    if (a.format == "binary") {
+      std::string decoded;
+      decoded.reserve(a.content.size() / 4 * 3 + 3);
+      if (!decode_base64(a.content, decoded)) return Status::error(where + ": not base64 text");
+      auto payload = unpack(decoded, expected, where);
+      if (!payload) return payload.status();
+      bytes = std::move(payload).value();
+    } else if (a.format == "appended") {
+      auto payload = appended(a.offset, expected, where);
+      if (!payload) return payload.status();
+      bytes = std::move(payload).value();
+    } else {
+      return Status::error(where + ": unknown format '" + a.format + "'");
+    }
+    out.resize(count);
+    const auto* p = reinterpret_cast<const unsigned char*>(bytes.data());
+    for (uint64_t i = 0; i < count; ++i) out[i] = load(a.type, p + i * size, f_.swap);
+    return out;
+  }
+
+ private:
+  uint64_t header_word(const std::string& b, size_t i) const {
+    const auto* p = reinterpret_cast<const unsigned char*>(b.data()) + i * f_.header_size;
+    return f_.header_size == 8 ? uint64_t(load<uint64_t>(p, f_.swap))
+                               : uint64_t(load<uint32_t>(p, f_.swap));
+  }
+
+  // Header + data (decoded) → the expected bytes of data, decompressed if need be.
+  Result<std::string> unpack(const std::string& b, uint64_t expected, const std::string& where) {
+    const size_t hs = f_.header_size;
+    if (!f_.compressed) {
+      if (b.size() < hs) return Status::error(where + ": no size header");
+      const uint64_t n = header_word(b, 0);
+      if (n != expected)
+        return Status::error(where + ": holds " + std::to_string(n) + " bytes, expected " +
+                             std::to_string(expected));
+      if (b.size() - hs < n) return Status::error(where + ": the data are cut short");
+      return b.substr(hs, n);
+    }
+    if (b.size() < 3 * hs) return Status::error(where + ": no compression header");
+    const uint64_t blocks = header_word(b, 0), block_size = header_word(b, 1),
+                   last = header_word(b, 2);
+    if (blocks > (b.size() - 3 * hs) / hs)
+      return Status::error(where + ": the compression header announces " + std::to_string(blocks) +
+                           " blocks, more than the data can hold");
+    const uint64_t total =
+        blocks == 0 ? 0 : (blocks - 1) * block_size + (last == 0 ? block_size : last);
+    if (total != expected)
+      return Status::error(where + ": holds " + std::to_string(total) + " bytes, expected " +
+                           std::to_string(expected));
+    // zlib cannot expand by more than about 1032:1: a larger claim is a broken header, and
+    // must not become an allocation.
+    if (total / 1100 > b.size())
+      return Status::error(where + ": claims " + std::to_string(total) +
+                           " bytes, more than its compressed data can hold");
+#if DYNPM_HAVE_ZLIB
+    std::string out(expected, '\0');
+    size_t in_at = size_t(3 + blocks) * hs, out_at = 0;
+    for (uint64_t k = 0; k < blocks; ++k) {
+      const uint64_t compressed = header_word(b, size_t(3 + k));
+      const uint64_t raw = k + 1 == blocks && last != 0 ? last : block_size;
+      if (compressed > b.size() - in_at || raw > out.size() - out_at)
+        return Status::error(where + ": compressed block " + std::to_string(k) + " is cut short");
+      uLongf out_len = static_cast<uLongf>(raw);
+      const int rc = ::uncompress(reinterpret_cast<Bytef*>(out.data() + out_at), &out_len,
+                                  reinterpret_cast<const Bytef*>(b.data() + in_at),
+                                  static_cast<uLong>(compressed));
+      if (rc != Z_OK || out_len != raw)
+        return Status::error(where + ": zlib cannot decompress block " + std::to_string(k));
+      in_at += compressed, out_at += raw;
+    }
+    return out;
+#else
+    return Status::error(where +
+                         ": zlib-compressed, and this dynpm was built without zlib "
+                         "(install zlib1g-dev and rebuild)");
+#endif
+  }
+
+  Result<std::string> appended(uint64_t offset, uint64_t expected, const std::string& where) {
+    const std::string_view data = f_.appended;
+    if (offset > data.size()) return Status::error(where + ": offset past the appended data");
+    const size_t hs = f_.header_size;
+    if (!f_.appended_base64) {
+      // Raw: the header words, then (compressed) blocks; unpack() takes them as one string
+      // once their extent is known.
+      const std::string_view rest = data.substr(size_t(offset));
+      if (rest.size() < (f_.compressed ? 3 * hs : hs))
+        return Status::error(where + ": the appended data end inside its header");
+      std::string head(rest.substr(0, f_.compressed ? 3 * hs : hs));
+      uint64_t length = 0;
+      if (!f_.compressed) {
+        length = hs + header_word(head, 0);
+      } else {
+        const uint64_t blocks = header_word(head, 0);
+        if (blocks > (rest.size() - 3 * hs) / hs)
+          return Status::error(where + ": the compression header announces more blocks than fit");
+        const std::string table(rest.substr(0, size_t(3 + blocks) * hs));
+        length = table.size();
+        for (uint64_t k = 0; k < blocks; ++k) length += header_word(table, size_t(3 + k));
+      }
+      if (length > rest.size()) return Status::error(where + ": the appended data are cut short");
+      return unpack(std::string(rest.substr(0, size_t(length))), expected, where);
+    }
+    // base64: the header and the data are separate runs.
+    const std::string_view rest = data.substr(size_t(offset));
+    std::string head;
+    const size_t first = f_.compressed ? 3 * hs : hs;
+    if (!decode_base64(rest.substr(0, std::min(rest.size(), base64_length(first))), head) ||
+        head.size() < first)
+      return Status::error(where + ": cannot decode the appended header");
+    size_t header_bytes = first;
+    uint64_t body = 0;
+    if (!f_.compressed) {
+      // Uncompressed, VTK encodes the size and the data as one run; a '=' ending the size's
+      // characters says another writer encoded them as two.
+      body = header_word(head, 0);
+      const size_t one_run = base64_length(hs + body);
+      const bool two_runs = rest.size() >= base64_length(hs) && rest[base64_length(hs) - 1] == '=';
+      const size_t chars = two_runs ? base64_length(hs) + base64_length(body) : one_run;
+      if (body > rest.size() || chars > rest.size())
+        return Status::error(where + ": the appended data are cut short");
+      std::string all;
+      if (!decode_base64(rest.substr(0, chars), all))
+        return Status::error(where + ": cannot decode the appended data");
+      return unpack(all, expected, where);
+    } else {
+      const uint64_t blocks = header_word(head, 0);
+      if (blocks > rest.size()) return Status::error(where + ": bad compression header");
+      header_bytes = size_t(3 + blocks) * hs;
+      head.clear();
+      if (!decode_base64(rest.substr(0, std::min(rest.size(), base64_length(header_bytes))),
+                         head) ||
+          head.size() < header_bytes)
+        return Status::error(where + ": cannot decode the appended header");
+      for (uint64_t k = 0; k < blocks; ++k) body += header_word(head, size_t(3 + k));
+    }
+    if (body > rest.size()) return Status::error(where + ": the appended data are cut short");
+    head.resize(header_bytes);
+    const size_t chars = base64_length(header_bytes);
+    if (chars > rest.size()) return Status::error(where + ": the appended data are cut short");
+    if (!decode_base64(rest.substr(chars, std::min(rest.size() - chars, base64_length(body))),
+                       head))
+      return Status::error(where + ": cannot decode the appended data");
+    return unpack(head, expected, where);
+  }
+
+  const FileInfo& f_;
+};
+
+}  // namespace
+
+Result<ParsedMesh> parse_vtu(std::string_view bytes, const std::string& path,
+                             const ReadOptions& options) {
+  FileInfo file;
+  file.path = path;
+  XmlScanner xml(bytes);
+  Tag tag;
+  std::vector<std::string_view> stack;
+  std::optional<ArrayRef> points, connectivity, offsets, types;
+  std::vector<ArrayRef> point_arrays, cell_arrays, field_arrays;
+  uint64_t n_points = 0, n_cells = 0;
+  int pieces = 0;
+  bool saw_file = false;
+  auto fail_at = [&](size_t at, const std::string& cause) {
+    return Status::error(path + ": byte " + std::to_string(at) + ": " + cause);
+  };
+  auto count_attribute = [&](const Tag& t, std::string_view key) -> Result<uint64_t> {
+    auto v = attribute(t, key);
+    uint64_t n = 0;
+    if (!v || std::from_chars(v->data(), v->data() + v->size(), n).ptr != v->data() + v->size())
+      return fail_at(t.begin, std::string(t.name) + " needs a number in " + std::string(key));
+    return n;
+  };
+
+  while (xml.next(tag)) {
+    if (tag.closing) {
+      if (stack.empty() || stack.back() != tag.name)
+        return fail_at(tag.begin, "</" + std::string(tag.name) + "> does not close <" +
+                                      (stack.empty() ? "" : std::string(stack.back())) + ">");
+      stack.pop_back();
+      continue;
+    }
+    const std::string_view parent = stack.empty() ? std::string_view() : stack.back();
+    if (tag.name == "VTKFile") {
+      saw_file = true;
+      const auto type = attribute(tag, "type");
+      if (type != "UnstructuredGrid")
+        return fail_at(tag.begin, "a VTK XML file of type '" + type.value_or("") +
+                                      "'; dynpm reads UnstructuredGrid (.vtu)");
+      const std::string order = attribute(tag, "byte_order").value_or("LittleEndian");
+      file.swap = (order == "BigEndian") != (std::endian::native == std::endian::big);
+      const std::string header = attribute(tag, "header_type").value_or("UInt32");
+      if (header != "UInt32" && header != "UInt64")
+        return fail_at(tag.begin, "unsupported header_type '" + header + "'");
+      file.header_size = header == "UInt64" ? 8 : 4;
+      if (auto c = attribute(tag, "compressor")) {
+        if (*c != "vtkZLibDataCompressor")
+          return fail_at(tag.begin, "compressor '" + *c +
+                                        "' is not supported (dynpm reads zlib-compressed and "
+                                        "uncompressed VTU files)");
+        file.compressed = true;
+      }
+    } else if (tag.name == "Piece") {
+      if (++pieces > 1)
+        return fail_at(tag.begin, "a second Piece; dynpm reads single-piece .vtu files");
+      auto np = count_attribute(tag, "NumberOfPoints");
+      if (!np) return np.status();
+      auto nc = count_attribute(tag, "NumberOfCells");
+      if (!nc) return nc.status();
+      n_points = *np, n_cells = *nc;
+      if (n_cells > (uint64_t(1) << 40)) return fail_at(tag.begin, "too many cells");
+      if (n_points > kNoVertex - 1) return fail_at(tag.begin, "too many points");
+    } else if (tag.name == "DataArray") {
+      ArrayRef a;
+      a.name = attribute(tag, "Name").value_or("");
+      const std::string type = attribute(tag, "type").value_or("");
+      const auto t = xml_type(type);
+      if (!t)
+        return fail_at(tag.begin, "DataArray '" + a.name + "' has unsupported type '" + type + "'");
+      a.type = *t;
+      if (auto c = attribute(tag, "NumberOfComponents")) {
+        auto n = count_attribute(tag, "NumberOfComponents");
+        if (!n) return n.status();
+        if (*n == 0 || *n > 1000) return fail_at(tag.begin, "bad NumberOfComponents");
+        a.components = *n;
+      }
+      a.format = attribute(tag, "format").value_or("ascii");
+      if (a.format == "appended") {
+        auto o = count_attribute(tag, "offset");
+        if (!o) return o.status();
+        a.offset = *o;
+      }
+      a.content_at = tag.end;
+      if (!tag.empty) {
+        // The data run up to the first child (VTK adds <InformationKey> elements after them)
+        // or the end tag.
+        const size_t child = bytes.find('<', tag.end);
+        const size_t close = bytes.find("</DataArray", tag.end);
+        if (close == std::string_view::npos) return fail_at(tag.begin, "<DataArray> never ends");
+        a.content = bytes.substr(tag.end, child - tag.end);
+        xml.seek(close);
+      }
+      if (parent == "Points" && a.name.empty()) a.name = "Points";
+      if (parent == "Points" && !points) {
+        points = a;
+      } else if (parent == "Cells") {
+        if (a.name == "connectivity") connectivity = a;
+        if (a.name == "offsets") offsets = a;
+        if (a.name == "types") types = a;
+      } else if (parent == "PointData") {
+        point_arrays.push_back(a);
+      } else if (parent == "CellData") {
+        cell_arrays.push_back(a);
+      } else if (parent == "FieldData") {
+        field_arrays.push_back(a);
+      }
+    } else if (tag.name == "AppendedData") {
+      const std::string encoding = attribute(tag, "encoding").value_or("raw");
+      if (encoding != "raw" && encoding != "base64")
+        return fail_at(tag.begin, "AppendedData encoding '" + encoding + "' is not supported");
+      file.appended_base64 = encoding == "base64";
+      const size_t mark = bytes.find('_', tag.end);
+      if (mark == std::string_view::npos) return fail_at(tag.begin, "AppendedData without '_'");
+      file.appended = bytes.substr(mark + 1);
+      file.appended_at = mark + 1;
+      break;  // raw data follow: no more tags to look for
+    }
+    if (!tag.empty) stack.push_back(tag.name);
+  }
+  if (!xml.error().empty()) return fail_at(xml.error_at(), xml.error());
+  if (!saw_file) return Status::error(path + ": not a VTK XML file (no <VTKFile>)");
+  if (pieces == 0) return Status::error(path + ": no <Piece>");
+  if (!points) return Status::error(path + ": no <Points> DataArray");
+  if (n_cells > 0 && (!connectivity || !offsets || !types))
+    return Status::error(path + ": <Cells> needs the DataArrays connectivity, offsets and types");
+
+  Decoder decode(file);
+  ParsedMesh mesh;
+  mesh.places_are_lines = false;
+  if (points->components != 3)
+    return Status::error(path + ": Points have " + std::to_string(points->components) +
+                         " components, expected 3");
+  auto xyz = decode.values(*points, n_points * 3);
+  if (!xyz) return xyz.status();
+  mesh.topology = Topology::with_vertices(static_cast<uint32_t>(n_points));
+  mesh.positions.resize(xyz->size());
+  std::transform(xyz->begin(), xyz->end(), mesh.positions.begin(),
+                 [](double c) { return static_cast<float>(c); });
+  for (const ArrayRef& a : field_arrays)
+    if (a.name == "TimeValue" || a.name == "TIME") {
+      auto t = decode.values(a, 1);
+      if (t) mesh.time = (*t)[0];
+    }
+
+  vtk::CellSink sink(mesh, n_points, path, options);
+  if (n_cells > 0) {
+    auto off = decode.values(*offsets, n_cells);
+    if (!off) return off.status();
+    auto ty = decode.values(*types, n_cells);
+    if (!ty) return ty.status();
+    const double conn_size = off->back();
+    if (!(conn_size >= 0) || conn_size > 9.007199254740992e15)
+      return Status::error(path + ": the last cell offset (" + std::to_string(conn_size) +
+                           ") is not a possible connectivity size");
+    auto conn = decode.values(*connectivity, uint64_t(conn_size));
+    if (!conn) return conn.status();
+    double start = 0;
+    const uint32_t place = static_cast<uint32_t>(connectivity->content_at);
+    for (uint64_t c = 0; c < n_cells; ++c) {
+      const double stop = (*off)[c];
+      if (!(stop >= start) || stop > conn_size)
+        return Status::error(path + ": cell offsets decrease or overrun at cell " +
+                             std::to_string(c));
+      DYNPM_RETURN_IF_ERROR(sink.add(
+          (*ty)[c], std::span<const double>(conn->data() + size_t(start), size_t(stop - start)), c,
+          place));
+      start = stop;
+    }
+  }
+  sink.finish();
+
+  auto read_arrays = [&](const std::vector<ArrayRef>& refs,
+                         uint64_t tuples) -> Result<std::vector<vtk::Array>> {
+    std::vector<vtk::Array> arrays;
+    for (const ArrayRef& r : refs) {
+      auto v = decode.values(r, tuples * r.components);
+      if (!v) return v.status();
+      arrays.push_back(vtk::Array{r.name, r.components, std::move(v).value()});
+    }
+    return arrays;
+  };
+  auto cell_data = read_arrays(cell_arrays, n_cells);
+  if (!cell_data) return cell_data.status();
+  vtk::apply_cell_data(*cell_data, n_cells, sink.cell_of_face, path, options, mesh);
+  auto point_data = read_arrays(point_arrays, n_points);
+  if (!point_data) return point_data.status();
+  vtk::apply_point_data(*point_data, path, options, mesh);
+  return mesh;
+}
+
+Result<std::vector<PvdStep>> parse_pvd(std::string_view bytes, const std::string& path) {
+  XmlScanner xml(bytes);
+  Tag tag;
+  std::vector<PvdStep> steps;
+  std::vector<std::string> parts;
+  bool saw_collection = false;
+  const std::filesystem::path folder = std::filesystem::path(path).parent_path();
+  while (xml.next(tag)) {
+    if (tag.closing) continue;
+    if (tag.name == "VTKFile") {
+      if (attribute(tag, "type") != "Collection")
+        return Status::error(path + ": byte " + std::to_string(tag.begin) +
+                             ": a VTKFile that is not a Collection");
+      saw_collection = true;
+    } else if (tag.name == "DataSet") {
+      const auto file = attribute(tag, "file");
+      if (!file || file->empty())
+        return Status::error(path + ": byte " + std::to_string(tag.begin) +
+                             ": a DataSet without a file attribute");
+      PvdStep step;
+      std::filesystem::path p(*file);
+      step.path = (p.is_absolute() || folder.empty() ? p : folder / p).string();
+      const std::string t = attribute(tag, "timestep").value_or(std::to_string(steps.size()));
+      auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), step.time);
+      if (ec != std::errc() || end != t.data() + t.size())
+        return Status::error(path + ": byte " + std::to_string(tag.begin) + ": timestep '" + t +
+                             "' is not a number");
+      const std::string part = attribute(tag, "part").value_or("0");
+      if (std::find(parts.begin(), parts.end(), part) == parts.end()) parts.push_back(part);
+      steps.push_back(std::move(step));
+    }
+  }
+  if (!xml.error().empty())
+    return Status::error(path + ": byte " + std::to_string(xml.error_at()) + ": " + xml.error());
+  if (!saw_collection) return Status::error(path + ": not a ParaView collection (.pvd)");
+  if (steps.empty()) return Status::error(path + ": the collection lists no DataSet");
+  if (parts.size() > 1)
+    return Status::error(path + ": the collection has " + std::to_string(parts.size()) +
+                         " parts per time step; dynpm reads one data set per step");
+  std::stable_sort(steps.begin(), steps.end(),
+                   [](const PvdStep& a, const PvdStep& b) { return a.time < b.time; });
+  return steps;
+}
+
+}  // namespace dynpm::io

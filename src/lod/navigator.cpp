@@ -1,0 +1,117 @@
+// The navigator: splits applied or undone in place between levels; positions per step.
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+
+#include "dynpm/lod.h"
+
+namespace dynpm {
+
+Navigator::Navigator(const ProgressiveMesh& mesh)
+    : mesh_(&mesh), faces_(mesh.base_faces), face_count_(mesh.base_face_count) {
+  faces_.resize(mesh.face_count_after(mesh.split_count()));
+}
+
+void Navigator::set_level(uint32_t k) {
+  k = std::min(k, mesh_->split_count());
+  while (level_ < k) dynpm::apply_split(*mesh_, level_++, faces_, face_count_);
+  while (level_ > k) dynpm::undo_split(*mesh_, --level_, faces_, face_count_);
+}
+
+void Navigator::set_vertex_count(uint32_t n) {
+  set_level(n > mesh_->base_vertex_count ? n - mesh_->base_vertex_count : 0);
+}
+
+void Navigator::set_error(double e) {
+  // Level errors never increase along the stream: binary search for the first level ≤ e.
+  if (mesh_->base_error <= e) return set_level(0);
+  const auto& err = mesh_->error;
+  const auto it = std::partition_point(err.begin(), err.end(), [e](float x) { return x > e; });
+  set_level(static_cast<uint32_t>(it - err.begin()) + 1);
+}
+
+void Navigator::positions(double t, std::span<float> out) const {
+  const size_t steps = mesh_->step_count();
+  const size_t n = size_t{vertex_count()} * 3;
+  assert(out.size() >= n);
+  t = std::clamp(t, 0.0, static_cast<double>(steps - 1));
+  const size_t t0 = static_cast<size_t>(std::floor(t));
+  const size_t t1 = std::min(t0 + 1, steps - 1);
+  const float a = static_cast<float>(t - static_cast<double>(t0));
+  const float* p0 = mesh_->positions[t0].data();
+  const float* p1 = mesh_->positions[t1].data();
+  if (a == 0.0f || t0 == t1) {
+    std::copy_n(p0, n, out.data());
+    return;
+  }
+  for (size_t j = 0; j < n; ++j) out[j] = p0[j] + a * (p1[j] - p0[j]);
+}
+
+uint32_t Navigator::ancestor(uint32_t v, uint32_t k) const {
+  const uint32_t b = mesh_->base_vertex_count;
+  while (v >= b + k) v = mesh_->parent[v - b];
+  return v;
+}
+
+void Navigator::geomorph(uint32_t from, double alpha, double t, std::span<float> out) const {
+  positions(t, out);
+  const uint32_t b = mesh_->base_vertex_count;
+  from = std::min(from, level_);
+  const float a = static_cast<float>(std::clamp(alpha, 0.0, 1.0));
+  // A parent is created before its children, so one pass in vertex order finds every vertex's
+  // ancestor at level `from` from its parent's.
+  std::vector<uint32_t> anc(level_ - from);
+  for (uint32_t v = b + from; v < vertex_count(); ++v) {
+    const uint32_t p = mesh_->parent[v - b];
+    anc[v - b - from] = p < b + from ? p : anc[p - b - from];
+  }
+  std::vector<float> end(out.begin(), out.begin() + size_t{vertex_count()} * 3);
+  for (uint32_t v = b + from; v < vertex_count(); ++v) {
+    const uint32_t u = anc[v - b - from];
+    for (int c = 0; c < 3; ++c) {
+      // (1 − a)·start + a·end: exactly the end points at a = 0 and a = 1.
+      out[size_t{v} * 3 + c] = (1 - a) * end[size_t{u} * 3 + c] + a * end[size_t{v} * 3 + c];
+    }
+  }
+}
+
+Topology Navigator::topology() const {
+  Topology out;
+  out.vertex_count = vertex_count();
+  out.faces.assign(faces_.begin(), faces_.begin() + face_count_);
+  out.part_ids.assign(mesh_->part_ids.begin(), mesh_->part_ids.begin() + face_count_);
+  out.element_ids.assign(mesh_->element_ids.begin(), mesh_->element_ids.begin() + face_count_);
+  out.node_ids.assign(mesh_->node_ids.begin(), mesh_->node_ids.begin() + vertex_count());
+  return out;
+}
+
+Result<OriginalOrder> original_order(const Navigator& full) {
+  const ProgressiveMesh& m = full.mesh();
+  if (!m.complete || full.level() != m.full_split_count)
+    return Status::error("the input's order needs the complete, fully refined mesh");
+  OriginalOrder out;
+  Topology& t = out.topology;
+  t.vertex_count = m.full_vertex_count;
+  t.node_ids.resize(t.vertex_count);
+  out.vertex_of_original.resize(t.vertex_count);
+  for (uint32_t v = 0; v < t.vertex_count; ++v) {
+    out.vertex_of_original[m.vertex_original_index[v]] = v;
+    t.node_ids[m.vertex_original_index[v]] = m.node_ids[v];
+  }
+  const auto faces = full.faces();
+  t.faces.resize(faces.size());
+  t.part_ids.resize(faces.size());
+  t.element_ids.resize(faces.size());
+  for (uint32_t f = 0; f < faces.size(); ++f) {
+    const uint32_t o = m.face_original_index[f];
+    Face face = faces[f];
+    for (uint32_t& c : face.v)
+      if (c != kNoVertex) c = m.vertex_original_index[c];
+    t.faces[o] = face;
+    t.part_ids[o] = m.part_ids[f];
+    t.element_ids[o] = m.element_ids[f];
+  }
+  return out;
+}
+
+}  // namespace dynpm

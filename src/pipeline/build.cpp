@@ -1,0 +1,205 @@
+// build(): simplify to the end while recording every collapse, then reverse the record into
+// vertex splits in the progressive numbering and gather every step's positions in that order.
+#include <algorithm>
+#include <cmath>
+
+#include "dynpm/pipeline.h"
+
+namespace dynpm {
+namespace {
+
+// Everything a collapse did, in the input's numbering, kept until the simplifier is done: the
+// new numbers of faces that vanish later are only known at the end.
+class CollapseLog final : public CollapseListener {
+ public:
+  struct Entry {
+    uint32_t v0, v1;
+    double error;  // in bounding-box diagonals of the key steps
+    uint8_t wing_count;
+    std::array<CollapseWing, 4> wings;
+    uint32_t moved_begin, moved_end;  // into moved_faces
+  };
+
+  void on_collapse(const CollapseRecord& record) override {
+    Entry e{record.v0, record.v1, record.error, record.wing_count, record.wings,
+            static_cast<uint32_t>(moved_faces.size()), 0};
+    moved_faces.insert(moved_faces.end(), record.moved_faces.begin(), record.moved_faces.end());
+    e.moved_end = static_cast<uint32_t>(moved_faces.size());
+    entries.push_back(e);
+  }
+
+  std::vector<Entry> entries;
+  std::vector<uint32_t> moved_faces;
+};
+
+double key_step_diagonal(const FrameSource& frames, std::span<const size_t> key_steps,
+                         std::span<const BoundingBox> step_boxes) {
+  BoundingBox box;
+  if (key_steps.empty())
+    for (const BoundingBox& b : step_boxes) box.extend(b);
+  for (size_t t : key_steps)
+    if (t < frames.step_count()) box.extend(step_boxes[t]);
+  return box.diagonal() > 0 ? box.diagonal() : 1.0;
+}
+
+}  // namespace
+
+Result<ProgressiveMesh> build_progressive_mesh(const Topology& topology,
+                                               const FrameSource& frames,
+                                               const BuildOptions& options) {
+  if (options.simplify.placement != Placement::kHalfEdge)
+    return Status::error(
+        "a progressive mesh is built with half-edge collapses (positions stay original); "
+        "optimal placement is only available in 'dynpm simplify'");
+  if (frames.step_count() == 0) return Status::error("the input has no time step");
+  if (!(options.max_position_error > 0) && !options.lossless)
+    return Status::error("the position error bound must be positive (or use lossless)");
+
+  SimplifyOptions simplify_options = options.simplify;
+  simplify_options.target_vertices.reset();
+  simplify_options.target_faces.reset();
+  simplify_options.target_ratio.reset();
+  simplify_options.max_error.reset();
+  CollapseLog log;
+  auto simplified = simplify(topology, frames, simplify_options, &log);
+  if (!simplified) return simplified.status();
+
+  const uint32_t n = topology.vertex_count;
+  const uint32_t splits = static_cast<uint32_t>(log.entries.size());
+  ProgressiveMesh pm;
+
+  // Vertices: never removed → base, in input order; the v0 of the last collapse → b, …
+  std::vector<uint32_t> new_vertex(n, kNoVertex);
+  std::vector<char> removed(n, 0);
+  for (const auto& e : log.entries) removed[e.v0] = 1;
+  uint32_t next = 0;
+  for (uint32_t v = 0; v < n; ++v)
+    if (!removed[v]) new_vertex[v] = next++;
+  pm.base_vertex_count = next;
+  for (uint32_t i = 0; i < splits; ++i) new_vertex[log.entries[splits - 1 - i].v0] = next++;
+
+  // Faces: alive at the end → base, in input order; then each split's re-created triangles.
+  const uint32_t face_total = static_cast<uint32_t>(topology.faces.size());
+  std::vector<uint32_t> new_face(face_total, kNoIndex);
+  std::vector<char> vanished(face_total, 0);
+  for (const auto& e : log.entries)
+    for (uint8_t k = 0; k < e.wing_count; ++k)
+      if (e.wings[k].was_triangle) vanished[e.wings[k].face] = 1;
+  uint32_t next_face = 0;
+  for (uint32_t f = 0; f < face_total; ++f)
+    if (!vanished[f]) new_face[f] = next_face++;
+  pm.base_face_count = next_face;
+  for (uint32_t i = 0; i < splits; ++i) {
+    const auto& e = log.entries[splits - 1 - i];
+    for (uint8_t k = 0; k < e.wing_count; ++k)
+      if (e.wings[k].was_triangle) new_face[e.wings[k].face] = next_face++;
+  }
+  if (next_face != face_total) return Status::error("internal: a face was lost in the record");
+
+  // The base mesh: the simplifier's live faces, in input order.
+  const Topology& base = simplified->topology;
+  if (base.faces.size() != pm.base_face_count)
+    return Status::error("internal: the simplified mesh does not match the record");
+  pm.base_faces.reserve(base.faces.size());
+  for (Face face : base.faces) {
+    for (uint32_t& c : face.v)
+      if (c != kNoVertex) c = new_vertex[simplified->original_vertex[c]];
+    pm.base_faces.push_back(face);
+  }
+
+  // Splits, in reverse collapse order; errors become "the error of the level after the split"
+  // (the largest error of the collapses still in effect), which never increases.
+  std::vector<double> prefix_max(splits + 1, 0.0);
+  for (uint32_t j = 0; j < splits; ++j)
+    prefix_max[j + 1] = std::max(prefix_max[j], log.entries[j].error);
+  std::vector<BoundingBox> step_boxes(frames.step_count());
+
+  pm.parent.reserve(splits);
+  pm.error.reserve(splits);
+  for (uint32_t i = 0; i < splits; ++i) {
+    const auto& e = log.entries[splits - 1 - i];
+    pm.parent.push_back(new_vertex[e.v1]);
+    pm.error.push_back(static_cast<float>(prefix_max[splits - 1 - i]));  // scaled below
+    for (uint8_t k = 0; k < e.wing_count; ++k) {
+      const CollapseWing& w = e.wings[k];
+      SplitWing sw;
+      sw.face = new_face[w.face];
+      sw.vertex = new_vertex[w.vertex];
+      sw.flags = static_cast<uint8_t>((w.was_triangle ? SplitWing::kWasTriangle : 0) |
+                                      (w.v1_follows_v0 ? SplitWing::kV1FollowsV0 : 0) |
+                                      (w.v0_slot << SplitWing::kSlotShift));
+      pm.wings.push_back(sw);
+    }
+    pm.wing_start.push_back(static_cast<uint32_t>(pm.wings.size()));
+    for (uint32_t m = e.moved_begin; m < e.moved_end; ++m)
+      pm.moved_faces.push_back(new_face[log.moved_faces[m]]);
+    pm.moved_start.push_back(static_cast<uint32_t>(pm.moved_faces.size()));
+  }
+
+  // Attributes in the progressive numbering.
+  pm.full_vertex_count = n;
+  pm.full_face_count = face_total;
+  pm.full_split_count = splits;
+  pm.vertex_original_index.resize(n);
+  pm.node_ids.resize(n);
+  for (uint32_t v = 0; v < n; ++v) {
+    pm.vertex_original_index[new_vertex[v]] = v;
+    pm.node_ids[new_vertex[v]] = topology.node_ids[v];
+  }
+  pm.face_original_index.resize(face_total);
+  pm.part_ids.resize(face_total);
+  pm.element_ids.resize(face_total);
+  for (uint32_t f = 0; f < face_total; ++f) {
+    pm.face_original_index[new_face[f]] = f;
+    pm.part_ids[new_face[f]] = topology.part_ids[f];
+    pm.element_ids[new_face[f]] = topology.element_ids[f];
+  }
+
+  // Every step's positions (and fields), read once each, permuted into the new order.
+  const size_t steps = frames.step_count();
+  std::vector<float> step(size_t{n} * 3);
+  pm.positions.resize(steps);
+  pm.times.resize(steps);
+  BoundingBox all;
+  for (size_t t = 0; t < steps; ++t) {
+    DYNPM_RETURN_IF_ERROR(frames.read_step(t, step));
+    pm.times[t] = frames.step_time(t);
+    for (float c : step)
+      if (!std::isfinite(c))
+        return Status::error("time step " + std::to_string(t) + " has a non-finite coordinate");
+    std::vector<float>& out = pm.positions[t];
+    out.resize(size_t{n} * 3);
+    for (uint32_t v = 0; v < n; ++v) std::copy_n(&step[size_t{v} * 3], 3, &out[new_vertex[v] * size_t{3}]);
+    step_boxes[t].extend(step);
+    all.extend(step_boxes[t]);
+    if (options.progress) options.progress(t + 1, steps);
+  }
+  pm.field_names = frames.field_names();
+  pm.fields.resize(pm.field_names.size());
+  std::vector<float> values(n);
+  for (size_t f = 0; f < pm.field_names.size(); ++f) {
+    pm.fields[f].resize(steps);
+    for (size_t t = 0; t < steps; ++t) {
+      DYNPM_RETURN_IF_ERROR(frames.read_field(f, t, values));
+      pm.fields[f][t].resize(n);
+      for (uint32_t v = 0; v < n; ++v) pm.fields[f][t][new_vertex[v]] = values[v];
+    }
+  }
+  for (int k = 0; k < 3; ++k) {
+    pm.bbox_min[k] = all.empty ? 0.0 : all.min[k];
+    pm.bbox_max[k] = all.empty ? 0.0 : all.max[k];
+  }
+
+  // Errors in absolute units: the simplifier measured them in key-step diagonals.
+  const double scale = key_step_diagonal(frames, simplified->key_steps, step_boxes);
+  pm.base_error = prefix_max[splits] * scale;
+  for (float& e : pm.error) e = static_cast<float>(e * scale);
+  pm.key_steps = simplified->key_steps;
+  pm.lossless = options.lossless;
+  pm.max_error = options.lossless ? 0.0 : options.max_position_error * pm.diagonal();
+  pm.note = options.note;
+  quantize_positions(pm);
+  return pm;
+}
+
+}  // namespace dynpm

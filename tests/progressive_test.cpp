@@ -1,0 +1,291 @@
+// The progressive mesh: build → file → navigator gives the input back on every dataset; every
+// level is a valid mesh and equals what the simplifier makes for that vertex count; prefixes of
+// a file are coarser animations; damaged files are refused with the place named.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <map>
+#include <random>
+
+#include "dynpm/io.h"
+#include "dynpm/lod.h"
+#include "dynpm/pipeline.h"
+#include "fixtures.h"
+
+namespace dynpm {
+namespace {
+
+Animation load(const std::string& pattern) {
+  auto paths = expand_inputs(std::vector<std::string>{pattern});
+  EXPECT_TRUE(paths.ok()) << paths.message();
+  auto a = read_animation(*paths);
+  EXPECT_TRUE(a.ok()) << a.message();
+  return std::move(a).value();
+}
+
+ProgressiveMesh build(const Animation& a, bool lossless, KeyStepRule::Kind rule = KeyStepRule::Kind::kAll) {
+  BuildOptions options;
+  options.lossless = lossless;
+  KeyStepRule r;
+  r.kind = rule;
+  auto keys = choose_key_steps(a.frames, r);
+  EXPECT_TRUE(keys.ok());
+  options.simplify.key_steps = keys->steps;
+  auto pm = build_progressive_mesh(a.topology, a.frames, options);
+  EXPECT_TRUE(pm.ok()) << pm.message();
+  return std::move(pm).value();
+}
+
+ProgressiveMesh through_file(const ProgressiveMesh& pm) {
+  auto back = decode_dpm(encode_dpm(pm), "memory.dpm");
+  EXPECT_TRUE(back.ok()) << back.message();
+  return std::move(back).value();
+}
+
+// Fully refined, the navigator gives the input: the same faces in the same order with the same
+// corner order, the same ids, and every position within the stated bound (bit-exact lossless).
+void expect_input_back(const Animation& a, const ProgressiveMesh& pm) {
+  ASSERT_TRUE(pm.complete);
+  Navigator nav(pm);
+  nav.set_level(pm.split_count());
+  auto o = original_order(nav);
+  ASSERT_TRUE(o.ok()) << o.message();
+  const Topology& t = o->topology;
+  ASSERT_EQ(t.vertex_count, a.topology.vertex_count);
+  ASSERT_EQ(t.faces.size(), a.topology.faces.size());
+  for (size_t f = 0; f < t.faces.size(); ++f) ASSERT_EQ(t.faces[f], a.topology.faces[f]) << "face " << f;
+  EXPECT_EQ(t.part_ids, a.topology.part_ids);
+  EXPECT_EQ(t.element_ids, a.topology.element_ids);
+  EXPECT_EQ(t.node_ids, a.topology.node_ids);
+  ASSERT_EQ(pm.step_count(), a.step_count());
+  std::vector<float> xyz(size_t{nav.vertex_count()} * 3);
+  double worst = 0;
+  for (size_t s = 0; s < a.step_count(); ++s) {
+    EXPECT_EQ(pm.times[s], a.frames.step_time(s));
+    nav.positions(double(s), xyz);
+    const auto input = a.frames.step(s);
+    for (uint32_t v = 0; v < t.vertex_count; ++v) {
+      const float* p = &xyz[size_t{o->vertex_of_original[v]} * 3];
+      const float* q = &input[size_t{v} * 3];
+      if (pm.lossless) {
+        ASSERT_EQ(std::memcmp(p, q, 12), 0) << "vertex " << v << " step " << s;
+      } else {
+        worst = std::max(worst, std::sqrt(double(p[0] - q[0]) * (p[0] - q[0]) +
+                                          double(p[1] - q[1]) * (p[1] - q[1]) +
+                                          double(p[2] - q[2]) * (p[2] - q[2])));
+      }
+    }
+  }
+  if (!pm.lossless) {
+    // The bound, plus float32 rounding of the decoded value.
+    const double largest = std::max({std::abs(pm.bbox_min[0]), std::abs(pm.bbox_max[0]), std::abs(pm.bbox_min[1]),
+                                     std::abs(pm.bbox_max[1]), std::abs(pm.bbox_min[2]), std::abs(pm.bbox_max[2])});
+    EXPECT_LE(worst, pm.max_error + largest * 1e-7);
+    EXPECT_LE(pm.max_error, 1.01 * pm.diagonal() / (1 << 18) + largest * 4e-7);
+  }
+}
+
+TEST(Progressive, HatRailRoundTripLosslessAndQuantized) {
+  const Animation a = load(test::sample_dir() + "/frame_*.obj");
+  for (bool lossless : {true, false}) {
+    const ProgressiveMesh built = build(a, lossless);
+    EXPECT_LT(built.base_vertex_count, a.topology.vertex_count / 20);
+    expect_input_back(a, built);
+    expect_input_back(a, through_file(built));
+  }
+}
+
+TEST(Progressive, EverySharedDatasetComesBack) {
+  const std::string data = test::shared_data();
+  if (!std::filesystem::exists(data)) GTEST_SKIP() << "../shared/data is not beside the project";
+  for (const char* pattern : {"/crashbox-s/obj/frame_*.obj", "/crashbox-mixed-5k/obj/frame_*.obj",
+                              "/meshes/bunny.obj", "/meshes/fandisk.obj"}) {
+    SCOPED_TRACE(pattern);
+    const Animation a = load(data + pattern);
+    const ProgressiveMesh built = build(a, false, KeyStepRule::Kind::kPaper);
+    expect_input_back(a, through_file(built));
+    if (a.step_count() > 1) expect_input_back(a, through_file(build(a, true, KeyStepRule::Kind::kPaper)));
+  }
+}
+
+// Faces as sets of input vertex ids, for comparing meshes numbered differently.
+std::multiset<std::vector<uint32_t>> face_sets(const Topology& t, std::span<const uint32_t> to_input) {
+  std::multiset<std::vector<uint32_t>> out;
+  for (const Face& f : t.faces) {
+    std::vector<uint32_t> s;
+    for (uint32_t c : f.v)
+      if (c != kNoVertex) s.push_back(to_input[c]);
+    std::sort(s.begin(), s.end());
+    out.insert(s);
+  }
+  return out;
+}
+
+TEST(Progressive, EveryLevelIsValidAndIsTheSimplifiersMesh) {
+  const Animation a = load(test::sample_dir() + "/frame_*.obj");
+  const ProgressiveMesh pm = through_file(build(a, false));
+  Navigator nav(pm);
+  for (uint32_t k = 0; k <= pm.split_count(); ++k) {
+    nav.set_level(k);
+    const Topology t = nav.topology();
+    const ValidationReport report = validate(t);
+    ASSERT_TRUE(report.ok()) << "level " << k << ": " << report.problems.front().message;
+    ASSERT_EQ(report.count(ProblemKind::kUnreferencedVertex), 0u) << "level " << k;
+    ASSERT_EQ(t.vertex_count, pm.base_vertex_count + k);
+    ASSERT_EQ(nav.face_count(), pm.face_count_after(k));
+  }
+  // The same level reached by other paths gives the same faces.
+  std::mt19937 random(7);
+  nav.set_level(pm.split_count());
+  for (int jump = 0; jump < 50; ++jump) {
+    const uint32_t k = random() % (pm.split_count() + 1);
+    nav.set_level(k);
+    Navigator fresh(pm);
+    fresh.set_level(k);
+    ASSERT_TRUE(std::equal(nav.faces().begin(), nav.faces().end(), fresh.faces().begin(), fresh.faces().end()))
+        << "level " << k;
+  }
+  nav.set_level(0);
+  EXPECT_TRUE(std::equal(nav.faces().begin(), nav.faces().end(), pm.base_faces.begin(), pm.base_faces.end()));
+
+  // A level is what the simplifier makes when stopped at that many vertices.
+  for (uint32_t n : {pm.base_vertex_count + 10, a.topology.vertex_count / 10, a.topology.vertex_count / 2}) {
+    SimplifyOptions options;
+    options.target_vertices = n;
+    auto s = simplify(a.topology, a.frames, options);
+    ASSERT_TRUE(s.ok());
+    nav.set_vertex_count(n);
+    EXPECT_EQ(face_sets(nav.topology(), pm.vertex_original_index), face_sets(s->topology, s->original_vertex))
+        << n << " vertices";
+  }
+}
+
+TEST(Progressive, ErrorsPositionsAndGeomorphs) {
+  const Animation a = load(test::sample_dir() + "/frame_*.obj");
+  const ProgressiveMesh pm = through_file(build(a, true));
+  for (uint32_t i = 1; i < pm.split_count(); ++i) ASSERT_LE(pm.error[i], pm.error[i - 1]);
+  EXPECT_EQ(pm.error.back(), 0.0f);
+  EXPECT_GE(pm.base_error, pm.error.front());
+  Navigator nav(pm);
+  for (double e : {pm.base_error * 2, pm.base_error / 3, pm.base_error / 100, 0.0}) {
+    nav.set_error(e);
+    EXPECT_LE(nav.error(), e);
+    if (nav.level() > 0) {
+      EXPECT_GT(pm.level_error(nav.level() - 1), e);
+    }
+  }
+
+  nav.set_level(pm.split_count() / 2);
+  const size_t n = size_t{nav.vertex_count()} * 3;
+  std::vector<float> p2(n), p3(n), half(n), morph(n);
+  nav.positions(2, p2);
+  nav.positions(3, p3);
+  nav.positions(2.5, half);
+  for (size_t j = 0; j < n; ++j) ASSERT_FLOAT_EQ(half[j], p2[j] + 0.5f * (p3[j] - p2[j]));
+
+  const uint32_t from = pm.split_count() / 4;
+  nav.geomorph(from, 1.0, 3, morph);
+  EXPECT_EQ(morph, p3);
+  nav.geomorph(from, 0.0, 3, morph);
+  for (uint32_t v = 0; v < nav.vertex_count(); ++v) {
+    const uint32_t u = nav.ancestor(v, from);
+    ASSERT_LT(u, pm.base_vertex_count + from);
+    for (int c = 0; c < 3; ++c) ASSERT_EQ(morph[size_t{v} * 3 + c], p3[size_t{u} * 3 + c]);
+  }
+}
+
+TEST(Progressive, EveryPrefixIsACoarserAnimation) {
+  const Animation a = load(test::sample_dir() + "/frame_*.obj");
+  const ProgressiveMesh full = build(a, false);
+  const std::string bytes = encode_dpm(full);
+  const ProgressiveMesh whole = through_file(full);
+  uint32_t previous = 0;
+  for (double fraction : {0.1, 0.5, 0.9}) {
+    SCOPED_TRACE(fraction);
+    auto prefix = decode_dpm(std::string_view(bytes).substr(0, size_t(bytes.size() * fraction)), "prefix.dpm");
+    ASSERT_TRUE(prefix.ok()) << prefix.message();
+    EXPECT_FALSE(prefix->complete);
+    EXPECT_GE(prefix->split_count(), previous);
+    EXPECT_LT(prefix->split_count(), full.split_count());
+    previous = prefix->split_count();
+    Navigator nav(*prefix);
+    nav.set_level(prefix->split_count());
+    EXPECT_TRUE(validate(nav.topology()).ok());
+    for (size_t t = 0; t < prefix->step_count(); ++t)
+      ASSERT_TRUE(std::equal(prefix->positions[t].begin(), prefix->positions[t].end(), whole.positions[t].begin()));
+  }
+  EXPECT_GT(previous, 0u);
+  auto too_short = decode_dpm(std::string_view(bytes).substr(0, 40), "short.dpm");
+  ASSERT_FALSE(too_short.ok());
+  EXPECT_NE(too_short.message().find("short.dpm: byte"), std::string::npos) << too_short.message();
+}
+
+TEST(Progressive, DamagedFilesAreRefusedWithThePlace) {
+  const Animation a = load(test::sample_dir() + "/frame_00*.obj");
+  const std::string bytes = encode_dpm(build(a, false));
+  std::string damaged = bytes;
+  damaged[bytes.size() / 2] ^= 0x40;
+  auto r = decode_dpm(damaged, "damaged.dpm");
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.message().find("checksum"), std::string::npos) << r.message();
+  EXPECT_NE(r.message().find("damaged.dpm: byte "), std::string::npos) << r.message();
+  auto wrong = decode_dpm("hello, this is not a dpm file at all", "text.dpm");
+  ASSERT_FALSE(wrong.ok());
+  EXPECT_NE(wrong.message().find("not a .dpm file"), std::string::npos);
+  std::string future = bytes;
+  future[8] = 2;
+  EXPECT_NE(decode_dpm(future, "v2.dpm").message().find("version 2"), std::string::npos);
+  std::string trailing = bytes + "x";
+  EXPECT_FALSE(decode_dpm(trailing, "trailing.dpm").ok());
+  // Every single-byte cut of the header region is an error or a prefix, never a crash.
+  for (size_t cut = 0; cut < std::min<size_t>(bytes.size(), 400); ++cut) {
+    auto p = decode_dpm(std::string_view(bytes).substr(0, cut), "cut.dpm");
+    if (p.ok()) {
+      EXPECT_FALSE(p->complete);
+    }
+  }
+}
+
+// A source with one per-vertex field, to check fields travel through the file.
+class WithField final : public FrameSource {
+ public:
+  explicit WithField(const Frames& frames) : frames_(frames) {}
+  uint32_t vertex_count() const override { return frames_.vertex_count(); }
+  size_t step_count() const override { return frames_.step_count(); }
+  double step_time(size_t t) const override { return frames_.step_time(t); }
+  Status read_step(size_t t, std::span<float> out) const override { return frames_.read_step(t, out); }
+  std::vector<std::string> field_names() const override { return {"PEEQ"}; }
+  Status read_field(size_t, size_t t, std::span<float> out) const override {
+    for (size_t v = 0; v < out.size(); ++v) out[v] = float(v) * 0.001f + float(t);
+    return {};
+  }
+
+ private:
+  const Frames& frames_;
+};
+
+TEST(Progressive, FieldsTravelWithTheirVertices) {
+  const Animation a = load(test::sample_dir() + "/frame_00*.obj");
+  WithField source(a.frames);
+  auto pm = build_progressive_mesh(a.topology, source, BuildOptions{});
+  ASSERT_TRUE(pm.ok()) << pm.message();
+  const ProgressiveMesh back = through_file(*pm);
+  ASSERT_EQ(back.field_names, std::vector<std::string>{"PEEQ"});
+  for (size_t t = 0; t < back.step_count(); ++t)
+    for (uint32_t v = 0; v < back.vertex_count(); ++v)
+      ASSERT_EQ(back.fields[0][t][v], float(back.vertex_original_index[v]) * 0.001f + float(t));
+}
+
+TEST(Progressive, OptimalPlacementIsRefused) {
+  const Animation a = load(test::sample_dir() + "/frame_000.obj");
+  BuildOptions options;
+  options.simplify.placement = Placement::kOptimal;
+  auto pm = build_progressive_mesh(a.topology, a.frames, options);
+  ASSERT_FALSE(pm.ok());
+  EXPECT_NE(pm.message().find("half-edge"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace dynpm

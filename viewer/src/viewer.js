@@ -1,0 +1,571 @@
+// The page of `dynpm view`: streams a .dpm (src/dpm.js), shows the base mesh as soon as BASE has
+// arrived and refines as SPLT chunks follow; time and resolution sliders, element edges, colour
+// by part or displacement, stats. docs/viewer.md has the design and the measured numbers.
+//
+// GPU buffers are sized for the full mesh once. Time changes rewrite only the position (and
+// colour) prefix of the visible vertices; resolution changes rewrite only the index entries of
+// the faces the splits touched (fixed slots per face, see writeFaceIndices in dpm.js).
+import * as THREE from 'three';
+import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
+
+import { DpmDecoder, Navigator, ProgressiveMesh, streamDpm, updateIndices } from './dpm.js';
+
+const $ = (id) => document.getElementById(id);
+const ui = {
+  title: $('title'),
+  note: $('note'),
+  play: $('play'),
+  time: $('time'),
+  timeLabel: $('time-label'),
+  resolution: $('resolution'),
+  resolutionLabel: $('resolution-label'),
+  edges: $('edges'),
+  colour: $('colour'),
+  legend: $('legend'),
+  reset: $('reset'),
+  loadingBar: $('loading-bar'),
+  stats: $('stats'),
+  error: $('error'),
+};
+
+const state = {
+  name: 'model.dpm',
+  totalBytes: 0,
+  bytesLoaded: 0,
+  mesh: null,
+  nav: null,
+  t: 0,
+  playing: false,
+  follow: true,  // keep the resolution at the finest level loaded while the file arrives
+  colour: 'part',
+  base0: null,  // positions at step 0 of every loaded vertex (displacement colours)
+  ranges: new Map(),  // colour mode → [min, max] over every step
+  lastFrameTime: 0,
+};
+
+// ---------------------------------------------------------------------------------------------
+// three.js scene
+
+// ?antialias=0 turns multisampling off (for software renderers, where it costs the most).
+const params = new URLSearchParams(location.search);
+const renderer = new THREE.WebGLRenderer({
+  canvas: $('view'),
+  antialias: params.get('antialias') !== '0',
+});
+renderer.setPixelRatio(window.devicePixelRatio);
+renderer.setClearColor(0xeef0f3);
+const scene = new THREE.Scene();
+const camera = new THREE.PerspectiveCamera(35, 1, 0.1, 1000);
+scene.add(camera);
+scene.add(new THREE.HemisphereLight(0xffffff, 0x8890a0, 1.6));
+const headlight = new THREE.DirectionalLight(0xffffff, 1.6);
+headlight.position.set(0.3, 0.5, 1);  // in camera space: follows the view
+camera.add(headlight);
+const controls = new OrbitControls(camera, renderer.domElement);
+controls.addEventListener('change', () => requestRender());
+
+let geometry = null;  // faces (two triangles per face slot)
+let edgeGeometry = null;  // element edges (four segments per face slot)
+let surface = null;
+let edgeLines = null;
+let positions = null;  // Float32Array(3V)
+let colours = null;  // Float32Array(3V)
+let triIndex = null;  // Uint32Array(6F)
+let edgeIndex = null;  // Uint32Array(8F)
+let scratch = null;  // Float32Array(V): per-vertex scalar for colours
+
+function createGeometry(mesh) {
+  const { vertexCount: V, faceCount: F } = mesh.head;
+  positions = new Float32Array(3 * V);
+  colours = new Float32Array(3 * V).fill(0.8);
+  triIndex = new Uint32Array(6 * F);
+  edgeIndex = new Uint32Array(8 * F);
+  scratch = new Float32Array(V);
+  const position = new THREE.BufferAttribute(positions, 3).setUsage(THREE.DynamicDrawUsage);
+  const colour = new THREE.BufferAttribute(colours, 3).setUsage(THREE.DynamicDrawUsage);
+  geometry = new THREE.BufferGeometry();
+  geometry.setAttribute('position', position);
+  geometry.setAttribute('color', colour);
+  geometry.setIndex(new THREE.BufferAttribute(triIndex, 1).setUsage(THREE.DynamicDrawUsage));
+  edgeGeometry = new THREE.BufferGeometry();
+  edgeGeometry.setAttribute('position', position);  // shared: one upload serves both
+  edgeGeometry.setIndex(new THREE.BufferAttribute(edgeIndex, 1).setUsage(THREE.DynamicDrawUsage));
+  // The box holds every vertex at every step: set once, never recomputed from the buffers.
+  const { bboxMin: lo, bboxMax: hi } = mesh.head;
+  const box = new THREE.Box3(new THREE.Vector3(...lo), new THREE.Vector3(...hi));
+  const sphere = box.getBoundingSphere(new THREE.Sphere());
+  geometry.boundingSphere = sphere;
+  edgeGeometry.boundingSphere = sphere;
+  geometry.boundingBox = box;
+  // flatShading: normals from screen-space derivatives, so a time change needs no normal pass.
+  const material = new THREE.MeshLambertMaterial({
+    vertexColors: true,
+    flatShading: true,
+    side: THREE.DoubleSide,
+    polygonOffset: true,  // faces behind their edges
+    polygonOffsetFactor: 1,
+    polygonOffsetUnits: 1,
+  });
+  surface = new THREE.Mesh(geometry, material);
+  edgeLines = new THREE.LineSegments(
+    edgeGeometry,
+    new THREE.LineBasicMaterial({ color: 0x1b2330, transparent: true, opacity: 0.55 }),
+  );
+  edgeLines.visible = ui.edges.checked;
+  scene.add(surface, edgeLines);
+}
+
+function resetView() {
+  const sphere = geometry.boundingSphere;
+  // The bounding sphere is loose for long parts: 0.9 of its fit fills the view better.
+  const distance = (sphere.radius / Math.sin(THREE.MathUtils.degToRad(camera.fov / 2))) * 0.9;
+  const direction = new THREE.Vector3(1, 0.7, 1.3).normalize();
+  controls.target.copy(sphere.center);
+  camera.position.copy(sphere.center).addScaledVector(direction, distance);
+  camera.near = distance / 100;
+  camera.far = distance * 10;
+  camera.updateProjectionMatrix();
+  controls.update();
+  requestRender();
+}
+
+function resize() {
+  const w = window.innerWidth, h = window.innerHeight;
+  renderer.setSize(w, h, false);
+  camera.aspect = w / h;
+  camera.updateProjectionMatrix();
+  requestRender();
+}
+window.addEventListener('resize', resize);
+
+let renderPending = false;
+function requestRender() {
+  if (renderPending) return;
+  renderPending = true;
+  requestAnimationFrame(frame);
+}
+
+function frame(now) {
+  renderPending = false;
+  if (state.playing && state.mesh) {
+    const m = state.mesh.head.stepCount;
+    const stepsPerSecond = Math.max(1, (m - 1) / 4);  // the whole animation in about 4 s
+    const dt = state.lastFrameTime ? (now - state.lastFrameTime) / 1000 : 0;
+    let t = state.t + dt * stepsPerSecond;
+    if (t > m - 1) t = 0;
+    setTime(t);
+    state.lastFrameTime = now;
+    requestRender();
+  }
+  renderer.render(scene, camera);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Updates
+
+function uploadPositions() {
+  const n = state.nav.vertexCount;
+  const attribute = geometry.attributes.position;
+  attribute.clearUpdateRanges();
+  attribute.addUpdateRange(0, 3 * n);
+  attribute.needsUpdate = true;
+}
+
+function uploadColours() {
+  const attribute = geometry.attributes.color;
+  attribute.clearUpdateRanges();
+  attribute.addUpdateRange(0, 3 * state.nav.vertexCount);
+  attribute.needsUpdate = true;
+}
+
+// Positions (and displacement/field colours) of the visible vertices at state.t.
+function updateTime({ render = true } = {}) {
+  const { mesh, nav, t } = state;
+  const n = nav.vertexCount;
+  mesh.positionsAt(t, n, positions);
+  uploadPositions();
+  if (state.colour !== 'part') updateScalarColours();
+  updateLabels();
+  if (render) requestRender();
+}
+
+// After a change of level: the index entries of the touched faces, and what depends on the
+// level (part colours, counts).
+function updateLevel() {
+  const { nav } = state;
+  const changed = updateIndices(nav, triIndex, edgeIndex);
+  const F = nav.faceCount;
+  geometry.setDrawRange(0, 6 * F);
+  edgeGeometry.setDrawRange(0, 8 * F);
+  if (changed) {
+    const [lo, hi] = changed;
+    for (const [g, per] of [[geometry, 6], [edgeGeometry, 8]]) {
+      const index = g.index;
+      index.clearUpdateRanges();
+      index.addUpdateRange(per * lo, per * (hi - lo));
+      index.needsUpdate = true;
+    }
+  }
+  if (state.colour === 'part') updatePartColours();
+  updateTime();
+}
+
+function setTime(t) {
+  state.t = t;
+  ui.time.value = String(t);
+  updateTime();
+}
+
+function setVertexCount(n) {
+  const { nav, mesh } = state;
+  nav.setVertexCount(n);
+  state.follow = nav.level === mesh.splitsLoaded;
+  ui.resolution.value = String(nav.vertexCount);
+  updateLevel();
+}
+
+// ---------------------------------------------------------------------------------------------
+// Colours
+
+// Parts: hues spaced by the golden angle, so neighbouring ids differ clearly.
+function partColour(id) {
+  const c = new THREE.Color();
+  c.setHSL((((0.58 + id * 0.618033988749895) % 1) + 1) % 1, 0.35, 0.66);
+  return c;
+}
+
+// A vertex takes the part of a face that holds it (the last in face order): vertices on a part
+// boundary blend over one element row, which the element edges keep readable.
+function updatePartColours() {
+  const { nav, mesh } = state;
+  const F = nav.faceCount;
+  const cache = new Map();
+  const corners = nav.corners;
+  for (let f = 0; f < F; f++) {
+    const id = mesh.partId[f];
+    let c = cache.get(id);
+    if (!c) cache.set(id, (c = partColour(id)));
+    const d = corners[4 * f + 3] < 0 ? 3 : 4;
+    for (let k = 0; k < d; k++) {
+      const v = 3 * corners[4 * f + k];
+      colours[v] = c.r, colours[v + 1] = c.g, colours[v + 2] = c.b;
+    }
+  }
+  uploadColours();
+  if (cache.size !== state.partCount) {
+    state.partCount = cache.size;
+    drawLegend();
+  }
+}
+
+// A perceptual blue → green → yellow ramp (viridis-like), 5 stops.
+const RAMP = [
+  [0.267, 0.005, 0.329],
+  [0.229, 0.322, 0.546],
+  [0.128, 0.567, 0.551],
+  [0.369, 0.789, 0.383],
+  [0.993, 0.906, 0.144],
+];
+
+function rampCss() {
+  return RAMP.map(([r, g, b]) => `rgb(${r * 255},${g * 255},${b * 255})`).join(',');
+}
+
+function updateScalarColours() {
+  const { mesh, nav } = state;
+  const n = nav.vertexCount;
+  if (state.colour === 'displacement') ProgressiveMesh.displacement(positions, state.base0, n, scratch);
+  else mesh.fieldAt(Number(state.colour.slice(6)), state.t, n, scratch);
+  const [lo, hi] = scalarRange();
+  const scale = hi > lo ? (RAMP.length - 1) / (hi - lo) : 0;
+  for (let v = 0; v < n; v++) {
+    let x = (scratch[v] - lo) * scale;
+    x = x < 0 ? 0 : x > RAMP.length - 1 ? RAMP.length - 1 : x;
+    const i = Math.min(Math.floor(x), RAMP.length - 2);
+    const a = x - i;
+    const c0 = RAMP[i], c1 = RAMP[i + 1];
+    colours[3 * v] = c0[0] + (c1[0] - c0[0]) * a;
+    colours[3 * v + 1] = c0[1] + (c1[1] - c0[1]) * a;
+    colours[3 * v + 2] = c0[2] + (c1[2] - c0[2]) * a;
+  }
+  uploadColours();
+}
+
+// The legend's range covers every step of the loaded vertices, so it stays put while time
+// changes; recomputed as vertices arrive.
+function scalarRange() {
+  const key = state.colour;
+  let range = state.ranges.get(key);
+  if (range) return range;
+  const { mesh } = state;
+  const n = mesh.vertexCountLoaded;
+  const m = mesh.head.stepCount;
+  let lo = Infinity, hi = -Infinity;
+  if (key === 'displacement') {
+    const p = new Float32Array(3 * n);
+    const d = new Float32Array(n);
+    lo = 0;
+    for (let t = 0; t < m; t++) {
+      ProgressiveMesh.displacement(mesh.positionsAt(t, n, p), state.base0, n, d);
+      for (let v = 0; v < n; v++) if (d[v] > hi) hi = d[v];
+    }
+  } else {
+    for (const values of mesh.fields[Number(key.slice(6))])
+      for (let v = 0; v < n; v++) {
+        if (values[v] < lo) lo = values[v];
+        if (values[v] > hi) hi = values[v];
+      }
+  }
+  range = [lo, Math.max(hi, lo)];
+  state.ranges.set(key, range);
+  drawLegend();
+  return range;
+}
+
+function drawLegend() {
+  const { mesh } = state;
+  if (state.colour === 'part') {
+    const ids = [...new Set(mesh.partId.subarray(0, state.nav.faceCount))].sort((a, b) => a - b);
+    const shown = ids.slice(0, 12).map((id) => {
+      const c = partColour(id).getStyle();
+      return `<span class="swatch" style="background:${c}"></span>${id}`;
+    });
+    ui.legend.innerHTML = `part ids: ${shown.join('')}${ids.length > 12 ? ' …' : ''}`;
+    return;
+  }
+  const [lo, hi] = state.ranges.get(state.colour) ?? [0, 0];
+  const name =
+    state.colour === 'displacement' ? 'displacement' : mesh.head.fieldNames[Number(state.colour.slice(6))];
+  ui.legend.innerHTML =
+    `<div>${name}</div><div class="bar" style="background:linear-gradient(to right,${rampCss()})">` +
+    `</div><div class="ends"><span>${fmt(lo)}</span><span>${fmt((lo + hi) / 2)}</span>` +
+    `<span>${fmt(hi)}</span></div>`;
+}
+
+function setColour(mode) {
+  state.colour = mode;
+  ui.colour.value = mode;
+  if (mode === 'part') updatePartColours();
+  else updateScalarColours();
+  drawLegend();
+  requestRender();
+}
+
+// ---------------------------------------------------------------------------------------------
+// Labels
+
+function fmt(x, digits = 4) {
+  if (x === 0) return '0';
+  const a = Math.abs(x);
+  return a >= 1e5 || a < 1e-3 ? x.toExponential(2) : String(Number(x.toPrecision(digits)));
+}
+const int = (n) => n.toLocaleString('en-US');
+function bytes(n) {
+  return n < 1 << 20 ? `${(n / 1024).toFixed(1)} KiB` : `${(n / (1 << 20)).toFixed(1)} MiB`;
+}
+
+function updateLabels() {
+  const { mesh, nav, t } = state;
+  const h = mesh.head;
+  const step = Math.round(t * 100) / 100;
+  const t0 = Math.floor(t), t1 = Math.min(t0 + 1, h.stepCount - 1);
+  const time = h.times[t0] + (h.times[t1] - h.times[t0]) * (t - t0);
+  ui.timeLabel.textContent = `step ${step.toFixed(2)} / ${h.stepCount - 1}, time ${fmt(time)}`;
+  const diag = Math.hypot(...h.bboxMax.map((x, c) => x - h.bboxMin[c]));
+  const n = nav.vertexCount;
+  ui.resolutionLabel.textContent =
+    `${int(n)} of ${int(h.vertexCount)} vertices (${((100 * n) / h.vertexCount).toFixed(1)}%), ` +
+    `error ${fmt(nav.error)} (${fmt((100 * nav.error) / diag, 3)}% of the diagonal)` +
+    (mesh.splitsLoaded < h.splitCount ? `, ${int(mesh.vertexCountLoaded)} loaded` : '');
+  const loaded = state.totalBytes
+    ? `${bytes(state.bytesLoaded)} / ${bytes(state.totalBytes)}`
+    : bytes(state.bytesLoaded);
+  ui.stats.textContent =
+    `vertices ${int(n)} · triangles ${int(nav.triangleCount)} · quads ${int(nav.quadCount)} · ` +
+    `step ${step.toFixed(2)} · time ${fmt(time)} · error ${fmt(nav.error)} · ` +
+    `loaded ${loaded}${mesh.complete ? '' : ' …'}`;
+  ui.stats.dataset.faces = String(nav.faceCount);
+}
+
+function showError(e) {
+  console.error(e);
+  ui.error.hidden = false;
+  ui.error.textContent = String(e.message ?? e);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Loading
+
+function onHead(mesh) {
+  state.mesh = mesh;
+  const h = mesh.head;
+  ui.time.max = String(h.stepCount - 1);
+  ui.resolution.min = String(h.baseVertexCount);
+  ui.resolution.max = String(h.vertexCount);
+  for (let f = 0; f < h.fieldCount; f++) ui.colour.add(new Option(h.fieldNames[f], `field:${f}`));
+  ui.note.textContent = h.note;
+  createGeometry(mesh);
+  resize();
+}
+
+function onBase(mesh) {
+  state.nav = new Navigator(mesh);
+  extendBase0();
+  updateLevel();
+  resetView();
+  drawLegend();
+}
+
+function onSplits(mesh) {
+  extendBase0();
+  state.ranges.clear();  // more vertices: the legend's range may grow
+  if (state.follow) setVertexCount(mesh.vertexCountLoaded);
+  else updateLabels();
+  if (state.colour !== 'part') updateScalarColours();
+}
+
+function extendBase0() {
+  const { mesh } = state;
+  const n = mesh.vertexCountLoaded;
+  if (!state.base0) state.base0 = new Float32Array(3 * mesh.head.vertexCount);
+  mesh.positionsAt(0, n, state.base0);
+}
+
+async function load() {
+  let file = 'model.dpm';
+  try {
+    const config = await fetch('dpm.json');
+    if (config.ok) {
+      const c = await config.json();
+      file = c.file ?? file;
+      state.name = c.name ?? file;
+    }
+  } catch {
+    // No dpm.json (a folder served by hand): the default name.
+  }
+  const query = params.get('file');
+  if (query) file = state.name = query;
+  ui.title.textContent = state.name;
+  document.title = `${state.name} — dynpm view`;
+  const response = await fetch(file);
+  if (!response.ok) throw new Error(`${file}: HTTP ${response.status}`);
+  state.totalBytes = Number(response.headers.get('Content-Length')) || 0;
+  const decoder = new DpmDecoder({ name: state.name, onHead, onBase, onSplits });
+  await streamDpm(response.body, decoder, (received) => {
+    state.bytesLoaded = received;
+    if (state.totalBytes) ui.loadingBar.style.width = `${(100 * received) / state.totalBytes}%`;
+  });
+  if (!decoder.mesh?.hasBase) throw new Error(`${state.name}: ends before the base mesh`);
+  if (!decoder.complete) showError(`${state.name}: the file ends early (no END chunk): showing the ${int(decoder.mesh.vertexCountLoaded)} vertices it holds`);
+  state.ranges.clear();
+  if (state.colour !== 'part') setColour(state.colour);
+  updateLabels();
+  ui.loadingBar.style.width = '100%';
+  requestRender();
+}
+
+// ---------------------------------------------------------------------------------------------
+// Controls
+
+ui.time.addEventListener('input', () => {
+  if (state.mesh?.hasBase) setTime(Number(ui.time.value));
+});
+ui.resolution.addEventListener('input', () => {
+  if (state.nav) setVertexCount(Number(ui.resolution.value));
+});
+ui.play.addEventListener('click', () => togglePlay());
+ui.edges.addEventListener('change', () => {
+  if (edgeLines) edgeLines.visible = ui.edges.checked;
+  requestRender();
+});
+ui.colour.addEventListener('change', () => {
+  if (state.nav) setColour(ui.colour.value);
+});
+ui.reset.addEventListener('click', () => geometry && resetView());
+window.addEventListener('keydown', (e) => {
+  if (e.target instanceof HTMLInputElement && e.target.type !== 'range') return;
+  if (e.key === ' ') togglePlay(), e.preventDefault();
+  if (e.key === 'r') geometry && resetView();
+});
+
+function togglePlay() {
+  if (!state.nav) return;
+  state.playing = !state.playing;
+  state.lastFrameTime = 0;
+  ui.play.textContent = state.playing ? '❚❚' : '▶';
+  requestRender();
+}
+
+// For the browser tests (viewer/test/browser.test.mjs) and the frame-time measurement: read the
+// state, and the picture as a small grey-level image (read back right after a render, so no
+// preserveDrawingBuffer is needed).
+const done = load().catch(showError);
+window.dpmViewer = {
+  done,
+  state: () => ({
+    hasBase: Boolean(state.nav),
+    complete: Boolean(state.mesh?.complete),
+    vertices: state.nav?.vertexCount ?? 0,
+    faces: state.nav?.faceCount ?? 0,
+    triangles: state.nav?.triangleCount ?? 0,
+    quads: state.nav?.quadCount ?? 0,
+    loadedVertices: state.mesh?.vertexCountLoaded ?? 0,
+    t: state.t,
+    bytesLoaded: state.bytesLoaded,
+    error: ui.error.hidden ? null : ui.error.textContent,
+  }),
+  snapshot(size = 64) {
+    renderer.render(scene, camera);
+    const gl = renderer.getContext();
+    const w = gl.drawingBufferWidth, h = gl.drawingBufferHeight;
+    const rgba = new Uint8Array(4 * w * h);
+    gl.readPixels(0, 0, w, h, gl.RGBA, gl.UNSIGNED_BYTE, rgba);
+    const grey = new Float32Array(size * size);
+    const count = new Float32Array(size * size);
+    for (let y = 0; y < h; y++)
+      for (let x = 0; x < w; x++) {
+        const i = 4 * (y * w + x);
+        const cell = Math.floor((y * size) / h) * size + Math.floor((x * size) / w);
+        grey[cell] += 0.299 * rgba[i] + 0.587 * rgba[i + 1] + 0.114 * rgba[i + 2];
+        count[cell]++;
+      }
+    for (let i = 0; i < grey.length; i++) grey[i] /= count[i] || 1;
+    return Array.from(grey);
+  },
+  // Sets the resolution as the slider does and renders; returns the milliseconds taken by the
+  // page's JS (navigator, index and position buffers) and in all, with the upload and one frame
+  // (the refine measurement of docs/viewer.md).
+  setVertexCount(n) {
+    const start = performance.now();
+    setVertexCount(n);
+    const js = performance.now() - start;
+    renderer.render(scene, camera);
+    renderer.getContext().finish();
+    return { js, total: performance.now() - start };
+  },
+  // Scrubs time over `frames` animation frames (as a dragged slider does: a new fractional t
+  // every frame) and returns the frame times in ms and the JS time spent in updates.
+  scrub(frames = 120) {
+    return new Promise((resolve) => {
+      const stamps = [];
+      let update = 0;
+      const m = state.mesh.head.stepCount;
+      const tick = (now) => {
+        stamps.push(now);
+        if (stamps.length > frames) {
+          const gaps = stamps.slice(1).map((s, i) => s - stamps[i]);
+          resolve({ frameMs: gaps, updateMs: update / frames });
+          return;
+        }
+        const start = performance.now();
+        state.t = (stamps.length * 0.37) % (m - 1);
+        ui.time.value = String(state.t);
+        updateTime({ render: false });
+        update += performance.now() - start;
+        renderer.render(scene, camera);
+        requestAnimationFrame(tick);
+      };
+      requestAnimationFrame(tick);
+    });
+  },
+};

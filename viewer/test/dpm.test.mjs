@@ -1,0 +1,199 @@
+// dpm.js on a .dpm written here byte by byte from FORMAT.md: the split of FORMAT.md's figure
+// (a quad wing), a triangle wing and a moved face, two time steps; prefixes, byte-at-a-time
+// streaming and damaged files.
+import assert from 'node:assert/strict';
+import { test } from 'node:test';
+import { crc32 } from 'node:zlib';
+
+import { DpmDecoder, Navigator, readDpm, updateIndices } from '../src/dpm.js';
+
+class Bytes {
+  constructor() {
+    this.b = [];
+  }
+  u8(v) {
+    this.b.push(v & 0xff);
+  }
+  u16(v) {
+    this.u8(v), this.u8(v >> 8);
+  }
+  u32(v) {
+    for (let i = 0; i < 4; i++) this.u8(v >>> (8 * i));
+  }
+  f32(v) {
+    const d = new DataView(new ArrayBuffer(4));
+    d.setFloat32(0, v, true);
+    for (let i = 0; i < 4; i++) this.u8(d.getUint8(i));
+  }
+  f64(v) {
+    const d = new DataView(new ArrayBuffer(8));
+    d.setFloat64(0, v, true);
+    for (let i = 0; i < 8; i++) this.u8(d.getUint8(i));
+  }
+  varint(v) {
+    while (v >= 0x80) this.u8((v & 0x7f) | 0x80), (v = Math.floor(v / 128));
+    this.u8(v);
+  }
+  svarint(v) {
+    this.varint(v >= 0 ? 2 * v : -2 * v - 1);
+  }
+  string(s) {
+    const e = new TextEncoder().encode(s);
+    this.u16(e.length), e.forEach((x) => this.u8(x));
+  }
+  get bytes() {
+    return Uint8Array.from(this.b);
+  }
+}
+
+function chunk(out, tag, payload) {
+  for (const c of tag) out.u8(c.charCodeAt(0));
+  out.u32(0), out.u32(payload.length), out.u32(payload.length), out.u32(crc32(payload)), out.u32(0);
+  payload.forEach((x) => out.u8(x));
+}
+
+// Base: w=0, v1=1, x=2, y=3, z=4; faces (0,1,2) and (1,4,3). Split 0 creates v0=5: the quad
+// wing (0,1,2) → (0,5,1,2) (slot 1, v1 follows v0), the triangle wing (5,3,1) (slot 0, w=y),
+// and moves (1,4,3) → (5,4,3).
+const Q = [
+  // step 0, step 1: quantized integer positions of vertices 0…5
+  [[0, 0, 0], [4, 0, 0], [4, 4, 0], [8, 2, 0], [6, -2, 1], [2, 1, 0]],
+  [[0, 0, 1], [4, 0, 2], [4, 4, 3], [8, 2, 5], [6, -2, 1], [2, 1, 9]],
+];
+const QUANT = 0.25;
+const BMIN = [-1, -2, -3];
+
+function makeFile() {
+  const out = new Bytes();
+  [0x89, 0x44, 0x50, 0x4d, 0x0d, 0x0a, 0x1a, 0x0a].forEach((x) => out.u8(x));
+  out.u32(1);
+  const head = new Bytes();
+  [6, 3, 5, 2, 1, 2, 1, 0].forEach((x) => head.u32(x));
+  BMIN.forEach((x) => head.f64(x));
+  [2, 1, 0].forEach((x) => head.f64(x));
+  head.f64(QUANT), head.f64(QUANT * 0.866), head.f64(0.5);
+  head.f64(0), head.f64(0.001);
+  head.u32(1), head.u32(1);
+  head.string('stress'), head.string('dpm.test.mjs');
+  chunk(out, 'HEAD', head.bytes);
+
+  const base = new Bytes();
+  [[10, 100], [11, 101], [12, 102], [13, 103], [14, 104]].reduce((prev, [o, n]) => {
+    base.svarint(o - prev[0]), base.svarint(n - prev[1]);
+    return [o, n];
+  }, [0, 0]);
+  base.u8(3), [0, 1, 2].forEach((c) => base.varint(c));
+  base.u8(3), [1, 4, 3].forEach((c) => base.varint(c));
+  // part, element (delta), original (delta)
+  base.svarint(7), base.svarint(500), base.svarint(0);
+  base.svarint(8), base.svarint(1), base.svarint(1);
+  for (let t = 0; t < 2; t++)
+    for (let v = 0; v < 5; v++)
+      for (let c = 0; c < 3; c++)
+        base.svarint(t === 0 ? Q[0][v][c] - (v ? Q[0][v - 1][c] : 0) : Q[t][v][c] - Q[t - 1][v][c]);
+  for (let t = 0; t < 2; t++) for (let v = 0; v < 5; v++) base.f32(10 * t + v);
+  chunk(out, 'BASE', base.bytes);
+
+  const split = new Bytes();
+  split.u32(0), split.u32(1);
+  split.varint(5 - 1 - 1);  // parent v1 = 1
+  split.f32(0);
+  split.u8(2);
+  split.u8(2 | (1 << 2)), split.varint(5 - 1 - 0), split.varint(2 - 1 - 0);  // quad wing, face 0
+  split.u8(1 | (0 << 2)), split.varint(5 - 1 - 3);  // triangle wing, w = 3
+  split.varint(1), split.varint(2 - 1 - 1);  // moved: face 1
+  split.svarint(15 - 14), split.svarint(105 - 104);
+  split.svarint(9), split.svarint(3 - 501), split.svarint(2 - 1);
+  for (let c = 0; c < 3; c++) split.svarint(Q[0][5][c] - Q[0][1][c]);
+  for (let c = 0; c < 3; c++) split.svarint(Q[1][5][c] - Q[0][5][c] - (Q[1][1][c] - Q[0][1][c]));
+  split.f32(5), split.f32(15);
+  chunk(out, 'SPLT', split.bytes);
+  chunk(out, 'END ', new Uint8Array(0));
+  return out.bytes;
+}
+
+const FILE = makeFile();
+const HEAD_END = 12 + 24 + FILE.slice(12 + 8, 12 + 12).reduce((a, x, i) => a + x * 256 ** i, 0);
+
+test('decodes HEAD, BASE, the split and its attributes', () => {
+  const { mesh, complete } = readDpm(FILE);
+  assert.equal(complete, true);
+  assert.equal(mesh.head.vertexCount, 6);
+  assert.deepEqual(mesh.head.fieldNames, ['stress']);
+  assert.equal(mesh.head.note, 'dpm.test.mjs');
+  assert.deepEqual(Array.from(mesh.nodeId), [100, 101, 102, 103, 104, 105]);
+  assert.deepEqual(Array.from(mesh.vertexOriginal), [10, 11, 12, 13, 14, 15]);
+  assert.deepEqual(Array.from(mesh.partId), [7, 8, 9]);
+  assert.deepEqual(Array.from(mesh.elementId), [500, 501, 3]);
+  assert.deepEqual(Array.from(mesh.faceOriginal), [0, 1, 2]);
+  assert.deepEqual(Array.from(mesh.fields[0][1]), [10, 11, 12, 13, 14, 15]);
+  for (let t = 0; t < 2; t++)
+    for (let v = 0; v < 6; v++)
+      assert.deepEqual(
+        mesh.position(v, t),
+        Q[t][v].map((q, c) => Math.fround(BMIN[c] + q * QUANT)),
+        `vertex ${v} step ${t}`,
+      );
+});
+
+test('refine and coarsen follow FORMAT.md (quad wing, triangle wing, moved face)', () => {
+  const { mesh } = readDpm(FILE);
+  const nav = new Navigator(mesh);
+  const faces = () => Array.from({ length: nav.faceCount }, (_, f) => nav.face(f));
+  assert.deepEqual(faces(), [[0, 1, 2], [1, 4, 3]]);
+  assert.equal(nav.error, 0.5);
+  nav.setLevel(1);
+  assert.deepEqual(faces(), [[0, 5, 1, 2], [5, 4, 3], [5, 3, 1]]);
+  assert.equal([nav.quadCount, nav.triangleCount, nav.error].join(), '1,2,0');
+  const tri = new Uint32Array(18), edges = new Uint32Array(24);
+  assert.deepEqual(updateIndices(nav, tri, edges), [0, 3]);
+  assert.deepEqual(Array.from(tri.subarray(0, 6)), [0, 5, 1, 0, 1, 2]);
+  assert.deepEqual(Array.from(edges.subarray(0, 8)), [0, 5, 5, 1, 1, 2, 2, 0]);
+  nav.setLevel(0);
+  assert.deepEqual(faces(), [[0, 1, 2], [1, 4, 3]]);
+  assert.equal(nav.quadCount, 0);
+});
+
+test('positions at a fractional step interpolate linearly', () => {
+  const { mesh } = readDpm(FILE);
+  const out = mesh.positionsAt(0.25, 6, new Float32Array(18));
+  for (let v = 0; v < 6; v++)
+    for (let c = 0; c < 3; c++) {
+      const p0 = BMIN[c] + Q[0][v][c] * QUANT, p1 = BMIN[c] + Q[1][v][c] * QUANT;
+      assert.ok(Math.abs(out[3 * v + c] - (0.75 * p0 + 0.25 * p1)) < 1e-6);
+    }
+});
+
+test('every prefix is a coarser file; byte-at-a-time streaming gives the same mesh', () => {
+  let levels = [];
+  for (let n = 0; n <= FILE.length; n++) {
+    const d = new DpmDecoder();
+    d.push(FILE.subarray(0, n));
+    levels.push(d.mesh ? d.mesh.vertexCountLoaded : -1);
+    if (n < FILE.length) assert.equal(d.complete, false);
+  }
+  assert.equal(levels[HEAD_END - 1], -1);
+  assert.equal(levels[HEAD_END], 0);
+  assert.equal(levels.at(-1), 6);
+  assert.ok(levels.includes(5));
+  const seen = [];
+  const d = new DpmDecoder({
+    onBase: (m) => seen.push(`base ${m.vertexCountLoaded}`),
+    onSplits: (m, s, n) => seen.push(`splits ${s}+${n}`),
+    onEnd: () => seen.push('end'),
+  });
+  for (let i = 0; i < FILE.length; i++) d.push(FILE.subarray(i, i + 1));
+  assert.deepEqual(seen, ['base 5', 'splits 0+1', 'end']);
+});
+
+test('damage is reported with its byte, not decoded', () => {
+  const bad = FILE.slice();
+  bad[HEAD_END + 30] ^= 1;  // inside BASE's payload
+  assert.throws(() => readDpm(bad, 'x.dpm'), /x\.dpm: byte \d+: BASE chunk: wrong checksum/);
+  const magic = FILE.slice();
+  magic[1] = 0x45;
+  assert.throws(() => readDpm(magic), /wrong magic/);
+  const tag = FILE.slice();
+  tag[HEAD_END] = 0x58;  // "XASE"
+  assert.throws(() => readDpm(tag), /unknown chunk tag/);
+});

@@ -1,0 +1,118 @@
+// Cross-language golden test: dpm.js against the C++ navigator. For several (resolution, step)
+// pairs, `dynpm extract MODEL --vertices N --step T -o out.obj` and dpm.js's Navigator must give
+// the same faces (corners, order, part ids) and the same positions.
+//
+// Environment (set by CTest, tests/CMakeLists.txt): DYNPM_CLI (the dynpm binary), DYNPM_DPM (a
+// .dpm, the shipped sample's), DYNPM_TEST_OUT (a scratch folder).
+import assert from 'node:assert/strict';
+import { execFileSync } from 'node:child_process';
+import { mkdirSync, readFileSync } from 'node:fs';
+import { join } from 'node:path';
+import { test } from 'node:test';
+
+import { Navigator, readDpm } from '../src/dpm.js';
+
+const { DYNPM_CLI: cli, DYNPM_DPM: dpm, DYNPM_TEST_OUT: out } = process.env;
+if (!cli || !dpm || !out) throw new Error('golden.test.mjs needs DYNPM_CLI, DYNPM_DPM, DYNPM_TEST_OUT');
+mkdirSync(out, { recursive: true });
+
+// OBJ as dynpm writes it: `v x y z`, `f a b c [d]` with 1-based indices, `g part_N` groups.
+function readObj(path) {
+  const positions = [];
+  const faces = [];
+  const parts = [];
+  let part = 0;
+  for (const line of readFileSync(path, 'utf8').split('\n')) {
+    const w = line.trim().split(/\s+/);
+    if (w[0] === 'v') positions.push(w.slice(1, 4).map(Number));
+    else if (w[0] === 'f') faces.push(w.slice(1).map((c) => Number(c.split('/')[0]) - 1)), parts.push(part);
+    else if (w[0] === 'g') part = Number(w[1].replace(/^part_/, ''));
+  }
+  return { positions, faces, parts };
+}
+
+function extract(args, name) {
+  const path = join(out, name);
+  execFileSync(cli, ['extract', dpm, ...args, '-o', path, '--ascii'], { stdio: 'pipe' });
+  return readObj(path);
+}
+
+const { mesh, complete } = readDpm(readFileSync(dpm), dpm);
+const h = mesh.head;
+
+test('the sample .dpm decodes completely', () => {
+  assert.equal(complete, true);
+  assert.equal(mesh.vertexCountLoaded, h.vertexCount);
+  assert.ok(h.splitCount > 0 && h.stepCount > 1, 'a progressive animation');
+});
+
+const m = h.stepCount;
+const cases = [];
+for (const n of [h.baseVertexCount, Math.round(h.baseVertexCount + h.splitCount * 0.37), h.vertexCount - 1])
+  for (const t of [0, Math.floor(m / 2), m - 1, 1.25]) cases.push([n, t]);
+
+for (const [n, t] of cases) {
+  test(`${n} vertices at step ${t}: same faces and positions as dynpm extract`, () => {
+    const obj = extract(['--vertices', String(n), '--step', String(t)], `golden_${n}_${t}.obj`);
+    const nav = new Navigator(mesh);
+    nav.setVertexCount(n);
+    assert.equal(obj.positions.length, nav.vertexCount, 'vertex count');
+    assert.equal(obj.faces.length, nav.faceCount, 'face count');
+    for (let f = 0; f < nav.faceCount; f++) {
+      assert.deepEqual(obj.faces[f], nav.face(f), `face ${f}`);
+      assert.equal(obj.parts[f], mesh.partId[f], `part of face ${f}`);
+    }
+    const p = mesh.positionsAt(t, nav.vertexCount, new Float32Array(3 * nav.vertexCount));
+    // Whole steps: the same float32 (OBJ holds %.9g, which round-trips float32). Between steps
+    // the two interpolate in different orders of operations: a few float32 ulps.
+    const exact = Number.isInteger(t);
+    const tol = exact ? 0 : 4 * h.quantStep + 1e-6 * Math.hypot(...h.bboxMax);
+    for (let v = 0; v < nav.vertexCount; v++)
+      for (let c = 0; c < 3; c++) {
+        const a = Math.fround(obj.positions[v][c]);
+        const b = p[3 * v + c];
+        if (exact) assert.equal(a, b, `vertex ${v} coordinate ${c}`);
+        else assert.ok(Math.abs(a - b) <= tol, `vertex ${v} coordinate ${c}: ${a} vs ${b}`);
+      }
+  });
+}
+
+// Fully refined, extract writes the input's order: vertex and face original indices map dpm.js's
+// progressive numbering back to it.
+test('fully refined: the input, in the input order', () => {
+  const t = m - 1;
+  const obj = extract(['--full', '--step', String(t)], 'golden_full.obj');
+  const nav = new Navigator(mesh);
+  nav.setLevel(h.splitCount);
+  assert.equal(obj.faces.length, h.faceCount);
+  assert.equal(obj.positions.length, h.vertexCount);
+  const order = new Int32Array(h.faceCount);
+  for (let f = 0; f < h.faceCount; f++) order[mesh.faceOriginal[f]] = f;
+  const p = mesh.positionsAt(t, h.vertexCount, new Float32Array(3 * h.vertexCount));
+  for (let i = 0; i < h.faceCount; i++) {
+    const f = order[i];
+    assert.deepEqual(obj.faces[i], nav.face(f).map((v) => mesh.vertexOriginal[v]), `input face ${i}`);
+  }
+  for (let v = 0; v < h.vertexCount; v++) {
+    const o = mesh.vertexOriginal[v];
+    for (let c = 0; c < 3; c++) assert.equal(Math.fround(obj.positions[o][c]), p[3 * v + c]);
+  }
+});
+
+test('every prefix that ends on a chunk boundary is a coarser, valid mesh', () => {
+  const bytes = readFileSync(dpm);
+  const { decoder } = readDpm(bytes, dpm);
+  assert.equal(decoder.bytesReceived, bytes.length);
+  // Feed in uneven pieces and stop at several places: the loaded levels only ever grow, and the
+  // navigator can reach each of them.
+  let last = 0;
+  for (const cut of [0.2, 0.5, 0.8, 1].map((x) => Math.floor(bytes.length * x))) {
+    const { mesh: part } = readDpm(bytes.subarray(0, cut), dpm);
+    if (!part.hasBase) continue;
+    assert.ok(part.vertexCountLoaded >= last);
+    last = part.vertexCountLoaded;
+    const nav = new Navigator(part);
+    assert.equal(nav.setLevel(part.splitsLoaded), part.splitsLoaded);
+  }
+  assert.equal(last, h.vertexCount);
+});
