@@ -75,16 +75,21 @@ case "${1:-}" in
     unpack_sample
     dynpm=build/release/cli/dynpm
     echo
-    echo "== 1. What the shipped CalculiX sample holds ($SAMPLE_ARCHIVE)"
-    echo "\$ dynpm info $SAMPLE_DIR/frame_*.obj"
-    "$dynpm" info "$SAMPLE_DIR"/frame_*.obj
-    echo
-    echo "== 2. Simplified to 10% of its vertices, every time step rating the collapses"
+    zcat data/hat-rail/rail.frd.gz > build/sample/rail.frd
     mkdir -p build/demo
-    echo "\$ dynpm simplify $SAMPLE_DIR/frame_*.obj --ratio 0.1 -o build/demo/rail10_{:03d}.obj"
-    "$dynpm" simplify "$SAMPLE_DIR"/frame_*.obj --ratio 0.1 -o 'build/demo/rail10_{:03d}.obj'
+    echo "== 1. The shipped CalculiX result, read directly from its .frd"
+    echo "\$ dynpm info build/sample/rail.frd"
+    "$dynpm" info build/sample/rail.frd
     echo
-    echo "The simplified animation is in build/demo/ (rail10_000.obj … rail10_030.obj)."
+    echo "== 2. Pre-processed once into a dynamic progressive mesh (every step rates the collapses)"
+    echo "\$ dynpm build build/sample/rail.frd -o build/demo/rail.dpm"
+    "$dynpm" build build/sample/rail.frd -o build/demo/rail.dpm
+    echo
+    echo "== 3. Any resolution at any time step: 10% of the vertices at the last step"
+    echo "\$ dynpm extract build/demo/rail.dpm --ratio 0.1 --step 30 -o build/demo/rail10_step30.obj"
+    "$dynpm" extract build/demo/rail.dpm --ratio 0.1 --step 30 -o build/demo/rail10_step30.obj
+    echo
+    echo "Browse it with time and resolution sliders: $dynpm view build/demo/rail.dpm"
     ;;
   test)
     install_packages "${BUILD_PACKAGES[@]}" "${TEST_PACKAGES[@]}"

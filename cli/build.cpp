@@ -79,7 +79,8 @@ int run_build(std::span<char* const> arguments) {
   options.simplify.key_steps = key_steps->steps;
   const bool json = args.has("--json");
   if (!json)
-    for (const std::string& reason : key_steps->reasons) std::printf("key step  %s\n", reason.c_str());
+    for (const std::string& reason : key_steps->reasons)
+      std::printf("key step  %s\n", reason.c_str());
   options.note = "dynpm build of " + std::filesystem::path(args.positional[0]).filename().string() +
                  (args.positional.size() > 1 ? " …" : "");
   options.progress = [](size_t done, size_t total) { progress("reading steps", done, total); };

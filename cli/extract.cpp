@@ -46,8 +46,8 @@ int run_extract(std::span<char* const> arguments) {
     std::cerr << "dynpm extract: needs one MODEL.dpm and -o OUTPUT\n\n" << help_text(kSpec);
     return kExitUsage;
   }
-  const int choices = args.has("--vertices") + args.has("--ratio") + args.has("--max-error") +
-                      args.has("--full");
+  const int choices =
+      args.has("--vertices") + args.has("--ratio") + args.has("--max-error") + args.has("--full");
   if (choices != 1) return fail_usage("give one of --vertices, --ratio, --max-error, --full");
   if (format_from_extension(*output) == FileFormat::kUnknown)
     return fail_usage(*output + ": use .obj, .ply or .vtk");
@@ -58,8 +58,9 @@ int run_extract(std::span<char* const> arguments) {
     step = *r;
   }
   if (!step && !has_step_field(*output))
-    return fail_usage("without --step every step is written; give a pattern such as "
-                      "'out_{:03d}.obj'");
+    return fail_usage(
+        "without --step every step is written; give a pattern such as "
+        "'out_{:03d}.obj'");
 
   auto mesh = read_dpm(args.positional[0]);
   if (!mesh) {
@@ -67,8 +68,9 @@ int run_extract(std::span<char* const> arguments) {
     return kExitFailure;
   }
   if (!mesh->complete)
-    std::cerr << "dynpm extract: note: " << args.positional[0] << " is a prefix of a file; it holds "
-              << mesh->split_count() << " of " << mesh->full_split_count << " splits\n";
+    std::cerr << "dynpm extract: note: " << args.positional[0]
+              << " is a prefix of a file; it holds " << mesh->split_count() << " of "
+              << mesh->full_split_count << " splits\n";
   const size_t steps = mesh->step_count();
   if (step && *step > double(steps - 1))
     return fail_usage("--step " + *args.value("--step") + ": the model has steps 0 to " +
@@ -152,11 +154,12 @@ int run_extract(std::span<char* const> arguments) {
     j.end_object();
     std::cout << j.str();
   } else {
-    std::printf("%u vertices, %zu faces (%zu quads, %zu triangles); error %.4g (%.3g%% of the "
-                "diagonal)\nwrote %s%s\n",
-                nav.vertex_count(), topology.faces.size(), topology.quad_count(),
-                topology.triangle_count(), nav.error(), 100 * nav.error() / mesh->diagonal(),
-                written.front().c_str(), written.size() > 1 ? " …" : "");
+    std::printf(
+        "%u vertices, %zu faces (%zu quads, %zu triangles); error %.4g (%.3g%% of the "
+        "diagonal)\nwrote %s%s\n",
+        nav.vertex_count(), topology.faces.size(), topology.quad_count(), topology.triangle_count(),
+        nav.error(), 100 * nav.error() / mesh->diagonal(), written.front().c_str(),
+        written.size() > 1 ? " …" : "");
   }
   return kExitOk;
 }

@@ -1,9 +1,12 @@
 // dynpm info: what a mesh or animation holds, and whether dynpm can work on it.
+#include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <sstream>
 
 #include "args.h"
 #include "commands.h"
+#include "dynpm/lod.h"
 #include "json.h"
 
 namespace dynpm::cli {
@@ -18,6 +21,7 @@ const VerbSpec kSpec{
     "quads), time steps, result fields, edges, boundary, non-manifold edges and vertices,\n"
     "parts, the bounding box over all steps, and the validation result: the paper's (M1)\n"
     "manifold, (M2) inner valence >= 3, (M3) face degree >= 3, and more.\n"
+    "Given a progressive mesh (MODEL.dpm), prints its levels, steps, position bound and size.\n"
     "Exit code: 0 valid, 1 unreadable input, 2 bad usage, 3 read but invalid.",
     {{"--json", "", false, "", "print the result as JSON on stdout"},
      {"--problems", "", true, "N", "list at most N problems of each severity (default 10)"},
@@ -169,6 +173,86 @@ void print_json(std::span<const std::string> inputs, const Topology& topology,
   std::cout << j.str();
 }
 
+// A progressive mesh file: what it holds and at what levels.
+int print_dpm_info(const std::string& path, bool json) {
+  auto mesh = read_dpm(path);
+  if (!mesh) {
+    std::cerr << "dynpm info: " << mesh.message() << "\n";
+    return kExitFailure;
+  }
+  const ProgressiveMesh& m = *mesh;
+  Navigator nav(m);
+  const Topology base = nav.topology();
+  nav.set_level(m.split_count());
+  const Topology full = nav.topology();
+  std::error_code ec;
+  const double size = double(std::filesystem::file_size(path, ec));
+  const double per_vertex_step = size / (double(m.full_vertex_count) * double(m.step_count()));
+  if (json) {
+    Json j;
+    j.begin_object();
+    j.value("file", path);
+    j.value("format", "dpm");
+    j.value("complete", m.complete);
+    j.value("vertices", uint64_t{m.full_vertex_count});
+    j.value("faces", uint64_t{m.full_face_count});
+    j.value("vertices_present", uint64_t{m.vertex_count()});
+    j.value("quads", uint64_t{full.quad_count()});
+    j.value("triangles", uint64_t{full.triangle_count()});
+    j.value("base_vertices", uint64_t{m.base_vertex_count});
+    j.value("base_faces", uint64_t{m.base_face_count});
+    j.value("splits", uint64_t{m.split_count()});
+    j.value("steps", uint64_t{m.step_count()});
+    j.value("first_time", m.times.front());
+    j.value("last_time", m.times.back());
+    j.begin_array("key_steps");
+    for (size_t k : m.key_steps) j.item(int64_t(k));
+    j.end_array();
+    j.begin_array("fields");
+    for (const std::string& f : m.field_names) j.item(f);
+    j.end_array();
+    j.value("parts", uint64_t{full.parts().size()});
+    j.value("lossless", m.lossless);
+    j.value("position_error", m.max_error);
+    j.value("diagonal", m.diagonal());
+    j.value("base_error", m.base_error);
+    j.value("bytes", uint64_t(size));
+    j.value("bytes_per_vertex_step", per_vertex_step);
+    j.value("note", m.note);
+    j.end_object();
+    std::cout << j.str();
+    return kExitOk;
+  }
+  std::printf("%s: dynamic progressive mesh (.dpm version 1)%s\n", path.c_str(),
+              m.complete ? "" : ", a PREFIX of the file");
+  std::printf("full      %u vertices, %u faces (%zu quads, %zu triangles), %zu parts\n",
+              m.full_vertex_count, m.full_face_count, full.quad_count(), full.triangle_count(),
+              full.parts().size());
+  if (!m.complete)
+    std::printf("present   %u vertices (%u of %u splits)\n", m.vertex_count(), m.split_count(),
+                m.full_split_count);
+  std::printf(
+      "base      %u vertices, %u faces (%zu quads, %zu triangles); error %.4g (%.3g%% of "
+      "the diagonal)\n",
+      m.base_vertex_count, m.base_face_count, base.quad_count(), base.triangle_count(),
+      m.base_error, 100 * m.base_error / m.diagonal());
+  std::printf("steps     %zu, time %g to %g; key steps %zu\n", m.step_count(), m.times.front(),
+              m.times.back(), m.key_steps.size());
+  if (!m.field_names.empty()) {
+    std::printf("fields   ");
+    for (const std::string& f : m.field_names) std::printf(" %s", f.c_str());
+    std::printf("\n");
+  }
+  if (m.lossless)
+    std::printf("positions lossless (float32)\n");
+  else
+    std::printf("positions within %.3g (%.2g of the diagonal %.4g)\n", m.max_error,
+                m.max_error / m.diagonal(), m.diagonal());
+  std::printf("size      %.0f bytes, %.2f bytes per vertex per step\n", size, per_vertex_step);
+  if (!m.note.empty()) std::printf("note      %s\n", m.note.c_str());
+  return kExitOk;
+}
+
 }  // namespace
 
 int run_info(std::span<char* const> arguments) {
@@ -191,6 +275,10 @@ int run_info(std::span<char* const> arguments) {
   if (!inputs) {
     std::cerr << "dynpm info: " << inputs.message() << "\n";
     return kExitFailure;
+  }
+  if (inputs->size() == 1) {
+    auto head = read_file_head(inputs->front(), 8);
+    if (head && looks_like_dpm(*head)) return print_dpm_info(inputs->front(), args.has("--json"));
   }
   auto stream = open_inputs(*inputs, args.has("--split-polygons"));
   if (!stream) {

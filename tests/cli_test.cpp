@@ -102,5 +102,131 @@ TEST(Cli, ConvertNeedsAStepPatternForSeveralSteps) {
   EXPECT_FALSE(std::filesystem::exists(dir.file("one.ply")));
 }
 
+std::string sample_glob() { return test::sample_dir() + "/frame_*.obj"; }
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+// The numbers that follow `"key": ` in `text`, in order.
+std::vector<double> json_numbers(const std::string& text, const std::string& key) {
+  std::vector<double> values;
+  const std::string needle = "\"" + key + "\": ";
+  for (size_t at = text.find(needle); at != std::string::npos; at = text.find(needle, at + 1))
+    values.push_back(std::stod(text.substr(at + needle.size())));
+  return values;
+}
+
+TEST(Cli, EvalMeasuresAProgressiveMeshAtSeveralResolutionsAndSteps) {
+  if (!std::filesystem::exists(test::sample_dir())) GTEST_SKIP() << "no sample";
+  test::TempDir dir;
+  auto build = dynpm_cli("build '" + sample_glob() + "' -o " + dir.file("rail.dpm"));
+  ASSERT_EQ(build.exit_code, 0) << build.output;
+  auto r = dynpm_cli("eval '" + sample_glob() + "' --dpm " + dir.file("rail.dpm") +
+                     " --ratios 2,10,50,100 --steps 0,30 --json " + dir.file("e.json") +
+                     " --plot " + dir.file("e.svg"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(contains(r.output, "max over all 31 steps")) << r.output;
+  EXPECT_TRUE(contains(r.output, "step 30")) << r.output;
+
+  ASSERT_TRUE(std::filesystem::exists(dir.file("e.json")));
+  const std::string json = read_text(dir.file("e.json"));
+  // Per ratio, in order: the two chosen steps' hausdorff_pct, then the max's.
+  const std::vector<double> h = json_numbers(json, "hausdorff_pct");
+  const std::vector<double> ratio = json_numbers(json, "ratio_pct");
+  ASSERT_EQ(ratio, (std::vector<double>{2, 10, 50, 100})) << json;
+  ASSERT_EQ(h.size(), 4u * 3u) << json;
+  for (size_t column = 0; column < 3; ++column) {
+    for (size_t row = 1; row < 4; ++row)
+      EXPECT_LE(h[row * 3 + column], h[(row - 1) * 3 + column])
+          << "column " << column << ", row " << row << "\n"
+          << json;
+    EXPECT_LE(h[3 * 3 + column], 0.01) << "full resolution, column " << column << "\n" << json;
+    EXPECT_GT(h[column], 0.01) << "2% of the vertices, column " << column << "\n" << json;
+  }
+  const std::vector<double> vertices = json_numbers(json, "vertices");
+  ASSERT_EQ(vertices.size(), 5u) << json;  // the original's, then one per ratio
+  EXPECT_EQ(vertices[4], vertices[0]) << json;
+  for (const char* field :
+       {"\"faces\": ", "\"level_error\": ", "\"mean_pct\": ", "\"rms_pct\": ", "\"max\": {"})
+    EXPECT_TRUE(contains(json, field)) << field << "\n" << json;
+
+  const std::string svg = read_text(dir.file("e.svg"));
+  EXPECT_TRUE(svg.rfind("<svg", 0) == 0 || svg.rfind("<?xml", 0) == 0) << svg.substr(0, 100);
+  EXPECT_TRUE(contains(svg, "</svg>"));
+  EXPECT_TRUE(contains(svg, "<polyline"));
+}
+
+TEST(Cli, EvalRefusesAModelOfAnotherMeshAndBadArguments) {
+  if (!std::filesystem::exists(test::sample_dir())) GTEST_SKIP() << "no sample";
+  test::TempDir dir;
+  auto build = dynpm_cli("build '" + sample_glob() + "' -o " + dir.file("rail.dpm"));
+  ASSERT_EQ(build.exit_code, 0) << build.output;
+  const auto m = test::valence_two_quads();
+  ASSERT_TRUE(write_mesh(dir.file("other.obj"), m.topology, m.positions).ok());
+  auto other = dynpm_cli("eval " + dir.file("other.obj") + " --dpm " + dir.file("rail.dpm") +
+                         " --ratios 10");
+  EXPECT_EQ(other.exit_code, 1) << other.output;
+  EXPECT_TRUE(contains(other.output, "was built from another mesh")) << other.output;
+
+  auto missing =
+      dynpm_cli("eval '" + sample_glob() + "' --dpm " + dir.file("none.dpm") + " --ratios 10");
+  EXPECT_EQ(missing.exit_code, 1) << missing.output;
+  EXPECT_TRUE(contains(missing.output, "none.dpm")) << missing.output;
+
+  for (const char* ratios : {"0", "101", "5,x", "-3"}) {
+    auto bad = dynpm_cli("eval '" + sample_glob() + "' --dpm " + dir.file("rail.dpm") +
+                         " --ratios=" + ratios);
+    EXPECT_EQ(bad.exit_code, 2) << ratios << "\n" << bad.output;
+    EXPECT_TRUE(contains(bad.output, "--ratios")) << bad.output;
+  }
+  auto step = dynpm_cli("eval '" + sample_glob() + "' --dpm " + dir.file("rail.dpm") +
+                        " --ratios 10 --steps 0,31");
+  EXPECT_EQ(step.exit_code, 2) << step.output;
+  EXPECT_TRUE(contains(step.output, "steps 0 to 30")) << step.output;
+}
+
+}  // namespace
+}  // namespace dynpm
+
+namespace dynpm {
+namespace {
+
+// The main job end to end: build from CalculiX's own .frd, then a lossless extraction at full
+// resolution is the same animation as the OBJ sequence of that run; info describes the model.
+TEST(Cli, BuildFromFrdExtractFullIsTheInputAndInfoDescribesTheModel) {
+  test::TempDir dir;
+  const std::string frd = dir.file("rail.frd");
+  ASSERT_EQ(std::system(("zcat '" + test::source_dir() + "/data/hat-rail/rail.frd.gz' > " + frd).c_str()), 0);
+  auto build = dynpm_cli("build " + frd + " --lossless -o " + dir.file("rail.dpm"));
+  ASSERT_EQ(build.exit_code, 0) << build.output;
+  EXPECT_TRUE(contains(build.output, "vertex splits rebuild the input")) << build.output;
+  auto extract = dynpm_cli("extract " + dir.file("rail.dpm") + " --full -o " + dir.file("full_{:03d}.ply"));
+  ASSERT_EQ(extract.exit_code, 0) << extract.output;
+  auto stream = open_input(std::vector<std::string>{frd});
+  ASSERT_TRUE(stream.ok()) << stream.message();
+  auto original = load_all_steps(std::move(stream).value());
+  auto back = read_animation(*expand_inputs(std::vector<std::string>{dir.file("full_*.ply")}));
+  ASSERT_TRUE(original.ok() && back.ok()) << back.message();
+  ASSERT_EQ(back->step_count(), original->step_count());
+  EXPECT_EQ(back->topology.faces, original->topology.faces);
+  EXPECT_EQ(back->topology.node_ids, original->topology.node_ids);
+  EXPECT_EQ(back->topology.part_ids, original->topology.part_ids);
+  for (size_t t = 0; t < back->step_count(); ++t) {
+    const auto a = original->frames.step(t), b = back->frames.step(t);
+    ASSERT_TRUE(std::equal(a.begin(), a.end(), b.begin(), b.end())) << "step " << t;
+  }
+  auto info = dynpm_cli("info " + dir.file("rail.dpm") + " --json");
+  ASSERT_EQ(info.exit_code, 0) << info.output;
+  EXPECT_TRUE(contains(info.output, "\"splits\"")) << info.output;
+  EXPECT_TRUE(contains(info.output, "\"lossless\": true")) << info.output;
+  auto coarse = dynpm_cli("extract " + dir.file("rail.dpm") + " --max-error 1% --step 12.5 -o " + dir.file("c.obj"));
+  EXPECT_EQ(coarse.exit_code, 0) << coarse.output;
+  auto bad = dynpm_cli("extract " + frd + " --full -o " + dir.file("x_{:03d}.obj"));
+  EXPECT_EQ(bad.exit_code, 1) << bad.output;
+  EXPECT_TRUE(contains(bad.output, "not a .dpm file")) << bad.output;
+}
+
 }  // namespace
 }  // namespace dynpm

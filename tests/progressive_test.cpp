@@ -25,7 +25,8 @@ Animation load(const std::string& pattern) {
   return std::move(a).value();
 }
 
-ProgressiveMesh build(const Animation& a, bool lossless, KeyStepRule::Kind rule = KeyStepRule::Kind::kAll) {
+ProgressiveMesh build(const Animation& a, bool lossless,
+                      KeyStepRule::Kind rule = KeyStepRule::Kind::kAll) {
   BuildOptions options;
   options.lossless = lossless;
   KeyStepRule r;
@@ -55,7 +56,8 @@ void expect_input_back(const Animation& a, const ProgressiveMesh& pm) {
   const Topology& t = o->topology;
   ASSERT_EQ(t.vertex_count, a.topology.vertex_count);
   ASSERT_EQ(t.faces.size(), a.topology.faces.size());
-  for (size_t f = 0; f < t.faces.size(); ++f) ASSERT_EQ(t.faces[f], a.topology.faces[f]) << "face " << f;
+  for (size_t f = 0; f < t.faces.size(); ++f)
+    ASSERT_EQ(t.faces[f], a.topology.faces[f]) << "face " << f;
   EXPECT_EQ(t.part_ids, a.topology.part_ids);
   EXPECT_EQ(t.element_ids, a.topology.element_ids);
   EXPECT_EQ(t.node_ids, a.topology.node_ids);
@@ -80,8 +82,9 @@ void expect_input_back(const Animation& a, const ProgressiveMesh& pm) {
   }
   if (!pm.lossless) {
     // The bound, plus float32 rounding of the decoded value.
-    const double largest = std::max({std::abs(pm.bbox_min[0]), std::abs(pm.bbox_max[0]), std::abs(pm.bbox_min[1]),
-                                     std::abs(pm.bbox_max[1]), std::abs(pm.bbox_min[2]), std::abs(pm.bbox_max[2])});
+    const double largest =
+        std::max({std::abs(pm.bbox_min[0]), std::abs(pm.bbox_max[0]), std::abs(pm.bbox_min[1]),
+                  std::abs(pm.bbox_max[1]), std::abs(pm.bbox_min[2]), std::abs(pm.bbox_max[2])});
     EXPECT_LE(worst, pm.max_error + largest * 1e-7);
     EXPECT_LE(pm.max_error, 1.01 * pm.diagonal() / (1 << 18) + largest * 4e-7);
   }
@@ -106,12 +109,14 @@ TEST(Progressive, EverySharedDatasetComesBack) {
     const Animation a = load(data + pattern);
     const ProgressiveMesh built = build(a, false, KeyStepRule::Kind::kPaper);
     expect_input_back(a, through_file(built));
-    if (a.step_count() > 1) expect_input_back(a, through_file(build(a, true, KeyStepRule::Kind::kPaper)));
+    if (a.step_count() > 1)
+      expect_input_back(a, through_file(build(a, true, KeyStepRule::Kind::kPaper)));
   }
 }
 
 // Faces as sets of input vertex ids, for comparing meshes numbered differently.
-std::multiset<std::vector<uint32_t>> face_sets(const Topology& t, std::span<const uint32_t> to_input) {
+std::multiset<std::vector<uint32_t>> face_sets(const Topology& t,
+                                               std::span<const uint32_t> to_input) {
   std::multiset<std::vector<uint32_t>> out;
   for (const Face& f : t.faces) {
     std::vector<uint32_t> s;
@@ -144,20 +149,24 @@ TEST(Progressive, EveryLevelIsValidAndIsTheSimplifiersMesh) {
     nav.set_level(k);
     Navigator fresh(pm);
     fresh.set_level(k);
-    ASSERT_TRUE(std::equal(nav.faces().begin(), nav.faces().end(), fresh.faces().begin(), fresh.faces().end()))
+    ASSERT_TRUE(std::equal(nav.faces().begin(), nav.faces().end(), fresh.faces().begin(),
+                           fresh.faces().end()))
         << "level " << k;
   }
   nav.set_level(0);
-  EXPECT_TRUE(std::equal(nav.faces().begin(), nav.faces().end(), pm.base_faces.begin(), pm.base_faces.end()));
+  EXPECT_TRUE(std::equal(nav.faces().begin(), nav.faces().end(), pm.base_faces.begin(),
+                         pm.base_faces.end()));
 
   // A level is what the simplifier makes when stopped at that many vertices.
-  for (uint32_t n : {pm.base_vertex_count + 10, a.topology.vertex_count / 10, a.topology.vertex_count / 2}) {
+  for (uint32_t n :
+       {pm.base_vertex_count + 10, a.topology.vertex_count / 10, a.topology.vertex_count / 2}) {
     SimplifyOptions options;
     options.target_vertices = n;
     auto s = simplify(a.topology, a.frames, options);
     ASSERT_TRUE(s.ok());
     nav.set_vertex_count(n);
-    EXPECT_EQ(face_sets(nav.topology(), pm.vertex_original_index), face_sets(s->topology, s->original_vertex))
+    EXPECT_EQ(face_sets(nav.topology(), pm.vertex_original_index),
+              face_sets(s->topology, s->original_vertex))
         << n << " vertices";
   }
 }
@@ -204,7 +213,8 @@ TEST(Progressive, EveryPrefixIsACoarserAnimation) {
   uint32_t previous = 0;
   for (double fraction : {0.1, 0.5, 0.9}) {
     SCOPED_TRACE(fraction);
-    auto prefix = decode_dpm(std::string_view(bytes).substr(0, size_t(bytes.size() * fraction)), "prefix.dpm");
+    auto prefix = decode_dpm(std::string_view(bytes).substr(0, size_t(bytes.size() * fraction)),
+                             "prefix.dpm");
     ASSERT_TRUE(prefix.ok()) << prefix.message();
     EXPECT_FALSE(prefix->complete);
     EXPECT_GE(prefix->split_count(), previous);
@@ -214,7 +224,8 @@ TEST(Progressive, EveryPrefixIsACoarserAnimation) {
     nav.set_level(prefix->split_count());
     EXPECT_TRUE(validate(nav.topology()).ok());
     for (size_t t = 0; t < prefix->step_count(); ++t)
-      ASSERT_TRUE(std::equal(prefix->positions[t].begin(), prefix->positions[t].end(), whole.positions[t].begin()));
+      ASSERT_TRUE(std::equal(prefix->positions[t].begin(), prefix->positions[t].end(),
+                             whole.positions[t].begin()));
   }
   EXPECT_GT(previous, 0u);
   auto too_short = decode_dpm(std::string_view(bytes).substr(0, 40), "short.dpm");
@@ -255,7 +266,9 @@ class WithField final : public FrameSource {
   uint32_t vertex_count() const override { return frames_.vertex_count(); }
   size_t step_count() const override { return frames_.step_count(); }
   double step_time(size_t t) const override { return frames_.step_time(t); }
-  Status read_step(size_t t, std::span<float> out) const override { return frames_.read_step(t, out); }
+  Status read_step(size_t t, std::span<float> out) const override {
+    return frames_.read_step(t, out);
+  }
   std::vector<std::string> field_names() const override { return {"PEEQ"}; }
   Status read_field(size_t, size_t t, std::span<float> out) const override {
     for (size_t v = 0; v < out.size(); ++v) out[v] = float(v) * 0.001f + float(t);

@@ -30,8 +30,7 @@ struct BuildOptions {
 
 // Simplifies the animation to the end and records the progressive mesh, with every step's
 // positions (read once each, through the FrameSource) and the source's scalar fields.
-Result<ProgressiveMesh> build_progressive_mesh(const Topology& topology,
-                                               const FrameSource& frames,
+Result<ProgressiveMesh> build_progressive_mesh(const Topology& topology, const FrameSource& frames,
                                                const BuildOptions& options);
 
 }  // namespace dynpm

@@ -54,24 +54,24 @@ struct ProgressiveMesh {
   std::vector<size_t> key_steps;  // the steps that rated the collapses
   std::array<double, 3> bbox_min{}, bbox_max{};
   bool lossless = false;
-  double quant_step = 0;   // quantization grid spacing (0: lossless)
-  double max_error = 0;    // bound on any stored position's error, absolute
-  double base_error = 0;   // simplification error of the base mesh, absolute
-  std::string note;        // provenance
+  double quant_step = 0;  // quantization grid spacing (0: lossless)
+  double max_error = 0;   // bound on any stored position's error, absolute
+  double base_error = 0;  // simplification error of the base mesh, absolute
+  std::string note;       // provenance
 
   std::vector<Face> base_faces;  // base_face_count faces
   // Splits, structure of arrays: split i creates vertex base_vertex_count + i.
-  std::vector<uint32_t> parent;                // per split
-  std::vector<float> error;                    // per split: error of the mesh right after it
-  std::vector<uint32_t> wing_start{0};         // CSR into wings (split_count + 1)
+  std::vector<uint32_t> parent;         // per split
+  std::vector<float> error;             // per split: error of the mesh right after it
+  std::vector<uint32_t> wing_start{0};  // CSR into wings (split_count + 1)
   std::vector<SplitWing> wings;
-  std::vector<uint32_t> moved_start{0};        // CSR into moved_faces
+  std::vector<uint32_t> moved_start{0};  // CSR into moved_faces
   std::vector<uint32_t> moved_faces;
 
   // Attributes in the progressive numbering (vertices/faces present in this file).
   std::vector<uint32_t> vertex_original_index;  // position in the input's vertex order
   std::vector<int64_t> node_ids;
-  std::vector<uint32_t> face_original_index;    // position in the input's face order
+  std::vector<uint32_t> face_original_index;  // position in the input's face order
   std::vector<int32_t> part_ids;
   std::vector<int64_t> element_ids;
 

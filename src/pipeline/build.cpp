@@ -21,8 +21,13 @@ class CollapseLog final : public CollapseListener {
   };
 
   void on_collapse(const CollapseRecord& record) override {
-    Entry e{record.v0, record.v1, record.error, record.wing_count, record.wings,
-            static_cast<uint32_t>(moved_faces.size()), 0};
+    Entry e{record.v0,
+            record.v1,
+            record.error,
+            record.wing_count,
+            record.wings,
+            static_cast<uint32_t>(moved_faces.size()),
+            0};
     moved_faces.insert(moved_faces.end(), record.moved_faces.begin(), record.moved_faces.end());
     e.moved_end = static_cast<uint32_t>(moved_faces.size());
     entries.push_back(e);
@@ -44,8 +49,7 @@ double key_step_diagonal(const FrameSource& frames, std::span<const size_t> key_
 
 }  // namespace
 
-Result<ProgressiveMesh> build_progressive_mesh(const Topology& topology,
-                                               const FrameSource& frames,
+Result<ProgressiveMesh> build_progressive_mesh(const Topology& topology, const FrameSource& frames,
                                                const BuildOptions& options) {
   if (options.simplify.placement != Placement::kHalfEdge)
     return Status::error(
@@ -169,7 +173,8 @@ Result<ProgressiveMesh> build_progressive_mesh(const Topology& topology,
         return Status::error("time step " + std::to_string(t) + " has a non-finite coordinate");
     std::vector<float>& out = pm.positions[t];
     out.resize(size_t{n} * 3);
-    for (uint32_t v = 0; v < n; ++v) std::copy_n(&step[size_t{v} * 3], 3, &out[new_vertex[v] * size_t{3}]);
+    for (uint32_t v = 0; v < n; ++v)
+      std::copy_n(&step[size_t{v} * 3], 3, &out[new_vertex[v] * size_t{3}]);
     step_boxes[t].extend(step);
     all.extend(step_boxes[t]);
     if (options.progress) options.progress(t + 1, steps);

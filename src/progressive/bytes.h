@@ -27,7 +27,9 @@ class ByteWriter {
     }
     bytes.push_back(static_cast<char>(v));
   }
-  void svarint(int64_t v) { varint((static_cast<uint64_t>(v) << 1) ^ static_cast<uint64_t>(v >> 63)); }
+  void svarint(int64_t v) {
+    varint((static_cast<uint64_t>(v) << 1) ^ static_cast<uint64_t>(v >> 63));
+  }
   void text(std::string_view s) {
     put(static_cast<uint16_t>(s.size()));
     bytes.append(s);

@@ -16,7 +16,10 @@ namespace {
 using progressive::ByteReader;
 using progressive::ByteWriter;
 
-constexpr std::string_view kMagic{"\x89" "DPM\r\n\x1a\n", 8};
+constexpr std::string_view kMagic{
+    "\x89"
+    "DPM\r\n\x1a\n",
+    8};
 constexpr uint32_t kVersion = 1;
 constexpr size_t kChunkHeaderSize = 24;
 constexpr uint32_t kFirstChunkSplits = 256;
@@ -46,7 +49,8 @@ void put_chunk(std::string& out, std::string_view tag, std::string_view raw, boo
   std::string stored;
   if (compress) {
     stored.resize(ZSTD_compressBound(raw.size()));
-    const size_t n = ZSTD_compress(stored.data(), stored.size(), raw.data(), raw.size(), kZstdLevel);
+    const size_t n =
+        ZSTD_compress(stored.data(), stored.size(), raw.data(), raw.size(), kZstdLevel);
     stored.resize(ZSTD_isError(n) ? 0 : n);
     if (ZSTD_isError(n)) compress = false;
   }
@@ -83,7 +87,8 @@ struct Grid {
   }
   int64_t residual(int64_t value, int64_t prediction) const {
     const uint64_t diff = static_cast<uint64_t>(value) - static_cast<uint64_t>(prediction);
-    return lossless ? static_cast<int32_t>(static_cast<uint32_t>(diff)) : static_cast<int64_t>(diff);
+    return lossless ? static_cast<int32_t>(static_cast<uint32_t>(diff))
+                    : static_cast<int64_t>(diff);
   }
 };
 
@@ -108,7 +113,8 @@ void write_positions(ByteWriter& w, const ProgressiveMesh& mesh, uint32_t begin,
   for (size_t t = 0; t < mesh.step_count(); ++t)
     for (uint32_t v = begin; v < end; ++v)
       for (int c = 0; c < 3; ++c)
-        w.svarint(g.residual(g.q(mesh.positions[t][size_t{v} * 3 + c], c), predict(mesh, g, v, t, c)));
+        w.svarint(
+            g.residual(g.q(mesh.positions[t][size_t{v} * 3 + c], c), predict(mesh, g, v, t, c)));
   for (const auto& field : mesh.fields)
     for (const auto& values : field)
       for (uint32_t v = begin; v < end; ++v) w.put<float>(values[v]);
@@ -183,7 +189,8 @@ std::string encode_dpm(const ProgressiveMesh& mesh) {
 
   uint32_t face_count = mesh.base_face_count;
   uint32_t chunk = kFirstChunkSplits;
-  for (uint32_t first = 0; first < mesh.split_count(); first += chunk, chunk = std::min(chunk * 2, kMaxChunkSplits)) {
+  for (uint32_t first = 0; first < mesh.split_count();
+       first += chunk, chunk = std::min(chunk * 2, kMaxChunkSplits)) {
     const uint32_t last = std::min(mesh.split_count(), first + chunk);
     ByteWriter w;
     w.put<uint32_t>(first);
@@ -239,7 +246,8 @@ class Decoder {
     uint32_t version;
     std::memcpy(&version, bytes_.data() + kMagic.size(), 4);
     if (version != kVersion)
-      return fail(kMagic.size(), "version " + std::to_string(version) + " is not supported (this dynpm reads version 1)");
+      return fail(kMagic.size(), "version " + std::to_string(version) +
+                                     " is not supported (this dynpm reads version 1)");
     pos_ = kMagic.size() + 4;
 
     std::string payload;
@@ -289,19 +297,23 @@ class Decoder {
     if (flags > 1) return fail(pos_ + 4, "unknown chunk flags " + std::to_string(flags));
     if (bytes_.size() - pos_ - kChunkHeaderSize < stored) return false;
     const std::string_view body = bytes_.substr(pos_ + kChunkHeaderSize, stored);
-    if (crc32(body) != crc) return fail(pos_, tag + " chunk checksum mismatch (the file is damaged)");
+    if (crc32(body) != crc)
+      return fail(pos_, tag + " chunk checksum mismatch (the file is damaged)");
     if (flags == 0) {
       if (raw != stored) return fail(pos_ + 12, "an uncompressed chunk's sizes differ");
       payload.assign(body);
     } else {
-      if (raw > kMaxRawChunk) return fail(pos_ + 12, "chunk claims " + std::to_string(raw) + " bytes");
+      if (raw > kMaxRawChunk)
+        return fail(pos_ + 12, "chunk claims " + std::to_string(raw) + " bytes");
       const unsigned long long content = ZSTD_getFrameContentSize(body.data(), body.size());
-      if (content != raw) return fail(pos_ + kChunkHeaderSize, "compressed chunk size does not match its header");
+      if (content != raw)
+        return fail(pos_ + kChunkHeaderSize, "compressed chunk size does not match its header");
       payload.resize(raw);
       const size_t n = ZSTD_decompress(payload.data(), raw, body.data(), body.size());
       if (ZSTD_isError(n) || n != raw)
-        return fail(pos_ + kChunkHeaderSize, std::string("cannot decompress the chunk: ") +
-                                                 (ZSTD_isError(n) ? ZSTD_getErrorName(n) : "short"));
+        return fail(pos_ + kChunkHeaderSize,
+                    std::string("cannot decompress the chunk: ") +
+                        (ZSTD_isError(n) ? ZSTD_getErrorName(n) : "short"));
     }
     payload_start_ = pos_ + kChunkHeaderSize;
     pos_ += kChunkHeaderSize + stored;
@@ -312,13 +324,16 @@ class Decoder {
     std::string got;
     auto ok = next_chunk(got, payload);
     if (!ok) return ok.status();
-    if (!*ok) return fail(chunk_start_, std::string("the file ends before ") + what + " is complete");
-    if (got != tag) return fail(chunk_start_, std::string("expected the ") + tag + " chunk, found '" + got + "'");
+    if (!*ok)
+      return fail(chunk_start_, std::string("the file ends before ") + what + " is complete");
+    if (got != tag)
+      return fail(chunk_start_, std::string("expected the ") + tag + " chunk, found '" + got + "'");
     return {};
   }
 
   Status bad(const ByteReader& r, const std::string& what) const {
-    return fail(payload_start_, what + " (at byte " + std::to_string(r.offset()) + " of the chunk's data)");
+    return fail(payload_start_,
+                what + " (at byte " + std::to_string(r.offset()) + " of the chunk's data)");
   }
 
   Status parse_head(std::string_view payload) {
@@ -394,8 +409,7 @@ class Decoder {
 
   Status read_positions(ByteReader& r, uint32_t begin, uint32_t end) {
     const size_t steps = mesh_.step_count();
-    if (!r.can_hold(uint64_t{end - begin} * steps * 3, 1))
-      return bad(r, "positions are cut short");
+    if (!r.can_hold(uint64_t{end - begin} * steps * 3, 1)) return bad(r, "positions are cut short");
     const Grid g = grid_of(mesh_);
     for (auto& xyz : mesh_.positions) xyz.resize(size_t{end} * 3);
     for (size_t t = 0; t < steps; ++t)
@@ -425,7 +439,8 @@ class Decoder {
     m.base_faces.resize(m.base_face_count);
     for (Face& face : m.base_faces) {
       const uint8_t degree = r.get<uint8_t>();
-      if (degree != 3 && degree != 4) return bad(r, "a base face has " + std::to_string(degree) + " corners");
+      if (degree != 3 && degree != 4)
+        return bad(r, "a base face has " + std::to_string(degree) + " corners");
       for (int c = 0; c < degree; ++c) {
         const uint64_t v = r.varint();
         if (v >= m.base_vertex_count) return bad(r, "a base face's corner is out of range");
@@ -459,7 +474,8 @@ class Decoder {
       if (parent_delta >= v0) return bad(r, "split " + std::to_string(i) + ": parent out of range");
       m.parent.push_back(static_cast<uint32_t>(v0 - 1 - parent_delta));
       const float error = r.get<float>();
-      if (!std::isfinite(error) || error < 0) return bad(r, "split " + std::to_string(i) + ": error is not valid");
+      if (!std::isfinite(error) || error < 0)
+        return bad(r, "split " + std::to_string(i) + ": error is not valid");
       m.error.push_back(error);
       const uint8_t wings = r.get<uint8_t>();
       if (wings > 4) return bad(r, "split " + std::to_string(i) + ": more than 4 wings");
@@ -475,27 +491,32 @@ class Decoder {
           w.face = face_count + created++;
         } else {
           const uint64_t df = r.varint();
-          if (df >= face_count) return bad(r, "split " + std::to_string(i) + ": wing face out of range");
+          if (df >= face_count)
+            return bad(r, "split " + std::to_string(i) + ": wing face out of range");
           w.face = static_cast<uint32_t>(face_count - 1 - df);
         }
         m.wings.push_back(w);
       }
       m.wing_start.push_back(static_cast<uint32_t>(m.wings.size()));
       const uint64_t moved = r.varint();
-      if (!r.can_hold(moved, 1)) return bad(r, "split " + std::to_string(i) + ": moved faces cut short");
+      if (!r.can_hold(moved, 1))
+        return bad(r, "split " + std::to_string(i) + ": moved faces cut short");
       for (uint64_t k = 0; k < moved; ++k) {
         const uint64_t df = r.varint();
-        if (df >= face_count) return bad(r, "split " + std::to_string(i) + ": moved face out of range");
+        if (df >= face_count)
+          return bad(r, "split " + std::to_string(i) + ": moved face out of range");
         m.moved_faces.push_back(static_cast<uint32_t>(face_count - 1 - df));
       }
       m.moved_start.push_back(static_cast<uint32_t>(m.moved_faces.size()));
       if (!r.ok()) return bad(r, "split records are cut short");
       face_count += created;
     }
-    if (face_count > m.full_face_count) return bad(r, "splits create more faces than the header says");
+    if (face_count > m.full_face_count)
+      return bad(r, "splits create more faces than the header says");
     DYNPM_RETURN_IF_ERROR(read_vertex_attributes(r, n));
     DYNPM_RETURN_IF_ERROR(read_face_attributes(r, face_count - face_count_));
-    DYNPM_RETURN_IF_ERROR(read_positions(r, m.base_vertex_count + first, m.base_vertex_count + first + n));
+    DYNPM_RETURN_IF_ERROR(
+        read_positions(r, m.base_vertex_count + first, m.base_vertex_count + first + n));
     if (r.remaining() != 0) return bad(r, "unexpected bytes after the splits");
     // Replay the splits on the faces: a record that does not fit is an error here, so the
     // navigator can apply them unchecked.

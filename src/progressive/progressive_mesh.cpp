@@ -20,13 +20,16 @@ bool check_split(const ProgressiveMesh& mesh, uint32_t i, std::span<const Face> 
   const uint32_t v0 = mesh.base_vertex_count + i;
   const uint32_t v1 = mesh.parent[i];
   const std::string where = "split " + std::to_string(i) + ": ";
-  if (v1 >= v0) return problem = where + "parent " + std::to_string(v1) + " does not exist yet", false;
+  if (v1 >= v0)
+    return problem = where + "parent " + std::to_string(v1) + " does not exist yet", false;
   uint32_t created = face_count;
   for (uint32_t m = mesh.moved_start[i]; m < mesh.moved_start[i + 1]; ++m) {
     const uint32_t f = mesh.moved_faces[m];
-    if (f >= face_count) return problem = where + "moved face " + std::to_string(f) + " does not exist", false;
+    if (f >= face_count)
+      return problem = where + "moved face " + std::to_string(f) + " does not exist", false;
     if (slot_of(faces[f], v1) < 0)
-      return problem = where + "moved face " + std::to_string(f) + " does not hold the parent", false;
+      return problem = where + "moved face " + std::to_string(f) + " does not hold the parent",
+             false;
   }
   for (uint32_t k = mesh.wing_start[i]; k < mesh.wing_start[i + 1]; ++k) {
     const SplitWing& w = mesh.wings[k];
@@ -34,17 +37,20 @@ bool check_split(const ProgressiveMesh& mesh, uint32_t i, std::span<const Face> 
       return problem = where + "wing vertex " + std::to_string(w.vertex) + " is not valid", false;
     if (w.was_triangle()) {
       if (w.face != created || created >= faces.size())
-        return problem = where + "re-created face " + std::to_string(w.face) + " is out of order", false;
+        return problem = where + "re-created face " + std::to_string(w.face) + " is out of order",
+               false;
       if (w.v0_slot() > 2) return problem = where + "a triangle has no corner slot 3", false;
       ++created;
       continue;
     }
-    if (w.face >= face_count) return problem = where + "wing face " + std::to_string(w.face) + " does not exist", false;
+    if (w.face >= face_count)
+      return problem = where + "wing face " + std::to_string(w.face) + " does not exist", false;
     const Face& face = faces[w.face];
     const int a = slot_of(face, v1), b = slot_of(face, w.vertex);
     if (!face.is_triangle() || a < 0 || b < 0)
       return problem = where + "wing face " + std::to_string(w.face) +
-                       " is not a triangle holding the parent and the wing vertex", false;
+                       " is not a triangle holding the parent and the wing vertex",
+             false;
   }
   return true;
 }
@@ -63,11 +69,13 @@ bool touched_faces_valid(const ProgressiveMesh& mesh, uint32_t i, std::span<cons
   for (uint32_t m = mesh.moved_start[i]; m < mesh.moved_start[i + 1]; ++m)
     if (!distinct(mesh.moved_faces[m]))
       return problem = "split " + std::to_string(i) + ": face " +
-                       std::to_string(mesh.moved_faces[m]) + " is named twice", false;
+                       std::to_string(mesh.moved_faces[m]) + " is named twice",
+             false;
   for (uint32_t k = mesh.wing_start[i]; k < mesh.wing_start[i + 1]; ++k)
     if (!distinct(mesh.wings[k].face))
       return problem = "split " + std::to_string(i) + ": face " +
-                       std::to_string(mesh.wings[k].face) + " is named twice", false;
+                       std::to_string(mesh.wings[k].face) + " is named twice",
+             false;
   return true;
 }
 
