@@ -197,8 +197,9 @@ int print_dpm_info(const std::string& path, bool json) {
     j.value("vertices", uint64_t{m.full_vertex_count});
     j.value("faces", uint64_t{m.full_face_count});
     j.value("vertices_present", uint64_t{m.vertex_count()});
-    j.value("quads", uint64_t{full.quad_count()});
-    j.value("triangles", uint64_t{full.triangle_count()});
+    j.value("faces_present", uint64_t{full.faces.size()});
+    j.value("quads_present", uint64_t{full.quad_count()});
+    j.value("triangles_present", uint64_t{full.triangle_count()});
     j.value("base_vertices", uint64_t{m.base_vertex_count});
     j.value("base_faces", uint64_t{m.base_face_count});
     j.value("splits", uint64_t{m.split_count()});
@@ -225,12 +226,16 @@ int print_dpm_info(const std::string& path, bool json) {
   }
   std::printf("%s: dynamic progressive mesh (.dpm version 1)%s\n", path.c_str(),
               m.complete ? "" : ", a PREFIX of the file");
-  std::printf("full      %u vertices, %u faces (%zu quads, %zu triangles), %zu parts\n",
-              m.full_vertex_count, m.full_face_count, full.quad_count(), full.triangle_count(),
-              full.parts().size());
-  if (!m.complete)
-    std::printf("present   %u vertices (%u of %u splits)\n", m.vertex_count(), m.split_count(),
-                m.full_split_count);
+  if (m.complete) {
+    std::printf("full      %u vertices, %u faces (%zu quads, %zu triangles), %zu parts\n",
+                m.full_vertex_count, m.full_face_count, full.quad_count(), full.triangle_count(),
+                full.parts().size());
+  } else {
+    std::printf("full      %u vertices, %u faces\n", m.full_vertex_count, m.full_face_count);
+    std::printf("present   %u vertices, %zu faces (%zu quads, %zu triangles): %u of %u splits\n",
+                m.vertex_count(), full.faces.size(), full.quad_count(), full.triangle_count(),
+                m.split_count(), m.full_split_count);
+  }
   std::printf(
       "base      %u vertices, %u faces (%zu quads, %zu triangles); error %.4g (%.3g%% of "
       "the diagonal)\n",
