@@ -198,10 +198,13 @@ Result<ParsedMesh> parse_obj(std::string_view text, const std::string& path,
         needs_later_check |= zero_based >= vertex_count;
         corners.push_back(static_cast<uint32_t>(zero_based));
       }
-      if (needs_later_check)
-        forward.emplace_back(static_cast<uint32_t>(mesh.topology.faces.size()), line);
+      const auto first_face = static_cast<uint32_t>(mesh.topology.faces.size());
       DYNPM_RETURN_IF_ERROR(
           add_polygon(corners, part, 0, line, where(), options, mesh, split_count));
+      // A split polygon adds several faces: every one of them waits for the check.
+      if (needs_later_check)
+        for (uint32_t f = first_face; f < mesh.topology.faces.size(); ++f)
+          forward.emplace_back(f, line);
     } else if (keyword == "g") {
       q = skip_spaces(q, eol);
       const char* name_end = eol;

@@ -6,6 +6,7 @@
 #include <bit>
 #include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 
 #include "formats.h"
@@ -355,6 +356,13 @@ Result<ParsedMesh> parse_ply(std::string_view bytes, const std::string& path,
           continue;
         }
         if (!reader.read(property.type, value)) return Status::error(reader.error());
+        // Ids are integers: an ascii value out of their range would not convert.
+        const bool is_id = (is_vertex && pi == node) || (is_face && (pi == part || pi == elem));
+        if (is_id && !(value >= -9.2e18 && value <= 9.2e18 &&
+                       (pi != part || (value >= INT32_MIN && value <= INT32_MAX))))
+          return Status::error(reader.where() + ": " + (is_vertex ? "vertex " : "face ") +
+                               std::to_string(r) + ": id " + std::to_string(value) +
+                               " is out of range");
         if (is_vertex) {
           if (pi == x) mesh.positions[r * 3 + 0] = static_cast<float>(value);
           if (pi == y) mesh.positions[r * 3 + 1] = static_cast<float>(value);

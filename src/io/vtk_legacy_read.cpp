@@ -146,8 +146,9 @@ class Reader {
     skip_space();
     keyword_line_ = line_;
     while (pos_ < bytes_.size() && bytes_[pos_] != '\n') {
-      while (pos_ < bytes_.size() &&
-             (bytes_[pos_] == ' ' || bytes_[pos_] == '\t' || bytes_[pos_] == '\r'))
+      // Any white space but the line end separates words (\v and \f too, or no loop advances).
+      while (pos_ < bytes_.size() && bytes_[pos_] != '\n' &&
+             std::isspace(static_cast<unsigned char>(bytes_[pos_])))
         ++pos_;
       const size_t start = pos_;
       while (pos_ < bytes_.size() && !std::isspace(static_cast<unsigned char>(bytes_[pos_])))
