@@ -11,34 +11,19 @@
 
 #include "dynpm/io.h"
 #include "fixtures.h"
+#include "reading.h"
 
 namespace dynpm {
 namespace {
 
+using test::field;
+using test::open;
+using test::Opened;
+using test::step;
+
 namespace fs = std::filesystem;
 
 std::string d3plot_dir() { return test::shared_data() + "/external/d3plot"; }
-
-struct Read {
-  Result<AnimationStream> stream;
-  std::vector<std::string> warnings;
-};
-
-Read open(const std::string& path) {
-  std::vector<std::string> warnings;
-  ReadOptions options;
-  options.warn = [&](const std::string& w) { warnings.push_back(w); };
-  const std::vector<std::string> paths{path};
-  auto stream = open_input(paths, options);
-  return {std::move(stream), std::move(warnings)};
-}
-
-std::vector<float> step(const AnimationStream& s, size_t t) {
-  std::vector<float> xyz(size_t{s.topology.vertex_count} * 3);
-  Status st = s.frames->read_step(t, xyz);
-  EXPECT_TRUE(st.ok()) << st.message();
-  return xyz;
-}
 
 void copy_cut(const std::string& from, const std::string& to, size_t bytes) {
   std::ifstream in(from, std::ios::binary);
@@ -54,7 +39,7 @@ TEST(D3plotTest, QdCountsIdsAndGeometry) {
   auto format = detect_format(path);  // by its control block: the name does not start "d3plot"
   ASSERT_TRUE(format.ok()) << format.message();
   EXPECT_EQ(*format, FileFormat::kD3plot);
-  Read r = open(path);
+  Opened r = open(path);
   ASSERT_TRUE(r.stream.ok()) << r.stream.message();
   const Topology& top = r.stream->topology;
   EXPECT_EQ(top.vertex_count, 4915u);
@@ -92,14 +77,14 @@ TEST(D3plotTest, QdCountsIdsAndGeometry) {
 TEST(D3plotTest, QdFamilyContinuation) {
   test::TempDir dir;
   fs::copy_file(d3plot_dir() + "/qd_d3plot", dir.file("d3plot"));
-  Read alone = open(dir.file("d3plot"));
+  Opened alone = open(dir.file("d3plot"));
   ASSERT_TRUE(alone.stream.ok()) << alone.stream.message();
   EXPECT_EQ(alone.stream->frames->step_count(), 1u);
   ASSERT_FALSE(alone.warnings.empty());
   EXPECT_NE(alone.warnings.back().find("holds no state"), std::string::npos);
 
   fs::copy_file(d3plot_dir() + "/qd_d3plot01", dir.file("d3plot01"));
-  Read both = open(dir.file("d3plot"));
+  Opened both = open(dir.file("d3plot"));
   ASSERT_TRUE(both.stream.ok()) << both.stream.message();
   EXPECT_TRUE(both.warnings.empty());
   std::vector<float> speed(both.stream->topology.vertex_count);
@@ -110,7 +95,7 @@ TEST(D3plotTest, QdFamilyContinuation) {
 // lasso-python's thermal test result: 2,185 nodes, 2,075 shells (12 of them triangles: a
 // repeated 4th node), 23 states over 20 s, no coordinates in the states (IU = 0).
 TEST(D3plotTest, LassoNodeTemperature) {
-  Read r = open(d3plot_dir() + "/lasso_d3plot_node_temperature_d3plot");
+  Opened r = open(d3plot_dir() + "/lasso_d3plot_node_temperature_d3plot");
   ASSERT_TRUE(r.stream.ok()) << r.stream.message();
   const Topology& top = r.stream->topology;
   EXPECT_EQ(top.vertex_count, 2185u);
@@ -137,7 +122,7 @@ TEST(D3plotTest, LassoNodeTemperature) {
 }
 
 TEST(D3plotTest, BeamsOnlyIsAClearError) {
-  Read r = open(d3plot_dir() + "/lasso_d3plot_beamip_d3plot");
+  Opened r = open(d3plot_dir() + "/lasso_d3plot_beamip_d3plot");
   ASSERT_FALSE(r.stream.ok());
   EXPECT_NE(r.stream.message().find("no shell faces"), std::string::npos) << r.stream.message();
   EXPECT_NE(r.stream.message().find("1 beams"), std::string::npos) << r.stream.message();
@@ -145,7 +130,7 @@ TEST(D3plotTest, BeamsOnlyIsAClearError) {
 
 // 16 solids and 16 shells in 4 parts, geometry only: the solids give their outer faces.
 TEST(D3plotTest, SolidsGiveTheirOuterFaces) {
-  Read r = open(d3plot_dir() + "/lasso_d3plot_solid_int_d3plot");
+  Opened r = open(d3plot_dir() + "/lasso_d3plot_solid_int_d3plot");
   ASSERT_TRUE(r.stream.ok()) << r.stream.message();
   const Topology& top = r.stream->topology;
   EXPECT_EQ(top.faces.size(), 16u + 56u);
@@ -164,7 +149,7 @@ TEST(D3plotTest, TruncatedFilesAreErrors) {
     test::TempDir dir;
     copy_cut(first, dir.file("d3plot"), cut);
     fs::copy_file(second, dir.file("d3plot01"));
-    Read r = open(dir.file("d3plot"));
+    Opened r = open(dir.file("d3plot"));
     ASSERT_FALSE(r.stream.ok()) << "cut at " << cut;
     EXPECT_NE(r.stream.message().find("byte"), std::string::npos) << r.stream.message();
   }
@@ -173,7 +158,7 @@ TEST(D3plotTest, TruncatedFilesAreErrors) {
     test::TempDir dir;
     fs::copy_file(first, dir.file("d3plot"));
     copy_cut(second, dir.file("d3plot01"), cut);
-    Read r = open(dir.file("d3plot"));
+    Opened r = open(dir.file("d3plot"));
     ASSERT_FALSE(r.stream.ok()) << "cut at " << cut;
     EXPECT_NE(r.stream.message().find("cut short"), std::string::npos) << r.stream.message();
   }
@@ -181,7 +166,7 @@ TEST(D3plotTest, TruncatedFilesAreErrors) {
   test::TempDir dir;
   fs::copy_file(first, dir.file("d3plot"));
   copy_cut(second, dir.file("d3plot01"), 527937 * 4);
-  Read r = open(dir.file("d3plot"));
+  Opened r = open(dir.file("d3plot"));
   ASSERT_TRUE(r.stream.ok()) << r.stream.message();
   EXPECT_EQ(r.stream->frames->step_count(), 1u);
 }
@@ -347,7 +332,7 @@ TEST(D3plotTest, SyntheticFamiliesInEveryEncoding) {
                  " endian");
     test::TempDir dir;
     write_family(synthetic(3), e, dir);
-    Read r = open(dir.file("d3plot"));
+    Opened r = open(dir.file("d3plot"));
     ASSERT_TRUE(r.stream.ok()) << r.stream.message();
     const Topology& top = r.stream->topology;
     EXPECT_EQ(top.vertex_count, 6u);
@@ -377,7 +362,7 @@ TEST(D3plotTest, SyntheticCutInTheLastStateIsAnError) {
   test::TempDir dir;
   write_family(synthetic(3), {8, true}, dir);
   fs::resize_file(dir.file("d3plot02"), fs::file_size(dir.file("d3plot02")) - 8 * 10);
-  Read r = open(dir.file("d3plot"));
+  Opened r = open(dir.file("d3plot"));
   ASSERT_FALSE(r.stream.ok());
   EXPECT_NE(r.stream.message().find("d3plot02: byte"), std::string::npos) << r.stream.message();
 }

@@ -15,36 +15,21 @@
 
 #include "dynpm/io.h"
 #include "fixtures.h"
+#include "reading.h"
 #include "third_party.h"
 
 namespace dynpm {
 namespace {
 
+using test::field;
+using test::open;
+using test::Opened;
+using test::step;
+
 namespace fs = std::filesystem;
 
 std::string exodus_file(const std::string& name) {
   return test::shared_data() + "/external/exodus/" + name;
-}
-
-struct Read {
-  Result<AnimationStream> stream;
-  std::vector<std::string> warnings;
-};
-
-Read open(const std::string& path) {
-  std::vector<std::string> warnings;
-  ReadOptions options;
-  options.warn = [&](const std::string& w) { warnings.push_back(w); };
-  const std::vector<std::string> paths{path};
-  auto stream = open_input(paths, options);
-  return {std::move(stream), std::move(warnings)};
-}
-
-std::vector<float> step(const AnimationStream& s, size_t t) {
-  std::vector<float> xyz(size_t{s.topology.vertex_count} * 3);
-  Status st = s.frames->read_step(t, xyz);
-  EXPECT_TRUE(st.ok()) << st.message();
-  return xyz;
 }
 
 // Volume enclosed by the faces (divergence theorem; quads split into two triangles): positive
@@ -71,7 +56,7 @@ TopologyStats stats(const Topology& top) { return topology_stats(top, Adjacency:
 
 // 10 × 10 QUAD4 in the plane (num_dim 2), one nodal variable "u".
 TEST(ExodusTest, CoarseGridQuads) {
-  Read r = open(exodus_file("vtkdata_coarseGrid.e"));
+  Opened r = open(exodus_file("vtkdata_coarseGrid.e"));
   ASSERT_TRUE(r.stream.ok()) << r.stream.message();
   const Topology& top = r.stream->topology;
   EXPECT_EQ(top.vertex_count, 121u);
@@ -91,7 +76,7 @@ TEST(ExodusTest, CoarseGridQuads) {
 // 2,476 HEX8 in two blocks (ids 1 and 76), 3,774 nodes, 21 steps t = 0, 0.1, … 2; nodal
 // variables "convected" and "diffused".
 TEST(ExodusTest, MugHexesOverTwentyOneSteps) {
-  Read r = open(exodus_file("vtkdata_mug.e"));
+  Opened r = open(exodus_file("vtkdata_mug.e"));
   ASSERT_TRUE(r.stream.ok()) << r.stream.message();
   const Topology& top = r.stream->topology;
   EXPECT_EQ(top.faces.size(), 2552u);  // the outer faces of the hexes
@@ -117,7 +102,7 @@ TEST(ExodusTest, MugHexesOverTwentyOneSteps) {
 // 40 TETRA on a 3 × 3 × 3 grid of nodes: the outer surface is 6 sides × 8 triangles over the
 // 26 nodes that are not the centre.
 TEST(ExodusTest, TetrahedraGiveAClosedOutwardSurface) {
-  Read r = open(exodus_file("vtkdata_box-noglom.ex2"));
+  Opened r = open(exodus_file("vtkdata_box-noglom.ex2"));
   ASSERT_TRUE(r.stream.ok()) << r.stream.message();
   const Topology& top = r.stream->topology;
   EXPECT_EQ(top.faces.size(), 48u);
@@ -130,7 +115,7 @@ TEST(ExodusTest, TetrahedraGiveAClosedOutwardSurface) {
 
 // 1,344 WEDGE in three blocks and no time step: the mesh is the one step.
 TEST(ExodusTest, WedgesWithoutTimeSteps) {
-  Read r = open(exodus_file("vtkdata_mesh_fs8.exo"));
+  Opened r = open(exodus_file("vtkdata_mesh_fs8.exo"));
   ASSERT_TRUE(r.stream.ok()) << r.stream.message();
   const Topology& top = r.stream->topology;
   EXPECT_EQ(top.faces.size(), 920u);
@@ -144,7 +129,7 @@ TEST(ExodusTest, WedgesWithoutTimeSteps) {
 // netCDF-4/HDF5 with 46 blocks: HEX, HEX20, TETRA10, TETRA, SHELL8, SHELL, TRI3, TRI6, TRI,
 // BEAM and BAR2. Beams and bars (172 elements) are ignored with a warning.
 TEST(ExodusTest, Hdf5MixedBlocks) {
-  Read r = open(exodus_file("vtkdata_biplane_rms_pressure_bs.exo"));
+  Opened r = open(exodus_file("vtkdata_biplane_rms_pressure_bs.exo"));
   ASSERT_TRUE(r.stream.ok()) << r.stream.message();
   const Topology& top = r.stream->topology;
   EXPECT_EQ(top.faces.size(), 648u);
@@ -157,7 +142,7 @@ TEST(ExodusTest, Hdf5MixedBlocks) {
 
 // Old-style files with one coord and one vals_nod_var array.
 TEST(ExodusTest, CombinedCoordinateAndVariableArrays) {
-  Read r = open(exodus_file("vtkdata_disk_out_ref.ex2"));
+  Opened r = open(exodus_file("vtkdata_disk_out_ref.ex2"));
   ASSERT_TRUE(r.stream.ok()) << r.stream.message();
   EXPECT_EQ(r.stream->topology.faces.size(), 1988u);
   const auto names = r.stream->frames->field_names();
@@ -176,7 +161,7 @@ TEST(ExodusTest, TruncatedFilesAreErrors) {
   for (size_t cut : {size_t{0}, size_t{100}, size_t{5000}, size_t{1000000}, bytes.size() - 1}) {
     test::TempDir dir;
     std::ofstream(dir.file("mug.e"), std::ios::binary) << bytes.substr(0, cut);
-    Read r = open(dir.file("mug.e"));
+    Opened r = open(dir.file("mug.e"));
     EXPECT_FALSE(r.stream.ok()) << "cut at " << cut;
     EXPECT_NE(r.stream.message().find("mug.e"), std::string::npos) << r.stream.message();
   }
@@ -212,7 +197,7 @@ TEST(ExodusTest, MeshioWrittenFileRoundTrips) {
   const auto run = test::run_command(test::meshio_python() + " " + script + " " + obj + " " + out);
   ASSERT_EQ(run.exit_code, 0) << run.output;
 
-  Read r = open(out);
+  Opened r = open(out);
   ASSERT_TRUE(r.stream.ok()) << r.stream.message();
   const Topology& a = original->topology;
   const Topology& b = r.stream->topology;

@@ -11,38 +11,16 @@
 
 #include "dynpm/io.h"
 #include "fixtures.h"
+#include "reading.h"
 #include "third_party.h"
 
 namespace dynpm {
 namespace {
 
-struct Opened {
-  Result<AnimationStream> stream = Status::error("not opened");
-  std::vector<std::string> warnings;
-};
-
-Opened open(const std::string& path) {
-  Opened o;
-  ReadOptions options;
-  options.warn = [&o](const std::string& w) { o.warnings.push_back(w); };
-  const std::string paths[] = {path};
-  o.stream = open_input(paths, options);
-  return o;
-}
-
-std::vector<float> step(const AnimationStream& s, size_t t) {
-  std::vector<float> xyz(size_t{s.frames->vertex_count()} * 3);
-  const Status status = s.frames->read_step(t, xyz);
-  EXPECT_TRUE(status.ok()) << status.message();
-  return xyz;
-}
-
-std::vector<float> field(const AnimationStream& s, size_t f, size_t t) {
-  std::vector<float> values(s.frames->vertex_count());
-  const Status status = s.frames->read_field(f, t, values);
-  EXPECT_TRUE(status.ok()) << status.message();
-  return values;
-}
+using test::field;
+using test::open;
+using test::Opened;
+using test::step;
 
 std::string gunzip(const std::string& gz, const test::TempDir& dir, const std::string& name) {
   const std::string out = dir.file(name);

@@ -12,38 +12,16 @@
 
 #include "dynpm/io.h"
 #include "fixtures.h"
+#include "reading.h"
 #include "third_party.h"
 
 namespace dynpm {
 namespace {
 
-struct Opened {
-  Result<AnimationStream> stream = Status::error("not opened");
-  std::vector<std::string> warnings;
-};
-
-Opened open(std::vector<std::string> paths, bool split_polygons = false) {
-  Opened o;
-  ReadOptions options;
-  options.split_polygons = split_polygons;
-  options.warn = [&o](const std::string& w) { o.warnings.push_back(w); };
-  o.stream = open_input(paths, options);
-  return o;
-}
-
-std::vector<float> step(const AnimationStream& s, size_t t) {
-  std::vector<float> xyz(size_t{s.frames->vertex_count()} * 3);
-  const Status status = s.frames->read_step(t, xyz);
-  EXPECT_TRUE(status.ok()) << status.message();
-  return xyz;
-}
-
-std::vector<float> field(const AnimationStream& s, size_t f, size_t t) {
-  std::vector<float> values(s.frames->vertex_count());
-  const Status status = s.frames->read_field(f, t, values);
-  EXPECT_TRUE(status.ok()) << status.message();
-  return values;
-}
+using test::field;
+using test::open;
+using test::Opened;
+using test::step;
 
 std::string write(const test::TempDir& dir, const std::string& name, const std::string& bytes) {
   const std::string path = dir.file(name);
@@ -179,13 +157,13 @@ TEST(VtkSeriesLegacy, UnstructuredGridCellKinds) {
   test::TempDir dir;
   // A pentagon: an error unless polygons may be split.
   const std::string path = write(dir, "grid.vtk", grid_file("5 1 4 5 2 16"));
-  Opened strict = open({path});
+  Opened strict = open(std::vector<std::string>{path});
   ASSERT_FALSE(strict.stream.ok());
   EXPECT_NE(strict.stream.message().find("grid.vtk: cell 1"), std::string::npos)
       << strict.stream.message();
   EXPECT_NE(strict.stream.message().find("--split-polygons"), std::string::npos);
 
-  Opened r = open({path}, /*split_polygons=*/true);
+  Opened r = open(std::vector<std::string>{path}, /*split_polygons=*/true);
   ASSERT_TRUE(r.stream.ok()) << r.stream.message();
   const Topology& t = r.stream->topology;
   // quad, pentagon → 3 triangles, (hex skipped), quadratic triangle → corners, (line skipped),
@@ -218,7 +196,7 @@ TEST(VtkSeriesLegacy, BrokenFilesFailWithTheirPlace) {
   const std::string bytes = slurp(good);
   for (size_t cut = 60; cut < bytes.size(); cut += 11) {
     const std::string path = write(dir, "cut.vtk", bytes.substr(0, cut));
-    Opened r = open({path});
+    Opened r = open(std::vector<std::string>{path});
     if (r.stream.ok()) continue;  // cut right after a complete section
     EXPECT_NE(r.stream.message().find("cut.vtk"), std::string::npos) << r.stream.message();
   }
@@ -240,7 +218,7 @@ TEST(VtkSeriesLegacy, BrokenFilesFailWithTheirPlace) {
        "broken.vtk: byte 68: 9 values announced, but only 20 bytes left"},
   };
   for (const Case& c : cases) {
-    Opened r = open({write(dir, "broken.vtk", c.text)});
+    Opened r = open(std::vector<std::string>{write(dir, "broken.vtk", c.text)});
     ASSERT_FALSE(r.stream.ok()) << c.expected;
     EXPECT_NE(r.stream.message().find(c.expected), std::string::npos)
         << r.stream.message() << "\nexpected: " << c.expected;
@@ -266,8 +244,8 @@ TEST(VtkSeriesVtu, BrokenFilesFailWithTheirPlace) {
   };
   test::TempDir dir;
   // The good one: 36 bytes of floats after a 4-byte size, base64.
-  Opened good =
-      open({write(dir, "good.vtu", head + points("ascii", "0 0 0 1 0 0 0 1 0") + cells + tail)});
+  Opened good = open(std::vector<std::string>{
+      write(dir, "good.vtu", head + points("ascii", "0 0 0 1 0 0 0 1 0") + cells + tail)});
   ASSERT_TRUE(good.stream.ok()) << good.stream.message();
   EXPECT_EQ(good.stream->topology.faces[0], (Face{{0, 1, 2, kNoVertex}}));
 
@@ -285,7 +263,7 @@ TEST(VtkSeriesVtu, BrokenFilesFailWithTheirPlace) {
       {head.substr(0, 60), "a tag never ends"},
   };
   for (const Case& c : cases) {
-    Opened r = open({write(dir, "broken.vtu", c.text)});
+    Opened r = open(std::vector<std::string>{write(dir, "broken.vtu", c.text)});
     if (c.expected.empty()) {
       EXPECT_TRUE(r.stream.ok()) << r.stream.message();
       continue;
@@ -313,7 +291,7 @@ void run_python(const std::string& python, const std::string& program, const tes
 // meshio cell block (so never triangles and quads in one part), the scalar point field.
 void expect_like_obj(const std::string& path, const Animation& obj) {
   SCOPED_TRACE(path);
-  Opened r = open({path});
+  Opened r = open(std::vector<std::string>{path});
   ASSERT_TRUE(r.stream.ok()) << r.stream.message();
   const Topology& t = r.stream->topology;
   ASSERT_EQ(t.vertex_count, obj.topology.vertex_count);
@@ -430,7 +408,7 @@ for k in range(3):
                                 "file=\"steps/s0.vtu\"/>\n"
                                 "  <DataSet timestep=\"1.25\" part=\"0\" file=\"steps/s2.vtu\"/>\n"
                                 "</Collection>\n</VTKFile>\n");
-  Opened r = open({pvd});
+  Opened r = open(std::vector<std::string>{pvd});
   ASSERT_TRUE(r.stream.ok()) << r.stream.message();
   const FrameSource& frames = *r.stream->frames;
   ASSERT_EQ(frames.step_count(), 3u);
@@ -446,13 +424,13 @@ for k in range(3):
     EXPECT_EQ(field(*r.stream, 0, t)[10], 10.0f + float(t));
   }
   // The pvd alone: another file beside it is a usage error.
-  Opened twice = open({pvd, pvd});
+  Opened twice = open(std::vector<std::string>{pvd, pvd});
   EXPECT_FALSE(twice.stream.ok());
   // A DataSet whose file is missing names it.
   const std::string broken = write(dir, "broken.pvd",
                                    "<VTKFile type=\"Collection\"><Collection><DataSet "
                                    "timestep=\"0\" file=\"nope.vtu\"/></Collection></VTKFile>");
-  Opened missing = open({broken});
+  Opened missing = open(std::vector<std::string>{broken});
   ASSERT_FALSE(missing.stream.ok());
   EXPECT_NE(missing.stream.message().find("nope.vtu"), std::string::npos)
       << missing.stream.message();
