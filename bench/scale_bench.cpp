@@ -37,6 +37,7 @@ double rss_mb(const char* field) {
 int main(int argc, char** argv) {
   int tiles = 205, steps = 25;
   double ratio = 0.05;
+  dynpm::return_freed_arrays_to_the_system();  // as the dynpm tool does
   std::string rules = "all,auto:3", folder, triangles_path;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--tiles") && i + 1 < argc)

@@ -63,6 +63,7 @@ const char* kUsage =
 
 int main(int argc, char** argv) {
   std::setlocale(LC_ALL, "C");  // numbers are read and written the same everywhere
+  dynpm::return_freed_arrays_to_the_system();
   if (argc < 2 || std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0 ||
       std::strcmp(argv[1], "help") == 0) {
     std::cout << kUsage;

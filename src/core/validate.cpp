@@ -69,9 +69,8 @@ void check_array_sizes(const Topology& topology, ValidationReport& report) {
 }
 
 // Runs on faces whose corners are in range and distinct; face numbers are the original ones.
-void check_connectivity(const Topology& good, const std::vector<uint32_t>& original_face,
-                        ValidationReport& report) {
-  const Adjacency adj = Adjacency::build(good);
+void check_connectivity(const Topology& good, const Adjacency& adj,
+                        const std::vector<uint32_t>& original_face, ValidationReport& report) {
 
   // Duplicate faces: sort the faces by their sorted corners and compare neighbours.
   std::vector<std::pair<std::array<uint32_t, 4>, uint32_t>> keyed(good.faces.size());
@@ -212,7 +211,14 @@ void ValidationReport::add(Problem problem) {
 
 ValidationReport validate(const Topology& topology, const FrameSource* frames,
                           std::span<const ScalarField> fields) {
+  std::optional<Adjacency> unused;
+  return validate(topology, unused, frames, fields);
+}
+
+ValidationReport validate(const Topology& topology, std::optional<Adjacency>& adjacency,
+                          const FrameSource* frames, std::span<const ScalarField> fields) {
   ValidationReport report;
+  adjacency.reset();
   check_array_sizes(topology, report);
 
   std::vector<uint8_t> face_ok;
@@ -220,7 +226,8 @@ ValidationReport validate(const Topology& topology, const FrameSource* frames,
   if (std::all_of(face_ok.begin(), face_ok.end(), [](uint8_t ok) { return ok; })) {
     std::vector<uint32_t> identity(topology.faces.size());
     for (uint32_t i = 0; i < identity.size(); ++i) identity[i] = i;
-    check_connectivity(topology, identity, report);
+    adjacency = Adjacency::build(topology);
+    check_connectivity(topology, *adjacency, identity, report);
   } else {
     // Check the rest of the mesh over the faces that can be trusted.
     Topology good;
@@ -231,7 +238,7 @@ ValidationReport validate(const Topology& topology, const FrameSource* frames,
       good.faces.push_back(topology.faces[fi]);
       original.push_back(fi);
     }
-    check_connectivity(good, original, report);
+    check_connectivity(good, Adjacency::build(good), original, report);
   }
 
   if (frames) {

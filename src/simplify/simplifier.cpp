@@ -12,14 +12,16 @@
 // bottom: key steps and quadrics, vertex classes, one collapse's cost and legality, the loop,
 // the public entry.
 //
-// The queue is the lecture's lazy heap with temporal marks: every directed edge v0 → v1 the
-// vertex classes allow is pushed with its cost and the time (collapse count) it was rated.
-// A collapse changes the quadric of v1 only, so only v1's edges are re-rated; entries of v0
-// and v1 rated before that time are stale and skipped when popped. Legality is checked when an
-// entry is popped, on the mesh as it is then; an illegal entry is dropped, and its vertex is
-// marked so that its edges are re-rated as soon as its neighbourhood changes. When the heap
+// The queue is the lecture's lazy heap with temporal marks: every edge the vertex classes allow
+// to collapse in some direction is queued once, for its cheaper direction v0 → v1, with that
+// cost and the time (collapse count) it was rated. A collapse changes the quadric of v1 only,
+// so only v1's edges are re-rated; entries of v0 and v1 rated before that time are stale and
+// skipped when popped. Legality is checked when an entry is popped, on the mesh as it is then;
+// an illegal entry is dropped (its other direction queued at its own cost), and its vertex is
+// marked so that its edges are re-rated as soon as its neighbourhood changes. When the queue
 // runs dry before the target, every edge is rated again once: only if that finds no legal
-// collapse does the simplifier report that none remains.
+// collapse does the simplifier report that none remains. The queue itself is a radix heap
+// (monotone_queue.h); quadrics are kept in floats around their own vertex (quadric.h).
 #include <algorithm>
 #include <cmath>
 #include <numeric>
@@ -29,6 +31,7 @@
 #include "collapse_mesh.h"
 #include "dynpm/simplify.h"
 #include "legality.h"
+#include "monotone_queue.h"
 #include "parallel.h"
 #include "quadric.h"
 
@@ -80,24 +83,28 @@ class Simplifier {
 
   Status load_key_steps(const FrameSource& frames);
   void classify_vertices(const Adjacency& adjacency);
-  void build_quadrics(const Adjacency& adjacency);
-  Result<SimplifyResult> run();
+  std::vector<uint8_t> constrained_edges(const Adjacency& adjacency) const;
+  void build_quadrics(const std::vector<uint8_t>& constrained);
+  Result<SimplifyResult> run(Adjacency adjacency);
 
  private:
   size_t key_count() const { return key_steps_.size(); }
   Vec3 position(uint32_t v, size_t k) const {
     return load(&positions_[(size_t{v} * key_count() + k) * 3]);
   }
-  Quadric& quadric(uint32_t v, size_t k) { return quadrics_[size_t{v} * key_count() + k]; }
-  const Quadric& quadric(uint32_t v, size_t k) const {
+  LocalQuadric& quadric(uint32_t v, size_t k) { return quadrics_[size_t{v} * key_count() + k]; }
+  const LocalQuadric& quadric(uint32_t v, size_t k) const {
     return quadrics_[size_t{v} * key_count() + k];
   }
+  Quadric merged_quadric(uint32_t v0, uint32_t v1, size_t k) const;
   bool optimal() const { return options_.placement == Placement::kOptimal; }
 
   bool is_feature_edge(uint32_t a, uint32_t b, std::span<const uint32_t> faces) const;
   EdgeFaces edge_faces(uint32_t v0, uint32_t v1) const;
   double collapse_error(uint32_t v0, uint32_t v1, std::vector<Vec3>& placement) const;
   double half_edge_error(uint32_t v0, uint32_t v1) const;
+  std::pair<double, double> half_edge_errors(uint32_t a, uint32_t b) const;
+  double cost(uint32_t v0, uint32_t v1, Scratch& s) const;
   bool topology_allows(uint32_t v0, uint32_t v1, const EdgeFaces& edge, Scratch& s) const;
   bool face_stays_sound(const Face& face, size_t k, uint32_t skip, uint32_t moved,
                         Vec3 target) const;
@@ -106,8 +113,10 @@ class Simplifier {
 
   struct Entry;
   bool stale(const Entry& e) const;
-  void rate_edges_of(uint32_t v, Scratch& s, std::vector<Entry>& out) const;
+  void rate_edges_of(uint32_t v, Scratch& s, std::vector<Entry>& out,
+                     bool larger_only = false) const;
   void rate_all_edges();
+  void drop_stale_entries();
   Status collapse(uint32_t v0, uint32_t v1, double error, Scratch& s);
   Status check_mesh(size_t collapse_index) const;
   bool stop_reached(std::string& reason) const;
@@ -120,7 +129,7 @@ class Simplifier {
   std::vector<size_t> key_steps_;
   std::vector<float>
       positions_;  // #V × #key steps × xyz (vertex-major: one vertex's steps together)
-  std::vector<Quadric> quadrics_;  // #V × #key steps
+  std::vector<LocalQuadric> quadrics_;  // #V × #key steps, each around its own vertex
   double diagonal_ = 1;
   double cos_max_rotation_ = 0;
 
@@ -130,17 +139,22 @@ class Simplifier {
   TopologyStats initial_stats_;
 
   // The queue (see the top of this file). time_ counts collapses; changed_[v] is the time v's
-  // quadric last changed; an entry rated before that time is stale.
+  // quadric last changed; an entry rated before that time is stale. One entry per edge, for
+  // its cheaper direction v0 → v1; when that is illegal, the other direction is queued at its
+  // own cost (one_way marks an entry whose other direction is not allowed or already queued).
   struct Entry {
     float error;
-    uint32_t v0, v1, time;
-    bool operator>(const Entry& o) const { return error > o.error; }
+    uint32_t v0, v1;
+    uint32_t time : 31;
+    uint32_t one_way : 1;
+    float key() const { return error; }
   };
-  std::vector<Entry> heap_, fresh_;
+  MonotoneQueue<Entry> queue_;
+  size_t queue_size_after_cleanup_ = 0;
+  std::vector<Entry> fresh_;
   std::vector<uint32_t> changed_;
   std::vector<uint8_t> rejected_;  // an entry of this vertex was dropped as illegal
   uint32_t time_ = 1;
-  size_t heap_size_after_cleanup_ = 0;
 
   std::vector<uint32_t> moved_, ring_;
   std::vector<float> record_positions_;
@@ -235,19 +249,24 @@ void Simplifier::classify_vertices(const Adjacency& adjacency) {
   };
   for (size_t e = 0; e < adjacency.edge_count(); ++e)
     component_[find(adjacency.edge(e).a)] = find(adjacency.edge(e).b);
-  component_live_.assign(n, 0);
+  for (uint32_t v = 0; v < n; ++v) component_[v] = find(v);  // each vertex's root
+  // Numbered 0, 1, … so that the live counts take one entry per component, not per vertex.
+  std::vector<uint32_t> number(n, kNoVertex);  // root → component
+  component_live_.clear();
   for (uint32_t v = 0; v < n; ++v) {
-    component_[v] = find(v);
-    if (mesh_.vertex_alive(v)) ++component_live_[component_[v]];
+    uint32_t& c = number[component_[v]];
+    if (c == kNoVertex) {
+      c = static_cast<uint32_t>(component_live_.size());
+      component_live_.push_back(0);
+    }
+    if (mesh_.vertex_alive(v)) ++component_live_[c];
+    component_[v] = c;
   }
 }
 
-void Simplifier::build_quadrics(const Adjacency& adjacency) {
-  const uint32_t n = input_.vertex_count;
-  const size_t k_count = key_count();
-  quadrics_.assign(size_t{n} * k_count, Quadric{});
-  // Which edges of each face carry a constraint plane: bit c is the edge from corner c to the
-  // next corner, set when that edge is a boundary or feature edge.
+// Which edges of each face carry a constraint plane: bit c is the edge from corner c to the next
+// corner, set when that edge is a boundary or feature edge.
+std::vector<uint8_t> Simplifier::constrained_edges(const Adjacency& adjacency) const {
   std::vector<uint8_t> constrained(input_.faces.size(), 0);
   for (size_t e = 0; e < adjacency.edge_count(); ++e) {
     const Edge edge = adjacency.edge(e);
@@ -260,19 +279,28 @@ void Simplifier::build_quadrics(const Adjacency& adjacency) {
           static_cast<uint8_t>(1u << (face.v[(c + 1) % d] == edge.b ? c : (c + d - 1) % d));
     }
   }
-  // Gathered per vertex (no two threads write one quadric); each face's plane is computed once
-  // per corner, which is cheaper than storing a plane per face and step.
+  return constrained;
+}
+
+void Simplifier::build_quadrics(const std::vector<uint8_t>& constrained) {
+  const uint32_t n = input_.vertex_count;
+  const size_t k_count = key_count();
+  quadrics_.assign(size_t{n} * k_count, LocalQuadric{});
+  // Gathered per vertex (no two threads write one quadric), in coordinates around the vertex;
+  // each face's plane is computed once per corner, which is cheaper than storing a plane per
+  // face and step.
   parallel_for(
       size_t{n} * k_count, thread_count(options_.threads), [&](size_t begin, size_t end, unsigned) {
         for (size_t i = begin; i < end; ++i) {
           const uint32_t v = static_cast<uint32_t>(i / k_count);
           const size_t k = i % k_count;
+          const Vec3 origin = position(v, k);
           Quadric q;
-          for (uint32_t f : adjacency.faces_of_vertex(v)) {
+          for (uint32_t f : mesh_.faces_of(v)) {
             const Face& face = input_.faces[f];
             const int d = face.degree();
             Vec3 p[4];
-            for (int c = 0; c < d; ++c) p[c] = position(face.v[c], k);
+            for (int c = 0; c < d; ++c) p[c] = position(face.v[c], k) - origin;
             // The face's plane: a triangle's own; for a quad, possibly skew, the mean of its corner
             // normals through its centroid (paper §2). Weighted by area.
             const Vec3 area2 = doubled_vector_area(p, d);
@@ -300,7 +328,7 @@ void Simplifier::build_quadrics(const Adjacency& adjacency) {
               q.add_plane(m, -dot(m, p[i0]), options_.boundary_weight * dot(along, along));
             }
           }
-          quadric(v, k) = q;
+          quadric(v, k) = LocalQuadric::narrow(q);
         }
       });
 }
@@ -326,6 +354,12 @@ EdgeFaces Simplifier::edge_faces(uint32_t v0, uint32_t v1) const {
   return edge;
 }
 
+// Q_t,v0 + Q_t,v1 with its origin at v1's position in key step k.
+Quadric Simplifier::merged_quadric(uint32_t v0, uint32_t v1, size_t k) const {
+  return quadric(v1, k).widen() +
+         quadric(v0, k).widen().translated(position(v1, k) - position(v0, k));
+}
+
 // Paper method (1*): the largest error over the key steps, each a weighted RMS distance to the
 // planes of (Q_t,v0 + Q_t,v1), at v1's position (half-edge) or at the minimiser (optimal).
 double Simplifier::collapse_error(uint32_t v0, uint32_t v1, std::vector<Vec3>& placement) const {
@@ -333,28 +367,55 @@ double Simplifier::collapse_error(uint32_t v0, uint32_t v1, std::vector<Vec3>& p
   placement.resize(key_count());
   const bool moves = optimal() && class_[v1] != VertexClass::kLocked;
   for (size_t k = 0; k < key_count(); ++k) {
-    const Quadric q = quadric(v0, k) + quadric(v1, k);
-    Vec3 p = position(v1, k);
+    const Quadric q = merged_quadric(v0, v1, k);
+    const Vec3 p1 = position(v1, k);
+    Vec3 offset{};  // from v1's position
     if (moves) {
       if (auto m = q.minimiser()) {
-        p = *m;
+        offset = *m;
       } else if (class_[v1] == VertexClass::kInterior &&
-                 q.evaluate(position(v0, k)) < q.evaluate(p)) {
-        p = position(v0, k);  // ill-conditioned: the better endpoint
+                 q.evaluate(position(v0, k) - p1) < q.evaluate(offset)) {
+        offset = position(v0, k) - p1;  // ill-conditioned: the better endpoint
       }
     }
-    placement[k] = p;
-    worst = std::max(worst, q.mean_squared(p));
+    placement[k] = p1 + offset;
+    worst = std::max(worst, q.mean_squared(offset));
   }
   return std::sqrt(worst) / diagonal_;
 }
 
-// collapse_error() for half-edge placement, without the placement.
+// collapse_error() for half-edge placement, without the placement: v1's own quadric is c at its
+// position, v0's is evaluated across the edge.
 double Simplifier::half_edge_error(uint32_t v0, uint32_t v1) const {
   double worst = 0;
-  for (size_t k = 0; k < key_count(); ++k)
-    worst = std::max(worst, (quadric(v0, k) + quadric(v1, k)).mean_squared(position(v1, k)));
+  for (size_t k = 0; k < key_count(); ++k) {
+    const LocalQuadric& q1 = quadric(v1, k);
+    const Quadric q0 = quadric(v0, k).widen();
+    const double weight = q0.w + double{q1.w};
+    if (weight > 0)
+      worst = std::max(
+          worst, (q0.evaluate(position(v1, k) - position(v0, k)) + double{q1.c}) / weight);
+  }
   return std::sqrt(worst) / diagonal_;
+}
+
+// half_edge_error() of a → b and of b → a at once: the rating of an edge needs both, and the
+// quadrics are loaded once.
+std::pair<double, double> Simplifier::half_edge_errors(uint32_t a, uint32_t b) const {
+  double worst_ab = 0, worst_ba = 0;
+  for (size_t k = 0; k < key_count(); ++k) {
+    const Quadric qa = quadric(a, k).widen(), qb = quadric(b, k).widen();
+    const double weight = qa.w + qb.w;
+    if (!(weight > 0)) continue;
+    const Vec3 d = position(b, k) - position(a, k);
+    worst_ab = std::max(worst_ab, (qa.evaluate(d) + qb.c) / weight);
+    worst_ba = std::max(worst_ba, (qb.evaluate(Vec3{} - d) + qa.c) / weight);
+  }
+  return {std::sqrt(worst_ab) / diagonal_, std::sqrt(worst_ba) / diagonal_};
+}
+
+double Simplifier::cost(uint32_t v0, uint32_t v1, Scratch& s) const {
+  return optimal() ? collapse_error(v0, v1, s.placement) : half_edge_error(v0, v1);
 }
 
 bool Simplifier::topology_allows(uint32_t v0, uint32_t v1, const EdgeFaces& edge,
@@ -438,41 +499,53 @@ bool Simplifier::stale(const Entry& e) const {
   return changed_[e.v0] > e.time || changed_[e.v1] > e.time;
 }
 
-// Both directions of every edge at v that the vertex classes allow, with their cost.
-void Simplifier::rate_edges_of(uint32_t v, Scratch& s, std::vector<Entry>& out) const {
+// Every edge at v (with larger_only, those to a larger vertex) that the vertex classes allow in
+// some direction, queued for its cheaper allowed direction.
+void Simplifier::rate_edges_of(uint32_t v, Scratch& s, std::vector<Entry>& out,
+                               bool larger_only) const {
   mesh_.neighbours(v, s.neighbours);
   for (uint32_t w : s.neighbours) {
-    for (auto [a, b] : {std::pair{v, w}, std::pair{w, v}}) {
-      if (can_collapse(class_[a], class_[b]) == Along::kNever) continue;
-      const double error = optimal() ? collapse_error(a, b, s.placement) : half_edge_error(a, b);
-      out.push_back({static_cast<float>(error), a, b, time_});
+    if (larger_only && w < v) continue;
+    const bool forward = can_collapse(class_[v], class_[w]) != Along::kNever;
+    const bool backward = can_collapse(class_[w], class_[v]) != Along::kNever;
+    if (!forward && !backward) continue;
+    if (forward && backward) {
+      const auto [there, back] =
+          optimal() ? std::pair{cost(v, w, s), cost(w, v, s)} : half_edge_errors(v, w);
+      out.push_back(there <= back ? Entry{static_cast<float>(there), v, w, time_, 0}
+                                  : Entry{static_cast<float>(back), w, v, time_, 0});
+    } else {
+      const uint32_t a = forward ? v : w, b = forward ? w : v;
+      out.push_back({static_cast<float>(cost(a, b, s)), a, b, time_, 1});
     }
   }
 }
 
-// Every edge once, in parallel: at the start, and when the heap runs dry.
+// Every edge once, in parallel: at the start, and when the queue runs dry.
 void Simplifier::rate_all_edges() {
   const uint32_t n = input_.vertex_count;
   const unsigned threads = thread_count(options_.threads);
   std::vector<std::vector<Entry>> parts(threads);
   std::vector<Scratch> scratch(threads, Scratch(0));
   parallel_for(n, threads, [&](size_t begin, size_t end, unsigned t) {
-    std::vector<Entry>& out = parts[t];
-    for (size_t v = begin; v < end; ++v) {
-      if (!mesh_.vertex_alive(static_cast<uint32_t>(v))) continue;
-      const size_t first = out.size();
-      rate_edges_of(static_cast<uint32_t>(v), scratch[t], out);
-      // Each edge from its smaller end only.
-      out.erase(std::remove_if(out.begin() + static_cast<ptrdiff_t>(first), out.end(),
-                               [&](const Entry& e) { return std::min(e.v0, e.v1) != v; }),
-                out.end());
-    }
+    for (size_t v = begin; v < end; ++v)
+      if (mesh_.vertex_alive(static_cast<uint32_t>(v)))
+        rate_edges_of(static_cast<uint32_t>(v), scratch[t], parts[t], true);
   });
-  heap_.clear();
-  for (const auto& part : parts) heap_.insert(heap_.end(), part.begin(), part.end());
-  std::make_heap(heap_.begin(), heap_.end(), std::greater<>());
-  heap_size_after_cleanup_ = heap_.size();
+  queue_.clear();
+  for (auto& part : parts) {
+    for (const Entry& e : part) queue_.push(e);
+    std::vector<Entry>().swap(part);  // its memory back before the next part is queued
+  }
+  queue_size_after_cleanup_ = queue_.size();
   std::fill(rejected_.begin(), rejected_.end(), 0);
+}
+
+// Stale entries are dropped when the queue has doubled since the last time.
+void Simplifier::drop_stale_entries() {
+  if (queue_.size() <= 2 * queue_size_after_cleanup_ + 1024) return;
+  queue_.remove_if([&](const Entry& e) { return stale(e); });
+  queue_size_after_cleanup_ = queue_.size();
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -487,12 +560,15 @@ Status Simplifier::collapse(uint32_t v0, uint32_t v1, double error, Scratch& s) 
   mesh_.collapse(v0, v1, record, moved_);
   --component_live_[component_[v0]];
   for (size_t k = 0; k < key_count(); ++k) {
-    quadric(v1, k) += quadric(v0, k);
+    Quadric q = merged_quadric(v0, v1, k);  // around v1's position
     if (optimal()) {
+      const Vec3 before = position(v1, k);
       float* p = &positions_[(size_t{v1} * key_count() + k) * 3];
       p[0] = static_cast<float>(placement[k].x), p[1] = static_cast<float>(placement[k].y),
       p[2] = static_cast<float>(placement[k].z);
+      q = q.translated(position(v1, k) - before);  // around the new one
     }
+    quadric(v1, k) = LocalQuadric::narrow(q);
   }
   if (optimal())
     record.v1_new_positions = {&positions_[size_t{v1} * key_count() * 3], key_count() * 3};
@@ -512,17 +588,8 @@ Status Simplifier::collapse(uint32_t v0, uint32_t v1, double error, Scratch& s) 
     rejected_[w] = 0;
     rate_edges_of(w, s, fresh_);
   }
-  for (const Entry& e : fresh_) {
-    heap_.push_back(e);
-    std::push_heap(heap_.begin(), heap_.end(), std::greater<>());
-  }
-
-  // Garbage-collect stale entries when the heap has doubled since the last clean-up.
-  if (heap_.size() > 2 * heap_size_after_cleanup_ + 1024) {
-    std::erase_if(heap_, [&](const Entry& e) { return stale(e); });
-    std::make_heap(heap_.begin(), heap_.end(), std::greater<>());
-    heap_size_after_cleanup_ = heap_.size();
-  }
+  for (const Entry& e : fresh_) queue_.push(e);
+  drop_stale_entries();
   return {};
 }
 
@@ -561,11 +628,16 @@ bool Simplifier::stop_reached(std::string& reason) const {
   return false;
 }
 
-Result<SimplifyResult> Simplifier::run() {
-  const Adjacency adjacency = Adjacency::build(input_);
+// Takes the input's adjacency (validate() built it) and frees it once the vertex classes and
+// constraint edges are known, before the quadrics and the queue take their memory.
+Result<SimplifyResult> Simplifier::run(Adjacency adjacency) {
+  std::vector<uint8_t> constrained;
   initial_stats_ = topology_stats(input_, adjacency);
   classify_vertices(adjacency);
-  build_quadrics(adjacency);
+  constrained = constrained_edges(adjacency);
+  adjacency = {};
+  build_quadrics(constrained);
+  constrained = {};
 
   target_vertices_ = options_.target_vertices.value_or(0);
   if (options_.target_ratio) {
@@ -587,7 +659,7 @@ Result<SimplifyResult> Simplifier::run() {
       result.target_reached = true;
       break;
     }
-    if (heap_.empty()) {
+    if (queue_.empty()) {
       if (!rated_again) {  // edges dropped as illegal may have become legal
         rate_all_edges();
         ++time_;
@@ -598,9 +670,7 @@ Result<SimplifyResult> Simplifier::run() {
           "no legal collapse remains at " + std::to_string(mesh_.live_vertices()) + " vertices";
       break;
     }
-    std::pop_heap(heap_.begin(), heap_.end(), std::greater<>());
-    const Entry entry = heap_.back();
-    heap_.pop_back();
+    const Entry entry = queue_.pop();
     if (stale(entry)) continue;
     if (options_.max_error && entry.error > *options_.max_error) {
       result.target_reached = true;
@@ -609,12 +679,14 @@ Result<SimplifyResult> Simplifier::run() {
     }
     if (!legal(entry.v0, entry.v1, s)) {
       rejected_[entry.v0] = 1;
+      if (!entry.one_way) {
+        queue_.push({static_cast<float>(cost(entry.v1, entry.v0, s)), entry.v1, entry.v0, time_, 1});
+      }
       continue;
     }
     // The cost exactly as rated (the heap keeps it as float), and with optimal placement the
     // positions collapse() moves v1 to.
-    const double error = optimal() ? collapse_error(entry.v0, entry.v1, s.placement)
-                                   : half_edge_error(entry.v0, entry.v1);
+    const double error = cost(entry.v0, entry.v1, s);
     DYNPM_RETURN_IF_ERROR(collapse(entry.v0, entry.v1, error, s));
     rated_again = false;
   }
@@ -641,7 +713,8 @@ Result<SimplifyResult> Simplifier::run() {
 
 Result<SimplifyResult> simplify(const Topology& topology, const FrameSource& frames,
                                 const SimplifyOptions& options, CollapseListener* listener) {
-  const ValidationReport report = validate(topology);
+  std::optional<Adjacency> adjacency;
+  const ValidationReport report = validate(topology, adjacency);
   if (!report.ok()) {
     for (const Problem& p : report.problems)
       if (p.severity == Severity::kError) return Status::error("invalid input mesh: " + p.message);
@@ -653,7 +726,8 @@ Result<SimplifyResult> simplify(const Topology& topology, const FrameSource& fra
     return Status::error("the target ratio must be in (0, 1]");
   simplification::Simplifier simplifier(topology, options, listener);
   DYNPM_RETURN_IF_ERROR(simplifier.load_key_steps(frames));
-  return simplifier.run();
+  if (!adjacency) adjacency = Adjacency::build(topology);
+  return simplifier.run(std::move(*adjacency));
 }
 
 }  // namespace dynpm
