@@ -3,8 +3,6 @@
 // a file are coarser animations; damaged files are refused with the place named.
 #include <gtest/gtest.h>
 
-#include <cmath>
-#include <cstring>
 #include <filesystem>
 #include <map>
 #include <random>
@@ -13,6 +11,7 @@
 #include "dynpm/lod.h"
 #include "dynpm/pipeline.h"
 #include "fixtures.h"
+#include "round_trip.h"
 
 namespace dynpm {
 namespace {
@@ -39,56 +38,9 @@ ProgressiveMesh build(const Animation& a, bool lossless,
   return std::move(pm).value();
 }
 
-ProgressiveMesh through_file(const ProgressiveMesh& pm) {
-  auto back = decode_dpm(encode_dpm(pm), "memory.dpm");
-  EXPECT_TRUE(back.ok()) << back.message();
-  return std::move(back).value();
-}
-
-// Fully refined, the navigator gives the input: the same faces in the same order with the same
-// corner order, the same ids, and every position within the stated bound (bit-exact lossless).
-void expect_input_back(const Animation& a, const ProgressiveMesh& pm) {
-  ASSERT_TRUE(pm.complete);
-  Navigator nav(pm);
-  nav.set_level(pm.split_count());
-  auto o = original_order(nav);
-  ASSERT_TRUE(o.ok()) << o.message();
-  const Topology& t = o->topology;
-  ASSERT_EQ(t.vertex_count, a.topology.vertex_count);
-  ASSERT_EQ(t.faces.size(), a.topology.faces.size());
-  for (size_t f = 0; f < t.faces.size(); ++f)
-    ASSERT_EQ(t.faces[f], a.topology.faces[f]) << "face " << f;
-  EXPECT_EQ(t.part_ids, a.topology.part_ids);
-  EXPECT_EQ(t.element_ids, a.topology.element_ids);
-  EXPECT_EQ(t.node_ids, a.topology.node_ids);
-  ASSERT_EQ(pm.step_count(), a.step_count());
-  std::vector<float> xyz(size_t{nav.vertex_count()} * 3);
-  double worst = 0;
-  for (size_t s = 0; s < a.step_count(); ++s) {
-    EXPECT_EQ(pm.times[s], a.frames.step_time(s));
-    nav.positions(double(s), xyz);
-    const auto input = a.frames.step(s);
-    for (uint32_t v = 0; v < t.vertex_count; ++v) {
-      const float* p = &xyz[size_t{o->vertex_of_original[v]} * 3];
-      const float* q = &input[size_t{v} * 3];
-      if (pm.lossless) {
-        ASSERT_EQ(std::memcmp(p, q, 12), 0) << "vertex " << v << " step " << s;
-      } else {
-        worst = std::max(worst, std::sqrt(double(p[0] - q[0]) * (p[0] - q[0]) +
-                                          double(p[1] - q[1]) * (p[1] - q[1]) +
-                                          double(p[2] - q[2]) * (p[2] - q[2])));
-      }
-    }
-  }
-  if (!pm.lossless) {
-    // The bound, plus float32 rounding of the decoded value.
-    const double largest =
-        std::max({std::abs(pm.bbox_min[0]), std::abs(pm.bbox_max[0]), std::abs(pm.bbox_min[1]),
-                  std::abs(pm.bbox_max[1]), std::abs(pm.bbox_min[2]), std::abs(pm.bbox_max[2])});
-    EXPECT_LE(worst, pm.max_error + largest * 1e-7);
-    EXPECT_LE(pm.max_error, 1.01 * pm.diagonal() / (1 << 18) + largest * 4e-7);
-  }
-}
+using test::expect_input_back;
+using test::face_sets;
+using test::through_file;
 
 TEST(Progressive, HatRailRoundTripLosslessAndQuantized) {
   const Animation a = load(test::sample_dir() + "/frame_*.obj");
@@ -112,20 +64,6 @@ TEST(Progressive, EverySharedDatasetComesBack) {
     if (a.step_count() > 1)
       expect_input_back(a, through_file(build(a, true, KeyStepRule::Kind::kPaper)));
   }
-}
-
-// Faces as sets of input vertex ids, for comparing meshes numbered differently.
-std::multiset<std::vector<uint32_t>> face_sets(const Topology& t,
-                                               std::span<const uint32_t> to_input) {
-  std::multiset<std::vector<uint32_t>> out;
-  for (const Face& f : t.faces) {
-    std::vector<uint32_t> s;
-    for (uint32_t c : f.v)
-      if (c != kNoVertex) s.push_back(to_input[c]);
-    std::sort(s.begin(), s.end());
-    out.insert(s);
-  }
-  return out;
 }
 
 TEST(Progressive, EveryLevelIsValidAndIsTheSimplifiersMesh) {

@@ -199,6 +199,61 @@ TEST(Simplify, TJointNeverOpens) {
   }
 }
 
+TEST(Simplify, RibsKeepAFaceOnTheirJointToTheEnd) {
+  // Simplified until no legal collapse remains, a rib shrinks to one triangle on its joint; the
+  // collapse that would delete that triangle (the joint would drop to two faces, the rib would
+  // be gone) is not legal. Found by tests/property_test.cpp.
+  for (bool triangles : {false, true}) {
+    auto m = panel_with_rib();
+    if (triangles) {  // the rib's quads split into triangles
+      Topology t = Topology::with_vertices(m.topology.vertex_count);
+      for (size_t f = 0; f < m.topology.faces.size(); ++f) {
+        const Face& q = m.topology.faces[f];
+        if (m.topology.part_ids[f] == 2) {
+          t.add_triangle(q.v[0], q.v[1], q.v[2], 2);
+          t.add_triangle(q.v[0], q.v[2], q.v[3], 2);
+        } else {
+          t.add_face(q, m.topology.part_ids[f]);
+        }
+      }
+      m.topology = t;
+    }
+    for (bool parts : {true, false}) {
+      SimplifyOptions options;
+      options.keep_part_boundaries = parts;
+      auto r = simplify_checked(m, options);
+      ASSERT_TRUE(r.ok()) << r.message();
+      EXPECT_GE(topology_stats(r->topology, Adjacency::build(r->topology)).non_manifold_edges, 1u);
+    }
+  }
+}
+
+TEST(Simplify, PartEnclosedByAnotherKeepsAFace) {
+  // A square of part 2 (1 × 1 to 3 × 3 cells, quads or split) inside part 1: its boundary only
+  // slides, so even simplified to the end the part keeps a face.
+  for (bool triangles : {false, true}) {
+    for (uint32_t size : {1u, 2u, 3u}) {
+      auto m = wavy_grid(7, 7);
+      Topology t = Topology::with_vertices(m.topology.vertex_count);
+      for (size_t f = 0; f < m.topology.faces.size(); ++f) {
+        const uint32_t i = f % 7, j = f / 7;
+        const int32_t part = i >= 3 && i < 3 + size && j >= 3 && j < 3 + size ? 2 : 1;
+        const Face& q = m.topology.faces[f];
+        if (triangles) {
+          t.add_triangle(q.v[0], q.v[1], q.v[2], part);
+          t.add_triangle(q.v[0], q.v[2], q.v[3], part);
+        } else {
+          t.add_face(q, part);
+        }
+      }
+      m.topology = t;
+      auto r = simplify_checked(m, SimplifyOptions{});
+      ASSERT_TRUE(r.ok()) << r.message();
+      EXPECT_EQ(r->topology.parts(), (std::vector<int32_t>{1, 2})) << size << " × " << size;
+    }
+  }
+}
+
 TEST(Simplify, PartBoundariesOnlySlideAlongThemselves) {
   // Two parts side by side in one plane, joined along x = 5.
   auto m = wavy_grid(10, 6);

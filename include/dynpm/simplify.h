@@ -34,7 +34,8 @@
 //
 // Legality is data (legality.h): a table says which vertex kind may collapse into which, and
 // along which kind of edge; then (P1*) second-order neighbours, (P2) boundary, (P3) size, no
-// collapse across a quad's diagonal, and a geometric check in every key step.
+// collapse across a quad's diagonal, no sheet's or part's last face deleted between two
+// boundary or feature edges (a rib off its T-joint), and a geometric check in every key step.
 #pragma once
 
 #include <array>

@@ -123,7 +123,7 @@ Result<ProgressiveMesh> build_progressive_mesh(const Topology& topology, const F
   for (uint32_t i = 0; i < splits; ++i) {
     const auto& e = log.entries[splits - 1 - i];
     pm.parent.push_back(new_vertex[e.v1]);
-    pm.error.push_back(static_cast<float>(prefix_max[splits - 1 - i]));  // scaled below
+    pm.error.push_back(0);  // below, once the scale is known
     for (uint8_t k = 0; k < e.wing_count; ++k) {
       const CollapseWing& w = e.wings[k];
       SplitWing sw;
@@ -195,10 +195,14 @@ Result<ProgressiveMesh> build_progressive_mesh(const Topology& topology, const F
     pm.bbox_max[k] = all.empty ? 0.0 : all.max[k];
   }
 
-  // Errors in absolute units: the simplifier measured them in key-step diagonals.
+  // Errors in absolute units: the simplifier measured them in key-step diagonals. Each level's
+  // error is rounded to float32 once, the base's too (the file keeps a split's error as f32):
+  // rounding the base's differently could put it a float ulp below the first split's, and level
+  // errors must never increase along the stream (docs/FORMAT.md).
   const double scale = key_step_diagonal(frames, simplified->key_steps, step_boxes);
-  pm.base_error = prefix_max[splits] * scale;
-  for (float& e : pm.error) e = static_cast<float>(e * scale);
+  auto absolute = [scale](double e) { return static_cast<float>(e * scale); };
+  pm.base_error = absolute(prefix_max[splits]);
+  for (uint32_t i = 0; i < splits; ++i) pm.error[i] = absolute(prefix_max[splits - 1 - i]);
   pm.key_steps = simplified->key_steps;
   pm.lossless = options.lossless;
   pm.max_error = options.lossless ? 0.0 : options.max_position_error * pm.diagonal();

@@ -106,6 +106,7 @@ class Simplifier {
   std::pair<double, double> half_edge_errors(uint32_t a, uint32_t b) const;
   double cost(uint32_t v0, uint32_t v1, Scratch& s) const;
   bool topology_allows(uint32_t v0, uint32_t v1, const EdgeFaces& edge, Scratch& s) const;
+  bool keeps_every_sheet(uint32_t v0, uint32_t v1, const EdgeFaces& edge) const;
   bool face_stays_sound(const Face& face, size_t k, uint32_t skip, uint32_t moved,
                         Vec3 target) const;
   bool geometry_allows(uint32_t v0, uint32_t v1, const std::vector<Vec3>& placement) const;
@@ -424,9 +425,44 @@ bool Simplifier::topology_allows(uint32_t v0, uint32_t v1, const EdgeFaces& edge
   const bool at_border =
       class_[v0] != VertexClass::kInterior || class_[v1] != VertexClass::kInterior;
   if (component_live_[component_[v0]] <= (at_border ? 3u : 4u)) return false;
+  // No sheet or part may lose its last face between two boundary or feature edges.
+  if (!keeps_every_sheet(v0, v1, edge)) return false;
   // (P1*): otherwise the collapse leaves a vertex of valence two (paper Fig. 4 and 5).
   return second_order_neighbours_ok(mesh_, v0, v1, std::span(edge.faces.data(), edge.count),
                                     s.marks);
+}
+
+// A vanishing triangle (v0, v1, w) merges its edges (v0, w) and (v1, w) into one. Where both
+// are boundary or feature edges, the triangle is its sheet's (or its part's) last face between
+// them, and the collapse would delete it there instead of sliding along them: a rib's last
+// triangle leaves its T-joint (the joint drops to two faces, the rib is gone), a part enclosed
+// by another loses its last triangle (the part is gone), two boundary or feature lines fuse.
+bool Simplifier::keeps_every_sheet(uint32_t v0, uint32_t v1, const EdgeFaces& edge) const {
+  // The faces holding the edge (a, b), up to five (three or more make it a feature anyway).
+  auto faces_of_edge = [this](uint32_t a, uint32_t b, std::array<uint32_t, 5>& out) {
+    uint32_t n = 0;
+    for (uint32_t f : mesh_.faces_of(a)) {
+      const Face& face = mesh_.face(f);
+      const int d = face.degree(), i = corner_of(face, a);
+      if ((face.v[(i + 1) % d] == b || face.v[(i + d - 1) % d] == b) && n < out.size())
+        out[n++] = f;
+    }
+    return std::span<const uint32_t>(out.data(), n);
+  };
+  std::array<uint32_t, 5> scratch;
+  for (uint32_t k = 0; k < edge.count; ++k) {
+    const Face& face = mesh_.face(edge.faces[k]);
+    if (!face.is_triangle()) continue;
+    uint32_t w = kNoVertex;
+    for (int c = 0; c < 3; ++c)
+      if (face.v[c] != v0 && face.v[c] != v1) w = face.v[c];
+    auto constrained = [&](uint32_t a) {
+      const auto faces = faces_of_edge(a, w, scratch);
+      return faces.size() == 1 || is_feature_edge(a, w, faces);
+    };
+    if (constrained(v0) && constrained(v1)) return false;
+  }
+  return true;
 }
 
 // Whether a face stays sound in key step k when vertex `moved` goes to `target` and vertex
@@ -477,8 +513,8 @@ bool Simplifier::geometry_allows(uint32_t v0, uint32_t v1,
   return true;
 }
 
-// Whether v0 may collapse into v1 now: the edge kind the vertex classes ask for, (P3), (P1*),
-// and no fold or degenerate face in any key step.
+// Whether v0 may collapse into v1 now: the edge kind the vertex classes ask for, (P3), no sheet
+// off a feature, (P1*), and no fold or degenerate face in any key step.
 bool Simplifier::legal(uint32_t v0, uint32_t v1, Scratch& s) const {
   const EdgeFaces edge = edge_faces(v0, v1);
   if (edge.count == 0 || edge.diagonal || edge.too_many) return false;
