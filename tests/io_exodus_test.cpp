@@ -176,6 +176,40 @@ TEST(ExodusTest, TruncatedFilesAreErrors) {
   }
 }
 
+// A classic header that declares more than the file holds is refused before netCDF allocates
+// it (fuzzing finding 4, docs/RELIABILITY.md): the error names the file, the byte and the
+// declared size, not netCDF's NC_ENOMEM (and under ASan no 4 GB calloc aborts the test).
+TEST(ExodusTest, ForgedClassicHeaderCountsAreErrors) {
+  Opened forged =
+      open(test::source_dir() + "/fuzz/regressions/exodus/netcdf-header-4gb-string-oom.ex2");
+  ASSERT_FALSE(forged.stream.ok());
+  EXPECT_NE(forged.stream.message().find("netcdf-header-4gb-string-oom.ex2: byte 756: the netCDF "
+                                         "header declares a name of 4294967295 bytes"),
+            std::string::npos)
+      << forged.stream.message();
+
+  // The same in a valid CDF-2 file, patched: the dimension count (byte 12), then the first
+  // dimension's name length (byte 16).
+  std::ifstream in(exodus_file("vtkdata_box-noglom.ex2"), std::ios::binary);
+  const std::string box((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_EQ(box.substr(0, 4), std::string("CDF\x02", 4));
+  const struct {
+    size_t at;
+    const char* expected;
+  } patches[] = {{12, "byte 12: the netCDF header declares 2147483647 dimensions, more than"},
+                 {16, "byte 16: the netCDF header declares a name of 2147483647 bytes"}};
+  for (const auto& patch : patches) {
+    std::string bytes = box;
+    bytes.replace(patch.at, 4, "\x7f\xff\xff\xff");
+    test::TempDir dir;
+    std::ofstream(dir.file("box.ex2"), std::ios::binary) << bytes;
+    Opened r = open(dir.file("box.ex2"));
+    ASSERT_FALSE(r.stream.ok()) << "patched at " << patch.at;
+    EXPECT_NE(r.stream.message().find(patch.expected), std::string::npos) << r.stream.message();
+    EXPECT_NE(r.stream.message().find("box.ex2"), std::string::npos) << r.stream.message();
+  }
+}
+
 // meshio writes the shipped sample's first frame as Exodus II (netCDF-4) with a nodal
 // displacement DISPL_X/Y/Z = (0.5·i, −1, 2) at node i: dynpm must read the same faces and the
 // displaced positions.

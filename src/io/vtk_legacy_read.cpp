@@ -287,7 +287,8 @@ Status read_cell_list(Reader& r, const std::vector<std::string_view>& w, CellLis
   }
   std::vector<double> flat;
   DYNPM_RETURN_IF_ERROR(r.values(Type::kInt32, *size, flat));
-  cells.offsets.reserve(*n + 1);
+  // Each cell takes at least its point count from the list: a larger n fails below, unreserved.
+  cells.offsets.reserve(std::min<uint64_t>(*n, flat.size()) + 1);
   cells.points.reserve(flat.size());
   size_t at = 0;
   for (uint64_t c = 0; c < *n; ++c) {
