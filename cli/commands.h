@@ -23,8 +23,11 @@ int run_extract(std::span<char* const> arguments);
 int run_eval(std::span<char* const> arguments);
 int run_view(std::span<char* const> arguments);
 
-// Globs → files, then open them as one animation; reader notes go to stderr.
-Result<AnimationStream> open_inputs(std::span<const std::string> arguments, bool split_polygons);
+// Globs → files, then open them as one animation; reader notes go to stderr. Unless
+// refuse_non_finite is false ('dynpm info', which reports them), reading a step with a NaN or
+// infinite coordinate fails with the file, step and vertex.
+Result<AnimationStream> open_inputs(std::span<const std::string> arguments, bool split_polygons,
+                                    bool refuse_non_finite = true);
 
 // Progress on stderr ("label 12/26"), only when stderr is a terminal.
 void progress(const std::string& label, size_t done, size_t total);
