@@ -23,11 +23,16 @@ int run_extract(std::span<char* const> arguments);
 int run_eval(std::span<char* const> arguments);
 int run_view(std::span<char* const> arguments);
 
-// Globs → files, then open them as one animation; reader notes go to stderr. Unless
-// refuse_non_finite is false ('dynpm info', which reports them), reading a step with a NaN or
-// infinite coordinate fails with the file, step and vertex.
+// What a verb needs of its input before it starts working.
+enum class InputChecks {
+  kNone,         // 'dynpm info': validate() lists every problem, nothing is refused
+  kFinite,       // reading a step with a NaN or infinite coordinate fails (file, step, vertex)
+  kSimplifiable  // kFinite, and faces that validate() calls errors fail at once (file, face)
+};
+
+// Globs → files, then open them as one animation; reader notes go to stderr.
 Result<AnimationStream> open_inputs(std::span<const std::string> arguments, bool split_polygons,
-                                    bool refuse_non_finite = true);
+                                    InputChecks checks = InputChecks::kFinite);
 
 // Progress on stderr ("label 12/26"), only when stderr is a terminal.
 void progress(const std::string& label, size_t done, size_t total);

@@ -285,7 +285,7 @@ int run_info(std::span<char* const> arguments) {
     auto head = read_file_head(inputs->front(), 8);
     if (head && looks_like_dpm(*head)) return print_dpm_info(inputs->front(), args.has("--json"));
   }
-  auto stream = open_inputs(*inputs, args.has("--split-polygons"), /*refuse_non_finite=*/false);
+  auto stream = open_inputs(*inputs, args.has("--split-polygons"), InputChecks::kNone);
   if (!stream) {
     std::cerr << "dynpm info: " << stream.message() << "\n";
     return kExitFailure;

@@ -54,17 +54,38 @@ class FinitePositions final : public FrameSource {
   std::vector<int64_t> node_ids_;
 };
 
+// The first error validate() finds in the faces, named by the file they came from (the first
+// one of a sequence), with the element or node number where the file has one.
+Status check_faces(const Topology& topology, const std::string& file) {
+  const ValidationReport report = validate(topology);
+  for (const Problem& p : report.problems) {
+    if (p.severity != Severity::kError) continue;
+    std::string message = file + ": " + p.message;
+    if (p.face < topology.element_ids.size() && topology.element_ids[p.face] != 0)
+      message += " (element " + std::to_string(topology.element_ids[p.face]) + ")";
+    else if (p.face == kNoIndex && p.vertex < topology.node_ids.size())
+      message += " (node " + std::to_string(topology.node_ids[p.vertex]) + ")";
+    const size_t errors = report.count(Severity::kError);
+    if (errors > 1)
+      message += "; " + std::to_string(errors - 1) + " more errors ('dynpm info' lists them)";
+    return Status::error(message);
+  }
+  return {};
+}
+
 }  // namespace
 
 Result<AnimationStream> open_inputs(std::span<const std::string> arguments, bool split_polygons,
-                                    bool refuse_non_finite) {
+                                    InputChecks checks) {
   auto paths = expand_inputs(arguments);
   if (!paths) return paths.status();
   ReadOptions options;
   options.split_polygons = split_polygons;
   options.warn = [](const std::string& note) { std::cerr << "warning: " << note << "\n"; };
   auto stream = open_input(*paths, options);
-  if (!stream || !refuse_non_finite) return stream;
+  if (!stream || checks == InputChecks::kNone) return stream;
+  if (checks == InputChecks::kSimplifiable)
+    DYNPM_RETURN_IF_ERROR(check_faces(stream->topology, paths->front()));
   stream->frames = std::make_unique<FinitePositions>(std::move(stream->frames), *paths,
                                                      stream->topology.node_ids);
   return stream;

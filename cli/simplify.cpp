@@ -112,7 +112,8 @@ int run_simplify(std::span<char* const> arguments) {
   if (format_from_extension(*output) == FileFormat::kUnknown)
     return fail_usage("dynpm simplify: " + *output + ": use .obj, .ply or .vtk");
 
-  auto stream = open_inputs(args.positional, args.has("--split-polygons"));
+  auto stream =
+      open_inputs(args.positional, args.has("--split-polygons"), InputChecks::kSimplifiable);
   if (!stream) {
     std::cerr << "dynpm simplify: " << stream.message() << "\n";
     return kExitFailure;
