@@ -4,6 +4,8 @@
 
 #include <span>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "dynpm/io.h"
 
@@ -33,6 +35,26 @@ enum class InputChecks {
 // Globs → files, then open them as one animation; reader notes go to stderr.
 Result<AnimationStream> open_inputs(std::span<const std::string> arguments, bool split_polygons,
                                     InputChecks checks = InputChecks::kFinite);
+
+// The files of one output (a mesh, or one per step) are written under temporary names beside
+// their targets and renamed into place only when every one is written, so a run that fails
+// half-way leaves no output and keeps the files it would have replaced. A killed run can leave
+// its staged files: "<stem>.tmp-<pid><ext>" (the extension picks the format).
+class StagedOutputs {
+ public:
+  StagedOutputs() = default;
+  StagedOutputs(const StagedOutputs&) = delete;
+  StagedOutputs& operator=(const StagedOutputs&) = delete;
+  ~StagedOutputs();  // removes what was staged and not committed
+
+  // Where to write `path` for now.
+  std::string stage(const std::string& path);
+  // Renames every staged file to its target, in order.
+  Status commit();
+
+ private:
+  std::vector<std::pair<std::string, std::string>> files_;  // (staged, target)
+};
 
 // Progress on stderr ("label 12/26"), only when stderr is a terminal.
 void progress(const std::string& label, size_t done, size_t total);

@@ -2,10 +2,12 @@
 // main() only picks the verb; each verb lives in its own file.
 #include <unistd.h>
 
+#include <cerrno>
 #include <clocale>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <iostream>
 
 #include "commands.h"
@@ -89,6 +91,28 @@ Result<AnimationStream> open_inputs(std::span<const std::string> arguments, bool
   stream->frames = std::make_unique<FinitePositions>(std::move(stream->frames), *paths,
                                                      stream->topology.node_ids);
   return stream;
+}
+
+StagedOutputs::~StagedOutputs() {
+  for (const auto& [staged, target] : files_) std::remove(staged.c_str());
+}
+
+std::string StagedOutputs::stage(const std::string& path) {
+  const std::filesystem::path target(path);
+  std::filesystem::path staged = target;
+  staged.replace_filename(target.stem().string() + ".tmp-" + std::to_string(::getpid()) +
+                          target.extension().string());
+  files_.emplace_back(staged.string(), path);
+  return staged.string();
+}
+
+Status StagedOutputs::commit() {
+  for (const auto& [staged, target] : files_)
+    if (std::rename(staged.c_str(), target.c_str()) != 0)
+      return Status::error(target +
+                           ": cannot rename the finished file into place: " + std::strerror(errno));
+  files_.clear();
+  return {};
 }
 
 void progress(const std::string& label, size_t done, size_t total) {
