@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 #include "dynpm/core.h"
@@ -202,11 +203,15 @@ void check_frames(const Topology& topology, const std::vector<uint8_t>& face_ok,
     }
     for (uint32_t v = 0; v < topology.vertex_count; ++v) {
       const float* p = &xyz[size_t{v} * 3];
-      if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
-        report.add({ProblemKind::kNonFinitePosition, Severity::kError, kNoIndex, v, t,
-                    step() + ", vertex " + std::to_string(v) + ": position (" +
-                        std::to_string(p[0]) + ", " + std::to_string(p[1]) + ", " +
-                        std::to_string(p[2]) + ") is not finite"});
+      if (std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2])) continue;
+      char text[96];
+      std::snprintf(text, sizeof text, "(%g, %g, %g)", double(p[0]), double(p[1]), double(p[2]));
+      const std::string node = v < topology.node_ids.size()
+                                   ? " (node " + std::to_string(topology.node_ids[v]) + ")"
+                                   : "";
+      report.add({ProblemKind::kNonFinitePosition, Severity::kError, kNoIndex, v, t,
+                  step() + ", vertex " + std::to_string(v) + node + ": position " + text +
+                      " is not finite"});
     }
     for (uint32_t fi = 0; fi < topology.faces.size(); ++fi) {
       if (!face_ok[fi] || flat_seen[fi] || !has_zero_area(topology.faces[fi], xyz.data())) continue;
