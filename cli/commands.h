@@ -25,6 +25,10 @@ int run_extract(std::span<char* const> arguments);
 int run_eval(std::span<char* const> arguments);
 int run_view(std::span<char* const> arguments);
 
+// Before a long run: an error if `output` (a file or a step pattern) is a folder or its folder
+// does not exist, so that the work is not lost at the end.
+Status check_output_folder(const std::string& output);
+
 // What a verb needs of its input before it starts working.
 enum class InputChecks {
   kNone,         // 'dynpm info': validate() lists every problem, nothing is refused

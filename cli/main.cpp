@@ -93,6 +93,16 @@ Result<AnimationStream> open_inputs(std::span<const std::string> arguments, bool
   return stream;
 }
 
+Status check_output_folder(const std::string& output) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(output, ec))
+    return Status::error(output + ": is a directory; give a file name");
+  const std::filesystem::path folder = std::filesystem::path(output).parent_path();
+  if (!folder.empty() && !std::filesystem::is_directory(folder, ec))
+    return Status::error(output + ": no folder '" + folder.string() + "' to write into");
+  return {};
+}
+
 StagedOutputs::~StagedOutputs() {
   for (const auto& [staged, target] : files_) std::remove(staged.c_str());
 }

@@ -112,6 +112,10 @@ int run_simplify(std::span<char* const> arguments) {
   if (format_from_extension(*output) == FileFormat::kUnknown)
     return fail_usage("dynpm simplify: " + *output + ": use .obj, .ply or .vtk");
 
+  if (Status s = check_output_folder(*output); !s.ok()) {
+    std::cerr << "dynpm simplify: " << s.message() << "\n";
+    return kExitFailure;
+  }
   auto stream =
       open_inputs(args.positional, args.has("--split-polygons"), InputChecks::kSimplifiable);
   if (!stream) {
