@@ -63,7 +63,12 @@ int run_build(std::span<char* const> arguments) {
   auto key_rule = parse_key_step_rule(args.value("--key-steps").value_or("all"));
   if (!key_rule) return fail_usage(key_rule.message());
 
-  auto stream = open_inputs(args.positional, args.has("--split-polygons"));
+  if (Status s = check_output_folder(*output); !s.ok()) {
+    std::cerr << "dynpm build: " << s.message() << "\n";
+    return kExitFailure;
+  }
+  auto stream =
+      open_inputs(args.positional, args.has("--split-polygons"), InputChecks::kSimplifiable);
   if (!stream) {
     std::cerr << "dynpm build: " << stream.message() << "\n";
     return kExitFailure;

@@ -55,6 +55,7 @@ int run_convert(std::span<char* const> arguments) {
   options.binary = !args.has("--ascii");
   std::vector<float> xyz(size_t{frames.vertex_count()} * 3);
   std::string first, last;
+  StagedOutputs staged;
   for (size_t t = 0; t < steps; ++t) {
     progress("converting step", t + 1, steps);
     auto path = pattern ? step_path(*output, t) : Result<std::string>(*output);
@@ -68,11 +69,15 @@ int run_convert(std::span<char* const> arguments) {
     }
     options.comment =
         "dynpm: step " + std::to_string(t) + ", time " + std::to_string(frames.step_time(t));
-    if (Status s = write_mesh(*path, stream->topology, xyz, options); !s.ok()) {
+    if (Status s = write_mesh(staged.stage(*path), stream->topology, xyz, options); !s.ok()) {
       std::cerr << "dynpm convert: " << s.message() << "\n";
       return kExitFailure;
     }
     (t == 0 ? first : last) = *path;
+  }
+  if (Status s = staged.commit(); !s.ok()) {
+    std::cerr << "dynpm convert: " << s.message() << "\n";
+    return kExitFailure;
   }
   std::cout << "wrote " << steps << (steps == 1 ? " step: " : " steps: ") << first
             << (steps > 1 ? " … " + last : "") << " (" << stream->topology.vertex_count

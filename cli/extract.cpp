@@ -116,6 +116,7 @@ int run_extract(std::span<char* const> arguments) {
   write.binary = !args.has("--ascii");
   std::vector<float> positions(size_t{nav.vertex_count()} * 3), out(positions.size());
   std::vector<std::string> written;
+  StagedOutputs staged;
   const size_t count = step ? 1 : steps;
   for (size_t k = 0; k < count; ++k) {
     const double t = step ? *step : double(k);
@@ -130,11 +131,15 @@ int run_extract(std::span<char* const> arguments) {
     write.comment = "dynpm extract: " + std::to_string(nav.vertex_count()) + " vertices, step " +
                     std::to_string(t) + ", time " +
                     std::to_string(mesh->times[std::min(size_t(t), steps - 1)]);
-    if (Status s = write_mesh(*path, topology, xyz, write); !s.ok()) {
+    if (Status s = write_mesh(staged.stage(*path), topology, xyz, write); !s.ok()) {
       std::cerr << "dynpm extract: " << s.message() << "\n";
       return kExitFailure;
     }
     written.push_back(*path);
+  }
+  if (Status s = staged.commit(); !s.ok()) {
+    std::cerr << "dynpm extract: " << s.message() << "\n";
+    return kExitFailure;
   }
 
   if (args.has("--json")) {

@@ -282,10 +282,13 @@ int run_info(std::span<char* const> arguments) {
     return kExitFailure;
   }
   if (inputs->size() == 1) {
+    // By signature, or by name: a damaged .dpm gets the .dpm reader's message.
     auto head = read_file_head(inputs->front(), 8);
-    if (head && looks_like_dpm(*head)) return print_dpm_info(inputs->front(), args.has("--json"));
+    const std::string ext = std::filesystem::path(inputs->front()).extension().string();
+    if ((head && looks_like_dpm(*head)) || ext == ".dpm" || ext == ".DPM")
+      return print_dpm_info(inputs->front(), args.has("--json"));
   }
-  auto stream = open_inputs(*inputs, args.has("--split-polygons"));
+  auto stream = open_inputs(*inputs, args.has("--split-polygons"), InputChecks::kNone);
   if (!stream) {
     std::cerr << "dynpm info: " << stream.message() << "\n";
     return kExitFailure;

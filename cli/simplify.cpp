@@ -112,7 +112,12 @@ int run_simplify(std::span<char* const> arguments) {
   if (format_from_extension(*output) == FileFormat::kUnknown)
     return fail_usage("dynpm simplify: " + *output + ": use .obj, .ply or .vtk");
 
-  auto stream = open_inputs(args.positional, args.has("--split-polygons"));
+  if (Status s = check_output_folder(*output); !s.ok()) {
+    std::cerr << "dynpm simplify: " << s.message() << "\n";
+    return kExitFailure;
+  }
+  auto stream =
+      open_inputs(args.positional, args.has("--split-polygons"), InputChecks::kSimplifiable);
   if (!stream) {
     std::cerr << "dynpm simplify: " << stream.message() << "\n";
     return kExitFailure;
@@ -155,6 +160,7 @@ int run_simplify(std::span<char* const> arguments) {
   WriteOptions write;
   write.binary = !args.has("--ascii");
   std::vector<float> step(size_t{input.vertex_count} * 3), out;
+  StagedOutputs staged;
   for (size_t t = 0; t < steps; ++t) {
     progress("writing step", t + 1, steps);
     if (!result->key_step_positions.empty()) {
@@ -171,11 +177,15 @@ int run_simplify(std::span<char* const> arguments) {
     auto path = pattern ? step_path(*output, t) : Result<std::string>(*output);
     write.comment = "dynpm simplify: step " + std::to_string(t) + ", time " +
                     std::to_string(frames.step_time(t));
-    Status s = path ? write_mesh(*path, result->topology, out, write) : path.status();
+    Status s = path ? write_mesh(staged.stage(*path), result->topology, out, write) : path.status();
     if (!s.ok()) {
       std::cerr << "dynpm simplify: " << s.message() << "\n";
       return kExitFailure;
     }
+  }
+  if (Status s = staged.commit(); !s.ok()) {
+    std::cerr << "dynpm simplify: " << s.message() << "\n";
+    return kExitFailure;
   }
 
   const Topology& t = result->topology;

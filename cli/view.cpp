@@ -4,6 +4,7 @@
 // The .dpm is sent as it is, read from disk piece by piece: the page parses chunks as they
 // arrive, so the base mesh shows before the splits have come (docs/viewer.md).
 #include <signal.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -87,11 +88,19 @@ Status check_model(const fs::path& model, uintmax_t& size) {
 }
 
 Status write_text(const fs::path& path, std::string_view bytes) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-  out.close();
-  if (!out) return Status::error(path.string() + ": cannot write");
-  return Status();
+  return write_file_atomically(path.string(), bytes);
+}
+
+// The model is copied under a temporary name and renamed: a partial copy would read as a
+// valid, coarser model (a .dpm prefix is one).
+Status copy_model(const fs::path& model, const fs::path& target) {
+  const fs::path temp = target.string() + ".tmp-" + std::to_string(::getpid());
+  std::error_code error;
+  fs::copy_file(model, temp, fs::copy_options::overwrite_existing, error);
+  if (!error) fs::rename(temp, target, error);
+  if (!error) return Status();
+  fs::remove(temp);
+  return Status::error(target.string() + ": " + error.message());
 }
 
 int export_folder(const fs::path& model, const fs::path& dir) {
@@ -112,10 +121,7 @@ int export_folder(const fs::path& model, const fs::path& dir) {
     }
   }
   Status s = write_text(dir / kConfigPath, config_json(model));
-  if (s.ok()) {
-    fs::copy_file(model, dir / kModelPath, fs::copy_options::overwrite_existing, error);
-    if (error) s = Status::error(model.string() + ": " + error.message());
-  }
+  if (s.ok()) s = copy_model(model, dir / kModelPath);
   if (!s.ok()) {
     std::cerr << "dynpm view: " << s.message() << "\n";
     return kExitFailure;

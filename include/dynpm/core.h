@@ -212,6 +212,7 @@ enum class ProblemKind {
   kUnreferencedVertex,       // a vertex in no face
   kStepVertexCount,          // a time step has another vertex count
   kNonFinitePosition,        // NaN or Inf coordinate
+  kZeroAreaFace,             // a face whose corners lie on a line or coincide (at some step)
   kFieldSize,                // a scalar field has the wrong number of steps or values
   kUnreadableStep,           // a FrameSource failed to deliver a step
   kNoSteps,                  // an animation without any time step

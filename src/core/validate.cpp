@@ -6,7 +6,9 @@
 // reported with Severity::kFeature: the simplifier keeps them instead of converting the mesh to
 // a manifold one, so a T-joint can never open into a crack (docs/architecture.md).
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 #include "dynpm/core.h"
@@ -144,7 +146,32 @@ void check_connectivity(const Topology& good, const Adjacency& adj,
   }
 }
 
-void check_frames(const Topology& topology, const FrameSource& frames, ValidationReport& report) {
+// Twice the area of face f at positions xyz, against its longest edge squared: a face is of zero
+// area when 2A <= kFlat · L², i.e. (for a triangle) its height is below 1e-6 of its longest edge.
+// The vector area (diagonals' cross product for a quad) also catches a quad folded flat.
+constexpr double kFlat = 1e-6;
+bool has_zero_area(const Face& f, const float* xyz) {
+  const int d = f.degree();
+  std::array<std::array<double, 3>, 4> p{};
+  for (int i = 0; i < d; ++i)
+    for (int k = 0; k < 3; ++k) p[i][k] = xyz[size_t{f.v[i]} * 3 + k];
+  auto sub = [](const auto& a, const auto& b) {
+    return std::array<double, 3>{a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+  };
+  const auto u = d == 4 ? sub(p[2], p[0]) : sub(p[1], p[0]);
+  const auto w = d == 4 ? sub(p[3], p[1]) : sub(p[2], p[0]);
+  const double c[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
+                       u[0] * w[1] - u[1] * w[0]};
+  double longest = 0;
+  for (int i = 0; i < d; ++i) {
+    const auto e = sub(p[(i + 1) % d], p[i]);
+    longest = std::max(longest, e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
+  }
+  return std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) <= kFlat * longest;
+}
+
+void check_frames(const Topology& topology, const std::vector<uint8_t>& face_ok,
+                  const FrameSource& frames, ValidationReport& report) {
   if (frames.step_count() == 0) {
     report.add({ProblemKind::kNoSteps, Severity::kError, kNoIndex, kNoIndex, kNoIndex,
                 "the animation has no time step"});
@@ -157,6 +184,7 @@ void check_frames(const Topology& topology, const FrameSource& frames, Validatio
     return;
   }
   std::vector<float> xyz(size_t{topology.vertex_count} * 3);
+  std::vector<uint8_t> flat_seen(topology.faces.size(), 0);  // each face reported once
   for (uint32_t t = 0; t < frames.step_count(); ++t) {
     auto step = [&] { return "step " + std::to_string(t); };
     const size_t floats = frames.step_float_count(t);
@@ -174,11 +202,22 @@ void check_frames(const Topology& topology, const FrameSource& frames, Validatio
     }
     for (uint32_t v = 0; v < topology.vertex_count; ++v) {
       const float* p = &xyz[size_t{v} * 3];
-      if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
-        report.add({ProblemKind::kNonFinitePosition, Severity::kError, kNoIndex, v, t,
-                    step() + ", vertex " + std::to_string(v) + ": position (" +
-                        std::to_string(p[0]) + ", " + std::to_string(p[1]) + ", " +
-                        std::to_string(p[2]) + ") is not finite"});
+      if (std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2])) continue;
+      char text[96];
+      std::snprintf(text, sizeof text, "(%g, %g, %g)", double(p[0]), double(p[1]), double(p[2]));
+      const std::string node = v < topology.node_ids.size()
+                                   ? " (node " + std::to_string(topology.node_ids[v]) + ")"
+                                   : "";
+      report.add({ProblemKind::kNonFinitePosition, Severity::kError, kNoIndex, v, t,
+                  step() + ", vertex " + std::to_string(v) + node + ": position " + text +
+                      " is not finite"});
+    }
+    for (uint32_t fi = 0; fi < topology.faces.size(); ++fi) {
+      if (!face_ok[fi] || flat_seen[fi] || !has_zero_area(topology.faces[fi], xyz.data())) continue;
+      flat_seen[fi] = 1;
+      report.add({ProblemKind::kZeroAreaFace, Severity::kWarning, fi, kNoIndex, t,
+                  "face " + std::to_string(fi) + " " + face_text(topology.faces[fi]) +
+                      ": zero area at " + step() + " (its corners lie on a line or coincide)"});
     }
   }
 }
@@ -242,7 +281,7 @@ ValidationReport validate(const Topology& topology, std::optional<Adjacency>& ad
   }
 
   if (frames) {
-    check_frames(topology, *frames, report);
+    check_frames(topology, face_ok, *frames, report);
     check_fields(topology, frames->step_count(), fields, report);
   }
   return report;
@@ -262,6 +301,7 @@ const char* to_string(ProblemKind kind) {
     case ProblemKind::kUnreferencedVertex: return "unreferenced-vertex";
     case ProblemKind::kStepVertexCount: return "step-vertex-count";
     case ProblemKind::kNonFinitePosition: return "non-finite-position";
+    case ProblemKind::kZeroAreaFace: return "zero-area-face";
     case ProblemKind::kFieldSize: return "field-size";
     case ProblemKind::kUnreadableStep: return "unreadable-step";
     case ProblemKind::kNoSteps: return "no-steps";

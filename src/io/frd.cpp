@@ -320,7 +320,6 @@ class FrdScanner {
     reader_.seek(0, 1);
 
     std::string_view line;
-    bool ended = false;
     while (!ended && next(line)) {
       if (trim(line).empty()) continue;
       const auto key = to_int(columns(line, 0, 5));
@@ -352,6 +351,7 @@ class FrdScanner {
     return {};
   }
 
+  bool ended = false;  // the ' 9999' record that ends a file CalculiX has finished
   std::vector<NodeRecord> nodes;
   std::vector<ElementRecord> elements;
   std::vector<ResultBlock> blocks;
@@ -375,8 +375,12 @@ class FrdScanner {
   Status fail_at_byte(uint64_t offset, const std::string& cause) const {
     return Status::error(path_ + ": byte " + std::to_string(offset) + ": " + cause);
   }
+  // Placed where the file ends: after its last line, or at its size once binary records have
+  // appeared.
   Status truncated(const std::string& what) const {
-    return Status::error(path_ + ": the file ends inside " + what + " (truncated?)");
+    const std::string end = binary ? ": byte " + std::to_string(reader_.size())
+                                   : ":" + std::to_string(reader_.line() - 1);
+    return Status::error(path_ + end + ": the file ends inside " + what + " (truncated?)");
   }
 
   // Format flag and record count of a 2C / 3C header: (1X,'   2','C',18X,I12,37X,I1).
@@ -791,6 +795,10 @@ Result<AnimationStream> open_frd(const std::string& path, const ReadOptions& opt
   auto note = [&](const std::string& text) {
     if (options.warn) options.warn(text);
   };
+  // A result still being written, or a file cut at a line boundary after a complete block.
+  if (!scan.ended)
+    note(path + ": no ' 9999' end record: the file may be cut short or still being written; " +
+         "reading the steps it holds");
 
   // Vertices: the nodes the shells use, in ascending node number (as our OBJ sequences).
   std::vector<NodeRecord>& nodes = scan.nodes;

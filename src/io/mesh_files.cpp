@@ -215,6 +215,12 @@ Result<FileFormat> detect_format(const std::string& path) {
   }
   if (text.starts_with("\x1f\x8b"))
     return Status::error(path + ": is gzip-compressed; gunzip it first");
+  // dynpm's own output (docs/FORMAT.md: 0x89 'D' 'P' 'M' …) is no input of a reader.
+  const bool dpm_signature = text.size() >= 4 && text[0] == '\x89' && text.substr(1, 3) == "DPM";
+  if (dpm_signature || lowercase_extension(path) == ".dpm")
+    return Status::error(path +
+                         ": a progressive mesh (.dpm) is not a mesh or result input "
+                         "('dynpm extract' writes meshes from it, 'dynpm info' describes it)");
   const FileFormat by_name = format_from_extension(path);
   if (by_name != FileFormat::kUnknown) return by_name;
   // LS-DYNA names its results freely (d3plot, qd_d3plot, run7.d3plot): a plausible control

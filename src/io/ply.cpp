@@ -16,6 +16,13 @@ namespace {
 
 enum class Encoding { kAscii, kBinaryLittle, kBinaryBig };
 
+// A value read from the file as the file wrote it: "9", "2.5", "-1e+20", not "9.000000".
+std::string number_text(double value) {
+  char buffer[32];
+  auto [end, ec] = std::to_chars(buffer, buffer + sizeof buffer, value);
+  return ec == std::errc() ? std::string(buffer, end) : std::to_string(value);
+}
+
 enum class ScalarType { kInt8, kUInt8, kInt16, kUInt16, kInt32, kUInt32, kFloat32, kFloat64 };
 
 std::optional<ScalarType> scalar_type(std::string_view name) {
@@ -342,12 +349,12 @@ Result<ParsedMesh> parse_ply(std::string_view bytes, const std::string& path,
           double n = 0;
           if (!reader.read(property.count_type, n)) return Status::error(reader.error());
           if (n < 0 || n > 1e6 || n != std::floor(n))
-            return Status::error(reader.where() + ": bad list length " + std::to_string(n));
+            return Status::error(reader.where() + ": bad list length " + number_text(n));
           for (int k = 0; k < static_cast<int>(n); ++k) {
             if (!reader.read(property.type, value)) return Status::error(reader.error());
             if (pi == list) {
               if (value < 0 || value != std::floor(value) || value >= mesh.topology.vertex_count)
-                return Status::error(reader.where() + ": face index " + std::to_string(value) +
+                return Status::error(reader.where() + ": face index " + number_text(value) +
                                      " is not a vertex (there are " +
                                      std::to_string(mesh.topology.vertex_count) + ")");
               corners.push_back(static_cast<uint32_t>(value));
@@ -361,7 +368,7 @@ Result<ParsedMesh> parse_ply(std::string_view bytes, const std::string& path,
         if (is_id && !(value >= -9.2e18 && value <= 9.2e18 &&
                        (pi != part || (value >= INT32_MIN && value <= INT32_MAX))))
           return Status::error(reader.where() + ": " + (is_vertex ? "vertex " : "face ") +
-                               std::to_string(r) + ": id " + std::to_string(value) +
+                               std::to_string(r) + ": id " + number_text(value) +
                                " is out of range");
         if (is_vertex) {
           if (pi == x) mesh.positions[r * 3 + 0] = static_cast<float>(value);

@@ -1,0 +1,172 @@
+#!/usr/bin/env python3
+"""Writes the bad-input corpus (tests/bad/): small files, each broken in one way.
+
+Run from anywhere: python3 tests/bad/make_corpus.py DYNPM  (the dynpm binary builds the .dpm
+cases). The files are committed; this script says how each was made and remakes them.
+expected.txt says what dynpm must answer for each.
+"""
+import math
+import os
+import shutil
+import struct
+import subprocess
+import sys
+import tempfile
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+# A 2 x 2 grid of unit quads in z = 0:  6---7---8
+#                                       | 2 | 3 |
+#                                       3---4---5
+#                                       | 0 | 1 |
+#                                       0---1---2
+GRID_V = [(float(i), float(j), 0.0) for j in range(3) for i in range(3)]
+GRID_F = [(0, 1, 4, 3), (1, 2, 5, 4), (3, 4, 7, 6), (4, 5, 8, 7)]
+
+
+def write(name, data):
+    path = os.path.join(HERE, name)
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    with open(path, "wb") as f:
+        f.write(data.encode() if isinstance(data, str) else data)
+
+
+def obj(vertices, faces, comment="a 2 x 2 quad grid"):
+    s = f"# {comment}\n"
+    s += "".join(f"v {x:g} {y:g} {z:g}\n" for x, y, z in vertices)
+    s += "".join("f " + " ".join(str(c + 1) for c in f) + "\n" for f in faces)
+    return s
+
+
+def binary_ply(vertices, faces):
+    head = ("ply\nformat binary_little_endian 1.0\ncomment the 2 x 2 quad grid\n"
+            f"element vertex {len(vertices)}\nproperty float x\nproperty float y\n"
+            f"property float z\nelement face {len(faces)}\n"
+            "property list uchar int vertex_indices\nend_header\n").encode()
+    body = b"".join(struct.pack("<3f", *v) for v in vertices)
+    body += b"".join(struct.pack("<B", len(f)) + struct.pack(f"<{len(f)}i", *f) for f in faces)
+    return head + body
+
+
+def binary_vtk(vertices, faces):
+    s = (b"# vtk DataFile Version 3.0\nthe 2 x 2 quad grid\nBINARY\nDATASET POLYDATA\n"
+         + f"POINTS {len(vertices)} float\n".encode())
+    s += b"".join(struct.pack(">3f", *v) for v in vertices)
+    size = sum(len(f) + 1 for f in faces)
+    s += f"\nPOLYGONS {len(faces)} {size}\n".encode()
+    s += b"".join(struct.pack(f">{len(f) + 1}i", len(f), *f) for f in faces)
+    return s + b"\n"
+
+
+def frd(steps):
+    """CalculiX .frd (ascii, short format): the grid as nodes 1-9 and S4 elements 1-4."""
+    e12 = lambda v: f"{v:12.5E}"
+    s = "    1C\n    1UUSER\n"
+    s += "    2C" + " " * 18 + f"{len(GRID_V):12d}" + " " * 37 + "0\n"
+    for n, (x, y, z) in enumerate(GRID_V):
+        s += f" -1{n + 1:5d}" + e12(x) + e12(y) + e12(z) + "\n"
+    s += " -3\n"
+    s += "    3C" + " " * 18 + f"{len(GRID_F):12d}" + " " * 37 + "0\n"
+    for e, f in enumerate(GRID_F):
+        s += f" -1{e + 1:5d}{9:5d}{0:5d}{1:5d}\n -2" + "".join(f"{c + 1:5d}" for c in f) + "\n"
+    s += " -3\n"
+    for step in range(1, steps + 1):
+        s += (f"  100CL  1{step:2d}" + e12(0.5 * step) + f"{len(GRID_V):12d}" + " " * 20
+              + f"{0:2d}{step:5d}" + " " * 10 + " 0\n")
+        s += " -4  DISP        4    1\n"
+        for c, name in enumerate(["D1", "D2", "D3"]):
+            s += f" -5  {name:<8s}{1:5d}{2:5d}{c + 1:5d}{0:5d}\n"
+        s += " -5  ALL         1    2    0    0    1ALL\n"
+        for n in range(len(GRID_V)):
+            s += f" -1{n + 1:5d}" + e12(0.0) + e12(0.0) + e12(0.1 * step * n) + "\n"
+        s += " -3\n"
+    return s + " 9999\n"
+
+
+def main():
+    dynpm = sys.argv[1] if len(sys.argv) > 1 else None
+
+    write("empty.obj", "")
+    write("comments-only.obj", "# a mesh file with nothing in it\n\n# time 0\n")
+    write("directory.obj/.gitkeep", "")  # a folder named like a mesh file
+
+    ply = binary_ply(GRID_V, GRID_F)
+    header_end = ply.index(b"end_header\n") + len(b"end_header\n")
+    # Cut in the middle of the third face record (each face: 1 + 4 * 4 = 17 bytes).
+    write("truncated-binary.ply", ply[:header_end + 9 * 12 + 2 * 17 + 7])
+    vtk = binary_vtk(GRID_V, GRID_F)
+    points = vtk.index(b"float\n") + len(b"float\n")
+    write("truncated-binary.vtk", vtk[:points + 5 * 12 + 4])  # inside vertex 5 of 9
+    full = frd(2)
+    second = full.index("  100CL  1 2")
+    write("truncated.frd", full[:second + (full.index(" -3\n", second) - second) // 2])
+    write("cut-after-a-step.frd", full[:second])  # ends after step 1's block, no ' 9999'
+
+    write("nan.obj", obj([(math.nan, 0, 0) if i == 4 else v for i, v in enumerate(GRID_V)],
+                         GRID_F))
+    write("infinite.obj", obj([(1e39, 1, 0) if i == 4 else v for i, v in enumerate(GRID_V)],
+                              GRID_F))
+    write("nan-binary.ply",
+          binary_ply([(0.0, math.nan, 0.0) if i == 4 else v for i, v in enumerate(GRID_V)],
+                     GRID_F))
+
+    write("repeated-index.obj", obj(GRID_V, GRID_F[:3] + [(4, 5, 5, 7)]))
+    write("out-of-range.obj", obj(GRID_V, GRID_F[:3] + [(4, 5, 9, 7)]))
+    write("out-of-range-binary.ply", binary_ply(GRID_V, GRID_F[:3] + [(4, 5, 9, 7)]))
+
+    # Sequences: step 2 (the third file) breaks the first file's mesh.
+    nan_step = [(x, y, 0.2) for x, y, _ in GRID_V]
+    nan_step[7] = (1.0, 2.0, math.nan)
+    for name, bad in [("seq-vertex-count", obj(GRID_V + [(3.0, 3.0, 0.0)], GRID_F)),
+                      ("seq-faces", obj(GRID_V, GRID_F[:3] + [(4, 5, 8, 6)])),
+                      ("seq-nan", obj(nan_step, GRID_F))]:
+        for t in range(3):
+            moved = [(x, y, 0.1 * t) for x, y, _ in GRID_V]
+            write(f"{name}/frame_{t}.obj", bad if t == 2 else obj(moved, GRID_F))
+
+    # A triangle whose corners lie on one line and a quad folded onto a segment.
+    # The grid and a triangle on its right edge whose third corner lies on that edge: 5-2-9 has
+    # its corners on the line x = 2 (a sliver, as where a mesher collapsed an element).
+    write("zero-area.obj", obj(GRID_V + [(2.0, 0.5, 0.0)], GRID_F + [(5, 2, 9)],
+                               "a triangle of zero area"))
+
+    # Five quads on the edge (0, 1): fins of a T-joint gone wild, a non-manifold edge.
+    fins = [(0.0, 0.0, 0.0), (1.0, 0.0, 0.0)]
+    fin_faces = []
+    for k in range(5):
+        a = 2 * math.pi * k / 5
+        dx, dz = round(math.cos(a), 6), round(math.sin(a), 6)
+        fins += [(1.0, dx, dz), (0.0, dx, dz)]
+        fin_faces.append((0, 1, 2 + 2 * k, 3 + 2 * k))
+    write("five-faces-on-an-edge.obj", obj(fins, fin_faces, "five quads share the edge 1-2"))
+
+    # .dpm: built from the grid, then broken.
+    if dynpm:
+        tmp = tempfile.mkdtemp()
+        try:
+            src = os.path.join(tmp, "grid.obj")
+            with open(src, "w") as f:
+                f.write(obj(GRID_V, GRID_F))
+            out = os.path.join(tmp, "grid.dpm")
+            subprocess.run([dynpm, "build", src, "-o", out], check=True, stdout=subprocess.DEVNULL)
+            data = open(out, "rb").read()
+        finally:
+            shutil.rmtree(tmp)
+        base = data.index(b"BASE")
+        write("truncated-base.dpm", data[:base + 30])  # inside the base mesh chunk
+        splt = data.index(b"SPLT")
+        write("truncated-splits.dpm", data[:splt + 30])  # a prefix: the base mesh, no splits
+        write("wrong-magic.dpm", b"\x89DPN" + data[4:])
+        write("wrong-version.dpm", data[:8] + struct.pack("<I", 7) + data[12:])
+
+    # d3plot-like garbage: named like an LS-DYNA result, 4 KB of noise.
+    noise = bytearray()
+    x = 12345
+    for _ in range(4096):
+        x = (1103515245 * x + 12345) % 2**31
+        noise.append(x >> 23)
+    write("d3plot-garbage/d3plot", bytes(noise))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,427 @@
+// Bad inputs and killed runs, as a user meets them on the command line.
+//
+// BadInputs: every line of tests/bad/expected.txt — a broken file, a command, the exit code and
+// the exact message dynpm must give — run through the dynpm binary; a failed run must leave
+// nothing in its output folder (no output, no temporary file).
+//
+// AtomicOutputs: `dynpm build` and `dynpm convert` on a generated animation, killed with SIGKILL
+// at random moments (and once right as the .dpm is being written): the output is either absent
+// or complete, never partial. What a killed run leaves is its temporary file, named after the
+// target and the process: model.dpm.tmp-<pid>-<n>, frame_003.tmp-<pid>.ply.
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <set>
+#include <thread>
+
+#include "dynpm/io.h"
+#include "dynpm/progressive.h"
+#include "fixtures.h"
+#include "third_party.h"
+
+namespace dynpm {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+std::string bad_dir() { return test::source_dir() + "/tests/bad"; }
+
+std::string trim(const std::string& s) {
+  const size_t a = s.find_first_not_of(" \t");
+  if (a == std::string::npos) return "";
+  return s.substr(a, s.find_last_not_of(" \t") - a + 1);
+}
+
+std::string replace_all(std::string s, const std::string& from, const std::string& to) {
+  for (size_t at = s.find(from); at != std::string::npos; at = s.find(from, at + to.size()))
+    s.replace(at, from.size(), to);
+  return s;
+}
+
+// One line of expected.txt: input | verb and options | exit code | message.
+struct Expectation {
+  int line = 0;
+  std::string input, verb, options, message;
+  int exit_code = -1;
+};
+
+std::vector<Expectation> read_manifest() {
+  std::ifstream in(bad_dir() + "/expected.txt");
+  std::vector<Expectation> entries;
+  std::string text;
+  for (int line = 1; std::getline(in, text); ++line) {
+    if (trim(text).empty() || trim(text)[0] == '#') continue;
+    std::vector<std::string> fields;
+    size_t start = 0;
+    for (int k = 0; k < 3; ++k) {  // the message, last, may hold anything
+      const size_t bar = text.find('|', start);
+      if (bar == std::string::npos) break;
+      fields.push_back(trim(text.substr(start, bar - start)));
+      start = bar + 1;
+    }
+    fields.push_back(trim(text.substr(start)));
+    Expectation e;
+    e.line = line;
+    if (fields.size() != 4) {  // reported by the test, not skipped
+      entries.push_back(e);
+      continue;
+    }
+    e.input = fields[0];
+    const size_t space = fields[1].find(' ');
+    e.verb = fields[1].substr(0, space);
+    e.options = space == std::string::npos ? "" : fields[1].substr(space + 1);
+    e.exit_code = std::atoi(fields[2].c_str());
+    e.message = fields[3];
+    entries.push_back(e);
+  }
+  return entries;
+}
+
+std::vector<std::string> folder_entries(const fs::path& dir) {
+  std::vector<std::string> names;
+  for (const auto& entry : fs::directory_iterator(dir)) names.push_back(entry.path().filename());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+std::string joined(const std::vector<std::string>& names) {
+  std::string s;
+  for (const std::string& n : names) s += (s.empty() ? "" : ", ") + n;
+  return "[" + s + "]";
+}
+
+bool is_temporary(const std::string& name) { return name.find(".tmp-") != std::string::npos; }
+
+TEST(BadInputs, TheManifestCoversEveryCorpusFile) {
+  const auto entries = read_manifest();
+  ASSERT_FALSE(entries.empty()) << "no entries in " << bad_dir() << "/expected.txt";
+  std::set<std::string> with_info, with_build;
+  for (const Expectation& e : entries) {
+    ASSERT_FALSE(e.input.empty()) << "expected.txt:" << e.line << ": needs 4 fields separated by |";
+    ASSERT_TRUE(e.exit_code >= 0 && e.exit_code <= 3) << "expected.txt:" << e.line;
+    ASSERT_FALSE(e.message.empty()) << "expected.txt:" << e.line;
+    if (e.verb == "info") with_info.insert(e.input);
+    if (e.verb == "build") with_build.insert(e.input);
+  }
+  for (const Expectation& e : entries) {
+    EXPECT_TRUE(with_info.count(e.input)) << e.input << " has no info line";
+    EXPECT_TRUE(with_build.count(e.input)) << e.input << " has no build line";
+  }
+  // Every file or folder of the corpus is some line's input (or holds it).
+  for (const std::string& name : folder_entries(bad_dir())) {
+    if (name == "README.md" || name == "expected.txt" || name == "make_corpus.py" ||
+        name == "__pycache__")
+      continue;
+    const bool used = std::any_of(entries.begin(), entries.end(), [&](const Expectation& e) {
+      return e.input == name || e.input.starts_with(name + "/");
+    });
+    EXPECT_TRUE(used) << "tests/bad/" << name << " is in no line of expected.txt";
+  }
+}
+
+TEST(BadInputs, EveryFileGivesItsExitCodeAndExactMessage) {
+  const auto entries = read_manifest();
+  ASSERT_FALSE(entries.empty());
+  for (const Expectation& e : entries) {
+    if (e.input.empty()) continue;  // reported by TheManifestCoversEveryCorpusFile
+    SCOPED_TRACE("tests/bad/expected.txt:" + std::to_string(e.line) + ": dynpm " + e.verb + " " +
+                 e.input);
+    test::TempDir out;
+    const std::string command = "cd '" + bad_dir() + "' && '" + DYNPM_CLI + "' " + e.verb + " '" +
+                                e.input + "' " + replace_all(e.options, "{out}", out.path());
+    const auto r = test::run_command(command);
+    EXPECT_EQ(r.exit_code, e.exit_code) << r.output;
+    const std::string message = replace_all(e.message, "{out}", out.path());
+    EXPECT_NE(r.output.find(message), std::string::npos)
+        << "expected: " << message << "\ngot:      " << r.output;
+    const auto left = folder_entries(out.path());
+    if (e.exit_code == 1 || e.exit_code == 2) {
+      EXPECT_TRUE(left.empty()) << "a failed run left " << joined(left);
+    } else {
+      EXPECT_TRUE(std::none_of(left.begin(), left.end(), is_temporary))
+          << "temporary files left: " << joined(left);
+    }
+    if (e.exit_code == 0 && e.verb == "build") {
+      auto model = read_dpm(out.file("model.dpm"));
+      ASSERT_TRUE(model.ok()) << model.message();
+      EXPECT_TRUE(model->complete);
+    }
+  }
+}
+
+// Steps 0 and 1 of a sequence convert, step 2 does not: the files of an earlier run survive.
+TEST(BadInputs, AFailedRunKeepsTheFilesItWouldHaveReplaced) {
+  test::TempDir out;
+  std::ofstream(out.file("copy_000.ply")) << "an earlier run's file\n";
+  const auto r =
+      test::run_command("cd '" + bad_dir() + "' && '" + DYNPM_CLI +
+                        "' convert 'seq-faces/frame_*.obj' -o " + out.file("copy_{:03d}.ply"));
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_EQ(folder_entries(out.path()), std::vector<std::string>{"copy_000.ply"});
+  std::ifstream in(out.file("copy_000.ply"));
+  std::string first;
+  std::getline(in, first);
+  EXPECT_EQ(first, "an earlier run's file");
+}
+
+// validate()'s zero-area rule: a triangle on a line, a quad folded onto a segment; each face
+// once, at the first step where it is flat.
+TEST(BadInputs, ZeroAreaFacesAreAWarningOncePerFace) {
+  test::Mesh m = test::quad_grid(2, 1);  // 0-1-2 / 3-4-5, quads (0 1 4 3) and (1 2 5 4)
+  Animation a = m.animation();
+  std::vector<float> flat = m.positions;
+  for (int k : {3, 4, 5}) flat[k * 3 + 1] = 0;  // step 1: the top row lies on the bottom row
+  a.frames.add_step(flat, 1.0);
+  a.frames.add_step(flat, 2.0);
+  const ValidationReport report = validate(a);
+  EXPECT_TRUE(report.ok());
+  EXPECT_EQ(report.count(ProblemKind::kZeroAreaFace), 2u);
+  for (const Problem& p : report.problems)
+    if (p.kind == ProblemKind::kZeroAreaFace) {
+      EXPECT_EQ(p.severity, Severity::kWarning);
+      EXPECT_EQ(p.step, 1u) << p.message;
+    }
+
+  test::Mesh sliver = test::tri_quad_strip();
+  sliver.positions[7 * 3 + 1] = 0.5f;  // vertex 7 onto the line through 2 and 6: tri 2-7-6 flat
+  sliver.positions[7 * 3 + 0] = 2.5f;
+  sliver.positions[6 * 3 + 0] = 3.0f;
+  sliver.positions[2 * 3 + 0] = 2.0f;
+  const ValidationReport r2 = validate(sliver.animation());
+  ASSERT_EQ(r2.count(ProblemKind::kZeroAreaFace), 1u);
+  for (const Problem& p : r2.problems) {
+    if (p.kind == ProblemKind::kZeroAreaFace) {
+      EXPECT_EQ(p.face, 2u) << p.message;
+    }
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Atomic outputs under SIGKILL
+
+// A wavy 80 × 80 quad grid over 6 steps, as frame_0.obj … frame_5.obj: big enough that
+// `dynpm build` takes about half a second.
+std::string make_animation(const test::TempDir& dir) {
+  const test::Mesh grid = test::quad_grid(80, 80);
+  std::vector<float> xyz = grid.positions;
+  for (int t = 0; t < 6; ++t) {
+    for (size_t v = 0; v < xyz.size() / 3; ++v) {
+      const float x = grid.positions[v * 3], y = grid.positions[v * 3 + 1];
+      xyz[v * 3 + 2] = 0.3f * float(t) * std::sin(0.2f * x) * std::cos(0.15f * y);
+    }
+    EXPECT_TRUE(
+        write_mesh(dir.file("frame_" + std::to_string(t) + ".obj"), grid.topology, xyz).ok());
+  }
+  return dir.file("frame_*.obj");
+}
+
+// dynpm with these arguments, started in the background (quiet); its process id.
+pid_t start_dynpm(const std::vector<std::string>& arguments) {
+  std::vector<std::string> args = {DYNPM_CLI};
+  args.insert(args.end(), arguments.begin(), arguments.end());
+  std::vector<char*> argv;
+  for (std::string& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    const int null = ::open("/dev/null", O_WRONLY);
+    ::dup2(null, STDOUT_FILENO);
+    ::dup2(null, STDERR_FILENO);
+    ::execv(argv[0], argv.data());
+    ::_exit(127);
+  }
+  return pid;
+}
+
+// Waits for the process; true if it ended by itself with exit code 0.
+bool finished_ok(pid_t pid) {
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  return WIFEXITED(status) && WEXITSTATUS(status) == 0;
+}
+
+bool exists(const std::string& path) {
+  std::error_code ec;
+  return fs::exists(path, ec);
+}
+
+// A complete model with as many splits as the reference, or a failure naming what is wrong.
+::testing::AssertionResult is_complete_model(const std::string& path, uint32_t splits) {
+  auto model = read_dpm(path);
+  if (!model) return ::testing::AssertionFailure() << model.message();
+  if (!model->complete) return ::testing::AssertionFailure() << path << " is a prefix";
+  if (model->split_count() != splits)
+    return ::testing::AssertionFailure() << path << " has " << model->split_count() << " splits";
+  return ::testing::AssertionSuccess();
+}
+
+// The process id in a temporary name, "<target>.tmp-<pid>-<n>" or "<stem>.tmp-<pid><ext>";
+// -1 if the name is no temporary one. (Parsed by hand: std::regex trips gcc 12's
+// maybe-uninitialized warning under -fsanitize=address.)
+long temporary_owner(const std::string& name) {
+  const size_t at = name.rfind(".tmp-");
+  if (at == std::string::npos) return -1;
+  size_t end = at + 5;
+  while (end < name.size() && name[end] >= '0' && name[end] <= '9') ++end;
+  if (end == at + 5) return -1;
+  return std::stol(name.substr(at + 5, end - at - 5));
+}
+
+// What killed processes may leave beside their targets: their own temporary files, only.
+void expect_only_own_temporaries(const fs::path& dir, const std::set<std::string>& keep,
+                                 const std::set<pid_t>& killed) {
+  for (const std::string& name : folder_entries(dir)) {
+    if (keep.count(name)) continue;
+    const long owner = temporary_owner(name);
+    ASSERT_GE(owner, 0) << "unexpected file " << name;
+    EXPECT_TRUE(killed.count(static_cast<pid_t>(owner))) << name << " is no killed run's";
+    fs::remove(dir / name);
+  }
+}
+
+TEST(AtomicOutputs, AKilledBuildLeavesNoPartialModel) {
+  test::TempDir dir;
+  const std::string input = make_animation(dir);
+  const std::string model = dir.file("model.dpm");
+
+  // One run to the end: how long a build takes here, and what a complete model holds.
+  const auto start = Clock::now();
+  ASSERT_TRUE(finished_ok(start_dynpm({"build", input, "-o", model})));
+  const double full_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+  auto reference = read_dpm(model);
+  ASSERT_TRUE(reference.ok()) << reference.message();
+  const uint32_t splits = reference->split_count();
+  fs::copy_file(model, dir.file("reference.dpm"));
+
+  const unsigned seed = std::random_device{}();
+  SCOPED_TRACE("seed " + std::to_string(seed) + ", a full build takes " +
+               std::to_string(int(full_ms)) + " ms");
+  std::mt19937 random(seed);
+  std::uniform_real_distribution<double> moment(0.0, 1.1 * full_ms);
+
+  std::set<pid_t> killed;
+  int kills = 0, completed = 0;
+  // Random moments: half with no model yet (it appears, complete, or not at all), half with a
+  // complete model from before in place (it stays complete).
+  for (int trial = 0; trial < 8; ++trial) {
+    const bool fresh = trial % 2 == 0;
+    if (fresh)
+      fs::remove(model);
+    else
+      fs::copy_file(dir.file("reference.dpm"), model, fs::copy_options::overwrite_existing);
+    const pid_t pid = start_dynpm({"build", input, "-o", model});
+    std::this_thread::sleep_for(std::chrono::duration<double, std::milli>(moment(random)));
+    ::kill(pid, SIGKILL);
+    if (finished_ok(pid)) {
+      ++completed;
+    } else {
+      ++kills;
+      killed.insert(pid);
+    }
+    if (fresh && !exists(model)) continue;
+    EXPECT_TRUE(is_complete_model(model, splits)) << "trial " << trial;
+  }
+
+  // While writing: as soon as the temporary file appears (opened, the bytes on their way), and
+  // as soon as it holds bytes (written, being synced to disk before the rename). Both windows
+  // are short (≈ 0.1 ms and the fsync's few ms on ext4), so each gets up to three attempts.
+  std::string caught_sizes;
+  int caught_count = 0;
+  for (const bool wait_for_bytes : {false, true}) {
+    for (int attempt = 0; attempt < 3; ++attempt) {
+      fs::remove(model);
+      const pid_t pid = start_dynpm({"build", input, "-o", model});
+      const std::string temp = model + ".tmp-" + std::to_string(pid) + "-0";
+      auto ready = [&] {
+        std::error_code ec;
+        const auto size = fs::file_size(temp, ec);
+        return !ec && (!wait_for_bytes || size > 0);
+      };
+      const auto give_up = Clock::now() + std::chrono::milliseconds(int(20 * full_ms) + 5000);
+      while (!ready() && !exists(model) && Clock::now() < give_up) std::this_thread::yield();
+      ::kill(pid, SIGKILL);
+      if (finished_ok(pid)) {
+        ++completed;
+      } else {
+        ++kills;
+        killed.insert(pid);
+      }
+      if (exists(model)) {  // it finished first
+        EXPECT_TRUE(is_complete_model(model, splits));
+        continue;
+      }
+      // A killed run leaves its temporary file, under a name that says whose it is.
+      ASSERT_TRUE(exists(temp)) << "neither " << model << " nor " << temp;
+      caught_sizes += " " + std::to_string(fs::file_size(temp));
+      ++caught_count;
+      break;
+    }
+  }
+  std::printf(
+      "[ killed    ] %d builds killed, %d finished first; seed %u, %.0f ms a build; %d killed "
+      "while writing, their temporary files held%s of %ju bytes\n",
+      kills, completed, seed, full_ms, caught_count, caught_sizes.c_str(),
+      std::uintmax_t(fs::file_size(dir.file("reference.dpm"))));
+  EXPECT_GE(caught_count, 1) << "no kill came while the model was being written";
+  EXPECT_GE(kills, 5);
+  expect_only_own_temporaries(dir.path(),
+                              {"model.dpm", "reference.dpm", "frame_0.obj", "frame_1.obj",
+                               "frame_2.obj", "frame_3.obj", "frame_4.obj", "frame_5.obj"},
+                              killed);
+}
+
+// convert writes one file per step, staged and renamed at the end: a kill leaves each step's
+// file either absent or complete.
+TEST(AtomicOutputs, AKilledConvertLeavesOnlyCompleteFiles) {
+  test::TempDir dir;
+  const std::string input = make_animation(dir);
+  fs::create_directory(dir.path() / "out");
+  const std::string pattern = dir.file("out/copy_{}.ply");
+
+  const auto start = Clock::now();
+  ASSERT_TRUE(finished_ok(start_dynpm({"convert", input, "-o", pattern})));
+  const double full_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+  std::vector<std::string> reference;
+  for (int t = 0; t < 6; ++t) {
+    auto bytes = read_file(dir.file("out/copy_" + std::to_string(t) + ".ply"));
+    ASSERT_TRUE(bytes.ok());
+    reference.push_back(*bytes);
+  }
+
+  const unsigned seed = std::random_device{}();
+  SCOPED_TRACE("seed " + std::to_string(seed));
+  std::mt19937 random(seed);
+  std::uniform_real_distribution<double> moment(0.0, 1.1 * full_ms);
+  std::set<pid_t> killed;
+  for (int trial = 0; trial < 5; ++trial) {
+    fs::remove_all(dir.path() / "out");
+    fs::create_directory(dir.path() / "out");
+    const pid_t pid = start_dynpm({"convert", input, "-o", pattern});
+    std::this_thread::sleep_for(std::chrono::duration<double, std::milli>(moment(random)));
+    ::kill(pid, SIGKILL);
+    if (!finished_ok(pid)) killed.insert(pid);
+    for (int t = 0; t < 6; ++t) {
+      const std::string path = dir.file("out/copy_" + std::to_string(t) + ".ply");
+      if (!exists(path)) continue;
+      auto bytes = read_file(path);
+      ASSERT_TRUE(bytes.ok());
+      EXPECT_EQ(*bytes == reference[t], true) << path << " differs from a complete run's";
+    }
+    std::set<std::string> keep;
+    for (int t = 0; t < 6; ++t) keep.insert("copy_" + std::to_string(t) + ".ply");
+    expect_only_own_temporaries(dir.path() / "out", keep, killed);
+  }
+}
+
+}  // namespace
+}  // namespace dynpm
