@@ -121,6 +121,7 @@ Status StagedOutputs::commit() {
     if (std::rename(staged.c_str(), target.c_str()) != 0)
       return Status::error(target +
                            ": cannot rename the finished file into place: " + std::strerror(errno));
+  for (const auto& [staged, target] : files_) sync_directory_of(target);
   files_.clear();
   return {};
 }

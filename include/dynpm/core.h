@@ -287,6 +287,8 @@ Result<std::string> read_file_head(const std::string& path, size_t n);
 // Writes bytes to "<path>.tmp-<pid>-<n>" beside path, flushes, and renames it over path. On any
 // failure the temporary file is removed and path is left as it was.
 Status write_file_atomically(const std::string& path, std::string_view bytes);
+// fsync of the folder holding path, so a rename into it survives a power cut (best effort).
+void sync_directory_of(const std::string& path);
 
 // ---------------------------------------------------------------------------------------------
 // Memory

@@ -1,6 +1,7 @@
 // Whole-file reads with clear errors, and atomic writes (temporary name, fsync, rename).
 #include "dynpm/core.h"
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -75,7 +76,19 @@ Status write_file_atomically(const std::string& path, std::string_view bytes) {
     std::remove(temp.c_str());
     return Status::error(path + ": cannot rename the finished file into place: " + cause);
   }
+  sync_directory_of(path);
   return {};
+}
+
+// Without this the rename itself may be lost in a power cut, leaving the old file or none.
+// Best effort: some file systems cannot sync a directory, and the file is complete either way.
+void sync_directory_of(const std::string& path) {
+  std::filesystem::path folder = std::filesystem::path(path).parent_path();
+  if (folder.empty()) folder = ".";
+  const int fd = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY);
+  if (fd < 0) return;
+  ::fsync(fd);
+  ::close(fd);
 }
 
 }  // namespace dynpm
