@@ -647,6 +647,9 @@ Status Simplifier::check_mesh(size_t collapse_index) const {
                          std::to_string(stats.boundary_loops));
   if (stats.components != initial_stats_.components)
     return Status::error(where + "components changed");
+  if (options_.keep_part_boundaries && stats.parts != initial_stats_.parts)  // a part is gone
+    return Status::error(where + "parts changed from " + std::to_string(initial_stats_.parts) +
+                         " to " + std::to_string(stats.parts));
   if (report.count(ProblemKind::kRepeatedVertex) || report.count(ProblemKind::kDuplicateFace))
     return Status::error(where + "a face repeats a vertex or another face");
   return {};
