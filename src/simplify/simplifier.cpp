@@ -393,9 +393,10 @@ double Simplifier::half_edge_error(uint32_t v0, uint32_t v1) const {
     const LocalQuadric& q1 = quadric(v1, k);
     const Quadric q0 = quadric(v0, k).widen();
     const double weight = q0.w + double{q1.w};
-    if (weight > 0)
-      worst = std::max(
-          worst, (q0.evaluate(position(v1, k) - position(v0, k)) + double{q1.c}) / weight);
+    if (!(weight > 0)) continue;
+    const double moved = q0.evaluate(position(v1, k) - position(v0, k));
+    worst = std::max(worst, (moved + double{q1.c}) / weight);
+    if (q0.w > 0) worst = std::max(worst, moved / q0.w);  // see half_edge_errors()
   }
   return std::sqrt(worst) / diagonal_;
 }
@@ -409,8 +410,14 @@ std::pair<double, double> Simplifier::half_edge_errors(uint32_t a, uint32_t b) c
     const double weight = qa.w + qb.w;
     if (!(weight > 0)) continue;
     const Vec3 d = position(b, k) - position(a, k);
-    worst_ab = std::max(worst_ab, (qa.evaluate(d) + qb.c) / weight);
-    worst_ba = std::max(worst_ba, (qb.evaluate(Vec3{} - d) + qa.c) / weight);
+    const double moved_a = qa.evaluate(d), moved_b = qb.evaluate(Vec3{} - d);
+    worst_ab = std::max(worst_ab, (moved_a + qb.c) / weight);
+    worst_ba = std::max(worst_ba, (moved_b + qa.c) / weight);
+    // Never less than the moved vertex's own mean squared distance: divided by the merged
+    // weight alone, a light vertex (a boundary corner) next to a heavy one (which has absorbed
+    // many collapses) would be swallowed at almost no cost, cutting the corner.
+    if (qa.w > 0) worst_ab = std::max(worst_ab, moved_a / qa.w);
+    if (qb.w > 0) worst_ba = std::max(worst_ba, moved_b / qb.w);
   }
   return {std::sqrt(worst_ab) / diagonal_, std::sqrt(worst_ba) / diagonal_};
 }
@@ -481,10 +488,20 @@ bool Simplifier::face_stays_sound(const Face& face, size_t k, uint32_t skip, uin
   }
   const Vec3 old_normal = doubled_vector_area(before, d);
   const Vec3 new_normal = doubled_vector_area(after, n);
-  const double new_length = length(new_normal), old_length = length(old_normal);
-  if (new_length <= 1e-12 * diagonal_ * diagonal_) return false;  // no area left
-  if (old_length > 0 && dot(old_normal, new_normal) < cos_max_rotation_ * old_length * new_length)
-    return false;  // folds over
+  // Compared squared, without square roots: this runs for every moved face in every key step.
+  const double new_squared = dot(new_normal, new_normal), old_squared = dot(old_normal, old_normal);
+  const double least_area = 1e-12 * diagonal_ * diagonal_;
+  if (new_squared <= least_area * least_area) return false;  // no area left
+  if (old_squared > 0) {  // folds over: cos(angle) < cos_max_rotation_
+    const double cosine_times_lengths = dot(old_normal, new_normal);
+    const double bound_squared = cos_max_rotation_ * cos_max_rotation_ * old_squared * new_squared;
+    const bool below = cos_max_rotation_ >= 0
+                           ? cosine_times_lengths < 0 ||
+                                 cosine_times_lengths * cosine_times_lengths < bound_squared
+                           : cosine_times_lengths < 0 &&
+                                 cosine_times_lengths * cosine_times_lengths > bound_squared;
+    if (below) return false;
+  }
   if (n == 4 && quad_is_convex(before, old_normal) && !quad_is_convex(after, new_normal))
     return false;
   return true;
