@@ -214,7 +214,7 @@ TEST(ExodusTest, ForgedClassicHeaderCountsAreErrors) {
 // displacement DISPL_X/Y/Z = (0.5·i, −1, 2) at node i: dynpm must read the same faces and the
 // displaced positions.
 TEST(ExodusTest, MeshioWrittenFileRoundTrips) {
-  DYNPM_REQUIRE_MESHIO();
+  DYNPM_REQUIRE_MESHIO_EXODUS();
   const std::string obj = test::sample_dir() + "/frame_000.obj";
   auto original = read_mesh(obj);
   ASSERT_TRUE(original.ok()) << original.message();
@@ -228,7 +228,8 @@ TEST(ExodusTest, MeshioWrittenFileRoundTrips) {
                            "'DISPL_Z': 2 * np.ones(n), 'temperature': i}\n"
                            "meshio.write(sys.argv[2], meshio.Mesh(m.points, m.cells, "
                            "point_data=pd), file_format='exodus')\n";
-  const auto run = test::run_command(test::meshio_python() + " " + script + " " + obj + " " + out);
+  const auto run =
+      test::run_command(test::meshio_exodus_python() + " " + script + " " + obj + " " + out);
   ASSERT_EQ(run.exit_code, 0) << run.output;
 
   Opened r = open(out);

@@ -45,6 +45,11 @@ inline std::string meshio_python() {
   static const std::string python = python_with("meshio");
   return python;
 }
+// meshio writes Exodus II through netCDF4, a separate Debian package.
+inline std::string meshio_exodus_python() {
+  static const std::string python = python_with("meshio, netCDF4");
+  return python;
+}
 inline std::string vtk_python() {
   static const std::string python = python_with("vtk");
   return python;
@@ -62,4 +67,7 @@ inline std::string vtk_python() {
   } while (0)
 #define DYNPM_REQUIRE_MESHIO() \
   DYNPM_REQUIRE_PYTHON(::dynpm::test::meshio_python(), "python3-meshio")
+#define DYNPM_REQUIRE_MESHIO_EXODUS()                                                \
+  DYNPM_REQUIRE_PYTHON(::dynpm::test::meshio_exodus_python(), "python3-meshio with " \
+                                                              "python3-netcdf4")
 #define DYNPM_REQUIRE_VTK() DYNPM_REQUIRE_PYTHON(::dynpm::test::vtk_python(), "python3-vtk9")
