@@ -8,8 +8,10 @@ Table 3 form: the mean over all steps of that distance at 1, 4 and 6 % of the ve
 key steps all, paper (first, last, strongest in between), first only, strongest only, auto:3,
 with the simplification time of each.
 
-    python3 scripts/paper_tables.py [--dynpm build/release/cli/dynpm] [--out docs/RESULTS.md]
+    python3 scripts/paper_tables.py [--dynpm build/release/cli/dynpm] [--allow-stale]
         FOLDER...   (each holding frame_*.obj)
+
+Refuses to run a binary older than the project's sources (unless --allow-stale).
 
 Standard library only. Prints markdown; every number comes from `dynpm simplify --json` and
 `dynpm hausdorff --json` run here.
@@ -21,6 +23,21 @@ import os
 import subprocess
 import sys
 import tempfile
+
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def stale_sources(binary):
+    """The project's C++ sources edited after `binary` was linked: tables from an old binary
+    would be reported as today's code."""
+    built = os.path.getmtime(binary)
+    newer = []
+    for folder in ("src", "include", "cli"):
+        for base, _, files in os.walk(os.path.join(ROOT, folder)):
+            newer += [os.path.relpath(os.path.join(base, f), ROOT) for f in files
+                      if f.endswith((".cpp", ".h")) and os.path.getmtime(os.path.join(base, f)) > built]
+    return sorted(newer)
 
 
 def run_json(command):
@@ -93,7 +110,15 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("folders", nargs="+")
     parser.add_argument("--dynpm", default="build/release/cli/dynpm")
+    parser.add_argument("--allow-stale", action="store_true",
+                        help="run even if sources are newer than the dynpm binary")
     args = parser.parse_args()
+    if not os.path.isfile(args.dynpm):
+        sys.exit(f"paper_tables.py: {args.dynpm}: no such binary (./dynpm.sh build makes it)")
+    newer = stale_sources(args.dynpm)
+    if newer and not args.allow_stale:
+        sys.exit(f"paper_tables.py: {args.dynpm} is older than {len(newer)} source file(s), e.g. "
+                 f"{newer[0]}; rebuild it (./dynpm.sh build) or pass --allow-stale")
     with tempfile.TemporaryDirectory() as work:
         for folder in args.folders:
             name = os.path.basename(os.path.dirname(os.path.abspath(folder.rstrip("/"))))
