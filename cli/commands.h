@@ -43,7 +43,8 @@ Result<AnimationStream> open_inputs(std::span<const std::string> arguments, bool
 // The files of one output (a mesh, or one per step) are written under temporary names beside
 // their targets and renamed into place only when every one is written, so a run that fails
 // half-way leaves no output and keeps the files it would have replaced. A killed run can leave
-// its staged files: "<stem>.tmp-<pid><ext>" (the extension picks the format).
+// its staged files: "<stem>.tmp-<pid><ext>" (the extension picks the format); the next run that
+// writes the same target removes them (remove_stale_temporaries).
 class StagedOutputs {
  public:
   StagedOutputs() = default;

@@ -108,6 +108,7 @@ StagedOutputs::~StagedOutputs() {
 }
 
 std::string StagedOutputs::stage(const std::string& path) {
+  remove_stale_temporaries(path);
   const std::filesystem::path target(path);
   std::filesystem::path staged = target;
   staged.replace_filename(target.stem().string() + ".tmp-" + std::to_string(::getpid()) +

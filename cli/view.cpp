@@ -94,7 +94,8 @@ Status write_text(const fs::path& path, std::string_view bytes) {
 // The model is copied under a temporary name and renamed: a partial copy would read as a
 // valid, coarser model (a .dpm prefix is one).
 Status copy_model(const fs::path& model, const fs::path& target) {
-  const fs::path temp = target.string() + ".tmp-" + std::to_string(::getpid());
+  remove_stale_temporaries(target.string());
+  const fs::path temp = target.string() + ".tmp-" + std::to_string(::getpid()) + "-0";
   std::error_code error;
   fs::copy_file(model, temp, fs::copy_options::overwrite_existing, error);
   if (!error) fs::rename(temp, target, error);

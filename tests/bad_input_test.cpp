@@ -7,7 +7,8 @@
 // AtomicOutputs: `dynpm build` and `dynpm convert` on a generated animation, killed with SIGKILL
 // at random moments (and once right as the .dpm is being written): the output is either absent
 // or complete, never partial. What a killed run leaves is its temporary file, named after the
-// target and the process: model.dpm.tmp-<pid>-<n>, frame_003.tmp-<pid>.ply.
+// target and the process: model.dpm.tmp-<pid>-<n>, frame_003.tmp-<pid>.ply; the next run that
+// writes the same target removes it once it is a minute old.
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <signal.h>
@@ -289,6 +290,67 @@ void expect_only_own_temporaries(const fs::path& dir, const std::set<std::string
   }
 }
 
+// Sets every temporary file in dir back by two minutes, as if the kills were that long ago;
+// how many there are.
+int age_temporaries(const fs::path& dir) {
+  int n = 0;
+  for (const std::string& name : folder_entries(dir)) {
+    if (temporary_owner(name) < 0) continue;
+    fs::last_write_time(dir / name, fs::last_write_time(dir / name) - std::chrono::minutes(2));
+    ++n;
+  }
+  return n;
+}
+
+int count_temporaries(const fs::path& dir) {
+  int n = 0;
+  for (const std::string& name : folder_entries(dir)) n += temporary_owner(name) >= 0;
+  return n;
+}
+
+// The id of a process that has ended (and been reaped): no process has it now.
+pid_t ended_process() {
+  const pid_t pid = ::fork();
+  if (pid == 0) ::_exit(0);
+  ::waitpid(pid, nullptr, 0);
+  return pid;
+}
+
+// Which leftovers a write removes: only its own target's temporaries, only of processes gone
+// from this machine, only when a minute old.
+TEST(AtomicOutputs, StaleTemporariesOfEndedRunsAreRemoved) {
+  test::TempDir dir;
+  const std::string ended = std::to_string(ended_process());
+  const std::string alive = std::to_string(::getppid());  // the test runner's parent
+  auto plant = [&](const std::string& name, bool old) {
+    std::ofstream(dir.file(name)) << "partial";
+    if (old)
+      fs::last_write_time(dir.file(name),
+                          fs::file_time_type::clock::now() - std::chrono::minutes(2));
+  };
+  plant("model.dpm.tmp-" + ended + "-0", true);                    // removed
+  plant("model.tmp-" + ended + ".dpm", true);                      // removed (the staged form)
+  plant("model.tmp-" + ended + ".dpm.tmp-" + ended + "-3", true);  // removed (its own temporary)
+  plant("model.dpm.tmp-" + ended + "-1", false);                   // kept: too recent
+  plant("model.dpm.tmp-" + alive + "-0", true);                    // kept: its process runs
+  plant("other.dpm.tmp-" + ended + "-0", true);                    // kept: another target's
+  plant("model.dpm.tmp-" + ended + "-x", true);  // kept: not a temporary name of ours
+  plant("model.dpm.tmp-" + ended, true);         // kept: not a temporary name of ours
+  plant("model.tmp-" + ended + ".dpmx", true);   // kept: not a temporary name of ours
+  ASSERT_TRUE(write_file_atomically(dir.file("model.dpm"), "complete").ok());
+  std::vector<std::string> kept = {"model.dpm",
+                                   "model.dpm.tmp-" + alive + "-0",
+                                   "model.dpm.tmp-" + ended,
+                                   "model.dpm.tmp-" + ended + "-1",
+                                   "model.dpm.tmp-" + ended + "-x",
+                                   "model.tmp-" + ended + ".dpmx",
+                                   "other.dpm.tmp-" + ended + "-0"};
+  std::sort(kept.begin(), kept.end());
+  EXPECT_EQ(joined(folder_entries(dir.path())), joined(kept));
+  EXPECT_EQ(remove_stale_temporaries(dir.file("model.dpm")), 0u);
+  EXPECT_EQ(remove_stale_temporaries(dir.file("other.dpm")), 1u);
+}
+
 TEST(AtomicOutputs, AKilledBuildLeavesNoPartialModel) {
   test::TempDir dir;
   const std::string input = make_animation(dir);
@@ -374,6 +436,13 @@ TEST(AtomicOutputs, AKilledBuildLeavesNoPartialModel) {
       std::uintmax_t(fs::file_size(dir.file("reference.dpm"))));
   EXPECT_GE(caught_count, 1) << "no kill came while the model was being written";
   EXPECT_GE(kills, 5);
+
+  // What the killed runs left, a minute later: the next build removes it.
+  const int left = age_temporaries(dir.path());
+  EXPECT_GE(left, caught_count);
+  ASSERT_TRUE(finished_ok(start_dynpm({"build", input, "-o", model})));
+  EXPECT_EQ(count_temporaries(dir.path()), 0) << left << " left by killed builds";
+  EXPECT_TRUE(is_complete_model(model, splits));
   expect_only_own_temporaries(dir.path(),
                               {"model.dpm", "reference.dpm", "frame_0.obj", "frame_1.obj",
                                "frame_2.obj", "frame_3.obj", "frame_4.obj", "frame_5.obj"},
@@ -421,6 +490,22 @@ TEST(AtomicOutputs, AKilledConvertLeavesOnlyCompleteFiles) {
     for (int t = 0; t < 6; ++t) keep.insert("copy_" + std::to_string(t) + ".ply");
     expect_only_own_temporaries(dir.path() / "out", keep, killed);
   }
+
+  // The staged files of a killed convert go with the next convert to the same names. Killed as
+  // soon as its first staged file appears.
+  int left = 0;
+  for (int trial = 0; trial < 5 && left == 0; ++trial) {
+    const pid_t pid = start_dynpm({"convert", input, "-o", pattern});
+    const auto give_up = Clock::now() + std::chrono::milliseconds(int(20 * full_ms) + 5000);
+    while (count_temporaries(dir.path() / "out") == 0 && Clock::now() < give_up)
+      std::this_thread::yield();
+    ::kill(pid, SIGKILL);
+    finished_ok(pid);
+    left = age_temporaries(dir.path() / "out");
+  }
+  ASSERT_GT(left, 0) << "no kill left a staged file";
+  ASSERT_TRUE(finished_ok(start_dynpm({"convert", input, "-o", pattern})));
+  EXPECT_EQ(count_temporaries(dir.path() / "out"), 0) << left << " left by a killed convert";
 }
 
 }  // namespace

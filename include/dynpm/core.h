@@ -285,8 +285,15 @@ Result<std::string> read_file(const std::string& path);
 // The first up-to-n bytes of a file (for format signatures and header comments).
 Result<std::string> read_file_head(const std::string& path, size_t n);
 // Writes bytes to "<path>.tmp-<pid>-<n>" beside path, flushes, and renames it over path. On any
-// failure the temporary file is removed and path is left as it was.
+// failure the temporary file is removed and path is left as it was. Removes path's stale
+// temporaries first (remove_stale_temporaries).
 Status write_file_atomically(const std::string& path, std::string_view bytes);
+// Removes what killed runs left beside path: its temporary files ("<path>.tmp-<pid>-<n>",
+// "<stem>.tmp-<pid><ext>" and the latter's own "….tmp-<pid>-<n>") whose process is gone from this
+// machine and that were last written more than a minute ago (a writer on another machine sharing
+// the folder is still writing, or has only just finished). Returns how many were removed; errors
+// are ignored.
+size_t remove_stale_temporaries(const std::string& path);
 // fsync of the folder holding path, so a rename into it survives a power cut (best effort).
 void sync_directory_of(const std::string& path);
 

@@ -2,10 +2,12 @@
 #include "dynpm/core.h"
 
 #include <fcntl.h>
+#include <signal.h>
 #include <unistd.h>
 
 #include <atomic>
 #include <cerrno>
+#include <chrono>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -55,7 +57,62 @@ Result<std::string> read_file_head(const std::string& path, size_t n) {
   return bytes;
 }
 
+namespace {
+
+// The process id in `name` if it is one of target's temporary names: "<target>.tmp-<pid>-<n>"
+// (write_file_atomically), "<stem>.tmp-<pid><ext>" (a staged output) or the staged output's own
+// "<stem>.tmp-<pid><ext>.tmp-<pid>-<n>"; -1 otherwise.
+long temporary_owner(const std::string& name, const std::filesystem::path& target) {
+  auto digits = [&](size_t& at) {
+    const size_t begin = at;
+    while (at < name.size() && at - begin < 10 && name[at] >= '0' && name[at] <= '9') ++at;
+    return at > begin && at - begin < 10 ? std::stol(name.substr(begin, at - begin)) : -1L;
+  };
+  // ".tmp-<pid>-<n>" from `at` to the end of the name.
+  auto atomic_suffix = [&](size_t at) {
+    if (name.compare(at, 5, ".tmp-") != 0) return -1L;
+    at += 5;
+    const long pid = digits(at);
+    if (pid < 0 || at >= name.size() || name[at] != '-') return -1L;
+    ++at;
+    return digits(at) >= 0 && at == name.size() ? pid : -1L;
+  };
+  const std::string file = target.filename().string(), stem = target.stem().string(),
+                    extension = target.extension().string();
+  if (name.rfind(file + ".tmp-", 0) == 0) return atomic_suffix(file.size());
+  if (name.rfind(stem + ".tmp-", 0) != 0) return -1;
+  size_t at = stem.size() + 5;
+  const long pid = digits(at);
+  if (pid < 0 || name.compare(at, extension.size(), extension) != 0) return -1;
+  at += extension.size();
+  return at == name.size() || atomic_suffix(at) >= 0 ? pid : -1;
+}
+
+}  // namespace
+
+size_t remove_stale_temporaries(const std::string& path) {
+  namespace fs = std::filesystem;
+  const fs::path target(path);
+  fs::path folder = target.parent_path();
+  if (folder.empty()) folder = ".";
+  const auto old_enough = fs::file_time_type::clock::now() - std::chrono::minutes(1);
+  size_t removed = 0;
+  std::error_code ec;
+  for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) {
+    const long owner = temporary_owner(it->path().filename().string(), target);
+    if (owner <= 0 || owner == ::getpid()) continue;
+    // Alive (or someone else's, EPERM): not ours to judge.
+    if (::kill(static_cast<pid_t>(owner), 0) == 0 || errno != ESRCH) continue;
+    std::error_code file_ec;
+    if (!it->is_regular_file(file_ec) || it->last_write_time(file_ec) > old_enough || file_ec)
+      continue;
+    if (fs::remove(it->path(), file_ec)) ++removed;
+  }
+  return removed;
+}
+
 Status write_file_atomically(const std::string& path, std::string_view bytes) {
+  remove_stale_temporaries(path);
   static std::atomic<unsigned> counter{0};
   const std::string temp =
       path + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
