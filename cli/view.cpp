@@ -155,7 +155,7 @@ int serve(const fs::path& model, uintmax_t model_size, int port, double throttle
       res.set_content(asset.bytes.data(), asset.bytes.size(),
                       std::string(asset.content_type).c_str());
     };
-    server.Get("/" + std::string(asset.path), handler);
+    server.Get(std::string("/").append(asset.path), handler);
     if (asset.path == "index.html") server.Get("/", handler);
   }
   server.Get(std::string("/") + kConfigPath,

@@ -370,7 +370,7 @@ Result<Family> find_family(const std::string& path) {
   std::error_code ec;
   for (int k = 0; k < 10000; ++k) {
     std::string member = path;
-    if (k > 0) member += (k < 10 ? "0" : "") + std::to_string(k);
+    if (k > 0) member.append(k < 10 ? "0" : "").append(std::to_string(k));
     if (!std::filesystem::is_regular_file(member, ec)) {
       if (k == 0) return Status::error(path + ": no such file");
       break;

@@ -378,8 +378,8 @@ class FrdScanner {
   // Placed where the file ends: after its last line, or at its size once binary records have
   // appeared.
   Status truncated(const std::string& what) const {
-    const std::string end = binary ? ": byte " + std::to_string(reader_.size())
-                                   : ":" + std::to_string(reader_.line() - 1);
+    std::string end = binary ? ": byte " : ":";  // appended, not "literal" + string: gcc 12
+    end += binary ? std::to_string(reader_.size()) : std::to_string(reader_.line() - 1);
     return Status::error(path_ + end + ": the file ends inside " + what + " (truncated?)");
   }
 

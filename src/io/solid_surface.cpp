@@ -63,7 +63,7 @@ void SolidSurface::add_cell(SolidKind kind, std::span<const uint32_t> corners, i
     CellFace face;
     face.face.v = v;
     face.key = v;
-    std::sort(face.key.begin(), face.key.begin() + n);
+    std::sort(face.key.begin(), face.key.end());  // the unused corners (kNoVertex) sort last
     face.cell = cell;
     faces_.push_back(face);
   }
