@@ -557,6 +557,12 @@ bool Simplifier::stale(const Entry& e) const {
 void Simplifier::rate_edges_of(uint32_t v, Scratch& s, std::vector<Entry>& out,
                                bool larger_only) const {
   mesh_.neighbours(v, s.neighbours);
+  // The neighbours' quadrics and positions are scattered in memory: ask for all of them before
+  // the first is needed, so the cache misses overlap instead of following one another.
+  for (uint32_t w : s.neighbours) {
+    __builtin_prefetch(&quadrics_[size_t{w} * key_count()]);
+    __builtin_prefetch(&positions_[size_t{w} * key_count() * 3]);
+  }
   for (uint32_t w : s.neighbours) {
     if (larger_only && w < v) continue;
     const bool forward = can_collapse(class_[v], class_[w]) != Along::kNever;
