@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -159,6 +160,23 @@ Status write_export(const fs::path& model, const fs::path& folder) {
   return Status();
 }
 
+// Folders "<prefix><pid>-<n>" in `parent` that a killed export left: their process is gone.
+void remove_stale_exports(const fs::path& parent, const std::string& prefix) {
+  std::error_code error;
+  for (fs::directory_iterator it(parent, error), end; !error && it != end; it.increment(error)) {
+    const std::string name = it->path().filename().string();
+    if (!name.starts_with(prefix) || !it->is_directory()) continue;
+    long pid = 0;
+    const char* digits = name.data() + prefix.size();
+    auto [after, ec] = std::from_chars(digits, name.data() + name.size(), pid);
+    if (ec != std::errc() || after == digits || *after != '-' || pid <= 0 || pid == ::getpid())
+      continue;
+    if (::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH) continue;  // alive
+    std::error_code ignored;
+    fs::remove_all(it->path(), ignored);
+  }
+}
+
 // Built in a temporary sibling folder and renamed into place: a failed or killed export leaves
 // DIR as it was (a partial folder would show a page without its model, or a model prefix,
 // which reads as a valid coarser model).
@@ -175,22 +193,25 @@ Status export_folder(const fs::path& model, fs::path dir) {
     return Status::error(parent.string() + ": " + error.message());
   const std::string stem = dir.filename().string() + ".tmp-" + std::to_string(::getpid());
   const fs::path temp = parent / (stem + "-0"), old = parent / (stem + "-1");
+  remove_stale_exports(parent, dir.filename().string() + ".tmp-");
   Status s = write_export(model, temp);
-  if (s.ok() && exists) {
-    // An empty DIR is replaced by rename itself; an earlier export is moved aside first.
+  if (s.ok()) {
+    // A missing or empty DIR is replaced by rename itself; an earlier export is moved aside
+    // first, and put back if the new one cannot take its place.
     fs::rename(temp, dir, error);
-    if (error) {
+    if (error && exists) {
       error.clear();
       fs::rename(dir, old, error);
-      if (!error) fs::rename(temp, dir, error);
-      if (error) fs::rename(old, dir);
+      if (!error) {
+        fs::rename(temp, dir, error);
+        std::error_code ignored;
+        if (error) fs::rename(old, dir, ignored);
+        else fs::remove_all(old, ignored);
+      }
     }
-  } else if (s.ok()) {
-    fs::rename(temp, dir, error);
+    if (error) s = Status::error(dir.string() + ": " + error.message());
   }
-  if (s.ok() && error) s = Status::error(dir.string() + ": " + error.message());
   fs::remove_all(temp, error);
-  fs::remove_all(old, error);
   if (!s.ok() && !created.empty()) fs::remove_all(created, error);
   return s;
 }

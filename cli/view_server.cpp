@@ -126,7 +126,8 @@ class Server {
   void answer(Connection& c, std::string_view head);
   void respond(Connection& c, int status, std::string_view reason, std::string_view type,
                uint64_t length, std::string_view extra_headers);
-  void refuse(Connection& c, int status, std::string_view reason, bool close);
+  void refuse(Connection& c, int status, std::string_view reason, bool close,
+              std::string_view extra_headers = "");
   bool write_response(Connection& c);  // false: close the connection
   void finish_response(Connection& c);
   // When the next piece of the model may go (--throttle), or now.
@@ -279,7 +280,8 @@ void Server::answer(Connection& c, std::string_view head) {
     ours = ours || iequals(*host, std::string(name) + port);
   if (!ours) return refuse(c, 403, "Forbidden", c.close_after);
 
-  if (method != "GET" && method != "HEAD") return refuse(c, 405, "Method Not Allowed", c.close_after);
+  if (method != "GET" && method != "HEAD")
+    return refuse(c, 405, "Method Not Allowed", c.close_after, "Allow: GET, HEAD\r\n");
   target = target.substr(0, target.find_first_of("?#"));
   if (target == "/") target = "/index.html";
   const auto file = std::find_if(options_.files.begin(), options_.files.end(),
@@ -353,10 +355,11 @@ void Server::respond(Connection& c, int status, std::string_view reason, std::st
   c.waiting_since = Clock::now();
 }
 
-void Server::refuse(Connection& c, int status, std::string_view reason, bool close) {
+void Server::refuse(Connection& c, int status, std::string_view reason, bool close,
+                    std::string_view extra_headers) {
   c.close_after = c.close_after || close;
   const std::string text = std::to_string(status) + " " + std::string(reason) + "\n";
-  respond(c, status, reason, "text/plain; charset=utf-8", text.size(), "");
+  respond(c, status, reason, "text/plain; charset=utf-8", text.size(), extra_headers);
   c.head += text;  // the body goes out with the head
 }
 

@@ -1,8 +1,9 @@
 // The HTTP server of `dynpm view`: GET and HEAD of a fixed set of paths on 127.0.0.1, one
 // thread, poll(). Our own rather than cpp-httplib 0.11 (Debian 12), which stores every header
-// line before a handler can look (200,000 lines grew it by tens of MB), keeps a reading thread
-// per slow client (12 of them stalled every other request), and binds with SO_REUSEPORT (two
-// servers on one port shared its requests). docs/viewer.md "Security and limits".
+// line before a handler can look (200,000 lines: answered 200, +22 MB), keeps a reading thread
+// per slow client (12 of them stalled every other request past 1 s), and binds with
+// SO_REUSEPORT (two servers on one port shared its requests). docs/viewer.md "Security and
+// limits".
 #pragma once
 
 #include <string>
