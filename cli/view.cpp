@@ -205,8 +205,10 @@ Status export_folder(const fs::path& model, fs::path dir) {
       if (!error) {
         fs::rename(temp, dir, error);
         std::error_code ignored;
-        if (error) fs::rename(old, dir, ignored);
-        else fs::remove_all(old, ignored);
+        if (error)
+          fs::rename(old, dir, ignored);
+        else
+          fs::remove_all(old, ignored);
       }
     }
     if (error) s = Status::error(dir.string() + ": " + error.message());
@@ -217,11 +219,12 @@ Status export_folder(const fs::path& model, fs::path dir) {
 }
 
 // The files the server answers for: the page's, the configuration and the model.
-ServerOptions server_options(const fs::path& model, const std::string& config, double throttle_kib) {
+ServerOptions server_options(const fs::path& model, const std::string& config,
+                             double throttle_kib) {
   ServerOptions options;
   for (const viewer::Asset& asset : viewer::assets()) {
-    options.files.push_back({"/" + std::string(asset.path), std::string(asset.content_type),
-                             asset.bytes, false});
+    options.files.push_back(
+        {"/" + std::string(asset.path), std::string(asset.content_type), asset.bytes, false});
     if (asset.path == "index.html")
       options.files.push_back({"/", std::string(asset.content_type), asset.bytes, false});
   }
@@ -276,10 +279,9 @@ std::optional<int> parse_port(const std::string& text) {
 std::optional<double> parse_throttle(const std::string& text) {
   double kib = 0;
   auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), kib);
-  if (text.empty() || ec != std::errc() || end != text.data() + text.size() || !std::isfinite(kib) ||
-      kib < kMinThrottleKib || kib > kMaxThrottleKib) {
-    std::cerr << "dynpm view: --throttle takes KiB per second in 1…1048576, not '" << text
-              << "'\n";
+  if (text.empty() || ec != std::errc() || end != text.data() + text.size() ||
+      !std::isfinite(kib) || kib < kMinThrottleKib || kib > kMaxThrottleKib) {
+    std::cerr << "dynpm view: --throttle takes KiB per second in 1…1048576, not '" << text << "'\n";
     return std::nullopt;
   }
   return kib;

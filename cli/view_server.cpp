@@ -178,9 +178,12 @@ Status Server::run() {
       Connection& c = *connections_[i];
       const short revents = fds[i + 2].revents;
       bool keep = true;
-      if (revents & (POLLERR | POLLNVAL)) keep = false;
-      else if (c.sending && (revents & POLLOUT || fds[i + 2].events == 0)) keep = write_response(c);
-      else if (!c.sending && revents & (POLLIN | POLLHUP)) read_request(c);
+      if (revents & (POLLERR | POLLNVAL))
+        keep = false;
+      else if (c.sending && (revents & POLLOUT || fds[i + 2].events == 0))
+        keep = write_response(c);
+      else if (!c.sending && revents & (POLLIN | POLLHUP))
+        read_request(c);
       if (!keep) c.close_after = true, c.sending = false, c.in.clear(), ::shutdown(c.fd, SHUT_RDWR);
     }
     std::erase_if(connections_, [](const std::unique_ptr<Connection>& c) {
@@ -199,10 +202,11 @@ void Server::accept_connections() {
     if (fd < 0) return;  // EAGAIN, or a client gone already: nothing to do
     if (connections_.size() >= kMaxConnections) {
       // Full: the connection idle or slowest on its head longest goes first.
-      auto oldest = std::min_element(
-          connections_.begin(), connections_.end(), [](const auto& a, const auto& b) {
-            return std::pair(a->sending, a->waiting_since) < std::pair(b->sending, b->waiting_since);
-          });
+      auto oldest = std::min_element(connections_.begin(), connections_.end(),
+                                     [](const auto& a, const auto& b) {
+                                       return std::pair(a->sending, a->waiting_since) <
+                                              std::pair(b->sending, b->waiting_since);
+                                     });
       if ((*oldest)->sending) {
         ::close(fd);
         continue;
@@ -259,7 +263,8 @@ void Server::answer(Connection& c, std::string_view head) {
     const size_t colon = lines[i].find(':');
     if (colon == 0 || colon == std::string_view::npos || lines[i][0] == ' ' || lines[i][0] == '\t')
       return refuse(c, 400, "Bad Request", true);
-    const std::string_view name = lines[i].substr(0, colon), value = trim(lines[i].substr(colon + 1));
+    const std::string_view name = lines[i].substr(0, colon),
+                           value = trim(lines[i].substr(colon + 1));
     if (iequals(name, "host")) {
       if (host) return refuse(c, 400, "Bad Request", true);
       host = value;
@@ -267,7 +272,8 @@ void Server::answer(Connection& c, std::string_view head) {
       range = value;
     } else if (iequals(name, "connection")) {
       if (value.find("close") != std::string_view::npos) c.close_after = true;
-    } else if (iequals(name, "transfer-encoding") || (iequals(name, "content-length") && value != "0")) {
+    } else if (iequals(name, "transfer-encoding") ||
+               (iequals(name, "content-length") && value != "0")) {
       return refuse(c, 400, "Bad Request", true);  // no request here has a body
     }
   }
@@ -366,8 +372,8 @@ void Server::refuse(Connection& c, int status, std::string_view reason, bool clo
 Clock::time_point Server::file_due(const Connection& c) const {
   if (options_.throttle_bytes <= 0) return Clock::time_point();
   const double seconds = static_cast<double>(c.file_at - c.file_begin) / options_.throttle_bytes;
-  return c.file_start + std::chrono::duration_cast<Clock::duration>(
-                            std::chrono::duration<double>(seconds));
+  return c.file_start +
+         std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
 }
 
 bool Server::write_response(Connection& c) {

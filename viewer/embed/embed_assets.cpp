@@ -10,10 +10,11 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <map>
 #include <iostream>
+#include <map>
 #include <sstream>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace {
@@ -54,9 +55,7 @@ void write_literal(std::ostream& out, const std::string& bytes) {
   out << "\"";
 }
 
-bool is_script(const std::string& path) {
-  return path.ends_with(".js") || path.ends_with(".mjs");
-}
+bool is_script(const std::string& path) { return path.ends_with(".js") || path.ends_with(".mjs"); }
 
 // `from 'X'`, `from "X"`, `import 'X'`: X rewritten through `imports` relative to the asset at
 // `path`. Also inside comments, which is harmless. false (and a message) for an unknown one.
@@ -65,12 +64,16 @@ bool rewrite_imports(std::string& text, const std::string& path,
   namespace fs = std::filesystem;
   std::string out;
   size_t copied = 0;
-  for (size_t at = 0; (at = text.find_first_of("'\"", at)) != std::string::npos; ++at) {
-    const size_t word = text.find_last_not_of(" \t", at - (at > 0 ? 1 : 0));
-    const bool after_from = word != std::string::npos && word >= 3 && text.compare(word - 3, 4, "from") == 0;
-    const bool after_import = word != std::string::npos && word >= 5 && text.compare(word - 5, 6, "import") == 0;
+  // A quote preceded by `from` or `import` (spaces between) opens a specifier; a quote at 0
+  // cannot.
+  for (size_t at = 1; (at = text.find_first_of("'\"", at)) != std::string::npos; ++at) {
+    const size_t word_end = text.find_last_not_of(" \t", at - 1);
+    auto after = [&](std::string_view word) {
+      return word_end != std::string::npos && word_end + 1 >= word.size() &&
+             text.compare(word_end + 1 - word.size(), word.size(), word) == 0;
+    };
     const size_t close = text.find(text[at], at + 1);
-    if (!(after_from || after_import) || close == std::string::npos || word == at) continue;
+    if (!(after("from") || after("import")) || close == std::string::npos) continue;
     const std::string specifier = text.substr(at + 1, close - at - 1);
     if (specifier.empty() || specifier[0] == '.' || specifier[0] == '/' ||
         specifier.find_first_of(" \n") != std::string::npos)
