@@ -127,7 +127,8 @@ test('every response carries the Content-Security-Policy, also in the page as <m
 
 test('?file= naming another origin is refused, and nothing leaves the origin', async () => {
   const port = other.address().port;
-  for (const file of [`http://127.0.0.1:${port}/x.dpm`, `//127.0.0.1:${port}/x.dpm`, 'data:,x']) {
+  const files = [`http://127.0.0.1:${port}/x.dpm`, `//127.0.0.1:${port}/x.dpm`, '//evil.example/x', 'data:,x'];
+  for (const file of files) {
     const { page, requests } = await open(`${url}?file=${encodeURIComponent(file)}`);
     await page.waitForFunction(() => window.dpmViewer?.state().error, null, { timeout: 10000 });
     const { error, hasBase } = await page.evaluate(() => window.dpmViewer.state());
