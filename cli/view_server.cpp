@@ -31,7 +31,8 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 // More than a browser opens (6 per host) and the 200 parallel fetches of the server test; when
-// full, the connection that has waited longest for a request head makes room.
+// full, the connection that has waited longest for a request head makes room. Two descriptors
+// each (socket, model file) stay under the usual limit of 1024.
 constexpr size_t kMaxConnections = 256;
 // A client that takes nothing for this long while we send is dropped.
 constexpr int kSendStallSeconds = 30;
@@ -176,15 +177,17 @@ Status Server::run() {
     if (fds[0].revents) break;
     for (size_t i = 0; i < connections_.size(); ++i) {
       Connection& c = *connections_[i];
-      const short revents = fds[i + 2].revents;
-      bool keep = true;
-      if (revents & (POLLERR | POLLNVAL))
-        keep = false;
-      else if (c.sending && (revents & POLLOUT || fds[i + 2].events == 0))
+      const pollfd& p = fds[i + 2];
+      const bool paused = p.events == 0;  // throttled: its time may have come
+      bool keep = !(p.revents & (POLLERR | POLLNVAL));
+      if (keep && c.sending && (p.revents & POLLOUT || paused))
         keep = write_response(c);
-      else if (!c.sending && revents & (POLLIN | POLLHUP))
+      else if (keep && !c.sending && p.revents & (POLLIN | POLLHUP))
         read_request(c);
-      if (!keep) c.close_after = true, c.sending = false, c.in.clear(), ::shutdown(c.fd, SHUT_RDWR);
+      if (!keep) {
+        c.close_after = true;
+        c.sending = false;
+      }
     }
     std::erase_if(connections_, [](const std::unique_ptr<Connection>& c) {
       return c->fd < 0 || (c->close_after && !c->sending);
