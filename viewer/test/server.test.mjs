@@ -96,6 +96,24 @@ test('12 slow clients do not hold up a normal fetch (answered within 1 s)', asyn
   }
 });
 
+test('300 idle connections (more than the server keeps) do not lock out a fetch', async () => {
+  const { url, port } = await start(dpm);
+  const idle = await Promise.all(
+    Array.from({ length: 300 }, () => new Promise((resolve) => {
+      const s = connect(port, '127.0.0.1', () => resolve(s));
+      s.on('error', () => {});
+    })),
+  );
+  try {
+    await new Promise((r) => setTimeout(r, 300));
+    const r = await fetch(url + 'model.dpm', { signal: AbortSignal.timeout(1000) });
+    assert.equal(r.status, 200);
+    assert.ok(Buffer.from(await r.arrayBuffer()).equals(model));
+  } finally {
+    idle.forEach((s) => s.destroy());
+  }
+});
+
 test('200,000 header lines are refused without the server growing', async () => {
   const { server, port } = await start(dpm);
   await get(port, '/');  // settle the first-request allocations
