@@ -2,28 +2,28 @@
 // writes the same files to a folder that any static web server can host.
 //
 // The .dpm is sent as it is, read from disk piece by piece: the page parses chunks as they
-// arrive, so the base mesh shows before the splits have come (docs/viewer.md).
+// arrive, so the base mesh shows before the splits have come (docs/viewer.md). The HTTP server
+// is view_server.cpp; this file holds what is served and the flags.
 #include <signal.h>
 #include <unistd.h>
 
 #include <algorithm>
-#include <chrono>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <memory>
+#include <optional>
+#include <set>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "args.h"
 #include "assets.h"
 #include "commands.h"
-
-#if DYNPM_HAVE_HTTPLIB
-#include <httplib.h>
-#endif
+#include "view_server.h"
 
 namespace dynpm::cli {
 namespace {
@@ -39,13 +39,27 @@ const VerbSpec kSpec{
     "arrives. --export writes the page, its modules and the .dpm to DIR instead, for any\n"
     "static web server.",
     {{"--port", "", true, "P", "port on 127.0.0.1 (default 8765, 0: any free port)"},
-     {"--export", "", true, "DIR", "write a static folder instead of serving"},
+     {"--export", "", true, "DIR",
+      "write a static folder instead of serving (DIR: new, empty, or an earlier export)"},
      {"--throttle", "", true, "KIB",
-      "send the .dpm at most KIB KiB per second (to watch progressive loading)"}}};
+      "send the .dpm at most KIB KiB per second, 1…1048576 (to watch progressive loading)"}}};
 
 // The names the page asks for (viewer/src/viewer.js).
 constexpr const char* kModelPath = "model.dpm";
 constexpr const char* kConfigPath = "dpm.json";
+
+// Only the page's own files, no inline script or style, nothing from or to elsewhere: a name in
+// a model file can never become script (docs/viewer.md "Security and limits"). index.html
+// carries the same policy in a <meta> for --export, less frame-ancestors, which only a header
+// can set; viewer/test/security.test.mjs checks that the two agree.
+constexpr const char* kContentSecurityPolicy =
+    "default-src 'self'; script-src 'self'; style-src 'self'; img-src 'self' data:; "
+    "connect-src 'self'; object-src 'none'; base-uri 'none'; form-action 'none'; "
+    "frame-ancestors 'none'";
+
+// --throttle in KiB/s: at least 1 (slower only stalls the page), at most 1 GiB/s (faster is
+// no throttle at all).
+constexpr double kMinThrottleKib = 1, kMaxThrottleKib = 1024 * 1024;
 
 std::string json_string(const std::string& s) {
   std::string out = "\"";
@@ -87,132 +101,191 @@ Status check_model(const fs::path& model, uintmax_t& size) {
   return Status();
 }
 
-Status write_text(const fs::path& path, std::string_view bytes) {
-  return write_file_atomically(path.string(), bytes);
-}
-
-// The model is copied under a temporary name and renamed: a partial copy would read as a
-// valid, coarser model (a .dpm prefix is one).
-Status copy_model(const fs::path& model, const fs::path& target) {
-  remove_stale_temporaries(target.string());
-  const fs::path temp = target.string() + ".tmp-" + std::to_string(::getpid()) + "-0";
-  std::error_code error;
-  fs::copy_file(model, temp, fs::copy_options::overwrite_existing, error);
-  if (!error) fs::rename(temp, target, error);
-  if (!error) return Status();
-  fs::remove(temp);
-  return Status::error(target.string() + ": " + error.message());
-}
-
-int export_folder(const fs::path& model, const fs::path& dir) {
-  std::error_code error;
-  fs::create_directories(dir, error);
-  if (error) {
-    std::cerr << "dynpm view: " << dir.string() << ": " << error.message() << "\n";
-    return kExitFailure;
-  }
+// What an export writes, as paths under DIR: the page's files, their folders, the
+// configuration and the model.
+struct ExportLayout {
+  std::set<fs::path> files, folders;
+};
+ExportLayout export_layout() {
+  ExportLayout layout;
   for (const viewer::Asset& asset : viewer::assets()) {
-    const fs::path path = dir / fs::path(std::string(asset.path));
-    fs::create_directories(path.parent_path(), error);
-    Status s = error ? Status::error(path.parent_path().string() + ": " + error.message())
-                     : write_text(path, asset.bytes);
-    if (!s.ok()) {
-      std::cerr << "dynpm view: " << s.message() << "\n";
-      return kExitFailure;
-    }
+    const fs::path path(std::string(asset.path));
+    layout.files.insert(path);
+    for (fs::path p = path.parent_path(); !p.empty(); p = p.parent_path()) layout.folders.insert(p);
   }
-  Status s = write_text(dir / kConfigPath, config_json(model));
-  if (s.ok()) s = copy_model(model, dir / kModelPath);
-  if (!s.ok()) {
-    std::cerr << "dynpm view: " << s.message() << "\n";
-    return kExitFailure;
-  }
-  std::cout << "wrote " << (dir / "index.html").string() << " with " << viewer::assets().size()
-            << " files and " << kModelPath << "; serve the folder with any web server, e.g.\n"
-            << "  python3 -m http.server -d " << dir.string() << "\n";
-  return kExitOk;
+  layout.files.insert(kConfigPath);
+  layout.files.insert(kModelPath);
+  return layout;
 }
 
-#if DYNPM_HAVE_HTTPLIB
-int serve(const fs::path& model, uintmax_t model_size, int port, double throttle_kib) {
-  // Ctrl-C and SIGTERM are taken by sigwait() below, not by a handler: blocked before the
-  // server's threads start, so they inherit the mask and the main thread alone receives them.
+// DIR may be missing, empty or an earlier export (only what an export writes), which is
+// replaced; anything else is refused, so that an export never deletes a file of the user's.
+Status check_export_target(const fs::path& dir, bool& exists) {
+  std::error_code error;
+  exists = fs::exists(dir, error);
+  if (error) return Status::error(dir.string() + ": " + error.message());
+  if (!exists) return Status();
+  if (!fs::is_directory(dir, error))
+    return Status::error(dir.string() + ": exists and is not a folder");
+  const ExportLayout layout = export_layout();
+  for (fs::recursive_directory_iterator it(dir, error), end; !error && it != end;
+       it.increment(error)) {
+    const fs::path relative = it->path().lexically_relative(dir);
+    const bool ours = it->is_symlink()        ? false
+                      : it->is_directory()    ? layout.folders.count(relative) != 0
+                      : it->is_regular_file() ? layout.files.count(relative) != 0
+                                              : false;
+    if (!ours)
+      return Status::error(dir.string() + ": holds " + relative.string() +
+                           ", so it is not an earlier export; choose a new or empty folder");
+  }
+  if (error) return Status::error(dir.string() + ": " + error.message());
+  return Status();
+}
+
+// The page, its configuration and a copy of the model, in `folder` (which does not exist yet).
+Status write_export(const fs::path& model, const fs::path& folder) {
+  std::error_code error;
+  auto failed = [&](const fs::path& path) {
+    return Status::error(path.string() + ": " + error.message());
+  };
+  if (!fs::create_directory(folder, error)) return failed(folder);
+  for (const viewer::Asset& asset : viewer::assets()) {
+    const fs::path path = folder / fs::path(std::string(asset.path));
+    if (fs::create_directories(path.parent_path(), error); error) return failed(path.parent_path());
+    DYNPM_RETURN_IF_ERROR(write_file_atomically(path.string(), asset.bytes));
+  }
+  DYNPM_RETURN_IF_ERROR(write_file_atomically((folder / kConfigPath).string(), config_json(model)));
+  if (!fs::copy_file(model, folder / kModelPath, error)) return failed(folder / kModelPath);
+  return Status();
+}
+
+// Folders "<prefix><pid>-<n>" in `parent` that a killed export left: their process is gone.
+void remove_stale_exports(const fs::path& parent, const std::string& prefix) {
+  std::error_code error;
+  for (fs::directory_iterator it(parent, error), end; !error && it != end; it.increment(error)) {
+    const std::string name = it->path().filename().string();
+    if (!name.starts_with(prefix) || !it->is_directory()) continue;
+    long pid = 0;
+    const char* digits = name.data() + prefix.size();
+    auto [after, ec] = std::from_chars(digits, name.data() + name.size(), pid);
+    if (ec != std::errc() || after == digits || *after != '-' || pid <= 0 || pid == ::getpid())
+      continue;
+    if (::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH) continue;  // alive
+    std::error_code ignored;
+    fs::remove_all(it->path(), ignored);
+  }
+}
+
+// Built in a temporary sibling folder and renamed into place: a failed or killed export leaves
+// DIR as it was (a partial folder would show a page without its model, or a model prefix,
+// which reads as a valid coarser model).
+Status export_folder(const fs::path& model, fs::path dir) {
+  if (!dir.has_filename()) dir = dir.parent_path();  // "out/" → "out"
+  bool exists = false;
+  DYNPM_RETURN_IF_ERROR(check_export_target(dir, exists));
+  std::error_code error;
+  const fs::path parent = dir.has_parent_path() ? dir.parent_path() : fs::path(".");
+  // The missing ancestors are created, and removed again if the export fails.
+  fs::path created;
+  for (fs::path p = parent; !p.empty() && !fs::exists(p, error); p = p.parent_path()) created = p;
+  if (fs::create_directories(parent, error); error)
+    return Status::error(parent.string() + ": " + error.message());
+  const std::string stem = dir.filename().string() + ".tmp-" + std::to_string(::getpid());
+  const fs::path temp = parent / (stem + "-0"), old = parent / (stem + "-1");
+  remove_stale_exports(parent, dir.filename().string() + ".tmp-");
+  Status s = write_export(model, temp);
+  if (s.ok()) {
+    // A missing or empty DIR is replaced by rename itself; an earlier export is moved aside
+    // first, and put back if the new one cannot take its place.
+    fs::rename(temp, dir, error);
+    if (error && exists) {
+      error.clear();
+      fs::rename(dir, old, error);
+      if (!error) {
+        fs::rename(temp, dir, error);
+        std::error_code ignored;
+        if (error)
+          fs::rename(old, dir, ignored);
+        else
+          fs::remove_all(old, ignored);
+      }
+    }
+    if (error) s = Status::error(dir.string() + ": " + error.message());
+  }
+  fs::remove_all(temp, error);
+  if (!s.ok() && !created.empty()) fs::remove_all(created, error);
+  return s;
+}
+
+// The files the server answers for: the page's, the configuration and the model.
+ServerOptions server_options(const fs::path& model, const std::string& config,
+                             double throttle_kib) {
+  ServerOptions options;
+  for (const viewer::Asset& asset : viewer::assets()) {
+    options.files.push_back(
+        {"/" + std::string(asset.path), std::string(asset.content_type), asset.bytes, false});
+    if (asset.path == "index.html")
+      options.files.push_back({"/", std::string(asset.content_type), asset.bytes, false});
+  }
+  options.files.push_back({std::string("/") + kConfigPath, "application/json", config, false});
+  options.files.push_back({std::string("/") + kModelPath, "application/octet-stream", {}, true});
+  options.model = model.string();
+  options.throttle_bytes = throttle_kib * 1024;
+  options.content_security_policy = kContentSecurityPolicy;
+  return options;
+}
+
+int serve_model(const fs::path& model, uintmax_t model_size, int port, double throttle_kib) {
+  // Ctrl-C and SIGTERM are read by the server's poll loop (a signalfd): blocked here.
   sigset_t stop_signals;
   sigemptyset(&stop_signals);
   sigaddset(&stop_signals, SIGINT);
   sigaddset(&stop_signals, SIGTERM);
   pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
-  ::signal(SIGPIPE, SIG_IGN);  // a browser that closes mid-file must not end the server
 
-  httplib::Server server;
-  const std::string config = config_json(model);
-  server.set_pre_routing_handler([](const httplib::Request&, httplib::Response& res) {
-    res.set_header("Cache-Control", "no-store");  // a rebuilt .dpm shows on reload
-    return httplib::Server::HandlerResponse::Unhandled;
-  });
-  for (const viewer::Asset& asset : viewer::assets()) {
-    auto handler = [&asset](const httplib::Request&, httplib::Response& res) {
-      res.set_content(asset.bytes.data(), asset.bytes.size(),
-                      std::string(asset.content_type).c_str());
-    };
-    server.Get(std::string("/").append(asset.path), handler);
-    if (asset.path == "index.html") server.Get("/", handler);
-  }
-  server.Get(std::string("/") + kConfigPath,
-             [&config](const httplib::Request&, httplib::Response& res) {
-               res.set_content(config, "application/json");
-             });
-  server.Get(std::string("/") + kModelPath, [&](const httplib::Request&, httplib::Response& res) {
-    auto file = std::make_shared<std::ifstream>(model, std::ios::binary);
-    if (!*file) {
-      res.status = 500;
-      return;
-    }
-    const auto start = std::chrono::steady_clock::now();
-    res.set_content_provider(
-        static_cast<size_t>(model_size), "application/octet-stream",
-        [file, start, throttle_kib](size_t offset, size_t length, httplib::DataSink& sink) {
-          // Pieces of 64 KiB; with --throttle, paced so that offset/elapsed stays at the rate.
-          std::vector<char> piece(std::min<size_t>(length, 64 * 1024));
-          if (throttle_kib > 0) {
-            const auto due = start + std::chrono::duration<double>(static_cast<double>(offset) /
-                                                                   (throttle_kib * 1024));
-            std::this_thread::sleep_until(due);
-            piece.resize(std::min(piece.size(), static_cast<size_t>(throttle_kib * 1024 / 10) + 1));
-          }
-          file->seekg(static_cast<std::streamoff>(offset));
-          file->read(piece.data(), static_cast<std::streamsize>(piece.size()));
-          if (file->gcount() <= 0) return false;
-          return sink.write(piece.data(), static_cast<size_t>(file->gcount()));
-        });
-  });
-
-  const char* host = "127.0.0.1";
-  if (port == 0) {
-    port = server.bind_to_any_port(host);
-    if (port < 0) {
-      std::cerr << "dynpm view: cannot listen on " << host << "\n";
-      return kExitFailure;
-    }
-  } else if (!server.bind_to_port(host, port)) {
-    std::cerr << "dynpm view: cannot listen on " << host << ":" << port
-              << " (in use? --port 0 picks a free one)\n";
+  auto listener = listen_on_loopback(port);
+  if (!listener) {
+    std::cerr << "dynpm view: " << listener.message() << "\n";
     return kExitFailure;
   }
-  std::thread listener([&server] { server.listen_after_bind(); });
+  const std::string config = config_json(model);
   std::cout << "dynpm view: " << model.filename().string() << " (" << model_size / 1024
-            << " KiB) at http://" << host << ":" << port << "/  (Ctrl-C stops)" << std::endl;
+            << " KiB) at http://127.0.0.1:" << listener->port << "/  (Ctrl-C stops)" << std::endl;
   if (!viewer::assets_complete())
     std::cerr << "warning: dynpm was built without viewer/node_modules; the page cannot draw "
                  "(run 'npm ci' in viewer/ and rebuild)\n";
-  int signal_number = 0;
-  sigwait(&stop_signals, &signal_number);
-  server.stop();
-  listener.join();
+  if (Status s = serve(server_options(model, config, throttle_kib), *listener); !s.ok()) {
+    std::cerr << "dynpm view: " << s.message() << "\n";
+    return kExitFailure;
+  }
   std::cout << "dynpm view: stopped" << std::endl;
   return kExitOk;
 }
-#endif
+
+// "--port abc" and "--throttle inf" each get a message that names the flag and its range.
+std::optional<int> parse_port(const std::string& text) {
+  int port = -1;
+  auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), port);
+  if (text.empty() || ec != std::errc() || end != text.data() + text.size() || port < 0 ||
+      port > 65535) {
+    std::cerr << "dynpm view: --port takes a whole number in 0…65535 (0: any free port), not '"
+              << text << "'\n";
+    return std::nullopt;
+  }
+  return port;
+}
+
+std::optional<double> parse_throttle(const std::string& text) {
+  double kib = 0;
+  auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), kib);
+  if (text.empty() || ec != std::errc() || end != text.data() + text.size() ||
+      !std::isfinite(kib) || kib < kMinThrottleKib || kib > kMaxThrottleKib) {
+    std::cerr << "dynpm view: --throttle takes KiB per second in 1…1048576, not '" << text << "'\n";
+    return std::nullopt;
+  }
+  return kib;
+}
 
 }  // namespace
 
@@ -223,39 +296,36 @@ int run_view(std::span<char* const> arguments) {
     std::cerr << "dynpm view: expected one .dpm file\n\n" << help_text(kSpec);
     return kExitUsage;
   }
+  int port = 8765;
+  double throttle_kib = 0;
+  if (auto p = args.value("--port")) {
+    auto parsed = parse_port(*p);
+    if (!parsed) return kExitUsage;
+    port = *parsed;
+  }
+  if (auto t = args.value("--throttle")) {
+    auto parsed = parse_throttle(*t);
+    if (!parsed) return kExitUsage;
+    throttle_kib = *parsed;
+  }
   const fs::path model = args.positional.front();
   uintmax_t model_size = 0;
   if (Status s = check_model(model, model_size); !s.ok()) {
     std::cerr << "dynpm view: " << s.message() << "\n";
     return kExitFailure;
   }
-  if (auto dir = args.value("--export")) return export_folder(model, *dir);
-
-  int port = 8765;
-  double throttle_kib = 0;
-  try {
-    if (auto p = args.value("--port")) {
-      size_t used = 0;
-      port = std::stoi(*p, &used);
-      if (used != p->size() || port < 0 || port > 65535) throw std::invalid_argument(*p);
+  if (auto dir = args.value("--export")) {
+    if (Status s = export_folder(model, *dir); !s.ok()) {
+      std::cerr << "dynpm view: " << s.message() << "\n";
+      return kExitFailure;
     }
-    if (auto t = args.value("--throttle")) {
-      size_t used = 0;
-      throttle_kib = std::stod(*t, &used);
-      if (used != t->size() || !(throttle_kib > 0)) throw std::invalid_argument(*t);
-    }
-  } catch (const std::exception&) {
-    std::cerr << "dynpm view: --port takes 0…65535 and --throttle a positive number of KiB\n";
-    return kExitUsage;
+    std::cout << "wrote " << (fs::path(*dir) / "index.html").string() << " with "
+              << viewer::assets().size() << " files and " << kModelPath
+              << "; serve the folder with any web server, e.g.\n"
+              << "  python3 -m http.server -d " << *dir << "\n";
+    return kExitOk;
   }
-#if DYNPM_HAVE_HTTPLIB
-  return serve(model, model_size, port, throttle_kib);
-#else
-  (void)port;
-  std::cerr << "dynpm view: built without cpp-httplib (Debian: libcpp-httplib-dev); use --export "
-               "DIR and any web server\n";
-  return kExitFailure;
-#endif
+  return serve_model(model, model_size, port, throttle_kib);
 }
 
 }  // namespace dynpm::cli

@@ -16,7 +16,7 @@ foreach(_p IN LISTS _page)
   list(APPEND _files ${_viewer}/${_p})
 endforeach()
 
-# URL path under vendor/ → file in node_modules (the page's import map names these).
+# URL path under vendor/ → file in node_modules (_imports below maps the page's imports here).
 set(_vendor
     "three.module.js=three/build/three.module.js"
     "three.core.js=three/build/three.core.js"
@@ -48,11 +48,18 @@ if(NOT _complete)
   list(APPEND _files ${_stub})
 endif()
 
+# Bare module specifiers in the page's and the vendored modules → the asset they name; the
+# embed tool rewrites them to relative paths (no import map: the page allows no inline script).
+set(_imports
+    "import:three=vendor/three.module.js"
+    "import:three/addons/controls/OrbitControls.js=vendor/OrbitControls.js"
+    "import:fzstd=vendor/fzstd.js")
+
 add_executable(dynpm_embed_assets ${_viewer}/embed/embed_assets.cpp)
 set(_generated ${CMAKE_CURRENT_BINARY_DIR}/viewer_assets.cpp)
 add_custom_command(
   OUTPUT ${_generated}
-  COMMAND dynpm_embed_assets ${_generated} ${_complete} ${_assets}
+  COMMAND dynpm_embed_assets ${_generated} ${_complete} ${_imports} ${_assets}
   DEPENDS dynpm_embed_assets ${_files}
   COMMENT "Embedding the viewer's page and modules"
   VERBATIM)

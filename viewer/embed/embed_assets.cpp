@@ -1,12 +1,20 @@
 // Writes a C++ source that holds files as string literals (viewer/embed/assets.h):
-//   embed_assets OUT.cpp COMPLETE(0|1) PATH=FILE...
+//   embed_assets OUT.cpp COMPLETE(0|1) [import:SPECIFIER=PATH...] PATH=FILE...
 // A host tool rather than a CMake script: it is fast on megabytes, and string literals compile
 // far faster than brace lists of byte values.
+//
+// Bare module specifiers ('three', 'fzstd') are rewritten to the relative path of the asset
+// they name (import:three=vendor/three.module.js): the page needs no import map, which would
+// be an inline script, refused by its Content-Security-Policy. A bare specifier with no mapping
+// fails the build, so that the page never meets one it cannot load.
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <sstream>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace {
@@ -47,6 +55,48 @@ void write_literal(std::ostream& out, const std::string& bytes) {
   out << "\"";
 }
 
+bool is_script(const std::string& path) { return path.ends_with(".js") || path.ends_with(".mjs"); }
+
+// `from 'X'`, `from "X"`, `import 'X'`: X rewritten through `imports` relative to the asset at
+// `path`. Also inside comments, which is harmless. false (and a message) for an unknown one.
+bool rewrite_imports(std::string& text, const std::string& path,
+                     const std::map<std::string, std::string>& imports) {
+  namespace fs = std::filesystem;
+  std::string out;
+  size_t copied = 0;
+  // A quote preceded by `from` or `import` (spaces between) opens a specifier; a quote at 0
+  // cannot.
+  for (size_t at = 1; (at = text.find_first_of("'\"", at)) != std::string::npos; ++at) {
+    const size_t word_end = text.find_last_not_of(" \t", at - 1);
+    auto after = [&](std::string_view word) {
+      return word_end != std::string::npos && word_end + 1 >= word.size() &&
+             text.compare(word_end + 1 - word.size(), word.size(), word) == 0;
+    };
+    const size_t close = text.find(text[at], at + 1);
+    if (!(after("from") || after("import")) || close == std::string::npos) continue;
+    const std::string specifier = text.substr(at + 1, close - at - 1);
+    if (specifier.empty() || specifier[0] == '.' || specifier[0] == '/' ||
+        specifier.find_first_of(" \n") != std::string::npos)
+      continue;
+    auto target = imports.find(specifier);
+    if (target == imports.end()) {
+      std::cerr << "embed_assets: " << path << " imports '" << specifier
+                << "', which has no import: mapping (viewer/embed/assets.cmake)\n";
+      return false;
+    }
+    std::string relative =
+        fs::path(target->second).lexically_relative(fs::path(path).parent_path()).generic_string();
+    if (!relative.starts_with("../")) relative = "./" + relative;
+    out.append(text, copied, at + 1 - copied);
+    out += relative;
+    copied = close;
+    at = close;
+  }
+  out.append(text, copied, std::string::npos);
+  text = std::move(out);
+  return true;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -59,9 +109,14 @@ int main(int argc, char** argv) {
       << "#include \"assets.h\"\n\nnamespace dynpm::viewer {\nnamespace {\n\n"
       << "using namespace std::string_view_literals;\n\n";
   std::vector<std::string> paths;
+  std::map<std::string, std::string> imports;
   for (int i = 3; i < argc; ++i) {
     const std::string arg = argv[i];
     const size_t eq = arg.find('=');
+    if (arg.starts_with("import:") && eq != std::string::npos) {
+      imports[arg.substr(7, eq - 7)] = arg.substr(eq + 1);
+      continue;
+    }
     if (eq == std::string::npos) {
       std::cerr << "embed_assets: '" << arg << "' is not PATH=FILE\n";
       return 2;
@@ -73,9 +128,12 @@ int main(int argc, char** argv) {
     }
     std::ostringstream bytes;
     bytes << in.rdbuf();
+    std::string text = bytes.str();
+    if (is_script(arg.substr(0, eq)) && !rewrite_imports(text, arg.substr(0, eq), imports))
+      return 1;
     out << "// " << arg.substr(0, eq) << "\nconstexpr std::string_view kAsset" << paths.size()
         << " =\n";
-    write_literal(out, bytes.str());
+    write_literal(out, text);
     out << "sv;\n\n";
     paths.push_back(arg.substr(0, eq));
   }

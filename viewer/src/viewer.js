@@ -5,6 +5,9 @@
 // GPU buffers are sized for the full mesh once. Time changes rewrite only the position (and
 // colour) prefix of the visible vertices; resolution changes rewrite only the index entries of
 // the faces the splits touched (fixed slots per face, see writeFaceIndices in dpm.js).
+//
+// The bare imports ('three', …) are rewritten to vendor/ paths when the page is embedded
+// (viewer/embed/): the page has no import map, an inline script its CSP would refuse.
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 
@@ -322,24 +325,36 @@ function scalarRange() {
   return range;
 }
 
+// Names in the legend come from the file: they go in as text nodes, never as markup
+// (Element.append turns strings into Text; the page has no innerHTML at all).
+function element(tag, { className, background } = {}, ...children) {
+  const e = document.createElement(tag);
+  if (className) e.className = className;
+  if (background) e.style.background = background;  // CSSOM, which the page's CSP allows
+  e.append(...children);
+  return e;
+}
+
 function drawLegend() {
   const { mesh } = state;
   if (state.colour === 'part') {
     const ids = [...new Set(mesh.partId.subarray(0, state.nav.faceCount))].sort((a, b) => a - b);
-    const shown = ids.slice(0, 12).map((id) => {
-      const c = partColour(id).getStyle();
-      return `<span class="swatch" style="background:${c}"></span>${id}`;
-    });
-    ui.legend.innerHTML = `part ids: ${shown.join('')}${ids.length > 12 ? ' …' : ''}`;
+    const shown = ids.slice(0, 12).flatMap((id) => [
+      element('span', { className: 'swatch', background: partColour(id).getStyle() }),
+      String(id),
+    ]);
+    ui.legend.replaceChildren('part ids: ', ...shown, ids.length > 12 ? ' …' : '');
     return;
   }
   const [lo, hi] = state.ranges.get(state.colour) ?? [0, 0];
   const name =
     state.colour === 'displacement' ? 'displacement' : mesh.head.fieldNames[Number(state.colour.slice(6))];
-  ui.legend.innerHTML =
-    `<div>${name}</div><div class="bar" style="background:linear-gradient(to right,${rampCss()})">` +
-    `</div><div class="ends"><span>${fmt(lo)}</span><span>${fmt((lo + hi) / 2)}</span>` +
-    `<span>${fmt(hi)}</span></div>`;
+  ui.legend.replaceChildren(
+    element('div', {}, name),
+    element('div', { className: 'bar', background: `linear-gradient(to right,${rampCss()})` }),
+    element('div', { className: 'ends' },
+      element('span', {}, fmt(lo)), element('span', {}, fmt((lo + hi) / 2)), element('span', {}, fmt(hi))),
+  );
 }
 
 function setColour(mode) {
@@ -443,8 +458,14 @@ async function load() {
   } catch {
     // No dpm.json (a folder served by hand): the default name.
   }
+  // ?file= names a file of this server only: a link must not make the page fetch from (or
+  // announce itself to) another origin. The CSP's connect-src 'self' refuses it as well.
   const query = params.get('file');
-  if (query) file = state.name = query;
+  if (query) {
+    if (new URL(query, location.href).origin !== location.origin)
+      throw new Error(`?file=${query}: not on this server (${location.origin})`);
+    file = state.name = query;
+  }
   ui.title.textContent = state.name;
   document.title = `${state.name} — dynpm view`;
   const response = await fetch(file);
