@@ -30,10 +30,16 @@ inline const char* token_end(const char* p, const char* end) {
 }
 
 // The next blank-separated token as a coordinate (text.h: parse_real, one rule for every text
-// reader). An empty token means the line ended.
+// reader). An empty token means the line ended. The common case, a float that ends at a blank,
+// is read in one pass; anything else goes through parse_real (huge values: inf).
 inline NumberError parse_float(const char*& p, const char* end, float& out,
                                std::string_view& token) {
   p = skip_spaces(p, end);
+  auto [next, ec] = std::from_chars(p, end, out);
+  if (ec == std::errc() && next != p && (next == end || is_space(*next))) {
+    p = next;
+    return NumberError::kNone;
+  }
   const char* stop = token_end(p, end);
   token = std::string_view(p, static_cast<size_t>(stop - p));
   double value = 0;
@@ -46,12 +52,16 @@ inline NumberError parse_float(const char*& p, const char* end, float& out,
 
 // A face corner "i", "i/t", "i//n" or "i/t/n"; only i matters, a whole integer.
 inline bool parse_corner(const char*& p, const char* end, int64_t& index) {
-  const char* stop = token_end(p, end);
-  const char* slash = std::find(p, stop, '/');
-  if (parse_integer(std::string_view(p, static_cast<size_t>(slash - p)), INT64_MIN + 1, INT64_MAX,
-                    index) != NumberError::kNone)
-    return false;
-  for (const char* q = slash; q < stop; ++q)
+  auto [next, ec] = std::from_chars(p, end, index);  // the common case in one pass
+  if (ec != std::errc() || next == p || (next < end && !is_space(*next) && *next != '/')) {
+    const char* slash = std::find(p, token_end(p, end), '/');
+    if (parse_integer(std::string_view(p, static_cast<size_t>(slash - p)), INT64_MIN + 1, INT64_MAX,
+                      index) != NumberError::kNone)
+      return false;
+    next = slash;
+  }
+  const char* stop = token_end(next, end);
+  for (const char* q = next; q < stop; ++q)
     if (*q != '/' && *q != '-' && *q != '+' && (*q < '0' || *q > '9')) return false;
   p = stop;
   return true;
