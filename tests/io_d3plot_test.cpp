@@ -92,6 +92,25 @@ TEST(D3plotTest, QdFamilyContinuation) {
   EXPECT_GT(*std::max_element(speed.begin(), speed.end()), 0.2f);  // read from d3plot01
 }
 
+// A family with a hole: d3plot02 without d3plot01 is a lost file, not the family's end. Read on
+// from d3plot alone, the run would silently lose every state.
+TEST(D3plotTest, MissingMiddleFileOfAFamilyIsAnError) {
+  test::TempDir dir;
+  fs::copy_file(d3plot_dir() + "/qd_d3plot", dir.file("d3plot"));
+  fs::copy_file(d3plot_dir() + "/qd_d3plot01", dir.file("d3plot02"));
+  Opened r = open(dir.file("d3plot"));
+  ASSERT_FALSE(r.stream.ok()) << "read with " << r.stream->frames->step_count() << " steps";
+  EXPECT_EQ(r.stream.message(), dir.file("d3plot01") + ": missing from the d3plot family (" +
+                                    dir.file("d3plot02") +
+                                    " follows it): a family must be complete, or its states from "
+                                    "there on are lost");
+  // Names that only look like members do not count: d3plot2 (one digit), d3plot_old.
+  fs::rename(dir.file("d3plot02"), dir.file("d3plot2"));
+  std::ofstream(dir.file("d3plot_old")) << "x";
+  Opened alone = open(dir.file("d3plot"));
+  EXPECT_TRUE(alone.stream.ok()) << alone.stream.message();
+}
+
 // lasso-python's thermal test result: 2,185 nodes, 2,075 shells (12 of them triangles: a
 // repeated 4th node), 23 states over 20 s, no coordinates in the states (IU = 0).
 TEST(D3plotTest, LassoNodeTemperature) {

@@ -397,6 +397,15 @@ TEST(FrdHandMade, ErrorsNameTheFileAndLine) {
                               "           0\n -4  DISP        4    1\n -1   10 1.0\n",
        "model.frd:20: expected 4 ' -5' component records"},
       {header_1c(), "no node block (2C)"},
+      // One number rule (text.h): a header number is blank or a whole number; times are finite.
+      {ascii_mesh(m, false) + "  100CL  101 1.00000E+00          5x                     0    1"
+                              "           0\n",
+       "model.frd:18: the node count of the 100C line, '5x', is not a whole number"},
+      {ascii_mesh(m, false) + "  100CL  101         inf           5                     0    1"
+                              "           0\n",
+       "model.frd:18: the step time 'inf' (columns 13-24 of the 100C line) is not a finite number"},
+      {header_1c() + "    2C                          1x                                     0\n",
+       "model.frd:5: the record count of the node block (2C) header, '1x', is not a whole number"},
   };
   for (const Case& c : cases) {
     Opened r = open(write(dir, "model.frd", c.bytes));

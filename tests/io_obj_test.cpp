@@ -111,7 +111,12 @@ INSTANTIATE_TEST_SUITE_P(
         BadObj{"index_zero", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 0 1 2\n", ":4: face index 0"},
         BadObj{"out_of_range", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 4\n", ":4: face index 4 is past"},
         BadObj{"relative_too_far", "v 0 0 0\nv 1 0 0\nf -1 -2 -3\n", ":3: relative index -3"},
-        BadObj{"bad_corner", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 x\n", ":4: a face corner"},
+        BadObj{"bad_corner", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 x\n", ":4: face corner 'x' is not"},
+        // One number rule (text.h): a whole token, for coordinates and corners alike.
+        BadObj{"junk_after_coordinate", "v 0 0 0\nv 1 0 0x\n", ":2: vertex coordinate '0x'"},
+        BadObj{"junk_after_corner", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3x\n",
+               ":4: face corner '3x' is not"},
+        BadObj{"time_note_inf", "# time inf\nv 0 0 0\n", ":1: the time note 'inf' is not a finite"},
         BadObj{"no_faces", "v 0 0 0\n", "no faces"},
         BadObj{"garbage",
                "\x7f"

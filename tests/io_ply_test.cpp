@@ -126,7 +126,20 @@ TEST(Ply, BadHeadersAreClearErrors) {
       {"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
        "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
        "0 0 0\n1 0 zero\n0 1 0\n3 0 1 2\n",
-       ":11: not a number"},
+       ":11: 'zero' is not a number"},
+      // One number rule (text.h): counts and values are whole tokens, integers within their type.
+      {"ply\nformat ascii 1.0\nelement vertex 3x\nproperty float x\nend_header\n",
+       ":3: the count of element 'vertex', '3x', is not a whole number"},
+      {"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+       "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+       "0 0 0\n1 0 0\n0 1 0\n3 0 1 2.5\n",
+       ":13: '2.5' is not a whole number"},
+      {"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+       "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+       "0 0 0\n1 0 0\n0 1 0\n259 0 1 2\n",
+       ":13: '259' is out of the range of its type uchar"},
+      {"ply\nformat ascii 1.0\ncomment time nan\nelement vertex 1\nend_header\n",
+       ":3: the time note 'nan' is not a finite number"},
   };
   for (const auto& [text, expected] : cases) {
     write_bytes(dir.file("bad.ply"), text);

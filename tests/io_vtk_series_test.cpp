@@ -206,7 +206,19 @@ TEST(VtkSeriesLegacy, BrokenFilesFailWithTheirPlace) {
   const std::string head = "# vtk DataFile Version 3.0\nx\nASCII\nDATASET POLYDATA\n";
   const Case cases[] = {
       {head + "POINTS 2000000000 float\n0 0 0\n", "broken.vtk:5: 6000000000 values announced"},
-      {head + "POINTS 3 float\n0 0 0 1 0 0 0 1 x\n", "broken.vtk:6: not a number: 'x"},
+      {head + "POINTS 3 float\n0 0 0 1 0 0 0 1 x\n",
+       "broken.vtk:6: value 9 of 9, 'x', is not a number"},
+      // One number rule (text.h): whole tokens; integers within their type; counts too.
+      {head + "POINTS 3 float\n0 0 0 1 0 0 0 1 0\nPOLYGONS 1 4\n3 0 1 2e0\n",
+       "broken.vtk:8: value 4 of 4, '2e0', is not a whole number"},
+      {head + "POINTS 3 float\n0 0 0 1 0 0 0 1 0\nPOLYGONS 1 4\n3 0 1 4294967296\n",
+       "value 4 of 4, '4294967296', is out of the range of its type"},
+      {head + "POINTS 3x float\n",
+       "broken.vtk:5: expected a point count after 'POINTS', found '3x'"},
+      {"# vtk DataFile Version 3.0\ntime 1e999\nASCII\nDATASET POLYDATA\n",
+       "broken.vtk:2: the time note '1e999' is not a finite number"},
+      {head + "POINTS 3 float\n0 0 0 1 0 0 0 1 0\nBAN\x1b[2JANAS 3\n",
+       "broken.vtk:7: unexpected keyword 'BAN\\x1b[2JANAS'"},
       {head + "POINTS 3 float\n0 0 0 1 0 0 0 1 0\nPOLYGONS 1 4\n3 0 1 7\n",
        "broken.vtk: cell 0 refers to point 7"},
       {head + "POINTS 3 float\n0 0 0 1 0 0 0 1 0\nPOLYGONS 1 4\n9 0 1 2\n", "announces 9 points"},
@@ -249,6 +261,8 @@ TEST(VtkSeriesVtu, BrokenFilesFailWithTheirPlace) {
   ASSERT_TRUE(good.stream.ok()) << good.stream.message();
   EXPECT_EQ(good.stream->topology.faces[0], (Face{{0, 1, 2, kNoVertex}}));
 
+  std::string real_index = cells;  // a real number where an Int32 is expected
+  real_index.replace(real_index.find("0 1 2<"), 5, "0 1 2.0");
   struct Case {
     std::string text, expected;
   };
@@ -261,6 +275,18 @@ TEST(VtkSeriesVtu, BrokenFilesFailWithTheirPlace) {
       {head + points("ascii", "0 0 0 1 0 0 0 1 0") + cells, ""},  // no closing tags: still read
       {"<?xml version=\"1.0\"?>\n<VTKFile type=\"PolyData\">\n", "dynpm reads UnstructuredGrid"},
       {head.substr(0, 60), "a tag never ends"},
+      // One number rule (text.h): beyond the double range is inf (as 1e39 beyond float), not 0;
+      // integer types take whole integers within their range; counts are whole tokens.
+      {head + points("ascii", "0 0 0 1 0 0 0 1 0") + real_index + tail,
+       "DataArray 'connectivity': value 3, '2.0', is not a whole number"},
+      {"<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\">\n<UnstructuredGrid>\n"
+       "<Piece NumberOfPoints=\"3x\" NumberOfCells=\"1\">\n",
+       "Piece NumberOfPoints='3x' is not a whole number"},
+      {head + points("ascii", "0 0 0 1 0 0 0 1 0") + cells +
+           "<FieldData><DataArray type=\"Float64\" Name=\"TimeValue\" format=\"ascii\">nan"
+           "</DataArray></FieldData>\n" +
+           tail,
+       "FieldData TimeValue holds the time nan, not a finite number"},
   };
   for (const Case& c : cases) {
     Opened r = open(std::vector<std::string>{write(dir, "broken.vtu", c.text)});

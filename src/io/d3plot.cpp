@@ -25,6 +25,7 @@
 #include <filesystem>
 #include <optional>
 
+#include "dynpm/text.h"
 #include "formats.h"
 #include "solid_surface.h"
 
@@ -365,12 +366,18 @@ struct Family {
   }
 };
 
+// The name of member k of the family of path: path, path01, … path99, path100, …
+std::string member_name(const std::string& path, int k) {
+  if (k == 0) return path;
+  return path + (k < 10 ? "0" : "") + std::to_string(k);
+}
+
 Result<Family> find_family(const std::string& path) {
   Family family;
   std::error_code ec;
-  for (int k = 0; k < 10000; ++k) {
-    std::string member = path;
-    if (k > 0) member.append(k < 10 ? "0" : "").append(std::to_string(k));
+  int k = 0;
+  for (; k < 10000; ++k) {
+    const std::string member = member_name(path, k);
     if (!std::filesystem::is_regular_file(member, ec)) {
       if (k == 0) return Status::error(path + ": no such file");
       break;
@@ -379,6 +386,28 @@ Result<Family> find_family(const std::string& path) {
     if (ec) return Status::error(member + ": " + ec.message());
     family.paths.push_back(member);
     family.sizes.push_back(size);
+  }
+  // A member after the gap means the gap is a lost file, not the family's end: reading on
+  // would silently drop every state from the gap on.
+  const std::filesystem::path first(path);
+  const std::filesystem::path folder =
+      first.has_parent_path() ? first.parent_path() : std::filesystem::path(".");
+  const std::string stem = first.filename().string();
+  // increment(ec), not ++: an unreadable folder must not throw.
+  std::error_code listing;
+  for (std::filesystem::directory_iterator it(folder, listing), end; !listing && it != end;
+       it.increment(listing)) {
+    const std::string name = it->path().filename().string();
+    if (name.size() < stem.size() + 2 || name.compare(0, stem.size(), stem) != 0) continue;
+    int64_t later = 0;
+    if (parse_integer(std::string_view(name).substr(stem.size()), 1, 9999, later) !=
+            NumberError::kNone ||
+        later <= k || member_name(stem, static_cast<int>(later)) != name)
+      continue;
+    return Status::error(member_name(path, k) + ": missing from the d3plot family (" +
+                         member_name(path, static_cast<int>(later)) +
+                         " follows it): a family must be complete, or its states from there on "
+                         "are lost");
   }
   return family;
 }

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "dynpm/io.h"
+#include "dynpm/text.h"
 
 namespace dynpm::io {
 
@@ -67,8 +68,10 @@ Result<AnimationStream> open_d3plot(const std::string& path, const ReadOptions& 
 // .pvd collections, .vtu files and legacy .vtk unstructured grids.
 Result<AnimationStream> open_vtk_series(const std::string& path, const ReadOptions& options);
 
-// "time <number>" in a header comment ("# cb5.frd frame 3: time 0.12 (frd block 3)").
-std::optional<double> time_from_comment(std::string_view comment);
+// "time <number>" in a header comment ("# cb5.frd frame 3: time 0.12 (frd block 3)"): the
+// number (a whole token, text.h's parse_real; a ',', ';' or ')' after it is punctuation), nullopt
+// without such a note, an error without a place (the caller adds it) when it is not finite.
+Result<std::optional<double>> time_from_comment(std::string_view comment);
 
 // Adds a face of n ≥ 3 corners: as is when n ≤ 4; as a fan of triangles around corner 0 when
 // options.split_polygons is set; otherwise an error naming the place.

@@ -164,13 +164,10 @@ std::optional<int64_t> to_int(std::string_view s) {
       if (i == s.size()) return s[0] == '-' ? -v : v;
     }
   }
-  if (s.empty()) return std::nullopt;
-  if (s.front() == '+') s.remove_prefix(1);
-  int64_t v = 0;
-  auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-  if (ec != std::errc() || p != s.data() + s.size()) return std::nullopt;
   // Within ±2^62, so that differences of node numbers cannot overflow.
-  if (v > (int64_t(1) << 62) || v < -(int64_t(1) << 62)) return std::nullopt;
+  int64_t v = 0;
+  if (parse_integer(s, -(int64_t(1) << 62), int64_t(1) << 62, v) != NumberError::kNone)
+    return std::nullopt;
   return v;
 }
 
@@ -215,11 +212,8 @@ std::optional<double> to_real(std::string_view s) {
   s = trim(s);
   if (s.empty()) return std::nullopt;
   if (auto v = fast_real(s)) return v;
-  if (s.front() == '+') s.remove_prefix(1);
-  double v = 0;
-  auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-  if (ec == std::errc::result_out_of_range) return 0.0;  // a denormal: as good as zero
-  if (ec != std::errc() || p != s.data() + s.size()) return std::nullopt;
+  double v = 0;  // the rule of every text reader (text.h): 1E+39 is inf, as in OBJ
+  if (parse_real(s, v) != NumberError::kNone) return std::nullopt;
   return v;
 }
 
@@ -388,13 +382,16 @@ class FrdScanner {
                       uint64_t& count) {
     const auto n = to_int(columns(line, 24, 36));
     const auto f = to_int(columns(line, 36, line.size()));
+    if (!n && !trim(columns(line, 24, 36)).empty())
+      return fail(std::string("the record count of the ") + what + " header, " +
+                  quoted_bytes(trim(columns(line, 24, 36))) + ", is not a whole number");
     if (n && *n < 0) return fail(std::string("negative record count in the ") + what + " header");
     count = n ? static_cast<uint64_t>(*n) : 0;
-    format = f ? static_cast<int>(*f) : 0;
     if (!f && line.size() > 36)
       return fail(std::string("cannot read the format flag of the ") + what + " header");
-    if (format < 0 || format > max_format)
-      return fail("unknown format flag " + std::to_string(format) + " in the " + what + " header");
+    if (f && (*f < 0 || *f > max_format))
+      return fail("unknown format flag " + std::to_string(*f) + " in the " + what + " header");
+    format = f ? static_cast<int>(*f) : 0;
     return {};
   }
 
@@ -562,16 +559,35 @@ class FrdScanner {
     ResultBlock block;
     block.value_text = std::string(trim(columns(header, 12, 24)));
     const auto time = to_real(block.value_text);
-    if (!time) return fail("cannot read the step time (columns 13-24 of the 100C line)");
+    if (!time)
+      return fail("cannot read the step time " + quoted_bytes(block.value_text) +
+                  " (columns 13-24 of the 100C line)");
+    if (!std::isfinite(*time))
+      return fail("the step time " + quoted_bytes(block.value_text) +
+                  " (columns 13-24 of the 100C line) is not a finite number");
     block.time = *time;
-    const auto n = to_int(columns(header, 24, 36));
-    if (n && *n < 0) return fail("negative node count in the 100C line");
-    block.node_count = n ? static_cast<uint64_t>(*n) : 0;
-    block.step_number = to_int(columns(header, 58, 63)).value_or(0);
-    const auto format = to_int(columns(header, 73, header.size()));
-    block.format = static_cast<int>(format.value_or(0));
-    if (block.format < 0 || block.format > 3)
-      return fail("unknown format flag " + std::to_string(block.format) + " in the 100C line");
+    // Integer fields: blank means not given; anything else must be a whole number.
+    auto field = [&](size_t a, size_t b, const char* what) -> Result<int64_t> {
+      const std::string_view text = trim(columns(header, a, b));
+      if (text.empty()) return int64_t{0};
+      const auto v = to_int(text);
+      if (!v)
+        return fail(std::string("the ") + what + " of the 100C line, " + quoted_bytes(text) +
+                    ", is not a whole number");
+      return *v;
+    };
+    const auto n = field(24, 36, "node count");
+    if (!n) return n.status();
+    if (*n < 0) return fail("negative node count in the 100C line");
+    block.node_count = static_cast<uint64_t>(*n);
+    const auto step_number = field(58, 63, "step number");
+    if (!step_number) return step_number.status();
+    block.step_number = *step_number;
+    const auto format = field(73, header.size(), "format flag");
+    if (!format) return format.status();
+    if (*format < 0 || *format > 3)
+      return fail("unknown format flag " + std::to_string(*format) + " in the 100C line");
+    block.format = static_cast<int>(*format);
     if (block.format >= 2 && header.size() < 74)
       return fail("a binary block without a format flag");
     if (block.format >= 2) binary = true;
@@ -582,7 +598,8 @@ class FrdScanner {
       if (!next(line)) return truncated("a result block header");
     } while (record_key(line) == 0 && trim(line).empty());
     if (record_key(line) != 4) return fail("expected the ' -4' record after a 100C line");
-    const std::string name(trim(columns(line, 5, 13)));
+    // Shown in messages and used as a field name: only printable characters.
+    const std::string name = printable(trim(columns(line, 5, 13)));
     const auto components = to_int(columns(line, 13, 18));
     if (!components || *components < 1 || *components > 1000)
       return fail("cannot read the component count of result block " + name);

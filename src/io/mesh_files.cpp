@@ -137,33 +137,36 @@ class FileSequence final : public FrameSource {
   ReadOptions options_;
 };
 
-// The time a step file states in its header comments, without reading the whole file.
-std::optional<double> peek_time(const std::string& path) {
+// The time a step file states in its header comments, without reading the whole file; an
+// error names the file and line of a time note that is not a finite number.
+Result<std::optional<double>> peek_time(const std::string& path) {
   auto head = io::read_file_head(path, 512);
-  if (!head) return std::nullopt;
+  if (!head) return std::optional<double>();
   std::string_view text = *head;
+  auto note = [&](size_t line, std::string_view comment) -> Result<std::optional<double>> {
+    auto t = io::time_from_comment(comment);
+    if (!t) return Status::error(path + ":" + std::to_string(line) + ": " + t.message());
+    return t;
+  };
   if (text.starts_with("# vtk DataFile")) {  // the title (second line) may say "time <t>"
     const size_t a = text.find('\n');
-    if (a == std::string_view::npos) return std::nullopt;
-    return io::time_from_comment(text.substr(a + 1, text.find('\n', a + 1) - a - 1));
+    if (a == std::string_view::npos) return std::optional<double>();
+    return note(2, text.substr(a + 1, text.find('\n', a + 1) - a - 1));
   }
-  if (text.substr(0, 3) == "ply") {
-    for (size_t at = text.find("\ncomment"); at != std::string_view::npos;
-         at = text.find("\ncomment", at + 1)) {
-      const size_t eol = text.find('\n', at + 1);
-      if (auto t = io::time_from_comment(text.substr(at + 1, eol - at - 1))) return t;
-    }
-    return std::nullopt;
-  }
-  // OBJ: comment lines before the first data line.
+  const bool ply = text.substr(0, 3) == "ply";
+  // PLY: comment lines of the header; OBJ: comment lines before the first data line.
   size_t pos = 0;
-  while (pos < text.size() && text[pos] == '#') {
-    const size_t eol = text.find('\n', pos);
-    if (auto t = io::time_from_comment(text.substr(pos, eol - pos))) return t;
-    if (eol == std::string_view::npos) break;
+  for (size_t line = 1; pos < text.size(); ++line) {
+    const size_t eol = std::min(text.find('\n', pos), text.size());
+    const std::string_view row = text.substr(pos, eol - pos);
+    if (ply ? row.starts_with("end_header") : !row.starts_with("#")) break;
+    if (!ply || row.starts_with("comment")) {
+      auto t = note(line, row);
+      if (!t || *t) return t;
+    }
     pos = eol + 1;
   }
-  return std::nullopt;
+  return std::optional<double>();
 }
 
 }  // namespace
@@ -282,8 +285,11 @@ Result<AnimationStream> open_file_sequence(std::span<const std::string> paths,
   if (times.empty()) {
     times.resize(paths.size());
     times[0] = first->time.value_or(0.0);
-    for (size_t t = 1; t < paths.size(); ++t)
-      times[t] = peek_time(paths[t]).value_or(static_cast<double>(t));
+    for (size_t t = 1; t < paths.size(); ++t) {
+      auto time = peek_time(paths[t]);
+      if (!time) return time.status();
+      times[t] = time->value_or(static_cast<double>(t));
+    }
   }
 
   AnimationStream stream;

@@ -1,9 +1,11 @@
 // Wavefront OBJ: the subset that carries FE shell meshes. Triangles and quads stay as they are;
 // `g` groups become part ids (a group named "part_12" or "12" is part 12, other names get the
 // next free number in order of appearance). Written for speed (a 1 M-face file in well under a
-// second): one pass over the bytes, std::from_chars for numbers, no per-line allocation.
+// second): one pass over the bytes, numbers by text.h's rule (std::from_chars on whole tokens),
+// no per-line allocation.
 #include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <cstring>
 #include <map>
 #include <set>
@@ -22,33 +24,46 @@ inline const char* skip_spaces(const char* p, const char* end) {
   return p;
 }
 
-inline bool parse_float(const char*& p, const char* end, float& out) {
-  p = skip_spaces(p, end);
-  if (p < end && *p == '+') ++p;  // from_chars rejects an explicit plus sign
-  auto [next, ec] = std::from_chars(p, end, out);
-  if (ec == std::errc::result_out_of_range) {
-    // Denormal or huge: take it as double, let validation judge the value.
-    double d = 0;
-    auto r = std::from_chars(p, end, d);
-    if (r.ec != std::errc()) return false;
-    out = static_cast<float>(d);
-    p = r.ptr;
-    return true;
-  }
-  if (ec != std::errc()) return false;
-  p = next;
-  return true;
+inline const char* token_end(const char* p, const char* end) {
+  while (p < end && !is_space(*p)) ++p;
+  return p;
 }
 
-// A face corner "i", "i/t", "i//n" or "i/t/n"; only i matters.
-inline bool parse_corner(const char*& p, const char* end, int64_t& index) {
-  auto [next, ec] = std::from_chars(p, end, index);
-  if (ec != std::errc()) return false;
-  p = next;
-  while (p < end && !is_space(*p)) {
-    if (*p != '/' && *p != '-' && (*p < '0' || *p > '9')) return false;
-    ++p;
+// The next blank-separated token as a coordinate (text.h: parse_real, one rule for every text
+// reader). An empty token means the line ended. The common case, a float that ends at a blank,
+// is read in one pass; anything else goes through parse_real (huge values: inf).
+inline NumberError parse_float(const char*& p, const char* end, float& out,
+                               std::string_view& token) {
+  p = skip_spaces(p, end);
+  auto [next, ec] = std::from_chars(p, end, out);
+  if (ec == std::errc() && next != p && (next == end || is_space(*next))) {
+    p = next;
+    return NumberError::kNone;
   }
+  const char* stop = token_end(p, end);
+  token = std::string_view(p, static_cast<size_t>(stop - p));
+  double value = 0;
+  const NumberError e = parse_real(token, value);
+  if (e != NumberError::kNone) return e;
+  out = static_cast<float>(value);  // past the float range: inf, which validation reports
+  p = stop;
+  return e;
+}
+
+// A face corner "i", "i/t", "i//n" or "i/t/n"; only i matters, a whole integer.
+inline bool parse_corner(const char*& p, const char* end, int64_t& index) {
+  auto [next, ec] = std::from_chars(p, end, index);  // the common case in one pass
+  if (ec != std::errc() || next == p || (next < end && !is_space(*next) && *next != '/')) {
+    const char* slash = std::find(p, token_end(p, end), '/');
+    if (parse_integer(std::string_view(p, static_cast<size_t>(slash - p)), INT64_MIN + 1, INT64_MAX,
+                      index) != NumberError::kNone)
+      return false;
+    next = slash;
+  }
+  const char* stop = token_end(next, end);
+  for (const char* q = next; q < stop; ++q)
+    if (*q != '/' && *q != '-' && *q != '+' && (*q < '0' || *q > '9')) return false;
+  p = stop;
   return true;
 }
 
@@ -88,18 +103,23 @@ class PartNames {
 
 }  // namespace
 
-std::optional<double> time_from_comment(std::string_view comment) {
+Result<std::optional<double>> time_from_comment(std::string_view comment) {
   for (size_t at = comment.find("time"); at != std::string_view::npos;
        at = comment.find("time", at + 4)) {
     const char* p = comment.data() + at + 4;
     const char* end = comment.data() + comment.size();
     if (p < end && *p == '=') ++p;
     p = skip_spaces(p, end);
+    std::string_view token(p, static_cast<size_t>(token_end(p, end) - p));
+    if (!token.empty() && (token.back() == ',' || token.back() == ';' || token.back() == ')'))
+      token.remove_suffix(1);
     double t = 0;
-    auto [next, ec] = std::from_chars(p, end, t);
-    if (ec == std::errc() && next != p) return t;
+    if (parse_real(token, t) != NumberError::kNone) continue;  // words, not a time note
+    if (!std::isfinite(t))
+      return Status::error("the time note " + quoted_bytes(token) + " is not a finite number");
+    return std::optional<double>(t);
   }
-  return std::nullopt;
+  return std::optional<double>();
 }
 
 Status add_polygon(std::span<const uint32_t> corners, int32_t part, int64_t element_id,
@@ -160,7 +180,11 @@ Result<ParsedMesh> parse_obj(std::string_view text, const std::string& path,
     auto where = [&] { return path + ":" + std::to_string(line); };
 
     if (*q == '#') {
-      if (!seen_data && !mesh.time) mesh.time = time_from_comment(std::string_view(q, eol - q));
+      if (!seen_data && !mesh.time) {
+        auto time = time_from_comment(std::string_view(q, static_cast<size_t>(eol - q)));
+        if (!time) return Status::error(where() + ": " + time.message());
+        mesh.time = *time;
+      }
       continue;
     }
     const char* kw_end = q;
@@ -171,9 +195,14 @@ Result<ParsedMesh> parse_obj(std::string_view text, const std::string& path,
     if (keyword == "v") {
       seen_data = true;
       float xyz[3];
-      for (float& c : xyz)
-        if (!parse_float(q, eol, c))
+      for (float& c : xyz) {
+        std::string_view token;
+        if (parse_float(q, eol, c, token) == NumberError::kNone) continue;
+        if (token.empty())
           return Status::error(where() + ": a vertex needs three numbers (v x y z)");
+        return Status::error(where() + ": vertex coordinate " + quoted_bytes(token) +
+                             " is not a number");
+      }
       mesh.positions.insert(mesh.positions.end(), xyz, xyz + 3);
     } else if (keyword == "f") {
       seen_data = true;
@@ -181,7 +210,10 @@ Result<ParsedMesh> parse_obj(std::string_view text, const std::string& path,
       for (q = skip_spaces(q, eol); q < eol; q = skip_spaces(q, eol)) {
         int64_t index = 0;
         if (!parse_corner(q, eol, index))
-          return Status::error(where() + ": a face corner must be i, i/t, i//n or i/t/n");
+          return Status::error(
+              where() + ": face corner " +
+              quoted_bytes(std::string_view(q, static_cast<size_t>(token_end(q, eol) - q))) +
+              " is not i, i/t, i//n or i/t/n (whole numbers)");
         raw.push_back(index);
       }
       const int64_t vertex_count = static_cast<int64_t>(mesh.positions.size() / 3);
@@ -218,8 +250,8 @@ Result<ParsedMesh> parse_obj(std::string_view text, const std::string& path,
       if (is_binary_garbage(line_start, eol))
         return Status::error(where() + ": binary data in a text OBJ file");
       if (ignored.insert(std::string(keyword)).second && options.warn)
-        options.warn(where() + ": OBJ statement '" + std::string(keyword) +
-                     "' ignored (only v, f and g carry a shell mesh)");
+        options.warn(where() + ": OBJ statement " + quoted_bytes(keyword) +
+                     " ignored (only v, f and g carry a shell mesh)");
     }
   }
 

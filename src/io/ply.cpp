@@ -51,6 +51,33 @@ size_t size_of(ScalarType t) {
   return 1;
 }
 
+// The values an integer type holds (ascii files must keep to them as binary ones do).
+std::pair<int64_t, int64_t> integer_range(ScalarType t) {
+  switch (t) {
+    case ScalarType::kInt8: return {INT8_MIN, INT8_MAX};
+    case ScalarType::kUInt8: return {0, UINT8_MAX};
+    case ScalarType::kInt16: return {INT16_MIN, INT16_MAX};
+    case ScalarType::kUInt16: return {0, UINT16_MAX};
+    case ScalarType::kInt32: return {INT32_MIN, INT32_MAX};
+    case ScalarType::kUInt32: return {0, UINT32_MAX};
+    default: return {INT64_MIN, INT64_MAX};
+  }
+}
+
+const char* type_name(ScalarType t) {
+  switch (t) {
+    case ScalarType::kInt8: return "char";
+    case ScalarType::kUInt8: return "uchar";
+    case ScalarType::kInt16: return "short";
+    case ScalarType::kUInt16: return "ushort";
+    case ScalarType::kInt32: return "int";
+    case ScalarType::kUInt32: return "uint";
+    case ScalarType::kFloat32: return "float";
+    case ScalarType::kFloat64: return "double";
+  }
+  return "?";
+}
+
 struct Property {
   std::string name;
   ScalarType type = ScalarType::kFloat32;
@@ -71,7 +98,7 @@ class BodyReader {
       : body_(body), offset_(body_offset), encoding_(encoding), path_(path) {}
 
   bool read(ScalarType type, double& out) {
-    if (encoding_ == Encoding::kAscii) return read_ascii(out);
+    if (encoding_ == Encoding::kAscii) return read_ascii(type, out);
     const size_t n = size_of(type);
     if (pos_ + n > body_.size()) return fail("the file ends inside the data (truncated)");
     unsigned char b[8];
@@ -152,18 +179,36 @@ class BodyReader {
   const std::string& error() const { return error_; }
 
  private:
-  bool read_ascii(double& out) {
+  // One token, by the rule of every text reader (text.h): a whole number; an integer property
+  // takes a whole integer within its type, as its binary form could hold.
+  bool read_ascii(ScalarType type, double& out) {
     while (pos_ < body_.size() &&
            (body_[pos_] == ' ' || body_[pos_] == '\t' || body_[pos_] == '\r'))
       ++pos_;
     if (pos_ >= body_.size()) return fail("the file ends inside the data (truncated)");
     if (body_[pos_] == '\n') return fail("fewer values on this line than the header declares");
-    const char* p = body_.data() + pos_;
-    const char* end = body_.data() + body_.size();
-    if (*p == '+') ++p;
-    auto [next, ec] = std::from_chars(p, end, out);
-    if (ec != std::errc()) return fail("not a number");
-    pos_ = static_cast<size_t>(next - body_.data());
+    size_t stop = pos_;
+    while (stop < body_.size() && body_[stop] != ' ' && body_[stop] != '\t' &&
+           body_[stop] != '\r' && body_[stop] != '\n')
+      ++stop;
+    const std::string_view token = body_.substr(pos_, stop - pos_);
+    NumberError e = NumberError::kNone;
+    if (type == ScalarType::kFloat32 || type == ScalarType::kFloat64) {
+      e = parse_real(token, out);
+    } else {
+      const auto [lo, hi] = integer_range(type);
+      int64_t v = 0;
+      e = parse_integer(token, lo, hi, v);
+      out = static_cast<double>(v);
+    }
+    if (e == NumberError::kNotANumber)
+      return fail(quoted_bytes(token) + " is not " +
+                  (type == ScalarType::kFloat32 || type == ScalarType::kFloat64
+                       ? "a number"
+                       : "a whole number"));
+    if (e == NumberError::kOutOfRange)
+      return fail(quoted_bytes(token) + " is out of the range of its type " + type_name(type));
+    pos_ = stop;
     return true;
   }
   bool fail(const std::string& cause) {
@@ -218,7 +263,11 @@ Result<Header> parse_header(std::string_view bytes, const std::string& path) {
     }
     if (words.empty()) continue;
     if (words[0] == "comment" || words[0] == "obj_info") {
-      if (!header.time) header.time = time_from_comment(text);
+      if (!header.time) {
+        auto time = time_from_comment(text);
+        if (!time) return Status::error(where + ": " + time.message());
+        header.time = *time;
+      }
     } else if (words[0] == "format") {
       if (words.size() < 2) return Status::error(where + ": 'format' without an encoding");
       if (words[1] == "ascii")
@@ -228,14 +277,17 @@ Result<Header> parse_header(std::string_view bytes, const std::string& path) {
       else if (words[1] == "binary_big_endian")
         header.encoding = Encoding::kBinaryBig;
       else
-        return Status::error(where + ": unknown PLY format '" + std::string(words[1]) + "'");
+        return Status::error(where + ": unknown PLY format " + quoted_bytes(words[1]));
       saw_format = true;
     } else if (words[0] == "element") {
       uint64_t count = 0;
-      if (words.size() != 3 ||
-          std::from_chars(words[2].data(), words[2].data() + words[2].size(), count).ec !=
-              std::errc())
-        return Status::error(where + ": expected 'element <name> <count>'");
+      if (words.size() != 3) return Status::error(where + ": expected 'element <name> <count>'");
+      const NumberError e = parse_count(words[2], count);
+      if (e != NumberError::kNone)
+        return Status::error(
+            where + ": the count of element " + quoted_bytes(words[1]) + ", " +
+            quoted_bytes(words[2]) +
+            (e == NumberError::kOutOfRange ? ", is out of range" : ", is not a whole number"));
       header.elements.push_back({std::string(words[1]), count, {}});
     } else if (words[0] == "property") {
       if (header.elements.empty())
@@ -250,7 +302,7 @@ Result<Header> parse_header(std::string_view bytes, const std::string& path) {
       } else if (words.size() == 3) {
         auto type = scalar_type(words[1]);
         if (!type)
-          return Status::error(where + ": unknown property type '" + std::string(words[1]) + "'");
+          return Status::error(where + ": unknown property type " + quoted_bytes(words[1]));
         property = {std::string(words[2]), *type, false, ScalarType::kUInt8};
       } else {
         return Status::error(where +
@@ -261,7 +313,7 @@ Result<Header> parse_header(std::string_view bytes, const std::string& path) {
     } else if (words[0] == "end_header") {
       break;
     } else {
-      return Status::error(where + ": unknown header line '" + std::string(text) + "'");
+      return Status::error(where + ": unknown header line " + quoted_bytes(text));
     }
   }
   if (!saw_format) return Status::error(path + ": the header has no 'format' line");
@@ -301,9 +353,9 @@ Result<ParsedMesh> parse_ply(std::string_view bytes, const std::string& path,
         min_record +=
             header->encoding == Encoding::kAscii ? 2 : size_of(p.is_list ? p.count_type : p.type);
       if (min_record > 0 && e.count > reader.remaining() / min_record)
-        return Status::error(path + ": element '" + e.name + "' claims " + std::to_string(e.count) +
-                             " records, more than the " + std::to_string(reader.remaining()) +
-                             " bytes left can hold");
+        return Status::error(path + ": element " + quoted_bytes(e.name) + " claims " +
+                             std::to_string(e.count) + " records, more than the " +
+                             std::to_string(reader.remaining()) + " bytes left can hold");
       return {};
     };
     const bool is_vertex = element.name == "vertex";

@@ -8,6 +8,7 @@
 #include <bit>
 #include <cctype>
 #include <charconv>
+#include <cmath>
 #include <cstring>
 
 #include "vtk_read.h"
@@ -38,6 +39,20 @@ size_t size_of(Type t) {
     case Type::kInt32:
     case Type::kFloat: return 4;
     default: return 8;
+  }
+}
+
+// The values an integer type holds (ascii files must keep to them as binary ones do).
+std::pair<int64_t, int64_t> integer_range(Type t) {
+  switch (t) {
+    case Type::kUInt8: return {0, UINT8_MAX};
+    case Type::kInt8: return {INT8_MIN, INT8_MAX};
+    case Type::kUInt16: return {0, UINT16_MAX};
+    case Type::kInt16: return {INT16_MIN, INT16_MAX};
+    case Type::kUInt32: return {0, UINT32_MAX};
+    case Type::kInt32: return {INT32_MIN, INT32_MAX};
+    case Type::kUInt64: return {0, INT64_MAX};
+    default: return {INT64_MIN, INT64_MAX};
   }
 }
 
@@ -194,20 +209,29 @@ class Reader {
       if (pos_ >= bytes_.size())
         return fail("the file ends after " + std::to_string(i) + " of " + std::to_string(count) +
                     " values (truncated?)");
-      const char* p = bytes_.data() + pos_;
-      const char* end = bytes_.data() + bytes_.size();
-      if (*p == '+') ++p;
+      size_t stop = pos_;
+      while (stop < bytes_.size() && !std::isspace(static_cast<unsigned char>(bytes_[stop])))
+        ++stop;
+      const std::string_view token = bytes_.substr(pos_, stop - pos_);
+      // The rule of every text reader (text.h): a whole number; an integer type takes whole
+      // integers within its range, as its binary form could hold.
       double v = 0;
-      auto [next, ec] = std::from_chars(p, end, v);
-      if (ec == std::errc::result_out_of_range) {
-        v = 0;  // a denormal
-      } else if (ec != std::errc() ||
-                 (next < end && !std::isspace(static_cast<unsigned char>(*next)))) {
-        return fail("not a number: '" +
-                    std::string(bytes_.substr(pos_, std::min<size_t>(20, bytes_.size() - pos_))) +
-                    "' (value " + std::to_string(i + 1) + " of " + std::to_string(count) + ")");
+      NumberError e = NumberError::kNone;
+      if (type == Type::kFloat || type == Type::kDouble) {
+        e = parse_real(token, v);
+      } else {
+        const auto [lo, hi] = integer_range(type);
+        int64_t n = 0;
+        e = parse_integer(token, lo, hi, n);
+        v = static_cast<double>(n);
       }
-      pos_ = static_cast<size_t>(next - bytes_.data());
+      if (e != NumberError::kNone)
+        return fail("value " + std::to_string(i + 1) + " of " + std::to_string(count) + ", " +
+                    quoted_bytes(token) + ", " +
+                    (e == NumberError::kOutOfRange ? "is out of the range of its type"
+                     : type == Type::kFloat || type == Type::kDouble ? "is not a number"
+                                                                     : "is not a whole number"));
+      pos_ = stop;
       out.push_back(v);
     }
     return {};
@@ -231,18 +255,25 @@ class Reader {
 
 Result<uint64_t> count_word(Reader& r, const std::vector<std::string_view>& w, size_t i,
                             const char* what) {
+  if (i >= w.size())
+    return r.fail_at_keyword(std::string("expected ") + what + " after " + quoted_bytes(w[0]));
   uint64_t n = 0;
-  if (i >= w.size() ||
-      std::from_chars(w[i].data(), w[i].data() + w[i].size(), n).ptr != w[i].data() + w[i].size())
-    return r.fail(std::string("expected ") + what + " after " + std::string(w[0]));
+  const NumberError e = parse_count(w[i], n);
+  if (e == NumberError::kOutOfRange)
+    return r.fail_at_keyword(std::string(what) + " " + quoted_bytes(w[i]) + " after " +
+                             quoted_bytes(w[0]) + " is out of range");
+  if (e != NumberError::kNone)
+    return r.fail_at_keyword(std::string("expected ") + what + " after " + quoted_bytes(w[0]) +
+                             ", found " + quoted_bytes(w[i]));
   return n;
 }
 
 Result<Type> type_word(Reader& r, const std::vector<std::string_view>& w, size_t i) {
-  if (i >= w.size()) return r.fail("expected a data type after " + std::string(w[0]));
+  if (i >= w.size()) return r.fail_at_keyword("expected a data type after " + quoted_bytes(w[0]));
   auto t = data_type(w[i]);
   if (!t)
-    return r.fail("unsupported data type '" + std::string(w[i]) + "' in " + std::string(w[0]));
+    return r.fail_at_keyword("unsupported data type " + quoted_bytes(w[i]) + " in " +
+                             quoted_bytes(w[0]));
   return *t;
 }
 
@@ -273,7 +304,7 @@ Status read_cell_list(Reader& r, const std::vector<std::string_view>& w, CellLis
     DYNPM_RETURN_IF_ERROR(r.values(*ot, *n, cells.offsets));
     auto cw = r.words();
     if (cw.empty() || upper(cw[0]) != "CONNECTIVITY")
-      return r.fail("expected CONNECTIVITY after the OFFSETS of " + std::string(w[0]));
+      return r.fail("expected CONNECTIVITY after the OFFSETS of " + quoted_bytes(w[0]));
     auto ct = type_word(r, cw, 1);
     if (!ct) return ct.status();
     DYNPM_RETURN_IF_ERROR(r.values(*ct, *size, cells.points));
@@ -322,19 +353,21 @@ Result<ParsedMesh> parse_vtk(std::string_view bytes, const std::string& path,
   if (!r.raw_line(line)) return r.fail("the file ends in the header");
   const std::string encoding = upper(std::string(line.substr(0, line.find_last_not_of(" \t") + 1)));
   if (encoding != "ASCII" && encoding != "BINARY")
-    return Status::error(path + ":3: expected ASCII or BINARY, found '" + std::string(line) + "'");
+    return Status::error(path + ":3: expected ASCII or BINARY, found " + quoted_bytes(line));
 
   ParsedMesh mesh;
   mesh.places_are_lines = encoding == "ASCII";
-  mesh.time = time_from_comment(title);
+  auto title_time = time_from_comment(title);
+  if (!title_time) return Status::error(path + ":2: " + title_time.message());
+  mesh.time = *title_time;
 
   auto w = r.words();
   if (w.size() < 2 || upper(w[0]) != "DATASET")
     return r.fail("expected 'DATASET POLYDATA' or 'DATASET UNSTRUCTURED_GRID'");
   const std::string dataset = upper(w[1]);
   if (dataset != "POLYDATA" && dataset != "UNSTRUCTURED_GRID")
-    return r.fail("DATASET " + std::string(w[1]) +
-                  " is not a surface mesh; dynpm reads POLYDATA and UNSTRUCTURED_GRID");
+    return r.fail_at_keyword("DATASET " + quoted_bytes(w[1]) +
+                             " is not a surface mesh; dynpm reads POLYDATA and UNSTRUCTURED_GRID");
   r.set_binary(encoding == "BINARY");
 
   std::vector<double> points;
@@ -412,7 +445,7 @@ Result<ParsedMesh> parse_vtk(std::string_view bytes, const std::string& path,
       if (r.binary() || upper(r.peek_word()) == "LOOKUP_TABLE") {
         auto lw = r.words();
         if (lw.empty() || upper(lw[0]) != "LOOKUP_TABLE")
-          return r.fail("expected LOOKUP_TABLE after SCALARS " + std::string(w[1]));
+          return r.fail("expected LOOKUP_TABLE after SCALARS " + quoted_bytes(w[1]));
       }
       DYNPM_RETURN_IF_ERROR(attribute(w[1], *t, components));
     } else if (key == "VECTORS" || key == "NORMALS" || key == "TENSORS" || key == "TENSORS6" ||
@@ -470,7 +503,7 @@ Result<ParsedMesh> parse_vtk(std::string_view bytes, const std::string& path,
         target->push_back(std::move(a));
       }
     } else {
-      return r.fail("unexpected keyword '" + std::string(w[0]) + "'");
+      return r.fail_at_keyword("unexpected keyword " + quoted_bytes(w[0]));
     }
   }
   if (!have_points) return Status::error(path + ": no POINTS");
@@ -483,8 +516,12 @@ Result<ParsedMesh> parse_vtk(std::string_view bytes, const std::string& path,
   std::vector<double>().swap(points);
 
   for (const vtk::Array& a : dataset_arrays)
-    if ((a.name == "TIME" || a.name == "TimeValue") && a.values.size() == 1)
+    if ((a.name == "TIME" || a.name == "TimeValue") && a.values.size() == 1) {
+      if (!std::isfinite(a.values[0]))
+        return Status::error(path + ": the FIELD array " + a.name + " holds the time " +
+                             vtk::number_text(a.values[0]) + ", not a finite number");
       mesh.time = a.values[0];
+    }
 
   vtk::CellSink sink(mesh, n_points, path, options);
   auto cell_points = [](const CellList& list, uint64_t c) {

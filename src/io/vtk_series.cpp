@@ -178,7 +178,8 @@ void apply_cell_data(const std::vector<Array>& arrays, uint64_t cell_count,
     const double hi = part ? INT32_MAX : 9.007199254740992e15;
     if (!all_integral(a.values, lo, hi)) {
       if (options.warn)
-        options.warn(path + ": cell data '" + a.name + "' holds non-integer values; not used as " +
+        options.warn(path + ": cell data " + quoted_bytes(a.name) +
+                     " holds non-integer values; not used as " +
                      (part ? "part ids" : "element numbers"));
       continue;
     }
@@ -208,7 +209,7 @@ void apply_point_data(std::vector<Array>& arrays, const std::string& path,
       continue;
     }
     if (a.components != 1) {
-      ignored += (ignored.empty() ? "" : ", ") + a.name;
+      ignored += (ignored.empty() ? "" : ", ") + quoted_bytes(a.name);
       continue;
     }
     PointField field;

@@ -9,6 +9,7 @@
 #include <bit>
 #include <cctype>
 #include <charconv>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 
@@ -182,6 +183,20 @@ std::optional<Type> xml_type(std::string_view name) {
   return std::nullopt;
 }
 
+// The values an integer type holds (ascii data must keep to them as binary data do).
+std::pair<int64_t, int64_t> integer_range(Type t) {
+  switch (t) {
+    case Type::kInt8: return {INT8_MIN, INT8_MAX};
+    case Type::kUInt8: return {0, UINT8_MAX};
+    case Type::kInt16: return {INT16_MIN, INT16_MAX};
+    case Type::kUInt16: return {0, UINT16_MAX};
+    case Type::kInt32: return {INT32_MIN, INT32_MAX};
+    case Type::kUInt32: return {0, UINT32_MAX};
+    case Type::kUInt64: return {0, INT64_MAX};
+    default: return {INT64_MIN, INT64_MAX};
+  }
+}
+
 size_t size_of(Type t) {
   switch (t) {
     case Type::kInt8:
@@ -285,7 +300,7 @@ class Decoder {
   // The array's values, exactly `count` of them (tuples × components), as doubles.
   Result<std::vector<double>> values(const ArrayRef& a, uint64_t count) {
     const std::string where =
-        f_.path + ": byte " + std::to_string(a.content_at) + ": DataArray '" + a.name + "'";
+        f_.path + ": byte " + std::to_string(a.content_at) + ": DataArray " + quoted_bytes(a.name);
     std::vector<double> out;
     if (a.format == "ascii") {
       if (count > a.content.size() / 2 + 1)
@@ -297,20 +312,33 @@ class Decoder {
       while (true) {
         while (p < end && std::isspace(static_cast<unsigned char>(*p))) ++p;
         if (p == end) break;
-        if (*p == '+') ++p;
+        const char* stop = p;
+        while (stop < end && !std::isspace(static_cast<unsigned char>(*stop))) ++stop;
+        const std::string_view token(p, static_cast<size_t>(stop - p));
+        // The rule of every text reader (text.h): a whole number; an integer type takes whole
+        // integers within its range, as its binary form could hold.
         double v = 0;
-        auto [next, ec] = std::from_chars(p, end, v);
-        if (ec == std::errc::result_out_of_range)
-          v = 0;
-        else if (ec != std::errc() ||
-                 (next < end && !std::isspace(static_cast<unsigned char>(*next))))
-          return Status::error(where + ": value " + std::to_string(out.size() + 1) +
-                               " is not a number");
+        NumberError e = NumberError::kNone;
+        if (a.type == Type::kFloat32 || a.type == Type::kFloat64) {
+          e = parse_real(token, v);
+        } else {
+          const auto [lo, hi] = integer_range(a.type);
+          int64_t n = 0;
+          e = parse_integer(token, lo, hi, n);
+          v = static_cast<double>(n);
+        }
+        if (e != NumberError::kNone)
+          return Status::error(where + ": value " + std::to_string(out.size() + 1) + ", " +
+                               quoted_bytes(token) + ", " +
+                               (e == NumberError::kOutOfRange ? "is out of the range of its type"
+                                : a.type == Type::kFloat32 || a.type == Type::kFloat64
+                                    ? "is not a number"
+                                    : "is not a whole number"));
         if (out.size() == count)
           return Status::error(where + ": more than the " + std::to_string(count) +
                                " values expected");
         out.push_back(v);
-        p = next;
+        p = stop;
       }
       if (out.size() != count)
         return Status::error(where + ": " + std::to_string(out.size()) + " values, expected " +
@@ -333,7 +361,7 @@ class Decoder {
       if (!payload) return payload.status();
       bytes = std::move(payload).value();
     } else {
-      return Status::error(where + ": unknown format '" + a.format + "'");
+      return Status::error(where + ": unknown format " + quoted_bytes(a.format));
     }
     out.resize(count);
     const auto* p = reinterpret_cast<const unsigned char*>(bytes.data());
@@ -490,17 +518,22 @@ Result<ParsedMesh> parse_vtu(std::string_view bytes, const std::string& path,
   };
   auto count_attribute = [&](const Tag& t, std::string_view key) -> Result<uint64_t> {
     auto v = attribute(t, key);
+    if (!v) return fail_at(t.begin, std::string(t.name) + " needs a number in " + std::string(key));
     uint64_t n = 0;
-    if (!v || std::from_chars(v->data(), v->data() + v->size(), n).ptr != v->data() + v->size())
-      return fail_at(t.begin, std::string(t.name) + " needs a number in " + std::string(key));
+    const NumberError e = parse_count(*v, n);
+    if (e != NumberError::kNone)
+      return fail_at(
+          t.begin,
+          std::string(t.name) + " " + std::string(key) + "=" + quoted_bytes(*v) +
+              (e == NumberError::kOutOfRange ? " is out of range" : " is not a whole number"));
     return n;
   };
 
   while (xml.next(tag)) {
     if (tag.closing) {
       if (stack.empty() || stack.back() != tag.name)
-        return fail_at(tag.begin, "</" + std::string(tag.name) + "> does not close <" +
-                                      (stack.empty() ? "" : std::string(stack.back())) + ">");
+        return fail_at(tag.begin, "</" + printable(tag.name) + "> does not close <" +
+                                      (stack.empty() ? "" : printable(stack.back())) + ">");
       stack.pop_back();
       continue;
     }
@@ -509,18 +542,18 @@ Result<ParsedMesh> parse_vtu(std::string_view bytes, const std::string& path,
       saw_file = true;
       const auto type = attribute(tag, "type");
       if (type != "UnstructuredGrid")
-        return fail_at(tag.begin, "a VTK XML file of type '" + type.value_or("") +
-                                      "'; dynpm reads UnstructuredGrid (.vtu)");
+        return fail_at(tag.begin, "a VTK XML file of type " + quoted_bytes(type.value_or("")) +
+                                      "; dynpm reads UnstructuredGrid (.vtu)");
       const std::string order = attribute(tag, "byte_order").value_or("LittleEndian");
       file.swap = (order == "BigEndian") != (std::endian::native == std::endian::big);
       const std::string header = attribute(tag, "header_type").value_or("UInt32");
       if (header != "UInt32" && header != "UInt64")
-        return fail_at(tag.begin, "unsupported header_type '" + header + "'");
+        return fail_at(tag.begin, "unsupported header_type " + quoted_bytes(header));
       file.header_size = header == "UInt64" ? 8 : 4;
       if (auto c = attribute(tag, "compressor")) {
         if (*c != "vtkZLibDataCompressor")
-          return fail_at(tag.begin, "compressor '" + *c +
-                                        "' is not supported (dynpm reads zlib-compressed and "
+          return fail_at(tag.begin, "compressor " + quoted_bytes(*c) +
+                                        " is not supported (dynpm reads zlib-compressed and "
                                         "uncompressed VTU files)");
         file.compressed = true;
       }
@@ -540,7 +573,8 @@ Result<ParsedMesh> parse_vtu(std::string_view bytes, const std::string& path,
       const std::string type = attribute(tag, "type").value_or("");
       const auto t = xml_type(type);
       if (!t)
-        return fail_at(tag.begin, "DataArray '" + a.name + "' has unsupported type '" + type + "'");
+        return fail_at(tag.begin, "DataArray " + quoted_bytes(a.name) + " has unsupported type " +
+                                      quoted_bytes(type));
       a.type = *t;
       if (auto c = attribute(tag, "NumberOfComponents")) {
         auto n = count_attribute(tag, "NumberOfComponents");
@@ -581,7 +615,8 @@ Result<ParsedMesh> parse_vtu(std::string_view bytes, const std::string& path,
     } else if (tag.name == "AppendedData") {
       const std::string encoding = attribute(tag, "encoding").value_or("raw");
       if (encoding != "raw" && encoding != "base64")
-        return fail_at(tag.begin, "AppendedData encoding '" + encoding + "' is not supported");
+        return fail_at(tag.begin,
+                       "AppendedData encoding " + quoted_bytes(encoding) + " is not supported");
       file.appended_base64 = encoding == "base64";
       const size_t mark = bytes.find('_', tag.end);
       if (mark == std::string_view::npos) return fail_at(tag.begin, "AppendedData without '_'");
@@ -613,7 +648,12 @@ Result<ParsedMesh> parse_vtu(std::string_view bytes, const std::string& path,
   for (const ArrayRef& a : field_arrays)
     if (a.name == "TimeValue" || a.name == "TIME") {
       auto t = decode.values(a, 1);
-      if (t) mesh.time = (*t)[0];
+      if (!t) return t.status();
+      if (!std::isfinite((*t)[0]))
+        return Status::error(path + ": byte " + std::to_string(a.content_at) + ": FieldData " +
+                             a.name + " holds the time " + vtk::number_text((*t)[0]) +
+                             ", not a finite number");
+      mesh.time = (*t)[0];
     }
 
   vtk::CellSink sink(mesh, n_points, path, options);
@@ -681,14 +721,21 @@ Result<std::vector<PvdStep>> parse_pvd(std::string_view bytes, const std::string
       if (!file || file->empty())
         return Status::error(path + ": byte " + std::to_string(tag.begin) +
                              ": a DataSet without a file attribute");
+      // The name goes into messages as it is: no control characters (escape sequences).
+      if (std::any_of(file->begin(), file->end(),
+                      [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; }))
+        return Status::error(path + ": byte " + std::to_string(tag.begin) + ": DataSet file " +
+                             quoted_bytes(*file) + " holds control characters");
       PvdStep step;
       std::filesystem::path p(*file);
       step.path = (p.is_absolute() || folder.empty() ? p : folder / p).string();
       const std::string t = attribute(tag, "timestep").value_or(std::to_string(steps.size()));
-      auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), step.time);
-      if (ec != std::errc() || end != t.data() + t.size())
-        return Status::error(path + ": byte " + std::to_string(tag.begin) + ": timestep '" + t +
-                             "' is not a number");
+      if (parse_real(t, step.time) != NumberError::kNone)
+        return Status::error(path + ": byte " + std::to_string(tag.begin) + ": timestep " +
+                             quoted_bytes(t) + " is not a number");
+      if (!std::isfinite(step.time))
+        return Status::error(path + ": byte " + std::to_string(tag.begin) + ": timestep " +
+                             quoted_bytes(t) + " is not a finite number");
       const std::string part = attribute(tag, "part").value_or("0");
       if (std::find(parts.begin(), parts.end(), part) == parts.end()) parts.push_back(part);
       steps.push_back(std::move(step));

@@ -58,20 +58,62 @@ def binary_vtk(vertices, faces):
     return s + b"\n"
 
 
-def frd(steps):
-    """CalculiX .frd (ascii, short format): the grid as nodes 1-9 and S4 elements 1-4."""
+def ascii_ply(vertices, faces, element_face=None, extra_header=""):
+    """Ascii PLY of the grid; element_face replaces the face count's text."""
+    return ("ply\nformat ascii 1.0\n" + extra_header
+            + f"element vertex {len(vertices)}\nproperty float x\nproperty float y\n"
+            f"property float z\nelement face {element_face or len(faces)}\n"
+            "property list uchar int vertex_indices\nend_header\n"
+            + "".join(f"{x:g} {y:g} {z:g}\n" for x, y, z in vertices)
+            + "".join(f"{len(f)} " + " ".join(map(str, f)) + "\n" for f in faces))
+
+
+def ascii_vtk(coordinates, faces, keyword="POLYGONS"):
+    """Legacy ascii VTK of the grid; coordinates are the points' text, one 'x y z' per point."""
+    size = sum(len(f) + 1 for f in faces)
+    return ("# vtk DataFile Version 3.0\nthe 2 x 2 quad grid\nASCII\nDATASET POLYDATA\n"
+            f"POINTS {len(coordinates)} float\n" + "".join(c + "\n" for c in coordinates)
+            + f"{keyword} {len(faces)} {size}\n"
+            + "".join(f"{len(f)} " + " ".join(map(str, f)) + "\n" for f in faces))
+
+
+def ascii_vtu(coordinates, faces):
+    """VTK XML UnstructuredGrid, ascii DataArrays; coordinates as text, one 'x y z' each."""
+    offsets, at = [], 0
+    for f in faces:
+        at += len(f)
+        offsets.append(at)
+    return ('<?xml version="1.0"?>\n<VTKFile type="UnstructuredGrid" version="1.0">\n'
+            f'<UnstructuredGrid><Piece NumberOfPoints="{len(coordinates)}" '
+            f'NumberOfCells="{len(faces)}">\n<Points>\n'
+            '<DataArray type="Float32" NumberOfComponents="3" format="ascii">\n'
+            + "\n".join(coordinates) + "\n</DataArray>\n</Points>\n<Cells>\n"
+            '<DataArray type="Int32" Name="connectivity" format="ascii">\n'
+            + " ".join(str(c) for f in faces for c in f) + "\n</DataArray>\n"
+            '<DataArray type="Int32" Name="offsets" format="ascii">\n'
+            + " ".join(map(str, offsets)) + "\n</DataArray>\n"
+            '<DataArray type="UInt8" Name="types" format="ascii">\n'
+            + " ".join("9" if len(f) == 4 else "5" for f in faces) + "\n</DataArray>\n"
+            "</Cells>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n")
+
+
+def frd(steps, node_x=None, time_text=None):
+    """CalculiX .frd (ascii, short format): the grid as nodes 1-9 and S4 elements 1-4.
+    node_x: {node index: 12-column text} replaces x coordinates; time_text: step 1's time."""
     e12 = lambda v: f"{v:12.5E}"
     s = "    1C\n    1UUSER\n"
     s += "    2C" + " " * 18 + f"{len(GRID_V):12d}" + " " * 37 + "0\n"
     for n, (x, y, z) in enumerate(GRID_V):
-        s += f" -1{n + 1:5d}" + e12(x) + e12(y) + e12(z) + "\n"
+        xt = (node_x or {}).get(n, e12(x))
+        s += f" -1{n + 1:5d}" + xt + e12(y) + e12(z) + "\n"
     s += " -3\n"
     s += "    3C" + " " * 18 + f"{len(GRID_F):12d}" + " " * 37 + "0\n"
     for e, f in enumerate(GRID_F):
         s += f" -1{e + 1:5d}{9:5d}{0:5d}{1:5d}\n -2" + "".join(f"{c + 1:5d}" for c in f) + "\n"
     s += " -3\n"
     for step in range(1, steps + 1):
-        s += (f"  100CL  1{step:2d}" + e12(0.5 * step) + f"{len(GRID_V):12d}" + " " * 20
+        t = time_text if time_text and step == 1 else e12(0.5 * step)
+        s += (f"  100CL  1{step:2d}" + t + f"{len(GRID_V):12d}" + " " * 20
               + f"{0:2d}{step:5d}" + " " * 10 + " 0\n")
         s += " -4  DISP        4    1\n"
         for c, name in enumerate(["D1", "D2", "D3"]):
@@ -139,6 +181,34 @@ def main():
         fins += [(1.0, dx, dz), (0.0, dx, dz)]
         fin_faces.append((0, 1, 2 + 2 * k, 3 + 2 * k))
     write("five-faces-on-an-edge.obj", obj(fins, fin_faces, "five quads share the edge 1-2"))
+
+    # Numbers: one rule for every text reader (a whole token; integers within their type;
+    # beyond the double range ±inf, as 1e39 is beyond the float range).
+    faces_ply = GRID_F
+    write("count-with-junk.ply", ascii_ply(GRID_V, faces_ply, element_face="2x"))
+    write("junk-after-number.obj",
+          obj(GRID_V, GRID_F).replace("v 1 1 0\n", "v 1 1 0x\n"))
+    grid_text = [f"{x:g} {y:g} {z:g}" for x, y, z in GRID_V]
+    huge = grid_text[:4] + ["1e400 1 0"] + grid_text[5:]
+    write("overflow.obj", obj(GRID_V, GRID_F).replace("v 1 1 0\n", "v 1e400 1 0\n"))
+    write("overflow.vtk", ascii_vtk(huge, GRID_F))
+    write("overflow.vtu", ascii_vtu(huge, GRID_F))
+    write("overflow.frd", frd(1, node_x={4: "      1E+400"}))
+    # Times must be finite.
+    write("time-nan.obj", obj(GRID_V, GRID_F, "time nan"))
+    write("time-nan.frd", frd(2, time_text="         NaN"))
+    write("pvd-timestep-nan/step_0.vtu", ascii_vtu(grid_text, GRID_F))
+    write("pvd-timestep-nan/step_1.vtu", ascii_vtu(grid_text, GRID_F))
+    write("pvd-timestep-nan/run.pvd",
+          '<?xml version="1.0"?>\n<VTKFile type="Collection" version="0.1">\n<Collection>\n'
+          '<DataSet timestep="0" file="step_0.vtu"/>\n'
+          '<DataSet timestep="nan" file="step_1.vtu"/>\n</Collection>\n</VTKFile>\n')
+    # Bytes from the file in messages: escaped, and at most 80 of them.
+    write("escape-in-header.ply",
+          ascii_ply(GRID_V, GRID_F, extra_header="\x1b]0;owned\x07\x1b[2J\n"))
+    write("nul-in-keyword.vtk", ascii_vtk(grid_text, GRID_F, keyword="POLY\0GONS"))
+    write("long-statement.obj",
+          obj(GRID_V, GRID_F) + "x" * 4096 + " a statement 4 KB long\n")
 
     # .dpm: built from the grid, then broken.
     if dynpm:

@@ -1,0 +1,118 @@
+// The number rule of the text readers and the rendering of file bytes in messages (text.h).
+#include <algorithm>
+#include <charconv>
+#include <limits>
+
+#include "dynpm/text.h"
+
+namespace dynpm {
+namespace {
+
+bool is_digit(char c) { return c >= '0' && c <= '9'; }
+
+// For a token std::from_chars found out of the double range: true when it is too large (its
+// leading digit's decimal exponent is positive), false when too small. The mantissa's digits and
+// the exponent give that exponent; out of range means it is beyond ±300, so its sign decides.
+bool overflows(std::string_view s) {
+  size_t i = s.empty() || (s[0] != '-' && s[0] != '+') ? 0 : 1;
+  int64_t lead = 0;  // decimal exponent of the first non-zero digit, before the 'e' part
+  bool seen_nonzero = false, after_point = false;
+  int64_t integer_digits = 0, leading_fraction_zeros = 0;
+  for (; i < s.size() && (is_digit(s[i]) || s[i] == '.'); ++i) {
+    if (s[i] == '.') {
+      after_point = true;
+    } else if (!after_point) {
+      if (seen_nonzero || s[i] != '0') ++integer_digits, seen_nonzero = true;
+    } else if (!seen_nonzero) {
+      if (s[i] == '0')
+        ++leading_fraction_zeros;
+      else
+        seen_nonzero = true;
+    }
+  }
+  lead = integer_digits > 0 ? integer_digits - 1 : -(leading_fraction_zeros + 1);
+  int64_t exponent = 0;
+  if (i < s.size() && (s[i] == 'e' || s[i] == 'E')) {
+    ++i;
+    const bool minus = i < s.size() && s[i] == '-';
+    if (i < s.size() && (s[i] == '-' || s[i] == '+')) ++i;
+    for (; i < s.size() && is_digit(s[i]); ++i)
+      if (exponent < 1'000'000'000) exponent = exponent * 10 + (s[i] - '0');
+    if (minus) exponent = -exponent;
+  }
+  return lead + exponent > 0;
+}
+
+}  // namespace
+
+NumberError parse_real(std::string_view token, double& out) {
+  std::string_view digits = token;
+  if (!digits.empty() && digits[0] == '+') {
+    digits.remove_prefix(1);  // from_chars takes '-' only
+    if (!digits.empty() && digits[0] == '-') return NumberError::kNotANumber;
+  }
+  const char* end = digits.data() + digits.size();
+  double value = 0;
+  auto [next, ec] = std::from_chars(digits.data(), end, value);
+  if (next != end || (ec != std::errc() && ec != std::errc::result_out_of_range))
+    return NumberError::kNotANumber;
+  if (ec == std::errc::result_out_of_range) {
+    const bool negative = digits[0] == '-';
+    value = overflows(digits) ? std::numeric_limits<double>::infinity() : 0.0;
+    if (negative) value = -value;
+  }
+  out = value;
+  return NumberError::kNone;
+}
+
+NumberError parse_integer(std::string_view token, int64_t lo, int64_t hi, int64_t& out) {
+  std::string_view digits = token;
+  if (!digits.empty() && digits[0] == '+') {
+    digits.remove_prefix(1);
+    if (!digits.empty() && digits[0] == '-') return NumberError::kNotANumber;
+  }
+  const char* end = digits.data() + digits.size();
+  int64_t value = 0;
+  auto [next, ec] = std::from_chars(digits.data(), end, value);
+  if (next != end || (ec != std::errc() && ec != std::errc::result_out_of_range))
+    return NumberError::kNotANumber;
+  if (ec == std::errc::result_out_of_range || value < lo || value > hi)
+    return NumberError::kOutOfRange;
+  out = value;
+  return NumberError::kNone;
+}
+
+NumberError parse_count(std::string_view token, uint64_t& out) {
+  int64_t value = 0;
+  const NumberError e = parse_integer(token, 0, INT64_MAX, value);
+  if (e == NumberError::kNone) out = static_cast<uint64_t>(value);
+  return e;
+}
+
+std::string printable(std::string_view bytes) {
+  static constexpr char kHex[] = "0123456789abcdef";
+  std::string out;
+  const size_t shown = std::min(bytes.size(), kQuotedBytes);
+  out.reserve(shown + 16);
+  for (size_t i = 0; i < shown; ++i) {
+    const unsigned char c = static_cast<unsigned char>(bytes[i]);
+    if (c == '\\')
+      out += "\\\\";
+    else if (c >= 0x20 && c < 0x7f)
+      out += static_cast<char>(c);
+    else if (c == '\n')
+      out += "\\n";
+    else if (c == '\r')
+      out += "\\r";
+    else if (c == '\t')
+      out += "\\t";
+    else
+      out.append("\\x").append(1, kHex[c >> 4]).append(1, kHex[c & 15]);
+  }
+  if (shown < bytes.size()) out += "… (" + std::to_string(bytes.size()) + " bytes)";
+  return out;
+}
+
+std::string quoted_bytes(std::string_view bytes) { return "'" + printable(bytes) + "'"; }
+
+}  // namespace dynpm
