@@ -378,8 +378,7 @@ class Decoder {
     if (tag != "SPLT") return 0;
     const double splits = double(m.full_split_count) - double(m.split_count());
     const double per_split = kMaxVarint + 4 + 1 + 4 * (1 + 2 * kMaxVarint) + kMaxVarint +
-                             kMaxVarint * m.full_face_count + per_vertex +
-                             4 * per_face_attributes;
+                             kMaxVarint * m.full_face_count + per_vertex + 4 * per_face_attributes;
     return 8 + splits * per_split;
   }
 
