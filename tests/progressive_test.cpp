@@ -5,6 +5,7 @@
 
 #include <cstring>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <random>
 
@@ -271,6 +272,28 @@ TEST(Progressive, ChunkSizesAreBoundedBeforeAllocating) {
   r = decode_dpm(packed_end, "end.dpm");
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.message().find("a compressed END  chunk"), std::string::npos) << r.message();
+}
+
+// HEAD's numbers are finite: a NaN error bound or time would reach every report as "nan".
+TEST(Progressive, HeaderNumbersAreFinite) {
+  const Animation a = load(test::sample_dir() + "/frame_00*.obj");
+  const std::string bytes = encode_dpm(build(a, false));
+  const auto chunks = chunks_of(bytes);
+  ASSERT_EQ(chunks[0].first, "HEAD");
+  const size_t head = chunks[0].second, payload = head + 24;
+  uint32_t stored;
+  std::memcpy(&stored, bytes.data() + head + 8, 4);
+  // max_error after 8 counts, two corners and the grid step; the first time after base_error.
+  for (const size_t field : {size_t{8 * 4 + 7 * 8}, size_t{8 * 4 + 9 * 8}}) {
+    std::string head_bytes = bytes.substr(payload, stored);
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    std::memcpy(head_bytes.data() + field, &nan, 8);
+    const std::string damaged = bytes.substr(0, head) + chunk("HEAD", 0, stored, head_bytes) +
+                                bytes.substr(payload + stored);
+    auto r = decode_dpm(damaged, "nan.dpm");
+    ASSERT_FALSE(r.ok()) << "field at " << field;
+    EXPECT_NE(r.message().find("not finite"), std::string::npos) << r.message();
+  }
 }
 
 // A source with one per-vertex field, to check fields travel through the file.

@@ -429,8 +429,13 @@ class Decoder {
       if (!std::isfinite(x)) return bad(r, "the bounding box is not finite");
     if (!m.lossless && !(m.quant_step > 0 && std::isfinite(m.quant_step)))
       return bad(r, "the quantization step is not valid");
+    if (!(std::isfinite(m.max_error) && m.max_error >= 0 && std::isfinite(m.base_error) &&
+          m.base_error >= 0))
+      return bad(r, "the header's error bounds are not finite numbers ≥ 0");
     m.times.resize(steps);
     for (double& t : m.times) t = r.get<double>();
+    for (double t : m.times)
+      if (!std::isfinite(t)) return bad(r, "a step's time is not finite");
     const uint32_t keys = r.get<uint32_t>();
     if (!r.can_hold(keys, 4)) return bad(r, "the key-step count is not valid");
     for (uint32_t k = 0; k < keys; ++k) m.key_steps.push_back(r.get<uint32_t>());
