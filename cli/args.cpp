@@ -1,5 +1,8 @@
 #include "args.h"
 
+#include <charconv>
+#include <cmath>
+#include <cstdio>
 #include <iostream>
 
 namespace dynpm::cli {
@@ -36,8 +39,8 @@ Result<Args> parse_args(std::span<char* const> arguments, const VerbSpec& spec) 
     for (const FlagSpec& f : spec.flags)
       if (f.name == arg || (!f.short_name.empty() && f.short_name == arg)) flag = &f;
     if (!flag)
-      return Status::error("dynpm " + spec.name + ": unknown option '" + arg + "' (see dynpm " +
-                           spec.name + " --help)");
+      return Status::error("dynpm " + spec.name + ": unknown option " + quoted_value(arg) +
+                           " (see dynpm " + spec.name + " --help)");
     if (!flag->takes_value) {
       if (inline_value)
         return Status::error("dynpm " + spec.name + ": " + flag->name + " takes no value");
@@ -86,14 +89,54 @@ std::string help_text(const VerbSpec& spec) {
   return text;
 }
 
-Result<double> parse_number(const std::string& flag, const std::string& text) {
+std::string quoted_value(const std::string& text) {
+  constexpr size_t kShown = 40;
+  if (text.size() <= kShown) return "'" + text + "'";
+  return "'" + text.substr(0, kShown) + "…' (" + std::to_string(text.size()) + " characters)";
+}
+
+namespace {
+
+std::string describe(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.15g", x);
+  return text;
+}
+
+std::string describe(const NumberRange& range) {
+  const bool lowest = range.min == kAnyNumber.min, highest = range.max == kAnyNumber.max;
+  if (lowest && highest) return "a finite number";
+  if (highest)
+    return std::string("a number ") + (range.above_min ? "> " : "≥ ") + describe(range.min);
+  if (lowest) return "a number ≤ " + describe(range.max);
+  return std::string("a number in ") + (range.above_min ? "(" : "[") + describe(range.min) + ", " +
+         describe(range.max) + "]";
+}
+
+}  // namespace
+
+Result<double> parse_number(const std::string& flag, const std::string& text, NumberRange range) {
+  double v = std::numeric_limits<double>::quiet_NaN();
   try {
     size_t used = 0;
-    const double v = std::stod(text, &used);
-    if (used == text.size()) return v;
-  } catch (...) {
+    v = std::stod(text, &used);
+    if (used != text.size()) v = std::numeric_limits<double>::quiet_NaN();
+  } catch (...) {  // not a number, or out of range (1e400): both refused below
   }
-  return Status::error(flag + " needs a number, got '" + text + "'");
+  const bool inside =
+      std::isfinite(v) && v <= range.max && (range.above_min ? v > range.min : v >= range.min);
+  if (inside) return v;
+  return Status::error(flag + " needs " + describe(range) + ", got " + quoted_value(text));
+}
+
+Result<uint64_t> parse_whole(const std::string& flag, const std::string& text, uint64_t min,
+                             uint64_t max) {
+  uint64_t v = 0;
+  const char* end = text.data() + text.size();
+  const auto [stop, error] = std::from_chars(text.data(), end, v);
+  if (!text.empty() && error == std::errc{} && stop == end && v >= min && v <= max) return v;
+  return Status::error(flag + " needs a whole number in [" + std::to_string(min) + ", " +
+                       std::to_string(max) + "], got " + quoted_value(text));
 }
 
 }  // namespace dynpm::cli

@@ -2,6 +2,8 @@
 // "--flag", and positional arguments; "--" ends the flags. Unknown flags are errors.
 #pragma once
 
+#include <cstdint>
+#include <limits>
 #include <map>
 #include <optional>
 #include <set>
@@ -55,7 +57,37 @@ std::optional<int> parse_verb_args(std::span<char* const> arguments, const VerbS
                                    Args& args);
 std::string help_text(const VerbSpec& spec);
 
-// A flag's value as a number; the error names the flag ("--ratio needs a number, got 'x'").
-Result<double> parse_number(const std::string& flag, const std::string& text);
+// The values a numeric flag accepts; NaN and the infinities never are (nor text that overflows
+// a double, such as 1e400, which reads as infinity).
+struct NumberRange {
+  double min = -std::numeric_limits<double>::max();
+  double max = std::numeric_limits<double>::max();
+  bool above_min = false;  // min itself is refused: (min, max]
+};
+inline constexpr NumberRange kAnyNumber{};
+inline constexpr NumberRange kNonNegative{0, std::numeric_limits<double>::max()};
+inline constexpr NumberRange kFraction{0, 1, true};  // (0, 1]
+inline constexpr NumberRange kPercent{0, 100};
+// Constraint-plane weights (SimplifyOptions::boundary_weight): 0 turns them off; far above the
+// default 1 they only pin the boundary harder, and 10^6 already pins it.
+inline constexpr NumberRange kBoundaryWeights{0, 1e6};
+// Vertex and face numbers are 32-bit, with the top value meaning "none" (kNoIndex).
+inline constexpr uint64_t kMaxVertexCount = 0xfffffffeu;
+inline constexpr uint64_t kMaxFaceCount = 0xfffffffeu;
+// Worker threads: 0 is every core; more than this are not threads but a typo.
+inline constexpr uint64_t kMaxThreads = 1024;
+// Hausdorff area samples: 10^10 is hours of work; a larger count is a typo.
+inline constexpr uint64_t kMaxSamples = 10'000'000'000;
+
+// Every numeric flag is read here: a number in `range`, or an error that names the flag, the
+// range and what was given ("--ratio needs a number in (0, 1], got '2'").
+Result<double> parse_number(const std::string& flag, const std::string& text,
+                            NumberRange range = kAnyNumber);
+// A whole number in [min, max] (digits only; "1e3" and "-1" are refused, so are values past
+// max, which a double could not even hold exactly).
+Result<uint64_t> parse_whole(const std::string& flag, const std::string& text, uint64_t min,
+                             uint64_t max);
+// What a flag's value looks like in messages: quoted, and cut to a few dozen characters.
+std::string quoted_value(const std::string& text);
 
 }  // namespace dynpm::cli

@@ -44,7 +44,7 @@ Result<AnimationStream> open_inputs(std::span<const std::string> arguments, bool
 // their targets and renamed into place only when every one is written, so a run that fails
 // half-way leaves no output and keeps the files it would have replaced. A killed run can leave
 // its staged files: "<stem>.tmp-<pid><ext>" (the extension picks the format); the next run that
-// writes the same target removes them (remove_stale_temporaries).
+// commits the same target removes them (remove_stale_temporaries, one listing per folder).
 class StagedOutputs {
  public:
   StagedOutputs() = default;
@@ -60,6 +60,31 @@ class StagedOutputs {
  private:
   std::vector<std::pair<std::string, std::string>> files_;  // (staged, target)
 };
+
+// What a verb is doing, for the out-of-memory message ("out of memory while simplifying"). Phases
+// nest; when an exception leaves one, the innermost is remembered (the handler in main() runs
+// after the phases are gone).
+class Phase {
+ public:
+  explicit Phase(const char* what);
+  Phase(const Phase&) = delete;
+  Phase& operator=(const Phase&) = delete;
+  ~Phase();
+  // The phase an exception left last, or nullptr.
+  static const char* failed();
+
+ private:
+  const char* what_;
+  int exceptions_;
+};
+
+// The message and exit code for running out of memory (std::bad_alloc, std::length_error):
+// "dynpm build: out of memory while simplifying (peak 812 MB resident; …)".
+int out_of_memory(const std::string& verb);
+
+// A length as a fraction of the bounding-box diagonal; 0 when the diagonal is 0 (every vertex at
+// one point), so that no report prints "-nan%".
+double of_diagonal(double length, double diagonal);
 
 // Progress on stderr ("label 12/26"), only when stderr is a terminal.
 void progress(const std::string& label, size_t done, size_t total);

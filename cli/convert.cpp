@@ -36,6 +36,7 @@ int run_convert(std::span<char* const> arguments) {
               << ": cannot tell the output format from the extension (use .obj, .ply or .vtk)\n";
     return kExitUsage;
   }
+  Phase phase("reading and writing the steps");
   auto stream = open_inputs(args.positional, args.has("--split-polygons"));
   if (!stream) {
     std::cerr << "dynpm convert: " << stream.message() << "\n";

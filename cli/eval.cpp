@@ -223,22 +223,18 @@ int run_eval(std::span<char* const> arguments) {
   // Ratios: % of the full vertex count, in (0, 100]; sorted, duplicates dropped.
   std::vector<double> ratios;
   for (const std::string& item : split_list(*ratios_text)) {
-    auto r = parse_number("--ratios", item);
-    if (!r || !(*r > 0 && *r <= 100))
-      return fail_usage("--ratios needs percentages in (0, 100] separated by commas, got '" + item +
-                        "'");
+    auto r = parse_number("--ratios", item, {0, 100, true});
+    if (!r) return fail_usage(r.message() + " (percentages separated by commas)");
     ratios.push_back(*r);
   }
   std::sort(ratios.begin(), ratios.end());
   ratios.erase(std::unique(ratios.begin(), ratios.end()), ratios.end());
 
-  std::vector<double> step_values;
+  std::vector<uint64_t> step_values;
   if (auto text = args.value("--steps"))
     for (const std::string& item : split_list(*text)) {
-      auto t = parse_number("--steps", item);
-      if (!t || *t < 0 || *t != std::floor(*t))
-        return fail_usage("--steps needs step numbers (0, 1, …) separated by commas, got '" + item +
-                          "'");
+      auto t = parse_whole("--steps", item, 0, 0xffffffffu);
+      if (!t) return fail_usage(t.message() + " (step numbers separated by commas)");
       step_values.push_back(*t);
     }
   bool max_over_all = true;
@@ -250,19 +246,19 @@ int run_eval(std::span<char* const> arguments) {
   struct NumberFlag {
     const char* name;
     uint64_t* whole;
+    uint64_t max;
   };
   uint64_t threads = 0;
-  for (const NumberFlag& flag :
-       {NumberFlag{"--samples", &h.face_samples}, NumberFlag{"--seed", &h.seed},
-        NumberFlag{"--threads", &threads}}) {
+  for (const NumberFlag& flag : {NumberFlag{"--samples", &h.face_samples, kMaxSamples},
+                                 NumberFlag{"--seed", &h.seed, UINT64_MAX},
+                                 NumberFlag{"--threads", &threads, kMaxThreads}}) {
     const auto text = args.value(flag.name);
     if (!text) continue;
-    auto r = parse_number(flag.name, *text);
-    if (!r || *r < 0 || *r != std::floor(*r) || *r > 1.8e19)
-      return fail_usage(std::string(flag.name) + " needs a whole number ≥ 0, got '" + *text + "'");
-    *flag.whole = static_cast<uint64_t>(*r);
+    auto r = parse_whole(flag.name, *text, 0, flag.max);
+    if (!r) return fail_usage(r.message());
+    *flag.whole = *r;
   }
-  h.threads = static_cast<unsigned>(std::min<uint64_t>(threads, 1024));
+  h.threads = static_cast<unsigned>(threads);
   const auto json_path = args.value("--json");
   const auto plot_path = args.value("--plot");
 
@@ -300,10 +296,11 @@ int run_eval(std::span<char* const> arguments) {
 
   // The table's steps: as given, or the first, middle and last.
   std::vector<size_t> chosen;
-  for (double t : step_values) {
-    if (t > double(steps - 1))
-      return fail_usage("--steps " + format_number(t, 12) + ": the animation has steps 0 to " +
-                        std::to_string(steps - 1));
+  for (uint64_t t : step_values) {
+    if (t > steps - 1)
+      return fail_usage("--steps needs step numbers in [0, " + std::to_string(steps - 1) +
+                        "] (the animation has " + std::to_string(steps) + " steps), got " +
+                        std::to_string(t));
     chosen.push_back(static_cast<size_t>(t));
   }
   if (step_values.empty()) chosen = {0, (steps - 1) / 2, steps - 1};
@@ -410,7 +407,7 @@ int run_eval(std::span<char* const> arguments) {
       j.value("faces", uint64_t{row.faces});
       j.value("level", uint64_t{row.level});
       j.value("level_error", row.error);
-      j.value("level_error_pct", mesh->diagonal() > 0 ? 100 * row.error / mesh->diagonal() : 0.0);
+      j.value("level_error_pct", 100 * of_diagonal(row.error, mesh->diagonal()));
       j.begin_array("steps");
       for (size_t k = 0; k < chosen.size(); ++k) {
         const Cell& c = row.chosen[k];

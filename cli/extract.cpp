@@ -2,6 +2,7 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <optional>
 
 #include "args.h"
 #include "commands.h"
@@ -53,8 +54,9 @@ int run_extract(std::span<char* const> arguments) {
     return fail_usage(*output + ": use .obj, .ply or .vtk");
   std::optional<double> step;
   if (auto v = args.value("--step")) {
-    auto r = parse_number("--step", *v);
-    if (!r || *r < 0) return fail_usage("--step needs a time step ≥ 0");
+    // The model's last step is known once it is read (below).
+    auto r = parse_number("--step", *v, kNonNegative);
+    if (!r) return fail_usage(r.message());
     step = *r;
   }
   if (!step && !has_step_field(*output))
@@ -62,6 +64,34 @@ int run_extract(std::span<char* const> arguments) {
         "without --step every step is written; give a pattern such as "
         "'out_{:03d}.obj'");
 
+  // The resolution, checked before the model is read.
+  std::optional<uint64_t> vertices;
+  std::optional<double> ratio, max_error;
+  bool error_in_percent = false;
+  if (auto n = args.value("--vertices")) {
+    auto r = parse_whole("--vertices", *n, 1, kMaxVertexCount);
+    if (!r) return fail_usage(r.message());
+    vertices = *r;
+  } else if (auto fraction = args.value("--ratio")) {
+    auto r = parse_number("--ratio", *fraction, kFraction);
+    if (!r) return fail_usage(r.message());
+    ratio = *r;
+  } else if (auto error = args.value("--max-error")) {
+    std::string text = *error;
+    error_in_percent = !text.empty() && text.back() == '%';
+    if (error_in_percent) text.pop_back();
+    auto r = error_in_percent ? parse_number("--max-error (in %)", text, kPercent)
+                              : parse_number("--max-error", text, kNonNegative);
+    if (!r) return fail_usage(r.message());
+    max_error = *r;
+  }
+
+  if (Status s = check_output_folder(*output); !s.ok()) {
+    std::cerr << "dynpm extract: " << s.message() << "\n";
+    return kExitFailure;
+  }
+
+  std::optional<Phase> phase(std::in_place, "reading the model");
   auto mesh = read_dpm(args.positional[0]);
   if (!mesh) {
     std::cerr << "dynpm extract: " << mesh.message() << "\n";
@@ -73,28 +103,21 @@ int run_extract(std::span<char* const> arguments) {
               << mesh->full_split_count << " splits\n";
   const size_t steps = mesh->step_count();
   if (step && *step > double(steps - 1))
-    return fail_usage("--step " + *args.value("--step") + ": the model has steps 0 to " +
-                      std::to_string(steps - 1));
+    return fail_usage("--step needs a number in [0, " + std::to_string(steps - 1) + "] (" +
+                      args.positional[0] + " has " + std::to_string(steps) +
+                      (steps == 1 ? " step), got " : " steps), got ") +
+                      quoted_value(*args.value("--step")));
 
+  phase.emplace("extracting the meshes");
   Navigator nav(*mesh);
-  if (auto n = args.value("--vertices")) {
-    auto r = parse_number("--vertices", *n);
-    if (!r || *r < 1) return fail_usage("--vertices needs a count");
-    nav.set_vertex_count(static_cast<uint32_t>(std::min(*r, 4e9)));
-  } else if (auto ratio = args.value("--ratio")) {
-    auto r = parse_number("--ratio", *ratio);
-    if (!r || !(*r > 0 && *r <= 1)) return fail_usage("--ratio needs a fraction in (0, 1]");
-    nav.set_vertex_count(static_cast<uint32_t>(std::lround(*r * mesh->full_vertex_count)));
-  } else if (auto error = args.value("--max-error")) {
-    std::string text = *error;
-    const bool percent = !text.empty() && text.back() == '%';
-    if (percent) text.pop_back();
-    auto r = parse_number("--max-error", text);
-    if (!r || *r < 0) return fail_usage("--max-error needs a number ≥ 0");
-    nav.set_error(percent ? *r / 100.0 * mesh->diagonal() : *r);
-  } else {
+  if (vertices)
+    nav.set_vertex_count(static_cast<uint32_t>(*vertices));  // past the full count: the full mesh
+  else if (ratio)
+    nav.set_vertex_count(static_cast<uint32_t>(std::lround(*ratio * mesh->full_vertex_count)));
+  else if (max_error)
+    nav.set_error(error_in_percent ? *max_error / 100.0 * mesh->diagonal() : *max_error);
+  else
     nav.set_level(mesh->split_count());
-  }
 
   // Fully refined: the input's order. Otherwise the navigator's (progressive) order.
   const bool full = mesh->complete && nav.level() == mesh->full_split_count;
@@ -151,7 +174,7 @@ int run_extract(std::span<char* const> arguments) {
     j.value("triangles", uint64_t{topology.triangle_count()});
     j.value("level", uint64_t{nav.level()});
     j.value("error", nav.error());
-    j.value("error_pct", 100 * nav.error() / mesh->diagonal());
+    j.value("error_pct", 100 * of_diagonal(nav.error(), mesh->diagonal()));
     j.value("full", full);
     j.begin_array("files");
     for (const std::string& f : written) j.item(f);
@@ -163,7 +186,7 @@ int run_extract(std::span<char* const> arguments) {
         "%u vertices, %zu faces (%zu quads, %zu triangles); error %.4g (%.3g%% of the "
         "diagonal)\nwrote %s%s\n",
         nav.vertex_count(), topology.faces.size(), topology.quad_count(), topology.triangle_count(),
-        nav.error(), 100 * nav.error() / mesh->diagonal(), written.front().c_str(),
+        nav.error(), 100 * of_diagonal(nav.error(), mesh->diagonal()), written.front().c_str(),
         written.size() > 1 ? " …" : "");
   }
   return kExitOk;

@@ -33,26 +33,6 @@ const VerbSpec kSpec{
      {"--json", "", false, "", "print the result as JSON on stdout"},
      {"--split-polygons", "", false, "", "fan-split faces with more than 4 corners"}}};
 
-// A whole non-negative number or a finite non-negative decimal, or nothing.
-template <class T>
-std::optional<T> parse_number(const std::string& text) {
-  if (text.empty() || text[0] == '-') return std::nullopt;
-  size_t used = 0;
-  try {
-    T value;
-    if constexpr (std::is_integral_v<T>)
-      value = static_cast<T>(std::stoull(text, &used));
-    else
-      value = std::stod(text, &used);
-    if (used != text.size()) return std::nullopt;
-    if constexpr (std::is_floating_point_v<T>)
-      if (!std::isfinite(value)) return std::nullopt;
-    return value;
-  } catch (...) {
-    return std::nullopt;
-  }
-}
-
 // The steps seen as one result: max over steps for maxima, mean over steps for means, root of
 // the mean square over steps for RMS values, sample counts summed.
 HausdorffResult over_all_steps(const HausdorffSteps& s) {
@@ -217,29 +197,34 @@ int run_hausdorff(std::span<char* const> arguments) {
   }
   StepsOptions options;
   HausdorffOptions& h = options.hausdorff;
-  struct NumberFlag {
-    const char* name;
-    bool integral;
+  auto fail_usage = [](const std::string& message) {
+    std::cerr << "dynpm hausdorff: " << message << "\n";
+    return kExitUsage;
   };
-  for (const NumberFlag& flag :
-       {NumberFlag{"--samples", true}, NumberFlag{"--samples-per-face", false},
-        NumberFlag{"--seed", true}, NumberFlag{"--diagonal", false},
-        NumberFlag{"--threads", true}}) {
-    const auto text = args.value(flag.name);
-    if (!text) continue;
-    const auto whole = parse_number<uint64_t>(*text);
-    const auto real = parse_number<double>(*text);
-    if ((flag.integral && !whole) || (!flag.integral && !real)) {
-      std::cerr << "dynpm hausdorff: " << flag.name << " needs a non-negative "
-                << (flag.integral ? "whole number" : "number") << ", got '" << *text << "'\n";
-      return kExitUsage;
+  struct WholeFlag {
+    const char* name;
+    uint64_t max;
+    uint64_t* value;
+  };
+  uint64_t threads = 0;
+  for (const WholeFlag& flag :
+       {WholeFlag{"--samples", kMaxSamples, &h.face_samples},
+        WholeFlag{"--seed", UINT64_MAX, &h.seed}, WholeFlag{"--threads", kMaxThreads, &threads}})
+    if (const auto text = args.value(flag.name)) {
+      auto r = parse_whole(flag.name, *text, 0, flag.max);
+      if (!r) return fail_usage(r.message());
+      *flag.value = *r;
     }
-    const std::string name = flag.name;
-    if (name == "--samples") h.face_samples = *whole;
-    if (name == "--samples-per-face") h.samples_per_face = *real;
-    if (name == "--seed") h.seed = *whole;
-    if (name == "--diagonal") h.reference_diagonal = *real;
-    if (name == "--threads") h.threads = static_cast<unsigned>(std::min<uint64_t>(*whole, 1024));
+  h.threads = static_cast<unsigned>(threads);
+  if (const auto text = args.value("--samples-per-face")) {
+    auto r = parse_number("--samples-per-face", *text, {0, 1e4, true});
+    if (!r) return fail_usage(r.message());
+    h.samples_per_face = *r;
+  }
+  if (const auto text = args.value("--diagonal")) {
+    auto r = parse_number("--diagonal", *text, {0, kAnyNumber.max, true});
+    if (!r) return fail_usage(r.message());
+    h.reference_diagonal = *r;
   }
 
   std::vector<std::string> files[2];

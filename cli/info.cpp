@@ -240,7 +240,7 @@ int print_dpm_info(const std::string& path, bool json) {
       "base      %u vertices, %u faces (%zu quads, %zu triangles); error %.4g (%.3g%% of "
       "the diagonal)\n",
       m.base_vertex_count, m.base_face_count, base.quad_count(), base.triangle_count(),
-      m.base_error, 100 * m.base_error / m.diagonal());
+      m.base_error, 100 * of_diagonal(m.base_error, m.diagonal()));
   std::printf("steps     %zu, time %g to %g; key steps %zu\n", m.step_count(), m.times.front(),
               m.times.back(), m.key_steps.size());
   if (!m.field_names.empty()) {
@@ -252,7 +252,7 @@ int print_dpm_info(const std::string& path, bool json) {
     std::printf("positions lossless (float32)\n");
   else
     std::printf("positions within %.3g (%.2g of the diagonal %.4g)\n", m.max_error,
-                m.max_error / m.diagonal(), m.diagonal());
+                of_diagonal(m.max_error, m.diagonal()), m.diagonal());
   std::printf("size      %.0f bytes, %.2f bytes per vertex per step\n", size, per_vertex_step);
   if (!m.note.empty()) std::printf("note      %s\n", m.note.c_str());
   return kExitOk;
@@ -269,12 +269,12 @@ int run_info(std::span<char* const> arguments) {
   }
   size_t problems = 10;
   if (auto n = args.value("--problems")) {
-    try {
-      problems = std::stoul(*n);
-    } catch (...) {
-      std::cerr << "dynpm info: --problems needs a number, got '" << *n << "'\n";
+    auto r = parse_whole("--problems", *n, 0, 1'000'000'000);
+    if (!r) {
+      std::cerr << "dynpm info: " << r.message() << "\n";
       return kExitUsage;
     }
+    problems = *r;
   }
   auto inputs = expand_inputs(args.positional);
   if (!inputs) {

@@ -1,5 +1,6 @@
 // dynpm — dynamic progressive triangle-quadrilateral meshes for FE animations.
 // main() only picks the verb; each verb lives in its own file.
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -7,8 +8,12 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <exception>
 #include <filesystem>
 #include <iostream>
+#include <new>
+#include <set>
+#include <stdexcept>
 
 #include "commands.h"
 
@@ -108,7 +113,6 @@ StagedOutputs::~StagedOutputs() {
 }
 
 std::string StagedOutputs::stage(const std::string& path) {
-  remove_stale_temporaries(path);
   const std::filesystem::path target(path);
   std::filesystem::path staged = target;
   staged.replace_filename(target.stem().string() + ".tmp-" + std::to_string(::getpid()) +
@@ -118,13 +122,52 @@ std::string StagedOutputs::stage(const std::string& path) {
 }
 
 Status StagedOutputs::commit() {
+  // What killed runs left beside the targets: one listing of each folder for all of them (one
+  // per file made 10,000 steps quadratic).
+  std::vector<std::string> targets;
+  targets.reserve(files_.size());
+  for (const auto& [staged, target] : files_) targets.push_back(target);
+  remove_stale_temporaries(targets);
   for (const auto& [staged, target] : files_)
     if (std::rename(staged.c_str(), target.c_str()) != 0)
       return Status::error(target +
                            ": cannot rename the finished file into place: " + std::strerror(errno));
-  for (const auto& [staged, target] : files_) sync_directory_of(target);
+  // Once per folder, not per file: an fsync each costs milliseconds.
+  std::set<std::filesystem::path> folders;
+  for (const auto& [staged, target] : files_)
+    if (folders.insert(std::filesystem::path(target).parent_path()).second)
+      sync_directory_of(target);
   files_.clear();
   return {};
+}
+
+namespace {
+const char* failed_phase = nullptr;
+}  // namespace
+
+Phase::Phase(const char* what) : what_(what), exceptions_(std::uncaught_exceptions()) {}
+
+Phase::~Phase() {
+  if (std::uncaught_exceptions() > exceptions_ && !failed_phase) failed_phase = what_;
+}
+
+const char* Phase::failed() { return failed_phase; }
+
+int out_of_memory(const std::string& verb) {
+  std::string limit;
+  if (rlimit r{}; ::getrlimit(RLIMIT_AS, &r) == 0 && r.rlim_cur != RLIM_INFINITY)
+    limit = "; address-space limit " + std::to_string(r.rlim_cur >> 20) + " MB (ulimit -v)";
+  else if (const long pages = ::sysconf(_SC_PHYS_PAGES), size = ::sysconf(_SC_PAGESIZE);
+           pages > 0 && size > 0)
+    limit = "; the machine has " + std::to_string((uint64_t(pages) * uint64_t(size)) >> 20) + " MB";
+  const char* phase = Phase::failed();
+  std::fprintf(stderr, "dynpm %s: out of memory%s%s (peak %.0f MB resident%s)\n", verb.c_str(),
+               phase ? " while " : "", phase ? phase : "", peak_rss_mb(), limit.c_str());
+  return kExitFailure;
+}
+
+double of_diagonal(double length, double diagonal) {
+  return diagonal > 0 && std::isfinite(diagonal) ? length / diagonal : 0.0;
 }
 
 void progress(const std::string& label, size_t done, size_t total) {
@@ -166,6 +209,20 @@ const char* kUsage =
     "\n"
     "Run 'dynpm <verb> --help' for a verb's options.\n";
 
+int run_verb(const std::string& verb, std::span<char* const> rest) {
+  using namespace dynpm::cli;
+  if (verb == "info") return run_info(rest);
+  if (verb == "convert") return run_convert(rest);
+  if (verb == "hausdorff") return run_hausdorff(rest);
+  if (verb == "simplify") return run_simplify(rest);
+  if (verb == "build") return run_build(rest);
+  if (verb == "extract") return run_extract(rest);
+  if (verb == "eval") return run_eval(rest);
+  if (verb == "view") return run_view(rest);
+  std::cerr << "dynpm: unknown verb '" << verb << "'\n\n" << kUsage;
+  return kExitUsage;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -182,14 +239,13 @@ int main(int argc, char** argv) {
   }
   const std::string verb = argv[1];
   std::span<char* const> rest(argv + 2, static_cast<size_t>(argc - 2));
-  if (verb == "info") return dynpm::cli::run_info(rest);
-  if (verb == "convert") return dynpm::cli::run_convert(rest);
-  if (verb == "hausdorff") return dynpm::cli::run_hausdorff(rest);
-  if (verb == "simplify") return dynpm::cli::run_simplify(rest);
-  if (verb == "build") return dynpm::cli::run_build(rest);
-  if (verb == "extract") return dynpm::cli::run_extract(rest);
-  if (verb == "eval") return dynpm::cli::run_eval(rest);
-  if (verb == "view") return dynpm::cli::run_view(rest);
-  std::cerr << "dynpm: unknown verb '" << verb << "'\n\n" << kUsage;
-  return dynpm::cli::kExitUsage;
+  // Caught here, after the verb's stack has unwound: its staged outputs are removed, and the
+  // memory is back for the message.
+  try {
+    return run_verb(verb, rest);
+  } catch (const std::bad_alloc&) {
+    return dynpm::cli::out_of_memory(verb);
+  } catch (const std::length_error&) {  // a size past what a container can hold
+    return dynpm::cli::out_of_memory(verb);
+  }
 }

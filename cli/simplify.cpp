@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstdio>
 #include <iostream>
+#include <optional>
 
 #include "args.h"
 #include "commands.h"
@@ -70,25 +71,26 @@ int run_simplify(std::span<char* const> arguments) {
     return kExitUsage;
   };
   if (auto v = args.value("--ratio")) {
-    auto r = parse_number("--ratio", *v);
+    auto r = parse_number("--ratio", *v, kFraction);
     if (!r) return fail_usage(r.message());
     options.target_ratio = *r;
   }
   if (auto v = args.value("--vertices")) {
-    auto r = parse_number("--vertices", *v);
-    if (!r || *r < 0) return fail_usage("dynpm simplify: --vertices needs a count");
+    auto r = parse_whole("--vertices", *v, 1, kMaxVertexCount);
+    if (!r) return fail_usage(r.message());
     options.target_vertices = static_cast<uint32_t>(*r);
   }
   if (auto v = args.value("--faces")) {
-    auto r = parse_number("--faces", *v);
-    if (!r || *r < 0) return fail_usage("dynpm simplify: --faces needs a count");
+    auto r = parse_whole("--faces", *v, 1, kMaxFaceCount);
+    if (!r) return fail_usage(r.message());
     options.target_faces = static_cast<size_t>(*r);
   }
   if (auto v = args.value("--max-error")) {
     std::string text = *v;
     const bool percent = !text.empty() && text.back() == '%';
     if (percent) text.pop_back();
-    auto r = parse_number("--max-error", text);
+    auto r = percent ? parse_number("--max-error (in %)", text, kPercent)
+                     : parse_number("--max-error", text, kNonNegative);
     if (!r) return fail_usage(r.message());
     options.max_error = percent ? *r / 100.0 : *r;
   }
@@ -104,7 +106,7 @@ int run_simplify(std::span<char* const> arguments) {
   auto key_rule = parse_key_step_rule(args.value("--key-steps").value_or("all"));
   if (!key_rule) return fail_usage("dynpm simplify: " + key_rule.message());
   if (auto v = args.value("--boundary-weight")) {
-    auto r = parse_number("--boundary-weight", *v);
+    auto r = parse_number("--boundary-weight", *v, kBoundaryWeights);
     if (!r) return fail_usage(r.message());
     options.boundary_weight = *r;
   }
@@ -116,6 +118,7 @@ int run_simplify(std::span<char* const> arguments) {
     std::cerr << "dynpm simplify: " << s.message() << "\n";
     return kExitFailure;
   }
+  std::optional<Phase> phase(std::in_place, "reading the input");
   auto stream =
       open_inputs(args.positional, args.has("--split-polygons"), InputChecks::kSimplifiable);
   if (!stream) {
@@ -147,6 +150,7 @@ int run_simplify(std::span<char* const> arguments) {
   if (options.target_ratio)
     expected = std::max(expected, size_t(double(vertices_in) * (1 - *options.target_ratio)));
   ProgressListener listener(expected ? expected : vertices_in);
+  phase.emplace("simplifying");
   auto result = simplify(input, frames, options, &listener);
   listener.finish();
   const double seconds =
@@ -160,6 +164,7 @@ int run_simplify(std::span<char* const> arguments) {
   WriteOptions write;
   write.binary = !args.has("--ascii");
   std::vector<float> step(size_t{input.vertex_count} * 3), out;
+  phase.emplace("writing the steps");
   StagedOutputs staged;
   for (size_t t = 0; t < steps; ++t) {
     progress("writing step", t + 1, steps);

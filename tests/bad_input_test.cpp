@@ -12,6 +12,7 @@
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <signal.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -20,6 +21,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <random>
 #include <set>
 #include <thread>
@@ -351,6 +353,36 @@ TEST(AtomicOutputs, StaleTemporariesOfEndedRunsAreRemoved) {
   EXPECT_EQ(remove_stale_temporaries(dir.file("other.dpm")), 1u);
 }
 
+// A multi-file output (one file per step) lists its folder once for all its targets, not once
+// per file: 10,000 steps made 10,000 listings of a folder that grew to 10,000 files (94 s).
+TEST(AtomicOutputs, AMultiFileOutputListsItsFolderOnce) {
+  test::TempDir dir;
+  const std::string ended = std::to_string(ended_process());
+  std::vector<std::string> targets;
+  for (int k = 0; k < 1000; ++k) targets.push_back(dir.file("s_" + std::to_string(k) + ".obj"));
+  auto plant = [&](const std::string& name) {
+    std::ofstream(dir.file(name)) << "partial";
+    fs::last_write_time(dir.file(name), fs::file_time_type::clock::now() - std::chrono::minutes(2));
+  };
+  plant("s_7.tmp-" + ended + ".obj");                        // a staged step file
+  plant("s_500.tmp-" + ended + ".obj.tmp-" + ended + "-0");  // its own temporary
+  plant("s_999.obj.tmp-" + ended + "-3");                    // a single file's temporary
+  plant("t_1.tmp-" + ended + ".obj");                        // kept: no target's
+  const size_t scans = stale_temporary_scans();
+  EXPECT_EQ(remove_stale_temporaries(targets), 3u);
+  EXPECT_EQ(stale_temporary_scans() - scans, 1u);
+  EXPECT_EQ(joined(folder_entries(dir.path())), joined({"t_1.tmp-" + ended + ".obj"}));
+
+  // Writing a staged file of this process (what StagedOutputs hands to the mesh writers) lists
+  // nothing: its target's one listing covers its leftovers.
+  const std::string staged = dir.file("s_1.tmp-" + std::to_string(::getpid()) + ".obj");
+  const size_t before = stale_temporary_scans();
+  ASSERT_TRUE(write_file_atomically(staged, "v 0 0 0\n").ok());
+  EXPECT_EQ(stale_temporary_scans(), before);
+  ASSERT_TRUE(write_file_atomically(dir.file("model.dpm"), "complete").ok());
+  EXPECT_EQ(stale_temporary_scans(), before + 1);
+}
+
 TEST(AtomicOutputs, AKilledBuildLeavesNoPartialModel) {
   test::TempDir dir;
   const std::string input = make_animation(dir);
@@ -506,6 +538,105 @@ TEST(AtomicOutputs, AKilledConvertLeavesOnlyCompleteFiles) {
   ASSERT_GT(left, 0) << "no kill left a staged file";
   ASSERT_TRUE(finished_ok(start_dynpm({"convert", input, "-o", pattern})));
   EXPECT_EQ(count_temporaries(dir.path() / "out"), 0) << left << " left by a killed convert";
+}
+
+// ---------------------------------------------------------------------------------------------
+// Memory: what a file can make dynpm allocate, and what running out of it does
+
+struct MeasuredRun {
+  int exit_code = -1;
+  std::string output;  // stdout and stderr
+  long peak_mb = 0;    // the process's own peak resident memory (wait4), no other child's
+};
+
+// dynpm with these arguments in `folder`, its address space limited to limit_mb when > 0.
+MeasuredRun run_measured(const std::string& folder, const std::vector<std::string>& arguments,
+                         long limit_mb = 0) {
+  test::TempDir scratch;
+  const std::string log = scratch.file("output.txt");
+  std::vector<std::string> args = {DYNPM_CLI};
+  args.insert(args.end(), arguments.begin(), arguments.end());
+  std::vector<char*> argv;
+  for (std::string& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    const int out = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    ::dup2(out, STDOUT_FILENO);
+    ::dup2(out, STDERR_FILENO);
+    if (::chdir(folder.c_str()) != 0) ::_exit(126);
+    if (limit_mb > 0) {
+      const rlimit limit{rlim_t(limit_mb) << 20, rlim_t(limit_mb) << 20};
+      ::setrlimit(RLIMIT_AS, &limit);
+    }
+    ::execv(argv[0], argv.data());
+    ::_exit(127);
+  }
+  MeasuredRun run;
+  int status = 0;
+  rusage usage{};
+  ::wait4(pid, &status, 0, &usage);
+  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  run.peak_mb = usage.ru_maxrss / 1024;  // kB on Linux
+  std::ifstream in(log);
+  run.output.assign(std::istreambuf_iterator<char>(in), {});
+  return run;
+}
+
+// bomb-base.dpm: 64 KiB whose BASE chunk holds a zstd frame of 2^31 zero bytes (make_corpus.py).
+// It is refused from its chunk header, before a byte is allocated for it: reading it took 2.1 GB.
+TEST(BadInputs, ADecompressionBombIsRefusedBeforeItsMemory) {
+  test::TempDir out;
+  for (const std::vector<std::string>& args :
+       {std::vector<std::string>{"info", "bomb-base.dpm"},
+        std::vector<std::string>{"extract", "bomb-base.dpm", "--full", "--step", "0", "-o",
+                                 out.file("level.obj")}}) {
+    SCOPED_TRACE(args[0]);
+    const MeasuredRun run = run_measured(bad_dir(), args);
+    EXPECT_EQ(run.exit_code, 1) << run.output;
+    EXPECT_NE(run.output.find("bomb-base.dpm: byte "), std::string::npos) << run.output;
+    EXPECT_NE(run.output.find("the BASE chunk claims 2147483648 bytes"), std::string::npos)
+        << run.output;
+    EXPECT_LT(run.peak_mb, 200) << "peak resident memory in MB";
+  }
+}
+
+#if defined(__SANITIZE_ADDRESS__)
+constexpr bool kAddressSanitizer = true;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+constexpr bool kAddressSanitizer = true;
+#else
+constexpr bool kAddressSanitizer = false;
+#endif
+#else
+constexpr bool kAddressSanitizer = false;
+#endif
+
+// Out of memory is a message and exit 1 that names the phase, not "terminate called after
+// throwing std::bad_alloc" (exit 134); nothing is left in the output folder.
+TEST(AtomicOutputs, OutOfMemoryIsAMessageAndLeavesNoOutput) {
+  if (kAddressSanitizer) GTEST_SKIP() << "ASan reserves terabytes of address space: no ulimit -v";
+  // 350 × 350 quads over 4 steps: dynpm starts in about 70 MB of address space (its shared
+  // libraries), reads this in 96 MB, and needs about 130 MB to simplify it.
+  test::TempDir dir;
+  const test::Mesh grid = test::quad_grid(350, 350);
+  std::vector<float> xyz = grid.positions;
+  for (int t = 0; t < 4; ++t) {
+    for (size_t v = 0; v < xyz.size() / 3; ++v)
+      xyz[v * 3 + 2] = 0.3f * float(t) * std::sin(0.2f * grid.positions[v * 3]);
+    ASSERT_TRUE(
+        write_mesh(dir.file("frame_" + std::to_string(t) + ".ply"), grid.topology, xyz).ok());
+  }
+  test::TempDir out;
+  const std::string model = out.file("model.dpm");
+  const MeasuredRun run =
+      run_measured(dir.path(), {"build", dir.file("frame_*.ply"), "-o", model}, 96);
+  EXPECT_EQ(run.exit_code, 1) << run.output;
+  EXPECT_NE(run.output.find("dynpm build: out of memory while "), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("address-space limit 96 MB"), std::string::npos) << run.output;
+  EXPECT_EQ(run.output.find("terminate called"), std::string::npos) << run.output;
+  EXPECT_EQ(joined(folder_entries(out.path())), "[]");
 }
 
 }  // namespace

@@ -184,7 +184,7 @@ TEST(Cli, EvalRefusesAModelOfAnotherMeshAndBadArguments) {
   auto step = dynpm_cli("eval '" + sample_glob() + "' --dpm " + dir.file("rail.dpm") +
                         " --ratios 10 --steps 0,31");
   EXPECT_EQ(step.exit_code, 2) << step.output;
-  EXPECT_TRUE(contains(step.output, "steps 0 to 30")) << step.output;
+  EXPECT_TRUE(contains(step.output, "--steps needs step numbers in [0, 30]")) << step.output;
 }
 
 }  // namespace
@@ -226,6 +226,123 @@ TEST(Cli, BuildFromFrdExtractFullIsTheInputAndInfoDescribesTheModel) {
   auto bad = dynpm_cli("extract " + frd + " --full -o " + dir.file("x_{:03d}.obj"));
   EXPECT_EQ(bad.exit_code, 1) << bad.output;
   EXPECT_TRUE(contains(bad.output, "not a .dpm file")) << bad.output;
+}
+
+// A file whose name has glob characters opens as itself when it exists (a literal path wins
+// over a pattern); a pattern that names no file is still a pattern.
+TEST(Cli, AnExistingFileNamedLikeAPatternOpensAsItself) {
+  test::TempDir dir;
+  const auto m = test::quad_grid(2, 2);
+  ASSERT_TRUE(write_mesh(dir.file("run[1].obj"), m.topology, m.positions).ok());
+  auto r = dynpm_cli("info '" + dir.file("run[1].obj") + "'");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(contains(r.output, "vertices      9")) << r.output;
+  auto pattern = dynpm_cli("info '" + dir.file("run[2-9].obj") + "'");
+  EXPECT_EQ(pattern.exit_code, 1) << pattern.output;
+  EXPECT_TRUE(contains(pattern.output, "no file matches this pattern")) << pattern.output;
+}
+
+// Reports never print "-nan%" (a model whose every vertex is at one point has diagonal 0), and a
+// file larger than float32 says "larger", not "0.7x smaller".
+TEST(Cli, ReportsOfAPointModelAndOfAFileLargerThanItsFloats) {
+  test::TempDir dir;
+  auto m = test::quad_grid(2, 2);
+  ASSERT_TRUE(write_mesh(dir.file("grid.obj"), m.topology, m.positions).ok());
+  auto build = dynpm_cli("build " + dir.file("grid.obj") + " -o " + dir.file("grid.dpm"));
+  ASSERT_EQ(build.exit_code, 0) << build.output;
+  EXPECT_TRUE(contains(build.output, "× larger than float32")) << build.output;
+  EXPECT_FALSE(contains(build.output, "smaller")) << build.output;
+
+  std::fill(m.positions.begin(), m.positions.end(), 1.0f);
+  ASSERT_TRUE(write_mesh(dir.file("point.obj"), m.topology, m.positions).ok());
+  auto point = dynpm_cli("build " + dir.file("point.obj") + " -o " + dir.file("point.dpm"));
+  ASSERT_EQ(point.exit_code, 0) << point.output;
+  auto extract = dynpm_cli("extract " + dir.file("point.dpm") + " --full --step 0 -o " +
+                           dir.file("point-back.obj"));
+  ASSERT_EQ(extract.exit_code, 0) << extract.output;
+  auto info = dynpm_cli("info " + dir.file("point.dpm"));
+  ASSERT_EQ(info.exit_code, 0) << info.output;
+  for (const auto* r : {&point, &extract, &info})
+    EXPECT_FALSE(contains(r->output, "nan")) << r->output;
+}
+
+// Every numeric flag has a range, checked before any work; the message names the flag, the
+// range and the value. (More cases, one per verb, in tests/bad/expected.txt.)
+TEST(Cli, NumericFlagsOutsideTheirRangeAreRefused) {
+  test::TempDir dir;
+  const auto m = test::quad_grid(2, 2);
+  ASSERT_TRUE(write_mesh(dir.file("grid.obj"), m.topology, m.positions).ok());
+  ASSERT_EQ(dynpm_cli("build " + dir.file("grid.obj") + " -o " + dir.file("g.dpm")).exit_code, 0);
+  const std::string grid = dir.file("grid.obj"), model = dir.file("g.dpm");
+  const std::string out = " -o " + dir.file("out.obj");
+  const std::string huge(5000, '9');
+  struct Case {
+    std::string arguments, message;
+  };
+  for (const Case& c : std::vector<Case>{
+           {"extract " + model + " --full --step nan" + out,
+            "--step needs a number ≥ 0, got 'nan'"},
+           {"extract " + model + " --full --step 1e400" + out, "got '1e400'"},
+           {"extract " + model + " --full --step -1" + out, "--step needs a number ≥ 0, got '-1'"},
+           {"extract " + model + " --full --step 3" + out,
+            "--step needs a number in [0, 0] (" + model + " has 1 step), got '3'"},
+           {"extract " + model + " --vertices 0 --step 0" + out,
+            "--vertices needs a whole number in [1, 4294967294], got '0'"},
+           {"extract " + model + " --vertices 1e12 --step 0" + out, "--vertices needs a whole"},
+           {"extract " + model + " --ratio 0 --step 0" + out, "--ratio needs a number in (0, 1]"},
+           {"extract " + model + " --max-error nan --step 0" + out,
+            "--max-error needs a number ≥ 0"},
+           {"extract " + model + " --max-error 200% --step 0" + out,
+            "--max-error (in %) needs a number in [0, 100], got '200'"},
+           {"build " + grid + " --position-error inf -o " + model,
+            "--position-error needs a number in (0, 1]"},
+           {"build " + grid + " --position-error 0 -o " + model,
+            "--position-error needs a number in (0, 1]"},
+           {"build " + grid + " --boundary-weight nan -o " + model,
+            "--boundary-weight needs a number in [0, 1000000]"},
+           {"simplify " + grid + " --ratio 1.5" + out,
+            "--ratio needs a number in (0, 1], got '1.5'"},
+           {"simplify " + grid + " --max-error nan" + out, "--max-error needs a number ≥ 0"},
+           {"simplify " + grid + " --faces -3" + out, "--faces needs a whole number"},
+           {"simplify " + grid + " --ratio 0.5 --boundary-weight -1" + out,
+            "--boundary-weight needs"},
+           {"hausdorff " + grid + " " + grid + " --samples-per-face 0",
+            "--samples-per-face needs a number in (0, 10000]"},
+           {"hausdorff " + grid + " " + grid + " --diagonal -1", "--diagonal needs a number > 0"},
+           {"hausdorff " + grid + " " + grid + " --threads 5000",
+            "--threads needs a whole number in [0, 1024]"},
+           {"eval " + grid + " --dpm " + model + " --ratios 50,nan",
+            "--ratios needs a number in (0, 100]"},
+           {"eval " + grid + " --dpm " + model + " --ratios 50 --steps 1.5",
+            "--steps needs a whole number"},
+           {"eval " + grid + " --dpm " + model + " --ratios 50 --seed -1",
+            "--seed needs a whole number"},
+           {"info " + grid + " --problems -1", "--problems needs a whole number"},
+           // A value's length in a message is bounded.
+           {"extract " + model + " --full --step " + huge + out, "…' (5000 characters)"},
+       }) {
+    SCOPED_TRACE(c.arguments.substr(0, 200));
+    auto r = dynpm_cli(c.arguments);
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_TRUE(contains(r.output, c.message)) << r.output;
+    EXPECT_LT(r.output.size(), 400u) << r.output.substr(0, 400);
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir.file("out.obj")));
+}
+
+// extract into a missing folder names the output, before the model is read.
+TEST(Cli, ExtractIntoAMissingFolderNamesTheOutput) {
+  test::TempDir dir;
+  const auto m = test::quad_grid(2, 2);
+  ASSERT_TRUE(write_mesh(dir.file("grid.obj"), m.topology, m.positions).ok());
+  ASSERT_EQ(dynpm_cli("build " + dir.file("grid.obj") + " -o " + dir.file("g.dpm")).exit_code, 0);
+  auto r = dynpm_cli("extract " + dir.file("g.dpm") + " --full --step 0 -o " +
+                     dir.file("missing/level.obj"));
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_TRUE(contains(r.output, "dynpm extract: " + dir.file("missing/level.obj") +
+                                     ": no folder '" + dir.file("missing") + "' to write into"))
+      << r.output;
+  EXPECT_FALSE(contains(r.output, ".tmp-")) << r.output;
 }
 
 }  // namespace

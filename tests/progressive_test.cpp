@@ -3,7 +3,9 @@
 // a file are coarser animations; damaged files are refused with the place named.
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <random>
 
@@ -194,6 +196,103 @@ TEST(Progressive, DamagedFilesAreRefusedWithThePlace) {
     if (p.ok()) {
       EXPECT_FALSE(p->complete);
     }
+  }
+}
+
+// The chunks of a .dpm, by tag and offset (docs/FORMAT.md: 12 bytes of signature and version,
+// then 24-byte chunk headers, each followed by its stored bytes).
+std::vector<std::pair<std::string, size_t>> chunks_of(const std::string& bytes) {
+  std::vector<std::pair<std::string, size_t>> chunks;
+  for (size_t at = 12; at + 24 <= bytes.size();) {
+    uint32_t stored;
+    std::memcpy(&stored, bytes.data() + at + 8, 4);
+    chunks.emplace_back(bytes.substr(at, 4), at);
+    at += 24 + stored;
+  }
+  return chunks;
+}
+
+uint32_t crc32_of(std::string_view bytes) {
+  uint32_t c = 0xffffffffu;
+  for (unsigned char b : bytes) {
+    c ^= b;
+    for (int k = 0; k < 8; ++k) c = (c & 1) ? 0xedb88320u ^ (c >> 1) : c >> 1;
+  }
+  return c ^ 0xffffffffu;
+}
+
+std::string chunk(const std::string& tag, uint32_t flags, uint32_t raw, const std::string& stored) {
+  std::string c = tag;
+  for (uint32_t v : {flags, uint32_t(stored.size()), raw, crc32_of(stored), 0u})
+    c.append(reinterpret_cast<const char*>(&v), 4);
+  return c + stored;
+}
+
+// A zstd frame (RFC 8878) declaring `declared` bytes and holding `held` zero bytes in RLE blocks.
+std::string zstd_zeros(uint64_t declared, uint64_t held) {
+  std::string f = "\x28\xb5\x2f\xfd\xc0\x38";  // magic; 8-byte content size; 128 KiB window
+  f.append(reinterpret_cast<const char*>(&declared), 8);
+  while (held > 0) {
+    const uint32_t size = uint32_t(std::min<uint64_t>(held, 1 << 17));
+    held -= size;
+    const uint32_t header = (size << 3) | (1 << 1) | (held == 0 ? 1 : 0);  // an RLE block
+    f.append(reinterpret_cast<const char*>(&header), 3);
+    f.push_back('\0');
+  }
+  return f;
+}
+
+// Chunk sizes are checked against HEAD's counts and against what the frame holds before any
+// memory is taken for them (a 64 KiB BASE of 2^31 zero bytes took 2.1 GB: tests/bad/bomb-base.dpm).
+TEST(Progressive, ChunkSizesAreBoundedBeforeAllocating) {
+  const Animation a = load(test::sample_dir() + "/frame_00*.obj");
+  const std::string bytes = encode_dpm(build(a, false));
+  const auto chunks = chunks_of(bytes);
+  ASSERT_GE(chunks.size(), 4u);
+  ASSERT_EQ(chunks[2].first, "SPLT");
+  const size_t splt = chunks[2].second, end = chunks.back().second;
+  // A SPLT chunk of 2^31 zero bytes in 64 KiB.
+  const std::string bomb =
+      bytes.substr(0, splt) + chunk("SPLT", 1, 1u << 31, zstd_zeros(1u << 31, 1u << 31));
+  auto r = decode_dpm(bomb, "bomb.dpm");
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.message().find("bomb.dpm: byte " + std::to_string(splt + 12) +
+                             ": the SPLT chunk claims 2147483648 bytes; the header's counts "
+                             "allow at most"),
+            std::string::npos)
+      << r.message();
+  // A frame that declares 256 KiB and holds 128 KiB: refused once it runs dry.
+  const std::string liar =
+      bytes.substr(0, splt) + chunk("SPLT", 1, 1u << 18, zstd_zeros(1u << 18, 1u << 17));
+  r = decode_dpm(liar, "liar.dpm");
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.message().find("cannot decompress the SPLT chunk"), std::string::npos) << r.message();
+  // HEAD and END are never compressed.
+  const std::string packed_end = bytes.substr(0, end) + chunk("END ", 1, 1u << 30, "");
+  r = decode_dpm(packed_end, "end.dpm");
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.message().find("a compressed END  chunk"), std::string::npos) << r.message();
+}
+
+// HEAD's numbers are finite: a NaN error bound or time would reach every report as "nan".
+TEST(Progressive, HeaderNumbersAreFinite) {
+  const Animation a = load(test::sample_dir() + "/frame_00*.obj");
+  const std::string bytes = encode_dpm(build(a, false));
+  const auto chunks = chunks_of(bytes);
+  ASSERT_EQ(chunks[0].first, "HEAD");
+  const size_t head = chunks[0].second, payload = head + 24;
+  uint32_t stored;
+  std::memcpy(&stored, bytes.data() + head + 8, 4);
+  // max_error after 8 counts, two corners and the grid step; the first time after base_error.
+  for (const size_t field : {size_t{8 * 4 + 7 * 8}, size_t{8 * 4 + 9 * 8}}) {
+    std::string head_bytes = bytes.substr(payload, stored);
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    std::memcpy(head_bytes.data() + field, &nan, 8);
+    const std::string damaged = bytes.substr(0, head) + chunk("HEAD", 0, stored, head_bytes) +
+                                bytes.substr(payload + stored);
+    auto r = decode_dpm(damaged, "nan.dpm");
+    ASSERT_FALSE(r.ok()) << "field at " << field;
+    EXPECT_NE(r.message().find("not finite"), std::string::npos) << r.message();
   }
 }
 

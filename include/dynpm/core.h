@@ -286,7 +286,8 @@ Result<std::string> read_file(const std::string& path);
 Result<std::string> read_file_head(const std::string& path, size_t n);
 // Writes bytes to "<path>.tmp-<pid>-<n>" beside path, flushes, and renames it over path. On any
 // failure the temporary file is removed and path is left as it was. Removes path's stale
-// temporaries first (remove_stale_temporaries).
+// temporaries first (remove_stale_temporaries) and syncs the folder after, unless path is itself
+// a staged file of this process (StagedOutputs), whose commit does both for all its targets.
 Status write_file_atomically(const std::string& path, std::string_view bytes);
 // Removes what killed runs left beside path: its temporary files ("<path>.tmp-<pid>-<n>",
 // "<stem>.tmp-<pid><ext>" and the latter's own "….tmp-<pid>-<n>") whose process is gone from this
@@ -294,6 +295,11 @@ Status write_file_atomically(const std::string& path, std::string_view bytes);
 // the folder is still writing, or has only just finished). Returns how many were removed; errors
 // are ignored.
 size_t remove_stale_temporaries(const std::string& path);
+// The same for many targets (the files of a multi-file output): each folder is listed once.
+size_t remove_stale_temporaries(std::span<const std::string> paths);
+// How many folder listings remove_stale_temporaries has made in this process (tests check that a
+// multi-file output lists its folder once, not once per file).
+size_t stale_temporary_scans();
 // fsync of the folder holding path, so a rename into it survives a power cut (best effort).
 void sync_directory_of(const std::string& path);
 

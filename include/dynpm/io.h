@@ -121,8 +121,9 @@ Result<AnimationStream> open_input(std::span<const std::string> paths,
                                    const ReadOptions& options = {});
 
 // Command-line inputs to files: an argument with * ? or [ is a glob (error if it matches
-// nothing), its matches sorted naturally (frame_2 before frame_10); other arguments are kept
-// as given. A directory is an error.
+// nothing), its matches sorted naturally (frame_2 before frame_10), unless a file of that very
+// name exists ("run[1].obj" opens as itself); other arguments are kept as given. A directory is
+// an error.
 Result<std::vector<std::string>> expand_inputs(std::span<const std::string> arguments);
 // "Natural" order: digit runs compare by value, so frame_9.obj < frame_10.obj.
 bool natural_less(const std::string& a, const std::string& b);

@@ -6,12 +6,16 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cctype>
 #include <cerrno>
 #include <chrono>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <map>
 #include <memory>
+#include <span>
+#include <unordered_map>
 
 namespace dynpm {
 namespace {
@@ -90,29 +94,80 @@ long temporary_owner(const std::string& name, const std::filesystem::path& targe
 
 }  // namespace
 
-size_t remove_stale_temporaries(const std::string& path) {
+namespace {
+std::atomic<size_t> folder_scans{0};
+}  // namespace
+
+size_t stale_temporary_scans() { return folder_scans; }
+
+size_t remove_stale_temporaries(std::span<const std::string> paths) {
   namespace fs = std::filesystem;
-  const fs::path target(path);
-  fs::path folder = target.parent_path();
-  if (folder.empty()) folder = ".";
+  // The targets by folder, and in each folder by the two names a temporary starts with (the
+  // file's name and its stem), so that each folder is listed once however many targets it holds.
+  struct Folder {
+    std::unordered_multimap<std::string, fs::path> by_prefix;
+  };
+  std::map<fs::path, Folder> folders;
+  for (const std::string& path : paths) {
+    const fs::path target(path);
+    fs::path folder = target.parent_path();
+    if (folder.empty()) folder = ".";
+    Folder& f = folders[folder];
+    f.by_prefix.emplace(target.filename().string(), target);
+    if (target.stem() != target.filename()) f.by_prefix.emplace(target.stem().string(), target);
+  }
   const auto old_enough = fs::file_time_type::clock::now() - std::chrono::minutes(1);
+  const long self = ::getpid();
   size_t removed = 0;
-  std::error_code ec;
-  for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) {
-    const long owner = temporary_owner(it->path().filename().string(), target);
-    if (owner <= 0 || owner == ::getpid()) continue;
-    // Alive (or someone else's, EPERM): not ours to judge.
-    if (::kill(static_cast<pid_t>(owner), 0) == 0 || errno != ESRCH) continue;
-    std::error_code file_ec;
-    if (!it->is_regular_file(file_ec) || it->last_write_time(file_ec) > old_enough || file_ec)
-      continue;
-    if (fs::remove(it->path(), file_ec)) ++removed;
+  for (const auto& [folder, f] : folders) {
+    ++folder_scans;
+    std::error_code ec;
+    for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) {
+      const std::string name = it->path().filename().string();
+      // Every ".tmp-" in the name may end a target's name or stem.
+      long owner = -1;
+      for (size_t at = name.find(".tmp-"); at != std::string::npos && owner < 0;
+           at = name.find(".tmp-", at + 1)) {
+        const auto [first, last] = f.by_prefix.equal_range(name.substr(0, at));
+        for (auto t = first; t != last && owner < 0; ++t) owner = temporary_owner(name, t->second);
+      }
+      if (owner <= 0 || owner == self) continue;
+      // Alive (or someone else's, EPERM): not ours to judge.
+      if (::kill(static_cast<pid_t>(owner), 0) == 0 || errno != ESRCH) continue;
+      std::error_code file_ec;
+      if (!it->is_regular_file(file_ec) || it->last_write_time(file_ec) > old_enough || file_ec)
+        continue;
+      if (fs::remove(it->path(), file_ec)) ++removed;
+    }
   }
   return removed;
 }
 
+size_t remove_stale_temporaries(const std::string& path) {
+  return remove_stale_temporaries(std::span<const std::string>(&path, 1));
+}
+
+namespace {
+
+// A staged file of this process ("<stem>.tmp-<pid><ext>"): its own leftovers are its target's
+// too, removed by the one scan for all of a multi-file output's targets, and its folder is
+// synced once when the output is committed.
+bool is_own_temporary(const std::string& path) {
+  const std::string name = std::filesystem::path(path).filename().string();
+  const std::string mark = ".tmp-" + std::to_string(::getpid());
+  for (size_t at = name.find(mark); at != std::string::npos; at = name.find(mark, at + 1)) {
+    const size_t after = at + mark.size();
+    if (after == name.size() || !std::isdigit(static_cast<unsigned char>(name[after]))) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
 Status write_file_atomically(const std::string& path, std::string_view bytes) {
-  remove_stale_temporaries(path);
+  // A staged file is renamed to its target later, and that rename is what must be durable.
+  const bool staged = is_own_temporary(path);
+  if (!staged) remove_stale_temporaries(path);
   static std::atomic<unsigned> counter{0};
   const std::string temp =
       path + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
@@ -133,7 +188,7 @@ Status write_file_atomically(const std::string& path, std::string_view bytes) {
     std::remove(temp.c_str());
     return Status::error(path + ": cannot rename the finished file into place: " + cause);
   }
-  sync_directory_of(path);
+  if (!staged) sync_directory_of(path);
   return {};
 }
 

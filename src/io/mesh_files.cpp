@@ -345,8 +345,10 @@ bool natural_less(const std::string& a, const std::string& b) {
 Result<std::vector<std::string>> expand_inputs(std::span<const std::string> arguments) {
   std::vector<std::string> paths;
   for (const std::string& arg : arguments) {
-    if (arg.find_first_of("*?[") == std::string::npos) {
-      std::error_code ec;
+    std::error_code ec;
+    // A file that exists under this very name is that file, even if the name has [ or *.
+    const bool literal = std::filesystem::exists(arg, ec);
+    if (literal || arg.find_first_of("*?[") == std::string::npos) {
       if (std::filesystem::is_directory(arg, ec))
         return Status::error(arg + ": is a directory; give the files (e.g. '" + arg +
                              "/frame_*.obj')");

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <memory>
 
 #include "bytes.h"
 #include "dynpm/progressive.h"
@@ -29,6 +30,11 @@ constexpr int kZstdLevel = 12;
 // than real content of that size would need.
 constexpr uint64_t kMaxRawChunk = uint64_t{1} << 31;
 constexpr uint64_t kMaxQuantized = uint64_t{1} << 31;
+// zstd's densest block is an RLE block: 4 bytes (header and the byte) for at most 128 KiB, so no
+// frame decompresses to more than 32768 times its size.
+constexpr uint64_t kMaxZstdRatio = 32768;
+// The longest varint the reader takes (ByteReader::varint: 64 bits, 7 per byte).
+constexpr double kMaxVarint = 10;
 
 uint32_t crc32(std::string_view bytes) {
   static const std::array<uint32_t, 256> table = [] {
@@ -64,6 +70,38 @@ void put_chunk(std::string& out, std::string_view tag, std::string_view raw, boo
   h.put<uint32_t>(0);
   out += h.bytes;
   out += stored;
+}
+
+struct DStreamFree {
+  void operator()(ZSTD_DStream* d) const { ZSTD_freeDStream(d); }
+};
+
+// One zstd frame that must hold exactly `raw` bytes, decompressed into `out` as it arrives: the
+// buffer grows with what the frame really produces, so a frame that claims more than it holds
+// costs only what it holds. Empty on success, else what is wrong.
+std::string inflate(std::string_view frame, uint64_t raw, std::string& out) {
+  std::unique_ptr<ZSTD_DStream, DStreamFree> stream(ZSTD_createDStream());
+  if (!stream || ZSTD_isError(ZSTD_initDStream(stream.get()))) return "no memory for zstd";
+  ZSTD_inBuffer in{frame.data(), frame.size(), 0};
+  out.clear();
+  size_t produced = 0;
+  char spill;  // where output beyond `raw` would go: any is an error
+  for (;;) {
+    if (produced == out.size() && out.size() < raw)
+      out.resize(std::min<uint64_t>(raw, std::max<uint64_t>(2 * out.size(), 1 << 20)));
+    const bool full = produced == out.size();
+    ZSTD_outBuffer o{full ? &spill : out.data() + produced, full ? 1 : out.size() - produced, 0};
+    const size_t consumed = in.pos;
+    const size_t left = ZSTD_decompressStream(stream.get(), &o, &in);
+    if (ZSTD_isError(left)) return ZSTD_getErrorName(left);
+    if (full && o.pos > 0) return "it holds more bytes than its header says";
+    produced += o.pos;
+    if (left == 0) break;  // the frame is complete
+    if (o.pos == 0 && in.pos == consumed) return "the frame is cut short";
+  }
+  if (produced != raw) return "it holds fewer bytes than its header says";
+  if (in.pos != in.size) return "bytes after its zstd frame";
+  return {};
 }
 
 // Position q-values (docs/FORMAT.md "Positions"): grid integers, or float bits when lossless.
@@ -303,21 +341,45 @@ class Decoder {
       if (raw != stored) return fail(pos_ + 12, "an uncompressed chunk's sizes differ");
       payload.assign(body);
     } else {
-      if (raw > kMaxRawChunk)
-        return fail(pos_ + 12, "chunk claims " + std::to_string(raw) + " bytes");
+      // Before any allocation: what the chunk says it holds against what it can hold.
+      if (tag == "HEAD" || tag == "END ")
+        return fail(pos_ + 4, "a compressed " + tag + " chunk (only BASE and SPLT may be)");
+      const double limit = std::min(payload_limit(tag), double(kMaxRawChunk));
+      if (raw > limit)
+        return fail(pos_ + 12, "the " + tag + " chunk claims " + std::to_string(raw) +
+                                   " bytes; the header's counts allow at most " +
+                                   std::to_string(uint64_t(limit)));
+      if (raw > uint64_t{stored} * kMaxZstdRatio)
+        return fail(pos_ + 12, "the " + tag + " chunk claims " + std::to_string(raw) +
+                                   " bytes, more than " + std::to_string(stored) +
+                                   " compressed bytes can hold");
       const unsigned long long content = ZSTD_getFrameContentSize(body.data(), body.size());
       if (content != raw)
         return fail(pos_ + kChunkHeaderSize, "compressed chunk size does not match its header");
-      payload.resize(raw);
-      const size_t n = ZSTD_decompress(payload.data(), raw, body.data(), body.size());
-      if (ZSTD_isError(n) || n != raw)
-        return fail(pos_ + kChunkHeaderSize,
-                    std::string("cannot decompress the chunk: ") +
-                        (ZSTD_isError(n) ? ZSTD_getErrorName(n) : "short"));
+      if (std::string why = inflate(body, raw, payload); !why.empty())
+        return fail(pos_ + kChunkHeaderSize, "cannot decompress the " + tag + " chunk: " + why);
     }
     payload_start_ = pos_ + kChunkHeaderSize;
     pos_ += kChunkHeaderSize + stored;
     return true;
+  }
+
+  // The most bytes a BASE or SPLT payload can take for the counts in HEAD, each value at the
+  // longest encoding the reader accepts (docs/FORMAT.md). A split's moved faces are bounded only
+  // by the face count, which makes the SPLT bound loose but still a bound.
+  double payload_limit(const std::string& tag) const {
+    const ProgressiveMesh& m = mesh_;
+    const double steps = double(m.times.size()), fields = double(m.field_names.size());
+    const double per_vertex = 2 * kMaxVarint + steps * (3 * kMaxVarint + 4 * fields);
+    const double per_face_attributes = 3 * kMaxVarint;
+    if (tag == "BASE")
+      return m.base_vertex_count * per_vertex +
+             m.base_face_count * (1 + 4 * kMaxVarint + per_face_attributes);
+    if (tag != "SPLT") return 0;
+    const double splits = double(m.full_split_count) - double(m.split_count());
+    const double per_split = kMaxVarint + 4 + 1 + 4 * (1 + 2 * kMaxVarint) + kMaxVarint +
+                             kMaxVarint * m.full_face_count + per_vertex + 4 * per_face_attributes;
+    return 8 + splits * per_split;
   }
 
   Status expect_chunk(const char* tag, std::string& payload, const char* what) {
@@ -353,8 +415,10 @@ class Decoder {
     m.max_error = r.get<double>();
     m.base_error = r.get<double>();
     if (!r.ok()) return bad(r, "the header is too short");
+    // Each split brings back at most 4 faces (its triangle wings).
     if (m.base_vertex_count > m.full_vertex_count || m.base_face_count > m.full_face_count ||
-        m.full_split_count != m.full_vertex_count - m.base_vertex_count)
+        m.full_split_count != m.full_vertex_count - m.base_vertex_count ||
+        m.full_face_count - m.base_face_count > uint64_t{4} * m.full_split_count)
       return bad(r, "the header's counts do not add up");
     if (steps == 0 || !r.can_hold(steps, 8)) return bad(r, "the header's step count is not valid");
     if (flags > 1) return bad(r, "unknown header flags");
@@ -365,8 +429,13 @@ class Decoder {
       if (!std::isfinite(x)) return bad(r, "the bounding box is not finite");
     if (!m.lossless && !(m.quant_step > 0 && std::isfinite(m.quant_step)))
       return bad(r, "the quantization step is not valid");
+    if (!(std::isfinite(m.max_error) && m.max_error >= 0 && std::isfinite(m.base_error) &&
+          m.base_error >= 0))
+      return bad(r, "the header's error bounds are not finite numbers ≥ 0");
     m.times.resize(steps);
     for (double& t : m.times) t = r.get<double>();
+    for (double t : m.times)
+      if (!std::isfinite(t)) return bad(r, "a step's time is not finite");
     const uint32_t keys = r.get<uint32_t>();
     if (!r.can_hold(keys, 4)) return bad(r, "the key-step count is not valid");
     for (uint32_t k = 0; k < keys; ++k) m.key_steps.push_back(r.get<uint32_t>());
@@ -375,7 +444,10 @@ class Decoder {
     m.note = r.text();
     if (!r.ok()) return bad(r, "the header is too short");
     if (uint64_t{fields} * steps > (uint64_t{1} << 24)) return bad(r, "too many fields × steps");
-    m.fields.assign(fields, std::vector<std::vector<float>>(steps));
+    // Field values come with vertices: a model without base vertices has none (its splits
+    // cannot apply either, each needs a parent).
+    if (fields > 0 && m.base_vertex_count == 0)
+      return bad(r, "fields are declared for a model without base vertices");
     m.positions.resize(steps);
     return {};
   }
@@ -422,6 +494,9 @@ class Decoder {
         }
     if (!r.can_hold(uint64_t{end - begin} * steps * mesh_.field_names.size(), 4))
       return bad(r, "field values are cut short");
+    // Allocated once the base mesh's values have arrived, which proves they are in the file.
+    if (mesh_.fields.size() != mesh_.field_names.size())
+      mesh_.fields.assign(mesh_.field_names.size(), std::vector<std::vector<float>>(steps));
     for (auto& field : mesh_.fields)
       for (auto& values : field) {
         values.resize(end);

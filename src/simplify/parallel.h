@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <exception>
 #include <thread>
 #include <vector>
 
@@ -24,12 +25,28 @@ void parallel_for(size_t n, unsigned threads, Body&& body) {
     return;
   }
   std::vector<std::thread> pool;
+  pool.reserve(threads);  // before any thread runs: a throw later would leave them unjoined
+  // An exception in a worker (std::bad_alloc) is rethrown here, not std::terminate.
+  std::vector<std::exception_ptr> failed(threads);
   const size_t chunk = (n + threads - 1) / threads;
   for (unsigned i = 0; i < threads; ++i) {
     const size_t begin = std::min(n, i * chunk), end = std::min(n, begin + chunk);
-    pool.emplace_back([&body, begin, end, i] { body(begin, end, i); });
+    auto work = [&body, &failed, begin, end, i] {
+      try {
+        body(begin, end, i);
+      } catch (...) {
+        failed[i] = std::current_exception();
+      }
+    };
+    try {
+      pool.emplace_back(work);
+    } catch (...) {  // no thread to be had (memory, limits): do it here
+      work();
+    }
   }
   for (std::thread& t : pool) t.join();
+  for (const std::exception_ptr& e : failed)
+    if (e) std::rethrow_exception(e);
 }
 
 }  // namespace dynpm::simplification

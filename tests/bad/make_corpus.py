@@ -12,6 +12,7 @@ import struct
 import subprocess
 import sys
 import tempfile
+import zlib
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 
@@ -125,6 +126,23 @@ def frd(steps, node_x=None, time_text=None):
     return s + " 9999\n"
 
 
+def zstd_zeros(n):
+    """A zstd frame (RFC 8878) of n zero bytes made of RLE blocks, with its content size."""
+    frame = struct.pack("<IBB", 0xFD2FB528, 0xC0, (17 - 10) << 3)  # 8-byte size, 128 KiB window
+    frame += struct.pack("<Q", n)
+    while n > 0:
+        size = min(n, 1 << 17)
+        n -= size
+        header = (size << 3) | (1 << 1) | (1 if n == 0 else 0)  # RLE block, last?
+        frame += struct.pack("<I", header)[:3] + b"\0"
+    return frame
+
+
+def chunk(tag, flags, raw, stored):
+    """A .dpm chunk (docs/FORMAT.md): tag, flags, sizes, CRC-32 of the stored bytes, payload."""
+    return tag + struct.pack("<IIIII", flags, len(stored), raw, zlib.crc32(stored), 0) + stored
+
+
 def main():
     dynpm = sys.argv[1] if len(sys.argv) > 1 else None
 
@@ -228,6 +246,10 @@ def main():
         write("truncated-splits.dpm", data[:splt + 30])  # a prefix: the base mesh, no splits
         write("wrong-magic.dpm", b"\x89DPN" + data[4:])
         write("wrong-version.dpm", data[:8] + struct.pack("<I", 7) + data[12:])
+        # A decompression bomb: the grid's HEAD, then a BASE chunk whose zstd frame really holds
+        # 2^31 zero bytes (16384 RLE blocks of 128 KiB, 4 bytes each: 64 KiB for 2 GiB).
+        head_end = base  # the BASE chunk starts where HEAD ends
+        write("bomb-base.dpm", data[:head_end] + chunk(b"BASE", 1, 2**31, zstd_zeros(2**31)))
 
     # d3plot-like garbage: named like an LS-DYNA result, 4 KB of noise.
     noise = bytearray()
