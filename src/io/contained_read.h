@@ -28,6 +28,8 @@ namespace dynpm::io {
 
 // Calls `open` in a child process; `library` names what may crash ("HDF5"). The returned
 // stream's frames are read through the child. options.warn receives the child's warnings.
+// It forks: call it while no other thread holds a lock the reader needs (dynpm opens its
+// inputs before any worker thread starts; the simplifier's threads end with each pass).
 Result<AnimationStream> open_in_child(
     const std::string& path, const ReadOptions& options, const char* library,
     const std::function<Result<AnimationStream>(const ReadOptions&)>& open);
