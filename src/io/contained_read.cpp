@@ -137,7 +137,7 @@ bool send_message(int fd, char tag, std::string_view payload) {
   return send_all(fd, std::string_view(header, 9)) && send_all(fd, payload);
 }
 
-enum class Received { kOk, kClosed, kSilent };
+enum class Received { kOk, kClosed, kSilent, kMalformed };
 
 // Reads exactly `size` bytes, waiting at most `timeout_ms` for each piece when timeout_ms ≥ 0.
 Received receive_all(int fd, char* out, size_t size, int timeout_ms) {
@@ -164,7 +164,7 @@ Received receive_message(int fd, char& tag, std::string& payload, int timeout_ms
   tag = header[0];
   uint64_t size = 0;
   std::memcpy(&size, header + 1, 8);
-  if (size > kMaxMessage) return Received::kClosed;
+  if (size > kMaxMessage) return Received::kMalformed;
   payload.resize(size);
   return receive_all(fd, payload.data(), size, timeout_ms);
 }
@@ -281,15 +281,19 @@ class Child {
       : pid_(pid), fd_(fd), path_(std::move(path)), library_(library) {}
   ~Child() {
     ::close(fd_);
-    if (pid_ > 0) reap(true);
+    if (pid_ > 0) reap();
   }
   Child(const Child&) = delete;
   Child& operator=(const Child&) = delete;
 
-  // Sends a request (tag, payload) and receives the answer; a dead or silent child is an error.
+  // Sends a request and receives its answer.
   Status ask(char tag, std::string_view payload, char& answer, std::string& reply) {
+    if (dead_.ok() && !send_message(fd_, tag, payload)) return died(Received::kClosed);
+    return receive(answer, reply);
+  }
+  // Receives the next answer; a dead, silent or garbled child is an error, now and later.
+  Status receive(char& answer, std::string& reply) {
     if (!dead_.ok()) return dead_;
-    if (tag != 0 && !send_message(fd_, tag, payload)) return died(Received::kClosed);
     const Received r = receive_message(fd_, answer, reply, kSilenceSeconds * 1000);
     if (r != Received::kOk) return died(r);
     if (answer == 'E') return Status::error(reply);
@@ -297,8 +301,10 @@ class Child {
   }
 
  private:
-  int reap(bool kill_first) {
-    if (kill_first) ::kill(pid_, SIGKILL);
+  // Kills the child, if it still lives, and collects its status. A child that closed the socket
+  // by dying is past the point where SIGKILL changes its status.
+  int reap() {
+    ::kill(pid_, SIGKILL);
     int status = 0;
     while (::waitpid(pid_, &status, 0) < 0 && errno == EINTR) {
     }
@@ -306,19 +312,18 @@ class Child {
     return status;
   }
   Status died(Received how) {
+    const int status = reap();
     std::string why;
-    if (how == Received::kSilent) {
-      reap(true);
+    if (how == Received::kSilent)
       why = "gave no answer in " + std::to_string(kSilenceSeconds) + " s";
-    } else {
-      const int status = reap(false);
-      if (WIFSIGNALED(status))
-        why = std::string("crashed reading it: ") + ::strsignal(WTERMSIG(status));
-      else if (WIFEXITED(status) && WEXITSTATUS(status) != 0)
-        why = "crashed reading it: exit status " + std::to_string(WEXITSTATUS(status));
-      else
-        why = "stopped reading it";
-    }
+    else if (how == Received::kMalformed)
+      why = "sent a malformed answer";
+    else if (WIFSIGNALED(status))
+      why = std::string("crashed reading it: ") + ::strsignal(WTERMSIG(status));
+    else if (WIFEXITED(status) && WEXITSTATUS(status) != 0)
+      why = "crashed reading it: exit status " + std::to_string(WEXITSTATUS(status));
+    else
+      why = "stopped reading it";
     dead_ = Status::error(path_ + ": damaged " + library_ + " file (the " + library_ +
                           " library " + why + ")");
     return dead_;
@@ -409,7 +414,7 @@ Result<AnimationStream> open_in_child(
 
   char answer = 0;
   std::string reply;
-  DYNPM_RETURN_IF_ERROR(child->ask(0, {}, answer, reply));
+  DYNPM_RETURN_IF_ERROR(child->receive(answer, reply));
   std::vector<std::string> warnings;
   AnimationStream stream;
   Topology& topology = stream.topology;
