@@ -13,8 +13,11 @@
 #include <fstream>
 #include <map>
 
+#include <csignal>
+
 #include "dynpm/io.h"
 #include "fixtures.h"
+#include "io/contained_read.h"
 #include "reading.h"
 #include "third_party.h"
 
@@ -257,6 +260,102 @@ TEST(ExodusTest, MeshioWrittenFileRoundTrips) {
     ASSERT_NEAR(xyz[3 * v + 2], base[3 * v + 2] + 2.0f, 1e-4) << v;
   }
   EXPECT_EQ(r.stream->frames->field_names(), std::vector<std::string>{"temperature"});
+}
+
+// Issue 16: single-word corruptions of this netCDF-4 file made libhdf5 SIGSEGV inside nc_open
+// (fuzz/exodus_word_flips.py: 171 of 1,020 between bytes 7,780 and 11,860). HDF5 files are read
+// in a child process: dynpm must exit 1 with "damaged HDF5 file" naming the file, never crash.
+// The same for the files in fuzz/regressions/exodus/ made from the meshio seed the same way.
+TEST(ExodusTest, DamagedHdf5FilesAreErrorsNotCrashes) {
+  std::ifstream in(exodus_file("vtkdata_biplane_rms_pressure_bs.exo"), std::ios::binary);
+  const std::string biplane((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  test::TempDir dir;
+  std::vector<std::string> files;
+  const struct {
+    size_t at;
+    bool invert;  // the word's bytes inverted, else all ones
+  } patches[] = {{7780, false}, {9652, true}, {11812, false}};
+  for (const auto& patch : patches) {
+    std::string bytes = biplane;
+    for (size_t i = patch.at; i < patch.at + 4; ++i)
+      bytes[i] = patch.invert ? static_cast<char>(~bytes[i]) : '\xff';
+    files.push_back(dir.file("biplane-" + std::to_string(patch.at) + ".exo"));
+    std::ofstream(files.back(), std::ios::binary) << bytes;
+  }
+  for (const auto& entry : fs::directory_iterator(test::source_dir() + "/fuzz/regressions/exodus"))
+    if (entry.path().filename().string().starts_with("hdf5-"))
+      files.push_back(entry.path().string());
+  ASSERT_GE(files.size(), 5u);
+  for (const std::string& file : files) {
+    const auto run = test::run_command(std::string(DYNPM_CLI) + " info '" + file + "'");
+    EXPECT_EQ(run.exit_code, 1) << file << "\n" << run.output;
+    EXPECT_NE(run.output.find(file + ": damaged HDF5 file (the HDF5 library crashed reading it"),
+              std::string::npos)
+        << run.output;
+  }
+}
+
+// open_in_child on stand-in readers: what the child reads arrives whole, its errors arrive as
+// they are, and its death, at open or at a later step, becomes the "damaged file" error.
+class CrashingSteps final : public FrameSource {
+ public:
+  uint32_t vertex_count() const override { return 3; }
+  size_t step_count() const override { return 3; }
+  double step_time(size_t t) const override { return 0.5 * double(t); }
+  Status read_step(size_t t, std::span<float> out) const override {
+    if (t == 2) std::raise(SIGSEGV);
+    for (size_t i = 0; i < out.size(); ++i) out[i] = float(10 * t + i);
+    return t == 1 ? Status::error("step 1: no data") : Status();
+  }
+  std::vector<std::string> field_names() const override { return {"T"}; }
+  Status read_field(size_t, size_t t, std::span<float> out) const override {
+    std::fill(out.begin(), out.end(), float(t) + 0.25f);
+    return {};
+  }
+};
+
+TEST(ContainedReadTest, ChildReadsErrorsAndCrashes) {
+  std::vector<std::string> warnings;
+  ReadOptions options;
+  options.warn = [&](const std::string& w) { warnings.push_back(w); };
+  auto stream = io::open_in_child("a.exo", options, "HDF5", [](const ReadOptions& o) {
+    o.warn("a note");
+    AnimationStream s;
+    s.topology = Topology::with_vertices(3);
+    s.topology.add_triangle(0, 1, 2, 7, 42);
+    s.frames = std::make_unique<CrashingSteps>();
+    return Result<AnimationStream>(std::move(s));
+  });
+  ASSERT_TRUE(stream.ok()) << stream.message();
+  EXPECT_EQ(warnings, std::vector<std::string>{"a note"});
+  EXPECT_EQ(stream->topology.faces, (std::vector<Face>{Face{{0, 1, 2, kNoVertex}}}));
+  EXPECT_EQ(stream->topology.part_ids, std::vector<int32_t>{7});
+  EXPECT_EQ(stream->topology.element_ids, std::vector<int64_t>{42});
+  const FrameSource& frames = *stream->frames;
+  ASSERT_EQ(frames.step_count(), 3u);
+  EXPECT_EQ(frames.step_time(2), 1.0);
+  EXPECT_EQ(frames.field_names(), std::vector<std::string>{"T"});
+  std::vector<float> xyz(9), values(3);
+  ASSERT_TRUE(frames.read_step(0, xyz).ok());
+  EXPECT_EQ(xyz[8], 8.0f);
+  ASSERT_TRUE(frames.read_field(0, 2, values).ok());
+  EXPECT_EQ(values[0], 2.25f);
+  EXPECT_EQ(frames.read_step(1, xyz).message(), "step 1: no data");
+  const std::string died = "a.exo: damaged HDF5 file (the HDF5 library crashed reading it: ";
+  EXPECT_TRUE(frames.read_step(2, xyz).message().starts_with(died)) << frames.read_step(2, xyz).message();
+  EXPECT_TRUE(frames.read_step(0, xyz).message().starts_with(died));  // and stays dead
+
+  auto refused = io::open_in_child("b.exo", options, "HDF5", [](const ReadOptions&) {
+    return Result<AnimationStream>(Status::error("b.exo: no num_nodes"));
+  });
+  EXPECT_EQ(refused.message(), "b.exo: no num_nodes");
+  auto crashed = io::open_in_child("c.exo", options, "HDF5", [](const ReadOptions&) {
+    std::raise(SIGSEGV);
+    return Result<AnimationStream>(Status::error("not reached"));
+  });
+  EXPECT_TRUE(crashed.message().starts_with("c.exo: damaged HDF5 file (the HDF5 library crashed "
+                                            "reading it: "))
+      << crashed.message();
 }
 
 }  // namespace

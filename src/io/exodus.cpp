@@ -11,6 +11,11 @@
 // PYRAMID) give their outer faces; beams, bars and others are ignored with a warning. Nodal
 // variables named DISPL_X/Y/Z (or DISP_X, DISPLX, DISPLACEMENT_X, …) move the nodes: positions
 // are coordinates + displacement. The other nodal variables are scalar fields.
+//
+// Classic netCDF files are read here, in dynpm's process: their header is checked by our own
+// code first (ClassicHeaderCheck) and netCDF's classic reader is fuzzed with ours. Every other
+// file (netCDF-4, i.e. HDF5) is read in a child process (contained_read.h): libhdf5 crashes on
+// damaged files (issue 16), and that must end the child, not dynpm.
 #include <netcdf.h>
 
 #include <algorithm>
@@ -20,6 +25,7 @@
 #include <fstream>
 #include <optional>
 
+#include "contained_read.h"
 #include "formats.h"
 #include "solid_surface.h"
 
@@ -155,7 +161,7 @@ class NcFile {
 //   name   = nelems chars                 (padded to 4 bytes)
 // Counts, lengths and ids take 4 bytes (8 in CDF-5), begin 4 (8 in CDF-2 and CDF-5), tags and
 // types 4; all big-endian. As in netCDF, a list of 0 items is absent whatever its tag.
-// HDF5-based files (netCDF-4, "\x89HDF") are left to netCDF and HDF5.
+// Other files (netCDF-4, "\x89HDF") are read in a child process, see open_exodus.
 class ClassicHeaderCheck {
  public:
   ClassicHeaderCheck(std::string path, uint64_t file_size, char version)
@@ -364,13 +370,12 @@ class ClassicHeaderCheck {
   Status error_;
 };
 
-// Checks a classic-format netCDF file's header (above); other files pass unchecked.
-Status check_classic_header(const std::string& path, uint64_t file_size) {
+// The classic format's version byte (1, 2 or 5) if the file starts like one, else 0.
+char classic_version(const std::string& path) {
   char magic[4] = {};
   std::ifstream in(path, std::ios::binary);
-  if (!in.read(magic, 4) || std::string_view(magic, 3) != "CDF") return {};
-  if (magic[3] != 1 && magic[3] != 2 && magic[3] != 5) return {};
-  return ClassicHeaderCheck(path, file_size, magic[3]).run();
+  if (!in.read(magic, 4) || std::string_view(magic, 3) != "CDF") return 0;
+  return magic[3] == 1 || magic[3] == 2 || magic[3] == 5 ? magic[3] : 0;
 }
 
 // Where a nodal variable's values for one step live.
@@ -490,13 +495,9 @@ BlockType block_type(const std::string& elem_type, size_t nodes_per_element) {
   return {};
 }
 
-}  // namespace
-
-Result<AnimationStream> open_exodus(const std::string& path, const ReadOptions& options) {
-  std::error_code ec;
-  const uint64_t file_size = std::filesystem::file_size(path, ec);
-  if (ec) return Status::error(path + ": " + ec.message());
-  DYNPM_RETURN_IF_ERROR(check_classic_header(path, file_size));
+// Everything from nc_open on; in dynpm's process for classic files, in a child for the others.
+Result<AnimationStream> read_exodus(const std::string& path, uint64_t file_size,
+                                    const ReadOptions& options) {
   int id = -1;
   if (int rc = nc_open(path.c_str(), NC_NOWRITE, &id); rc != NC_NOERR)
     return Status::error(path + ": not a readable netCDF (Exodus II) file: " + nc_strerror(rc));
@@ -728,6 +729,21 @@ Result<AnimationStream> open_exodus(const std::string& path, const ReadOptions& 
       std::make_unique<ExodusSource>(std::move(file), n, std::move(kept), std::move(coordinates),
                                      std::move(times), std::move(displacement), std::move(fields));
   return stream;
+}
+
+}  // namespace
+
+Result<AnimationStream> open_exodus(const std::string& path, const ReadOptions& options) {
+  std::error_code ec;
+  const uint64_t file_size = std::filesystem::file_size(path, ec);
+  if (ec) return Status::error(path + ": " + ec.message());
+  if (const char version = classic_version(path)) {
+    DYNPM_RETURN_IF_ERROR(ClassicHeaderCheck(path, file_size, version).run());
+    return read_exodus(path, file_size, options);
+  }
+  return open_in_child(path, options, "HDF5", [&](const ReadOptions& child_options) {
+    return read_exodus(path, file_size, child_options);
+  });
 }
 
 }  // namespace dynpm::io
