@@ -7,6 +7,7 @@
 #include "args.h"
 #include "commands.h"
 #include "dynpm/lod.h"
+#include "dynpm/text.h"
 #include "json.h"
 
 namespace dynpm::cli {
@@ -79,7 +80,7 @@ void print_text(std::span<const std::string> inputs, const Topology& topology,
   out << "\n";
   if (const auto fields = frames.field_names(); !fields.empty()) {
     out << "fields        " << fields.size() << " (";
-    for (size_t i = 0; i < fields.size(); ++i) out << (i ? ", " : "") << fields[i];
+    for (size_t i = 0; i < fields.size(); ++i) out << (i ? ", " : "") << printable(fields[i]);
     out << ") per vertex and step\n";
   }
   out << "edges         " << stats.edges << "\n";
@@ -245,7 +246,7 @@ int print_dpm_info(const std::string& path, bool json) {
               m.times.back(), m.key_steps.size());
   if (!m.field_names.empty()) {
     std::printf("fields   ");
-    for (const std::string& f : m.field_names) std::printf(" %s", f.c_str());
+    for (const std::string& f : m.field_names) std::printf(" %s", printable(f).c_str());
     std::printf("\n");
   }
   if (m.lossless)
@@ -254,7 +255,7 @@ int print_dpm_info(const std::string& path, bool json) {
     std::printf("positions within %.3g (%.2g of the diagonal %.4g)\n", m.max_error,
                 of_diagonal(m.max_error, m.diagonal()), m.diagonal());
   std::printf("size      %.0f bytes, %.2f bytes per vertex per step\n", size, per_vertex_step);
-  if (!m.note.empty()) std::printf("note      %s\n", m.note.c_str());
+  if (!m.note.empty()) std::printf("note      %s\n", printable(m.note).c_str());
   return kExitOk;
 }
 

@@ -225,6 +225,10 @@ def main():
     write("escape-in-header.ply",
           ascii_ply(GRID_V, GRID_F, extra_header="\x1b]0;owned\x07\x1b[2J\n"))
     write("nul-in-keyword.vtk", ascii_vtk(grid_text, GRID_F, keyword="POLY\0GONS"))
+    # A field name is file text too: 'dynpm info' prints it escaped.
+    write("escape-in-field-name.vtk",
+          ascii_vtk(grid_text, GRID_F) + "POINT_DATA 9\nSCALARS \x1b[2Jred float 1\n"
+          "LOOKUP_TABLE default\n" + "".join(f"{i}\n" for i in range(9)))
     write("long-statement.obj",
           obj(GRID_V, GRID_F) + "x" * 4096 + " a statement 4 KB long\n")
 
