@@ -276,6 +276,41 @@ export class ProgressiveMesh {
 
 // Feed it the file's bytes with push() as they arrive; it parses each chunk once complete and
 // calls the callbacks: onHead(mesh), onBase(mesh), onSplits(mesh, first, count), onEnd(mesh).
+// What is wrong with a chunk's zstd payload before fzstd sees it, or null. fzstd allocates
+// what the frame header declares (up to 2 GB, or the window when no size is declared), not the
+// chunk's raw size, so a small chunk could make the page take gigabytes before the size check
+// after decompression. As FORMAT.md says and the C++ reader checks: one frame, declaring
+// exactly `raw` bytes, and nothing after it. Blocks are walked by their headers only.
+export function zstdFrameProblem(bytes, raw) {
+  const n = bytes.length;
+  if (n < 6 || bytes[0] !== 0x28 || bytes[1] !== 0xb5 || bytes[2] !== 0x2f || bytes[3] !== 0xfd)
+    return 'the payload is not a zstd frame';
+  const descriptor = bytes[4];
+  if (descriptor & 8) return 'zstd frame header has its reserved bit set';
+  const sizeFlag = descriptor >> 6;
+  const singleSegment = (descriptor >> 5) & 1;
+  const checksum = (descriptor >> 2) & 1;
+  const sizeBytes = sizeFlag ? 1 << sizeFlag : singleSegment;
+  if (!sizeBytes) return 'the zstd frame does not declare its size';
+  let at = 5 + (singleSegment ? 0 : 1) + [0, 1, 2, 4][descriptor & 3];
+  if (at + sizeBytes > n) return 'the zstd frame header is cut short';
+  let size = 0;
+  for (let i = sizeBytes - 1; i >= 0; i--) size = size * 256 + bytes[at + i];
+  if (sizeFlag === 1) size += 256;
+  if (size !== raw) return `the zstd frame declares ${size} bytes, the chunk header ${raw}`;
+  at += sizeBytes;
+  for (let last = 0; !last; ) {
+    if (at + 3 > n) return 'the zstd frame is cut short';
+    const block = bytes[at] | (bytes[at + 1] << 8) | (bytes[at + 2] << 16);
+    const type = (block >> 1) & 3;
+    if (type === 3) return 'the zstd frame has a reserved block type';
+    last = block & 1;
+    at += 3 + (type === 1 ? 1 : block >>> 3);  // an RLE block stores one byte
+  }
+  if (at + 4 * checksum !== n) return 'bytes after the zstd frame';
+  return null;
+}
+
 export class DpmDecoder {
   constructor({ name = 'file', onHead, onBase, onSplits, onEnd } = {}) {
     this.name = name;
@@ -330,6 +365,8 @@ export class DpmDecoder {
       if (crc32(stored_bytes) !== crc) this.fail(at, `${tag} chunk: wrong checksum`);
       let payload = stored_bytes;
       if (flags & FLAG_ZSTD) {
+        const frame = zstdFrameProblem(stored_bytes, raw);
+        if (frame) this.fail(at + CHUNK_HEADER_BYTES, `${tag} chunk: ${frame}`);
         try {
           payload = decompress(stored_bytes);
         } catch (e) {

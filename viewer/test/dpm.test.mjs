@@ -46,10 +46,27 @@ class Bytes {
   }
 }
 
-function chunk(out, tag, payload) {
+// A chunk; with `frame` (payload → zstd frame bytes) stored compressed.
+function chunk(out, tag, payload, frame = null) {
+  const stored = frame ? frame(payload) : payload;
   for (const c of tag) out.u8(c.charCodeAt(0));
-  out.u32(0), out.u32(payload.length), out.u32(payload.length), out.u32(crc32(payload)), out.u32(0);
+  out.u32(frame ? 1 : 0), out.u32(stored.length), out.u32(payload.length);
+  out.u32(crc32(stored)), out.u32(0);
+  stored.forEach((x) => out.u8(x));
+}
+
+// A zstd frame written by hand (RFC 8878): single segment, the content size in `sizeBytes`
+// bytes (1 or 4), the payload as one raw block. `declared` overrides the content size.
+function zstdFrame(payload, { declared = payload.length, sizeBytes = 1 } = {}) {
+  const out = new Bytes();
+  [0x28, 0xb5, 0x2f, 0xfd].forEach((x) => out.u8(x));
+  out.u8(sizeBytes === 4 ? 0xa0 : 0x20);
+  if (sizeBytes === 4) out.u32(declared);
+  else out.u8(declared);
+  const header = 1 | (0 << 1) | (payload.length << 3);  // last block, raw
+  out.u8(header), out.u8(header >> 8), out.u8(header >> 16);
   payload.forEach((x) => out.u8(x));
+  return out.bytes;
 }
 
 // Base: w=0, v1=1, x=2, y=3, z=4; faces (0,1,2) and (1,4,3). Split 0 creates v0=5: the quad
@@ -63,7 +80,7 @@ const Q = [
 const QUANT = 0.25;
 const BMIN = [-1, -2, -3];
 
-function makeFile() {
+function makeFile(baseFrame = null) {
   const out = new Bytes();
   [0x89, 0x44, 0x50, 0x4d, 0x0d, 0x0a, 0x1a, 0x0a].forEach((x) => out.u8(x));
   out.u32(1);
@@ -92,7 +109,7 @@ function makeFile() {
       for (let c = 0; c < 3; c++)
         base.svarint(t === 0 ? Q[0][v][c] - (v ? Q[0][v - 1][c] : 0) : Q[t][v][c] - Q[t - 1][v][c]);
   for (let t = 0; t < 2; t++) for (let v = 0; v < 5; v++) base.f32(10 * t + v);
-  chunk(out, 'BASE', base.bytes);
+  chunk(out, 'BASE', base.bytes, baseFrame);
 
   const split = new Bytes();
   split.u32(0), split.u32(1);
@@ -196,4 +213,20 @@ test('damage is reported with its byte, not decoded', () => {
   const tag = FILE.slice();
   tag[HEAD_END] = 0x58;  // "XASE"
   assert.throws(() => readDpm(tag), /unknown chunk tag/);
+});
+
+test('a zstd chunk is decoded only when its one frame declares the chunk\'s raw size', () => {
+  const plain = readDpm(FILE).mesh;
+  const packed = readDpm(makeFile((p) => zstdFrame(p))).mesh;
+  assert.deepEqual(Array.from(packed.nodeId), Array.from(plain.nodeId));
+  assert.deepEqual(packed.position(4, 1), plain.position(4, 1));
+  // A frame declaring 1 GiB in a chunk whose header says ~100 bytes: fzstd would allocate the
+  // gigabyte before the size check after decompression.
+  const bomb = makeFile((p) => zstdFrame(p, { declared: 2 ** 30, sizeBytes: 4 }));
+  assert.throws(() => readDpm(bomb, 'x.dpm'),
+    /x\.dpm: byte \d+: BASE chunk: the zstd frame declares 1073741824 bytes, the chunk header \d+/);
+  const second = makeFile((p) => Uint8Array.from([...zstdFrame(p), ...zstdFrame(p)]));
+  assert.throws(() => readDpm(second), /BASE chunk: bytes after the zstd frame/);
+  const noSize = makeFile((p) => zstdFrame(p).map((x, i) => (i === 4 ? 0x00 : x)));
+  assert.throws(() => readDpm(noSize), /BASE chunk: the zstd frame does not declare its size/);
 });
