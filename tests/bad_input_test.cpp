@@ -28,6 +28,7 @@
 
 #include "dynpm/io.h"
 #include "dynpm/progressive.h"
+#include "dynpm/sanitizers.h"
 #include "fixtures.h"
 #include "third_party.h"
 
@@ -228,13 +229,24 @@ std::string make_animation(const test::TempDir& dir) {
   return dir.file("frame_*.obj");
 }
 
-// dynpm with these arguments, started in the background (quiet); its process id.
-pid_t start_dynpm(const std::vector<std::string>& arguments) {
+// The dynpm binary and these arguments, and the array execv() takes of them (pointing into
+// `args`, which must outlive it).
+std::vector<std::string> dynpm_command(const std::vector<std::string>& arguments) {
   std::vector<std::string> args = {DYNPM_CLI};
   args.insert(args.end(), arguments.begin(), arguments.end());
+  return args;
+}
+std::vector<char*> argv_of(std::vector<std::string>& args) {
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
+  return argv;
+}
+
+// dynpm with these arguments, started in the background (quiet); its process id.
+pid_t start_dynpm(const std::vector<std::string>& arguments) {
+  std::vector<std::string> args = dynpm_command(arguments);
+  std::vector<char*> argv = argv_of(args);
   const pid_t pid = ::fork();
   if (pid == 0) {
     const int null = ::open("/dev/null", O_WRONLY);
@@ -554,11 +566,8 @@ MeasuredRun run_measured(const std::string& folder, const std::vector<std::strin
                          long limit_mb = 0) {
   test::TempDir scratch;
   const std::string log = scratch.file("output.txt");
-  std::vector<std::string> args = {DYNPM_CLI};
-  args.insert(args.end(), arguments.begin(), arguments.end());
-  std::vector<char*> argv;
-  for (std::string& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
+  std::vector<std::string> args = dynpm_command(arguments);
+  std::vector<char*> argv = argv_of(args);
   const pid_t pid = ::fork();
   if (pid == 0) {
     const int out = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
@@ -600,18 +609,6 @@ TEST(BadInputs, ADecompressionBombIsRefusedBeforeItsMemory) {
     EXPECT_LT(run.peak_mb, 200) << "peak resident memory in MB";
   }
 }
-
-#if defined(__SANITIZE_ADDRESS__)
-constexpr bool kAddressSanitizer = true;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-constexpr bool kAddressSanitizer = true;
-#else
-constexpr bool kAddressSanitizer = false;
-#endif
-#else
-constexpr bool kAddressSanitizer = false;
-#endif
 
 // Out of memory is a message and exit 1 that names the phase, not "terminate called after
 // throwing std::bad_alloc" (exit 134); nothing is left in the output folder.

@@ -20,6 +20,8 @@
 #include <mutex>
 #include <type_traits>
 
+#include "dynpm/sanitizers.h"
+
 namespace dynpm::io {
 namespace {
 
@@ -28,18 +30,6 @@ namespace {
 constexpr int kSilenceSeconds = 120;
 // An answer larger than this is a broken child, not a mesh.
 constexpr uint64_t kMaxMessage = uint64_t{1} << 38;
-
-#if defined(__SANITIZE_ADDRESS__)
-constexpr bool kAddressSanitizer = true;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-constexpr bool kAddressSanitizer = true;
-#else
-constexpr bool kAddressSanitizer = false;
-#endif
-#else
-constexpr bool kAddressSanitizer = false;
-#endif
 
 // Flat encoding of numbers, arrays of trivially copyable values and strings.
 class Packer {
