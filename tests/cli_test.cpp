@@ -320,6 +320,8 @@ TEST(Cli, NumericFlagsOutsideTheirRangeAreRefused) {
            {"info " + grid + " --problems -1", "--problems needs a whole number"},
            // A value's length in a message is bounded.
            {"extract " + model + " --full --step " + huge + out, "…' (5000 characters)"},
+           {"build " + grid + " --key-steps auto:" + huge + " -o " + model,
+            "key steps 'auto:999999999999999999999999999999999999999999999999999999999999999999999999999… (5005 bytes)'"},
        }) {
     SCOPED_TRACE(c.arguments.substr(0, 200));
     auto r = dynpm_cli(c.arguments);

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "dynpm/simplify.h"
+#include "dynpm/text.h"
 
 namespace dynpm {
 namespace {
@@ -32,8 +33,8 @@ std::string format_mm(double d) {
 Result<KeyStepRule> parse_key_step_rule(const std::string& text) {
   KeyStepRule rule;
   const auto bad = [&] {
-    return Status::error("key steps '" + text +
-                         "': use all, paper, auto:K or a list such as 0,12,24");
+    return Status::error("key steps " + quoted_bytes(text) +
+                         ": use all, paper, auto:K or a list such as 0,12,24");
   };
   if (text == "all") return rule;
   if (text == "paper") {
