@@ -124,6 +124,17 @@ inline void run_exodus(std::string_view bytes) {
   run_path_reader(bytes, "input.exo", io::open_exodus, "open_exodus");
 }
 
+// run_exodus with the HDF5 signature laid over the first 8 bytes: every input takes the
+// contained path (src/io/contained_read.h). In fuzz_exodus most mutants lose the signature and
+// are read in this process as classic netCDF (32 of 35 corpus entries after 10 minutes).
+inline void run_exodus_hdf5(std::string_view bytes) {
+  static constexpr std::string_view kSignature("\x89HDF\r\n\x1a\n", 8);
+  std::string file(bytes);
+  if (file.size() < kSignature.size()) file.resize(kSignature.size());
+  file.replace(0, kSignature.size(), kSignature);
+  run_exodus(file);
+}
+
 // decode_dpm, then a Navigator at the finest level, the base, and levels taken from the bytes.
 inline void run_dpm(std::string_view bytes) {
   const Result<ProgressiveMesh> decoded = decode_dpm(bytes, "fuzz.dpm");

@@ -23,12 +23,14 @@ namespace fs = std::filesystem;
 struct Harness {
   const char* name;
   void (*run)(std::string_view);
+  const char* folder = name;  // of fuzz/regressions/ and fuzz/corpus/
 };
 
 const Harness kHarnesses[] = {
     {"obj", dynpm::fuzz::run_obj},       {"ply", dynpm::fuzz::run_ply},
     {"vtk", dynpm::fuzz::run_vtk},       {"frd", dynpm::fuzz::run_frd},
     {"d3plot", dynpm::fuzz::run_d3plot}, {"exodus", dynpm::fuzz::run_exodus},
+    {"exodus_hdf5", dynpm::fuzz::run_exodus_hdf5, "exodus"},
     {"dpm", dynpm::fuzz::run_dpm},
 };
 
@@ -52,14 +54,14 @@ class FuzzRegressions : public ::testing::TestWithParam<Harness> {};
 TEST_P(FuzzRegressions, ReplayWithoutCrash) {
   const Harness& h = GetParam();
   const fs::path root = fs::path(DYNPM_SOURCE_DIR) / "fuzz";
-  const fs::path regressions = root / "regressions" / h.name;
+  const fs::path regressions = root / "regressions" / h.folder;
   ASSERT_TRUE(fs::is_directory(regressions)) << regressions << " is missing";
   std::vector<fs::path> inputs = files_in(regressions);
   const bool fixed_ones = std::any_of(inputs.begin(), inputs.end(), [](const fs::path& p) {
     return !p.filename().string().starts_with("open-");
   });
   if (!fixed_ones) {
-    const std::vector<fs::path> seeds = files_in(root / "corpus" / h.name);
+    const std::vector<fs::path> seeds = files_in(root / "corpus" / h.folder);
     inputs.insert(inputs.end(), seeds.begin(), seeds.end());
   }
   ASSERT_FALSE(inputs.empty()) << "no regression or seed files for " << h.name;
