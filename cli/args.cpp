@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <iostream>
 
+#include "dynpm/text.h"
+
 namespace dynpm::cli {
 
 std::optional<std::string> Args::value(const std::string& name) const {
@@ -91,8 +93,9 @@ std::string help_text(const VerbSpec& spec) {
 
 std::string quoted_value(const std::string& text) {
   constexpr size_t kShown = 40;
-  if (text.size() <= kShown) return "'" + text + "'";
-  return "'" + text.substr(0, kShown) + "…' (" + std::to_string(text.size()) + " characters)";
+  if (text.size() <= kShown) return "'" + printable(text) + "'";
+  return "'" + printable(text.substr(0, kShown)) + "…' (" + std::to_string(text.size()) +
+         " characters)";
 }
 
 namespace {
@@ -116,13 +119,10 @@ std::string describe(const NumberRange& range) {
 }  // namespace
 
 Result<double> parse_number(const std::string& flag, const std::string& text, NumberRange range) {
-  double v = std::numeric_limits<double>::quiet_NaN();
-  try {
-    size_t used = 0;
-    v = std::stod(text, &used);
-    if (used != text.size()) v = std::numeric_limits<double>::quiet_NaN();
-  } catch (...) {  // not a number, or out of range (1e400): both refused below
-  }
+  // The text readers' rule (dynpm/text.h): the whole text is the number; 1e400 reads as
+  // infinity, refused below with NaN.
+  double v = 0;
+  if (parse_real(text, v) != NumberError::kNone) v = std::numeric_limits<double>::quiet_NaN();
   const bool inside =
       std::isfinite(v) && v <= range.max && (range.above_min ? v > range.min : v >= range.min);
   if (inside) return v;

@@ -8,7 +8,6 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -169,9 +168,9 @@ void remove_stale_exports(const fs::path& parent, const std::string& prefix) {
     long pid = 0;
     const char* digits = name.data() + prefix.size();
     auto [after, ec] = std::from_chars(digits, name.data() + name.size(), pid);
-    if (ec != std::errc() || after == digits || *after != '-' || pid <= 0 || pid == ::getpid())
+    if (ec != std::errc() || after == digits || *after != '-' || pid == ::getpid() ||
+        !process_has_ended(pid))
       continue;
-    if (::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH) continue;  // alive
     std::error_code ignored;
     fs::remove_all(it->path(), ignored);
   }
@@ -269,8 +268,8 @@ std::optional<int> parse_port(const std::string& text) {
   auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), port);
   if (text.empty() || ec != std::errc() || end != text.data() + text.size() || port < 0 ||
       port > 65535) {
-    std::cerr << "dynpm view: --port takes a whole number in 0…65535 (0: any free port), not '"
-              << text << "'\n";
+    std::cerr << "dynpm view: --port takes a whole number in 0…65535 (0: any free port), not "
+              << quoted_value(text) << "\n";
     return std::nullopt;
   }
   return port;
@@ -281,7 +280,8 @@ std::optional<double> parse_throttle(const std::string& text) {
   auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), kib);
   if (text.empty() || ec != std::errc() || end != text.data() + text.size() ||
       !std::isfinite(kib) || kib < kMinThrottleKib || kib > kMaxThrottleKib) {
-    std::cerr << "dynpm view: --throttle takes KiB per second in 1…1048576, not '" << text << "'\n";
+    std::cerr << "dynpm view: --throttle takes KiB per second in 1…1048576, not "
+              << quoted_value(text) << "\n";
     return std::nullopt;
   }
   return kib;

@@ -295,6 +295,9 @@ Status write_file_atomically(const std::string& path, std::string_view bytes);
 // the folder is still writing, or has only just finished). Returns how many were removed; errors
 // are ignored.
 size_t remove_stale_temporaries(const std::string& path);
+// True when no process with this id runs on this machine (kill(pid, 0) gives ESRCH); a live
+// process, or another user's (EPERM), has not ended: what it left is not ours to remove.
+bool process_has_ended(long pid);
 // The same for many targets (the files of a multi-file output): each folder is listed once.
 size_t remove_stale_temporaries(std::span<const std::string> paths);
 // How many folder listings remove_stale_temporaries has made in this process (tests check that a

@@ -100,6 +100,10 @@ std::atomic<size_t> folder_scans{0};
 
 size_t stale_temporary_scans() { return folder_scans; }
 
+bool process_has_ended(long pid) {
+  return pid > 0 && ::kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH;
+}
+
 size_t remove_stale_temporaries(std::span<const std::string> paths) {
   namespace fs = std::filesystem;
   // The targets by folder, and in each folder by the two names a temporary starts with (the
@@ -131,9 +135,7 @@ size_t remove_stale_temporaries(std::span<const std::string> paths) {
         const auto [first, last] = f.by_prefix.equal_range(name.substr(0, at));
         for (auto t = first; t != last && owner < 0; ++t) owner = temporary_owner(name, t->second);
       }
-      if (owner <= 0 || owner == self) continue;
-      // Alive (or someone else's, EPERM): not ours to judge.
-      if (::kill(static_cast<pid_t>(owner), 0) == 0 || errno != ESRCH) continue;
+      if (owner <= 0 || owner == self || !process_has_ended(owner)) continue;
       std::error_code file_ec;
       if (!it->is_regular_file(file_ec) || it->last_write_time(file_ec) > old_enough || file_ec)
         continue;

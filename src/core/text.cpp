@@ -43,14 +43,19 @@ bool overflows(std::string_view s) {
   return lead + exponent > 0;
 }
 
+// The token without its leading '+', which std::from_chars does not take; false for "+-1".
+bool without_plus(std::string_view token, std::string_view& digits) {
+  digits = token;
+  if (digits.empty() || digits[0] != '+') return true;
+  digits.remove_prefix(1);
+  return digits.empty() || digits[0] != '-';
+}
+
 }  // namespace
 
 NumberError parse_real(std::string_view token, double& out) {
-  std::string_view digits = token;
-  if (!digits.empty() && digits[0] == '+') {
-    digits.remove_prefix(1);  // from_chars takes '-' only
-    if (!digits.empty() && digits[0] == '-') return NumberError::kNotANumber;
-  }
+  std::string_view digits;
+  if (!without_plus(token, digits)) return NumberError::kNotANumber;
   const char* end = digits.data() + digits.size();
   double value = 0;
   auto [next, ec] = std::from_chars(digits.data(), end, value);
@@ -66,11 +71,8 @@ NumberError parse_real(std::string_view token, double& out) {
 }
 
 NumberError parse_integer(std::string_view token, int64_t lo, int64_t hi, int64_t& out) {
-  std::string_view digits = token;
-  if (!digits.empty() && digits[0] == '+') {
-    digits.remove_prefix(1);
-    if (!digits.empty() && digits[0] == '-') return NumberError::kNotANumber;
-  }
+  std::string_view digits;
+  if (!without_plus(token, digits)) return NumberError::kNotANumber;
   const char* end = digits.data() + digits.size();
   int64_t value = 0;
   auto [next, ec] = std::from_chars(digits.data(), end, value);
