@@ -32,12 +32,12 @@
 // on the thread count or scheduling. The generator is SplitMix64 (Steele, Lea, Flood 2014),
 // written here because std::uniform_real_distribution differs between standard libraries.
 #include <algorithm>
-#include <atomic>
 #include <cassert>
 #include <cmath>
 #include <string>
 #include <thread>
 
+#include "core/parallel.h"
 #include "dynpm/eval.h"
 
 namespace dynpm {
@@ -63,22 +63,6 @@ uint64_t job_seed(uint64_t seed, uint64_t direction, uint64_t kind, uint64_t job
   uint64_t h = Random::mix(seed + 0x632be59bd9b4e019ull);
   for (uint64_t part : {direction, kind, job}) h = Random::mix(h ^ (part + 0x9e3779b97f4a7c15ull));
   return h;
-}
-
-// Runs work(i) for i in [0, n) on up to `threads` threads; which thread runs which i does not
-// matter to the caller, which writes each i's result to its own slot.
-template <class Work>
-void parallel_for(size_t n, unsigned threads, const Work& work) {
-  threads =
-      std::max(1u, std::min<unsigned>(threads, static_cast<unsigned>(std::min<size_t>(n, 1024))));
-  std::atomic<size_t> next{0};
-  auto worker = [&] {
-    for (size_t i = next++; i < n; i = next++) work(i);
-  };
-  std::vector<std::thread> pool;
-  for (unsigned t = 1; t < threads; ++t) pool.emplace_back(worker);
-  worker();
-  for (std::thread& t : pool) t.join();
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -357,9 +341,12 @@ Result<HausdorffResult> evaluate(const PreparedTopology& a, std::span<const floa
   }
 
   std::vector<Tally> tallies(jobs.size());
-  parallel_for(jobs.size(), threads, [&](size_t i) {
-    tallies[i] = run_job(jobs[i], directions[jobs[i].direction], options.seed, i);
-  });
+  // One part per job, taken by whichever thread is free (jobs differ in cost).
+  parallel_for(jobs.size(), jobs.size(), std::min(threads, 1024u),
+               [&](size_t begin, size_t end, size_t) {
+                 for (size_t i = begin; i < end; ++i)
+                   tallies[i] = run_job(jobs[i], directions[jobs[i].direction], options.seed, i);
+               });
   std::array<Tally, 2> total;
   for (size_t i = 0; i < jobs.size(); ++i) total[jobs[i].direction].merge(tallies[i]);
 
