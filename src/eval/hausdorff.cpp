@@ -37,6 +37,7 @@
 #include <string>
 #include <thread>
 
+#include "core/face_geometry.h"
 #include "core/parallel.h"
 #include "dynpm/eval.h"
 
@@ -182,11 +183,8 @@ struct Job {
 };
 
 double triangle_area(const SurfaceTriangle& t) {
-  const double ab[3] = {double(t.b[0]) - t.a[0], double(t.b[1]) - t.a[1], double(t.b[2]) - t.a[2]};
-  const double ac[3] = {double(t.c[0]) - t.a[0], double(t.c[1]) - t.a[1], double(t.c[2]) - t.a[2]};
-  const double x = ab[1] * ac[2] - ab[2] * ac[1], y = ab[2] * ac[0] - ab[0] * ac[2],
-               z = ab[0] * ac[1] - ab[1] * ac[0];
-  return 0.5 * std::sqrt(x * x + y * y + z * z);
+  const Vec3 p[3] = {load(t.a.data()), load(t.b.data()), load(t.c.data())};
+  return 0.5 * length(doubled_vector_area(p, 3));
 }
 
 // ⌊expected + u⌋: an integer whose mean is `expected`.
