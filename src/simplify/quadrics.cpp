@@ -78,8 +78,9 @@ Quadric KeyStepQuadrics::vertex_quadric(const Topology& input, const CollapseMes
   for (uint32_t f : mesh.faces_of(v)) {
     const Face& face = input.faces[f];
     const int d = face.degree();
-    Vec3 p[4];
+    Vec3 p[4];  // the face's corners around v
     for (int c = 0; c < d; ++c) p[c] = position(face.v[c], k) - origin;
+    // Its plane (a skew quad's quad_plane()) by area, then its constraint planes at v.
     const std::optional<Plane> plane = add_face_plane(q, p, d);
     if (!plane) continue;
     add_constraint_planes(q, p, d, corner_of(face, v), constrained[f], plane->normal,
