@@ -3,6 +3,7 @@
 
 #include <cmath>
 
+#include "core/face_geometry.h"
 #include "dynpm/io.h"
 #include "dynpm/simplify.h"
 #include "fixtures.h"
@@ -86,16 +87,11 @@ TEST(KeySteps, TheCrashBoxPicksSpreadSteps) {
 double lowest_normal_z(const Topology& t, std::span<const float> xyz) {
   double lowest = 1;
   for (const Face& f : t.faces) {
-    auto p = [&](int i) { return &xyz[size_t{f.v[i]} * 3]; };
     const int d = f.degree();
-    const float *a = p(0), *b = p(1), *c = p(2), *e = d == 4 ? p(3) : p(1);
-    // Twice the vector area: diagonals for a quad, edges for a triangle.
-    const double ux = d == 4 ? c[0] - a[0] : b[0] - a[0], uy = d == 4 ? c[1] - a[1] : b[1] - a[1],
-                 uz = d == 4 ? c[2] - a[2] : b[2] - a[2];
-    const double vx = d == 4 ? e[0] - b[0] : c[0] - a[0], vy = d == 4 ? e[1] - b[1] : c[1] - a[1],
-                 vz = d == 4 ? e[2] - b[2] : c[2] - a[2];
-    const double nx = uy * vz - uz * vy, ny = uz * vx - ux * vz, nz = ux * vy - uy * vx;
-    lowest = std::min(lowest, nz / std::sqrt(nx * nx + ny * ny + nz * nz));
+    Vec3 p[4];
+    for (int i = 0; i < d; ++i) p[i] = load(&xyz[size_t{f.v[i]} * 3]);
+    const Vec3 n = doubled_vector_area(p, d);
+    lowest = std::min(lowest, n.z / length(n));
   }
   return lowest;
 }

@@ -96,8 +96,8 @@ TEST(Legality, QuadEdgeCollapseNeedsNoMoreThanP2) {
   std::vector<uint32_t> moved;
   after.collapse(5, 6, record, moved);
   ASSERT_EQ(record.wing_count, 2);
-  EXPECT_FALSE(record.wings[0].was_triangle);
-  EXPECT_FALSE(record.wings[1].was_triangle);
+  EXPECT_FALSE(record.wings[0].was_triangle());
+  EXPECT_FALSE(record.wings[1].was_triangle());
   std::vector<uint32_t> original;
   const Topology t = after.to_topology(grid.topology, original);
   EXPECT_TRUE(validate(t).ok());
@@ -115,15 +115,15 @@ TEST(Legality, WingsNameVZeroOtherNeighbour) {
   std::vector<uint32_t> moved;
   mesh.collapse(7, 2, record, moved);  // edge 2-7 lies in triangle (2, 7, 6) only
   ASSERT_EQ(record.wing_count, 1);
-  EXPECT_TRUE(record.wings[0].was_triangle);
+  EXPECT_TRUE(record.wings[0].was_triangle());
   EXPECT_EQ(record.wings[0].vertex, 6u);
 
   CollapseMesh quads(strip.topology);
   quads.collapse(0, 1, record, moved);  // edge 0-1 lies in quad (0, 1, 4, 3)
   ASSERT_EQ(record.wing_count, 1);
-  EXPECT_FALSE(record.wings[0].was_triangle);
+  EXPECT_FALSE(record.wings[0].was_triangle());
   EXPECT_EQ(record.wings[0].vertex, 3u);
-  EXPECT_TRUE(record.wings[0].v1_follows_v0);
+  EXPECT_TRUE(record.wings[0].v1_follows_v0());
 }
 
 }  // namespace

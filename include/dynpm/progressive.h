@@ -6,12 +6,9 @@
 //   write_dpm() / read_dpm()   the chunked, checksummed, zstd-compressed file; any prefix of
 //                              the file is a coarser animation
 //
-// The split record (paper §4: vsp(p0, vl, vr, tl, tr)) is, per split: the parent vertex, the
-// wings — each a face of the collapsed edge with its wing vertex, whether it was a triangle
-// (re-created) or a quad (turned back from a triangle), the orientation and v0's corner slot —
-// and the faces that move from the parent to the new vertex (docs/FORMAT.md says why they are
-// listed). Half-edge collapses keep positions original, so one position per vertex per step
-// serves every level of detail.
+// The split record (paper §4: vsp(p0, vl, vr, tl, tr)) is drawn and defined in split_record.h;
+// ProgressiveMesh keeps it as a structure of arrays under the same names. Half-edge collapses keep
+// positions original, so one position per vertex per step serves every level of detail.
 #pragma once
 
 #include <array>
@@ -23,22 +20,9 @@
 #include <vector>
 
 #include "dynpm/core.h"
+#include "dynpm/split_record.h"
 
 namespace dynpm {
-
-// One wing of a split: a face of the edge (v0, v1) before the collapse.
-struct SplitWing {
-  uint32_t face = 0;    // a re-created triangle's new face id, or the quad's face id
-  uint32_t vertex = 0;  // w: v0's other neighbour in the face
-  uint8_t flags = 0;    // kWasTriangle | kV1FollowsV0 | slot << kSlotShift (docs/FORMAT.md)
-
-  static constexpr uint8_t kWasTriangle = 1;
-  static constexpr uint8_t kV1FollowsV0 = 2;
-  static constexpr int kSlotShift = 2;
-  bool was_triangle() const { return (flags & kWasTriangle) != 0; }
-  bool v1_follows_v0() const { return (flags & kV1FollowsV0) != 0; }
-  int v0_slot() const { return (flags >> kSlotShift) & 3; }
-};
 
 // A decoded (or freshly built) progressive animation. Vertex and face arrays are in the
 // progressive numbering; a prefix of a file holds the base and the first split_count() splits.
@@ -60,13 +44,14 @@ struct ProgressiveMesh {
   std::string note;       // provenance
 
   std::vector<Face> base_faces;  // base_face_count faces
-  // Splits, structure of arrays: split i creates vertex base_vertex_count + i.
-  std::vector<uint32_t> parent;         // per split
-  std::vector<float> error;             // per split: error of the mesh right after it
-  std::vector<uint32_t> wing_start{0};  // CSR into wings (split_count + 1)
-  std::vector<SplitWing> wings;
-  std::vector<uint32_t> moved_start{0};  // CSR into moved_faces
-  std::vector<uint32_t> moved_faces;
+  // Splits, structure of arrays (the fields are defined in split_record.h): split i creates
+  // vertex base_vertex_count + i.
+  std::vector<uint32_t> parent;          // #splits: v1, the vertex split i starts from
+  std::vector<float> error;              // #splits: error of the mesh right after split i
+  std::vector<uint32_t> wing_start{0};   // #splits + 1: split i's wings are [wing_start[i], [i+1])
+  std::vector<SplitWing> wings;          // all splits' wings, split after split
+  std::vector<uint32_t> moved_start{0};  // #splits + 1: split i's moved faces, as wing_start
+  std::vector<uint32_t> moved_faces;     // all splits' moved faces: v1 → v0 when split
 
   // Attributes in the progressive numbering (vertices/faces present in this file).
   std::vector<uint32_t> vertex_original_index;  // position in the input's vertex order

@@ -1,41 +1,45 @@
 // dynpm/simplify.h — mixed triangle/quad half-edge collapse with quadrics over key steps.
 //
 // Wundrak, Henn & Stork 2006 (§2, §3), after Hoppe 1996 (progressive meshes) and Garland &
-// Heckbert 1997 (quadric error metrics):
+// Heckbert 1997 (quadric error metrics). Where each part lives in src/simplify/:
 //
-//   quadrics:  Q[t][v] = Σ area · plane² over the faces of v in key step t (a quad's plane is
-//              the mean of its corner normals through its centroid), plus constraint planes
-//              perpendicular to boundary and feature edges
-//   rate:      every edge both ways, error(v0 → v1) = max over key steps t of
-//              sqrt((Q[t][v0] + Q[t][v1])(p_t(v1)) / w), into a lazy heap (temporal marks)
-//   loop:      pop the cheapest; skip it if v0 or v1 changed since it was rated; check its
-//              legality on the mesh as it is now; collapse; Q[t][v1] += Q[t][v0]; re-rate the
-//              edges of v1; until a stop condition holds or no legal collapse remains
+//   quadrics (quadrics.h): Q[t][v] = Σ area · plane² over the faces of v in key step t (a skew
+//     quad's plane is quad_plane(): the mean of its corner normals through its centroid), plus
+//     constraint planes perpendicular to boundary and feature edges
+//   cost (worst_over_key_steps(), paper method (1*)), with w the total plane weight:
+//     error(v0 → v1) = max over key steps t of
+//                      sqrt(max((Q[t][v0] + Q[t][v1])(p_t(v1)) / (w[t][v0] + w[t][v1]),
+//                               Q[t][v0](p_t(v1)) / w[t][v0]))          / bounding-box diagonal
+//     the second term is the cost floor: never less than v0's own RMS distance at its new place
+//     (with optimal placement: (Q[t][v0] + Q[t][v1]) / w at the minimiser, no floor)
+//   legality (legality.h): CollapseRules::allows(), every rule, cheapest first
+//   the loop (simplifier.cpp, Simplifier::run(), line for line):
+//     rate_all_edges()                           every edge once, for its cheaper direction
+//     loop:
+//       if stop_reached(): done, target reached
+//       if queue empty:
+//         if not rated_again: rate_all_edges(), rated_again = true, continue
+//         done: no legal collapse remains
+//       entry = pop the cheapest
+//       if stale(entry): continue                v0 or v1 changed since it was rated
+//       if entry.error > max_error: done, target reached
+//       if not allows(entry.v0, entry.v1):       legality on pop, on the mesh as it is now
+//         rejected[entry.v0] = 1                 re-rated when its surroundings change
+//         if not entry.one_way: push entry.v1 → entry.v0 at its own cost
+//         continue
+//       error = cost(entry.v0, entry.v1)         as rated (the heap keeps it as float)
+//       collapse(entry.v0, entry.v1, error):     Q[t][v1] += Q[t][v0]; re-rate the edges of v1
+//                                                and of rejected vertices around it; drop the
+//                                                stale entries once the heap has doubled
+//       rated_again = false
 //
-// The half-edge collapse v0 → v1 (paper Fig. 2 and 3). Faces holding both vertices lose v0:
-// a triangle vanishes, a quad becomes a triangle. Every other face of v0 takes v1. v1 keeps
-// its position in every time step, so every level of detail uses original positions.
+// The half-edge collapse v0 → v1, its wings and the vertex split that undoes it are drawn and
+// defined in split_record.h.
 //
-//   triangles (Fig. 2): fl, fr vanish          quads (Fig. 3): fl, fr become triangles
-//
-//     ---- wl ----            ---- wl ----       wl ----- x ---          wl ----- x ---
-//     \   /  \   /            \     \    /       |   fl   |              |  \  fl |
-//      \ / fl \ /              \     \  /        |        |              |    \   |
-//     - v0 ---- v1 -   ==>    ------ v1 -        v0 ----- v1 ---   ==>   |      v1 ---
-//      / \ fr / \              /     /  \        |   fr   |              |    /   |
-//     /   \  /   \            /     /    \       |        |              |  /  fr |
-//     ---- wr ----            ---- wr ----       wr ----- y ---          wr ----- y ---
-//
-// The wing vertex of a face of the edge is v0's other neighbour in that face: the third corner
-// of a triangle, the corner next to v0 away from v1 in a quad (wl, wr above). The vertex split
-// re-inserts v0 between v1 and each wing vertex (paper §4: vsp(p0, vl, vr, tl, tr), where tl,
-// tr say whether the face was a triangle, so the split knows to re-create a triangle or to
-// turn the triangle back into a quad).
-//
-// Legality is data (legality.h): a table says which vertex kind may collapse into which, and
-// along which kind of edge; then (P1*) second-order neighbours, (P2) boundary, (P3) size, no
-// collapse across a quad's diagonal, no sheet's or part's last face deleted between two
-// boundary or feature edges (a rib off its T-joint), and a geometric check in every key step.
+// Legality: a table says which vertex kind may collapse into which, and along which kind of
+// edge; then no collapse across a quad's diagonal, (P2) boundary, (P3) size, no sheet's or
+// part's last face deleted between two boundary or feature edges (a rib off its T-joint), (P1*)
+// second-order neighbours, and a geometric check in every key step.
 #pragma once
 
 #include <array>
@@ -45,6 +49,7 @@
 #include <vector>
 
 #include "dynpm/core.h"
+#include "dynpm/split_record.h"
 
 namespace dynpm {
 
@@ -86,20 +91,13 @@ struct SimplifyOptions {
   unsigned threads = 0;  // 0: one per hardware thread
 };
 
-// One face of the collapsed edge, as the vertex split needs it.
-struct CollapseWing {
-  uint32_t face = kNoIndex;     // original face id
-  uint32_t vertex = kNoVertex;  // v0's other neighbour in the face
-  bool was_triangle = false;    // true: the face vanished; false: a quad became a triangle
-  bool v1_follows_v0 = false;   // orientation: v1 comes right after v0 in the face
-  uint8_t v0_slot = 0;          // v0's corner slot in the face before the collapse
-};
-
 // What one collapse did. Spans stay valid only during the listener call.
 struct CollapseRecord {
   uint32_t v0 = kNoVertex;  // removed
   uint32_t v1 = kNoVertex;  // kept
-  std::array<CollapseWing, 4> wings{};
+  // The faces of the edge (split_record.h), in the input's numbering: face ids and wing
+  // vertices are the input's.
+  std::array<SplitWing, 4> wings{};
   uint8_t wing_count = 0;                 // 1 at a boundary, 2 inside, 3+ at a T-joint
   std::span<const uint32_t> moved_faces;  // faces of v0 (not holding v1) that now hold v1
   double error = 0;                       // of this collapse, in bounding-box diagonals

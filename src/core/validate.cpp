@@ -12,6 +12,7 @@
 #include <string>
 
 #include "dynpm/core.h"
+#include "face_geometry.h"
 
 namespace dynpm {
 namespace {
@@ -73,7 +74,6 @@ void check_array_sizes(const Topology& topology, ValidationReport& report) {
 // Runs on faces whose corners are in range and distinct; face numbers are the original ones.
 void check_connectivity(const Topology& good, const Adjacency& adj,
                         const std::vector<uint32_t>& original_face, ValidationReport& report) {
-
   // Duplicate faces: sort the faces by their sorted corners and compare neighbours.
   std::vector<std::pair<std::array<uint32_t, 4>, uint32_t>> keyed(good.faces.size());
   for (uint32_t fi = 0; fi < good.faces.size(); ++fi) {
@@ -152,22 +152,14 @@ void check_connectivity(const Topology& good, const Adjacency& adj,
 constexpr double kFlat = 1e-6;
 bool has_zero_area(const Face& f, const float* xyz) {
   const int d = f.degree();
-  std::array<std::array<double, 3>, 4> p{};
-  for (int i = 0; i < d; ++i)
-    for (int k = 0; k < 3; ++k) p[i][k] = xyz[size_t{f.v[i]} * 3 + k];
-  auto sub = [](const auto& a, const auto& b) {
-    return std::array<double, 3>{a[0] - b[0], a[1] - b[1], a[2] - b[2]};
-  };
-  const auto u = d == 4 ? sub(p[2], p[0]) : sub(p[1], p[0]);
-  const auto w = d == 4 ? sub(p[3], p[1]) : sub(p[2], p[0]);
-  const double c[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
-                       u[0] * w[1] - u[1] * w[0]};
+  Vec3 p[4];
+  for (int i = 0; i < d; ++i) p[i] = load(&xyz[size_t{f.v[i]} * 3]);
   double longest = 0;
   for (int i = 0; i < d; ++i) {
-    const auto e = sub(p[(i + 1) % d], p[i]);
-    longest = std::max(longest, e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
+    const Vec3 e = p[(i + 1) % d] - p[i];
+    longest = std::max(longest, dot(e, e));
   }
-  return std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) <= kFlat * longest;
+  return length(doubled_vector_area(p, d)) <= kFlat * longest;
 }
 
 void check_frames(const Topology& topology, const std::vector<uint8_t>& face_ok,

@@ -32,12 +32,13 @@
 // on the thread count or scheduling. The generator is SplitMix64 (Steele, Lea, Flood 2014),
 // written here because std::uniform_real_distribution differs between standard libraries.
 #include <algorithm>
-#include <atomic>
 #include <cassert>
 #include <cmath>
 #include <string>
 #include <thread>
 
+#include "core/face_geometry.h"
+#include "core/parallel.h"
 #include "dynpm/eval.h"
 
 namespace dynpm {
@@ -63,22 +64,6 @@ uint64_t job_seed(uint64_t seed, uint64_t direction, uint64_t kind, uint64_t job
   uint64_t h = Random::mix(seed + 0x632be59bd9b4e019ull);
   for (uint64_t part : {direction, kind, job}) h = Random::mix(h ^ (part + 0x9e3779b97f4a7c15ull));
   return h;
-}
-
-// Runs work(i) for i in [0, n) on up to `threads` threads; which thread runs which i does not
-// matter to the caller, which writes each i's result to its own slot.
-template <class Work>
-void parallel_for(size_t n, unsigned threads, const Work& work) {
-  threads =
-      std::max(1u, std::min<unsigned>(threads, static_cast<unsigned>(std::min<size_t>(n, 1024))));
-  std::atomic<size_t> next{0};
-  auto worker = [&] {
-    for (size_t i = next++; i < n; i = next++) work(i);
-  };
-  std::vector<std::thread> pool;
-  for (unsigned t = 1; t < threads; ++t) pool.emplace_back(worker);
-  worker();
-  for (std::thread& t : pool) t.join();
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -198,11 +183,8 @@ struct Job {
 };
 
 double triangle_area(const SurfaceTriangle& t) {
-  const double ab[3] = {double(t.b[0]) - t.a[0], double(t.b[1]) - t.a[1], double(t.b[2]) - t.a[2]};
-  const double ac[3] = {double(t.c[0]) - t.a[0], double(t.c[1]) - t.a[1], double(t.c[2]) - t.a[2]};
-  const double x = ab[1] * ac[2] - ab[2] * ac[1], y = ab[2] * ac[0] - ab[0] * ac[2],
-               z = ab[0] * ac[1] - ab[1] * ac[0];
-  return 0.5 * std::sqrt(x * x + y * y + z * z);
+  const Vec3 p[3] = {load(t.a.data()), load(t.b.data()), load(t.c.data())};
+  return 0.5 * length(doubled_vector_area(p, 3));
 }
 
 // ⌊expected + u⌋: an integer whose mean is `expected`.
@@ -357,9 +339,12 @@ Result<HausdorffResult> evaluate(const PreparedTopology& a, std::span<const floa
   }
 
   std::vector<Tally> tallies(jobs.size());
-  parallel_for(jobs.size(), threads, [&](size_t i) {
-    tallies[i] = run_job(jobs[i], directions[jobs[i].direction], options.seed, i);
-  });
+  // One part per job, taken by whichever thread is free (jobs differ in cost).
+  parallel_for(jobs.size(), jobs.size(), std::min(threads, 1024u),
+               [&](size_t begin, size_t end, size_t) {
+                 for (size_t i = begin; i < end; ++i)
+                   tallies[i] = run_job(jobs[i], directions[jobs[i].direction], options.seed, i);
+               });
   std::array<Tally, 2> total;
   for (size_t i = 0; i < jobs.size(); ++i) total[jobs[i].direction].merge(tallies[i]);
 

@@ -16,7 +16,7 @@ class CollapseLog final : public CollapseListener {
     uint32_t v0, v1;
     double error;  // in bounding-box diagonals of the key steps
     uint8_t wing_count;
-    std::array<CollapseWing, 4> wings;
+    std::array<SplitWing, 4> wings;   // in the input's numbering
     uint32_t moved_begin, moved_end;  // into moved_faces
   };
 
@@ -88,7 +88,7 @@ Result<ProgressiveMesh> build_progressive_mesh(const Topology& topology, const F
   std::vector<char> vanished(face_total, 0);
   for (const auto& e : log.entries)
     for (uint8_t k = 0; k < e.wing_count; ++k)
-      if (e.wings[k].was_triangle) vanished[e.wings[k].face] = 1;
+      if (e.wings[k].was_triangle()) vanished[e.wings[k].face] = 1;
   uint32_t next_face = 0;
   for (uint32_t f = 0; f < face_total; ++f)
     if (!vanished[f]) new_face[f] = next_face++;
@@ -96,7 +96,7 @@ Result<ProgressiveMesh> build_progressive_mesh(const Topology& topology, const F
   for (uint32_t i = 0; i < splits; ++i) {
     const auto& e = log.entries[splits - 1 - i];
     for (uint8_t k = 0; k < e.wing_count; ++k)
-      if (e.wings[k].was_triangle) new_face[e.wings[k].face] = next_face++;
+      if (e.wings[k].was_triangle()) new_face[e.wings[k].face] = next_face++;
   }
   if (next_face != face_total) return Status::error("internal: a face was lost in the record");
 
@@ -125,14 +125,8 @@ Result<ProgressiveMesh> build_progressive_mesh(const Topology& topology, const F
     pm.parent.push_back(new_vertex[e.v1]);
     pm.error.push_back(0);  // below, once the scale is known
     for (uint8_t k = 0; k < e.wing_count; ++k) {
-      const CollapseWing& w = e.wings[k];
-      SplitWing sw;
-      sw.face = new_face[w.face];
-      sw.vertex = new_vertex[w.vertex];
-      sw.flags = static_cast<uint8_t>((w.was_triangle ? SplitWing::kWasTriangle : 0) |
-                                      (w.v1_follows_v0 ? SplitWing::kV1FollowsV0 : 0) |
-                                      (w.v0_slot << SplitWing::kSlotShift));
-      pm.wings.push_back(sw);
+      const SplitWing& w = e.wings[k];  // renumbered, its flags as they are
+      pm.wings.push_back({new_face[w.face], new_vertex[w.vertex], w.flags});
     }
     pm.wing_start.push_back(static_cast<uint32_t>(pm.wings.size()));
     for (uint32_t m = e.moved_begin; m < e.moved_end; ++m)

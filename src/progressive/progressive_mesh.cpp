@@ -2,16 +2,11 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/face_geometry.h"
 #include "dynpm/progressive.h"
 
 namespace dynpm {
 namespace {
-
-int slot_of(const Face& face, uint32_t v) {
-  for (int k = 0; k < 4; ++k)
-    if (face.v[k] == v) return k;
-  return -1;
-}
 
 // Whether split i fits the faces as they are: indices in range, moved faces hold the parent,
 // quad wings are triangles holding the parent and the wing vertex side by side.
@@ -27,7 +22,7 @@ bool check_split(const ProgressiveMesh& mesh, uint32_t i, std::span<const Face> 
     const uint32_t f = mesh.moved_faces[m];
     if (f >= face_count)
       return problem = where + "moved face " + std::to_string(f) + " does not exist", false;
-    if (slot_of(faces[f], v1) < 0)
+    if (corner_of(faces[f], v1) < 0)
       return problem = where + "moved face " + std::to_string(f) + " does not hold the parent",
              false;
   }
@@ -46,7 +41,7 @@ bool check_split(const ProgressiveMesh& mesh, uint32_t i, std::span<const Face> 
     if (w.face >= face_count)
       return problem = where + "wing face " + std::to_string(w.face) + " does not exist", false;
     const Face& face = faces[w.face];
-    const int a = slot_of(face, v1), b = slot_of(face, w.vertex);
+    const int a = corner_of(face, v1), b = corner_of(face, w.vertex);
     if (!face.is_triangle() || a < 0 || b < 0)
       return problem = where + "wing face " + std::to_string(w.face) +
                        " is not a triangle holding the parent and the wing vertex",
@@ -101,7 +96,7 @@ bool apply_split(const ProgressiveMesh& mesh, uint32_t i, std::span<Face> faces,
   const uint32_t v1 = mesh.parent[i];
   for (uint32_t m = mesh.moved_start[i]; m < mesh.moved_start[i + 1]; ++m) {
     Face& face = faces[mesh.moved_faces[m]];
-    const int s = slot_of(face, v1);
+    const int s = corner_of(face, v1);
     if (s < 0) {  // only when a face is listed twice, which check_split() lets through
       if (problem) *problem = "split " + std::to_string(i) + ": moved face named twice";
       return false;
@@ -142,7 +137,7 @@ void undo_split(const ProgressiveMesh& mesh, uint32_t i, std::span<Face> faces,
   }
   for (uint32_t m = mesh.moved_start[i]; m < mesh.moved_start[i + 1]; ++m) {
     Face& face = faces[mesh.moved_faces[m]];
-    face.v[slot_of(face, v0)] = v1;
+    face.v[corner_of(face, v0)] = v1;
   }
 }
 

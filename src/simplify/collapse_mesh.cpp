@@ -98,12 +98,12 @@ void CollapseMesh::collapse(uint32_t v0, uint32_t v1, CollapseRecord& record,
     const bool v1_follows = face.v[(i0 + 1) % d] == v1;
     assert((v1_follows || face.v[(i0 + d - 1) % d] == v1) && "collapse across a quad diagonal");
     if (record.wing_count < record.wings.size()) {
-      CollapseWing& wing = record.wings[record.wing_count++];
+      SplitWing& wing = record.wings[record.wing_count++];
       wing.face = f;
       wing.vertex = v1_follows ? face.v[(i0 + d - 1) % d] : face.v[(i0 + 1) % d];
-      wing.was_triangle = d == 3;
-      wing.v1_follows_v0 = v1_follows;
-      wing.v0_slot = static_cast<uint8_t>(i0);
+      wing.flags = static_cast<uint8_t>((d == 3 ? SplitWing::kWasTriangle : 0) |
+                                        (v1_follows ? SplitWing::kV1FollowsV0 : 0) |
+                                        (i0 << SplitWing::kSlotShift));
     }
     if (d == 3) {  // a triangle vanishes
       for (uint32_t c : face.v)

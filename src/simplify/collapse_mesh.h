@@ -6,6 +6,7 @@
 #include <span>
 #include <vector>
 
+#include "core/face_geometry.h"
 #include "dynpm/simplify.h"
 
 namespace dynpm::simplification {
@@ -46,12 +47,5 @@ class CollapseMesh {
   uint32_t live_vertices_ = 0;
   size_t live_faces_ = 0;
 };
-
-// Corner index of v in face f, or -1.
-inline int corner_of(const Face& f, uint32_t v) {
-  for (int i = 0; i < 4; ++i)
-    if (f.v[i] == v) return i;
-  return -1;
-}
 
 }  // namespace dynpm::simplification

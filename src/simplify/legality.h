@@ -1,4 +1,6 @@
-// Which collapses are legal, as data (the habit of meshoptimizer's kCanCollapse table).
+// Which collapses are legal: the vertex classes as data (the habit of meshoptimizer's
+// kCanCollapse table), then every rule of one collapse in CollapseRules::allows() (the habit of
+// pmp-library's is_collapse_legal), one comment per rule, cheapest first.
 //
 // Every vertex has a class, fixed for the whole run because collapses never change it:
 //   interior  all its edges have two faces of one part
@@ -42,11 +44,15 @@ inline Along can_collapse(VertexClass v0, VertexClass v1) {
 
 }  // namespace dynpm::simplification
 
+#include <span>
+#include <unordered_set>
 #include <vector>
 
 #include "collapse_mesh.h"
 
 namespace dynpm::simplification {
+
+class KeyStepQuadrics;  // quadrics.h
 
 // Marks per vertex, reused across tests: a vertex is marked when mark[v] == the current stamp.
 struct VertexMarks {
@@ -63,5 +69,57 @@ bool second_order_neighbours_ok(const CollapseMesh& mesh, uint32_t v0, uint32_t 
 // Hoppe's (P1), kept to show in tests where it is not enough (the paper's Figure 5): every
 // vertex joined by an edge to both v0 and v1 shares a face with both.
 bool first_order_neighbours_ok(const CollapseMesh& mesh, uint32_t v0, uint32_t v1);
+
+// Feature edges: non-manifold (3+ faces, shells meeting in a T-joint), between two parts (when
+// part boundaries are kept), or given by the user.
+class FeatureEdges {
+ public:
+  FeatureEdges(const Topology& input, const SimplifyOptions& options);
+  // `faces` are the faces holding the edge (a, b).
+  bool is_feature_edge(uint32_t a, uint32_t b, std::span<const uint32_t> faces) const;
+
+ private:
+  const std::vector<int32_t>& part_ids_;
+  bool keep_part_boundaries_;
+  std::unordered_set<uint64_t> user_;
+};
+
+// The rules of one collapse and the data they read: the vertex classes and, for (P3), the live
+// vertices of each connected component.
+class CollapseRules {
+ public:
+  CollapseRules(const Topology& input, const SimplifyOptions& options, const CollapseMesh& mesh,
+                const KeyStepQuadrics& key_steps);
+
+  // Classes from the input's edges (the table at the top of this file), and the components.
+  void classify_vertices(const Adjacency& adjacency);
+  VertexClass vertex_class(uint32_t v) const { return class_[v]; }
+  const FeatureEdges& features() const { return features_; }
+
+  // Whether v0 may collapse into v1 on the mesh as it is now. With optimal placement,
+  // `placement` gets v1's new positions (the geometry rule tests them).
+  bool allows(uint32_t v0, uint32_t v1, VertexMarks& marks, std::vector<Vec3>& placement) const;
+
+  // After the collapse v0 → v1: v0's component has one vertex less.
+  void collapsed(uint32_t v0) { --component_live_[component_[v0]]; }
+
+ private:
+  struct EdgeFaces;
+  EdgeFaces edge_faces(uint32_t v0, uint32_t v1) const;
+  bool keeps_every_sheet(uint32_t v0, uint32_t v1, const EdgeFaces& edge) const;
+  bool face_stays_sound(const Face& face, size_t k, uint32_t skip, uint32_t moved,
+                        Vec3 target) const;
+  bool no_face_folds(uint32_t v0, uint32_t v1, const std::vector<Vec3>& placement) const;
+  bool optimal() const;
+
+  const Topology& input_;
+  const SimplifyOptions& options_;
+  const CollapseMesh& mesh_;
+  const KeyStepQuadrics& key_steps_;
+  FeatureEdges features_;
+  double cos_max_rotation_;
+  std::vector<VertexClass> class_;
+  std::vector<uint32_t> component_, component_live_;  // (P3) per connected component
+};
 
 }  // namespace dynpm::simplification

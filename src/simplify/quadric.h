@@ -4,28 +4,12 @@
 // distance: an error in length units, comparable across meshes (meshoptimizer does the same).
 #pragma once
 
-#include <array>
 #include <cmath>
 #include <optional>
 
-namespace dynpm::simplification {
+#include "core/face_geometry.h"
 
-struct Vec3 {
-  double x = 0, y = 0, z = 0;
-};
-inline Vec3 operator+(Vec3 a, Vec3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-inline Vec3 operator-(Vec3 a, Vec3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-inline Vec3 operator*(Vec3 a, double s) { return {a.x * s, a.y * s, a.z * s}; }
-inline double dot(Vec3 a, Vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-inline Vec3 cross(Vec3 a, Vec3 b) {
-  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
-}
-inline double length(Vec3 a) { return std::sqrt(dot(a, a)); }
-inline Vec3 normalized(Vec3 a) {
-  const double l = length(a);
-  return l > 0 ? a * (1.0 / l) : Vec3{};
-}
-inline Vec3 load(const float* p) { return {p[0], p[1], p[2]}; }
+namespace dynpm::simplification {
 
 struct Quadric {
   // Upper triangle of A (xx xy xz yy yz zz), b (x y z), c, and the total plane weight.
@@ -95,8 +79,8 @@ struct LocalQuadric {
 
   static LocalQuadric narrow(const Quadric& q) {
     auto f = [](double x) { return static_cast<float>(x); };
-    return {f(q.xx), f(q.xy), f(q.xz), f(q.yy), f(q.yz), f(q.zz), f(q.bx), f(q.by), f(q.bz),
-            f(q.c),  f(q.w)};
+    return {f(q.xx), f(q.xy), f(q.xz), f(q.yy), f(q.yz), f(q.zz),
+            f(q.bx), f(q.by), f(q.bz), f(q.c),  f(q.w)};
   }
   Quadric widen() const { return {xx, xy, xz, yy, yz, zz, bx, by, bz, c, w}; }
 };

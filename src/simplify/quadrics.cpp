@@ -1,0 +1,187 @@
+#include "quadrics.h"
+
+#include <algorithm>
+#include <optional>
+
+#include "core/parallel.h"
+
+namespace dynpm::simplification {
+
+std::vector<uint8_t> constrained_edges(const Topology& input, const Adjacency& adjacency,
+                                       const FeatureEdges& features) {
+  std::vector<uint8_t> constrained(input.faces.size(), 0);
+  for (size_t e = 0; e < adjacency.edge_count(); ++e) {
+    const Edge edge = adjacency.edge(e);
+    const auto faces = adjacency.faces_of_edge(e);
+    if (faces.size() != 1 && !features.is_feature_edge(edge.a, edge.b, faces)) continue;
+    for (uint32_t f : faces) {
+      const Face& face = input.faces[f];
+      const int d = face.degree(), c = corner_of(face, edge.a);
+      constrained[f] |=
+          static_cast<uint8_t>(1u << (face.v[(c + 1) % d] == edge.b ? c : (c + d - 1) % d));
+    }
+  }
+  return constrained;
+}
+
+Status KeyStepQuadrics::load_positions(const FrameSource& frames, std::span<const size_t> key_steps,
+                                       uint32_t vertex_count) {
+  key_count_ = key_steps.size();
+  positions_.resize(size_t{vertex_count} * key_count_ * 3);
+  std::vector<float> step(size_t{vertex_count} * 3);
+  BoundingBox box;
+  for (size_t k = 0; k < key_count_; ++k) {
+    DYNPM_RETURN_IF_ERROR(frames.read_step(key_steps[k], step));
+    box.extend(step);
+    for (uint32_t v = 0; v < vertex_count; ++v)
+      std::copy_n(&step[size_t{v} * 3], 3, position_data(v, k));
+  }
+  diagonal_ = box.diagonal() > 0 ? box.diagonal() : 1.0;
+  return {};
+}
+
+namespace {
+
+// The face's plane, weighted by its area; none for a face without area.
+std::optional<Plane> add_face_plane(Quadric& q, const Vec3* p, int degree) {
+  const double area = 0.5 * length(doubled_vector_area(p, degree));
+  if (area <= 0) return std::nullopt;
+  const Plane plane = face_plane(p, degree);
+  q.add_plane(plane.normal, plane.offset, area);
+  return plane;
+}
+
+// Planes through the constrained edges of the face at its corner `at`, perpendicular to the
+// face, weighted by boundary_weight · |edge|².
+void add_constraint_planes(Quadric& q, const Vec3* p, int degree, int at, uint8_t constrained,
+                           Vec3 face_normal, double boundary_weight) {
+  const int before = (at + degree - 1) % degree;
+  for (int other : {(at + 1) % degree, before}) {
+    const int edge_bit = other == before ? before : at;
+    if (!(constrained & (1u << edge_bit))) continue;
+    const Vec3 along = p[other] - p[at];
+    const Vec3 m = normalized(cross(along, face_normal));
+    if (length(m) == 0) continue;
+    q.add_plane(m, -dot(m, p[at]), boundary_weight * dot(along, along));
+  }
+}
+
+}  // namespace
+
+// In coordinates around v; each face's plane is computed once per corner, which is cheaper
+// than storing a plane per face and step.
+Quadric KeyStepQuadrics::vertex_quadric(const Topology& input, const CollapseMesh& mesh, uint32_t v,
+                                        size_t k, std::span<const uint8_t> constrained,
+                                        double boundary_weight) const {
+  const Vec3 origin = position(v, k);
+  Quadric q;
+  for (uint32_t f : mesh.faces_of(v)) {
+    const Face& face = input.faces[f];
+    const int d = face.degree();
+    Vec3 p[4];  // the face's corners around v
+    for (int c = 0; c < d; ++c) p[c] = position(face.v[c], k) - origin;
+    // Its plane (a skew quad's quad_plane()) by area, then its constraint planes at v.
+    const std::optional<Plane> plane = add_face_plane(q, p, d);
+    if (!plane) continue;
+    add_constraint_planes(q, p, d, corner_of(face, v), constrained[f], plane->normal,
+                          boundary_weight);
+  }
+  return q;
+}
+
+void KeyStepQuadrics::build(const Topology& input, const CollapseMesh& mesh,
+                            std::span<const uint8_t> constrained, double boundary_weight,
+                            unsigned threads) {
+  const uint32_t n = input.vertex_count;
+  quadrics_.assign(size_t{n} * key_count_, LocalQuadric{});
+  parallel_for_chunks(size_t{n} * key_count_, threads, [&](size_t begin, size_t end, size_t) {
+    for (size_t i = begin; i < end; ++i) {
+      const uint32_t v = static_cast<uint32_t>(i / key_count_);
+      const size_t k = i % key_count_;
+      quadric(v, k) =
+          LocalQuadric::narrow(vertex_quadric(input, mesh, v, k, constrained, boundary_weight));
+    }
+  });
+}
+
+Quadric KeyStepQuadrics::merged_quadric(uint32_t v0, uint32_t v1, size_t k) const {
+  return quadric(v1, k).widen() +
+         quadric(v0, k).widen().translated(position(v1, k) - position(v0, k));
+}
+
+double KeyStepQuadrics::collapse_error(uint32_t v0, uint32_t v1, VertexClass v1_class,
+                                       std::vector<Vec3>& placement) const {
+  placement.resize(key_count_);
+  const bool moves = v1_class != VertexClass::kLocked;
+  return worst_over_key_steps<1>(key_count_, diagonal_, [&](size_t k, auto& worst) {
+    const Quadric q = merged_quadric(v0, v1, k);
+    const Vec3 p1 = position(v1, k);
+    Vec3 offset{};  // from v1's position
+    if (moves) {
+      if (auto m = q.minimiser()) {
+        offset = *m;
+      } else if (v1_class == VertexClass::kInterior &&
+                 q.evaluate(position(v0, k) - p1) < q.evaluate(offset)) {
+        offset = position(v0, k) - p1;  // ill-conditioned: the better endpoint
+      }
+    }
+    placement[k] = p1 + offset;
+    worst[0].offer(q.mean_squared(offset));
+  })[0];
+}
+
+double KeyStepQuadrics::half_edge_error(uint32_t v0, uint32_t v1) const {
+  return worst_over_key_steps<1>(key_count_, diagonal_, [&](size_t k, auto& worst) {
+    const LocalQuadric& q1 = quadric(v1, k);
+    const Quadric q0 = quadric(v0, k).widen();
+    const double weight = q0.w + double{q1.w};
+    if (!(weight > 0)) return;
+    const double moved = q0.evaluate(position(v1, k) - position(v0, k));
+    worst[0].offer((moved + double{q1.c}) / weight);
+    if (q0.w > 0) worst[0].offer(moved / q0.w);  // the floor, see half_edge_errors()
+  })[0];
+}
+
+std::pair<double, double> KeyStepQuadrics::half_edge_errors(uint32_t a, uint32_t b) const {
+  const auto error = worst_over_key_steps<2>(key_count_, diagonal_, [&](size_t k, auto& worst) {
+    const Quadric qa = quadric(a, k).widen(), qb = quadric(b, k).widen();
+    const double weight = qa.w + qb.w;
+    if (!(weight > 0)) return;
+    const Vec3 d = position(b, k) - position(a, k);
+    const double moved_a = qa.evaluate(d), moved_b = qb.evaluate(Vec3{} - d);
+    worst[0].offer((moved_a + qb.c) / weight);
+    worst[1].offer((moved_b + qa.c) / weight);
+    // The cost floor: never less than the moved vertex's own mean squared distance. Divided by
+    // the merged weight alone, a light vertex (a boundary corner) next to a heavy one (which
+    // has absorbed many collapses) would be swallowed at almost no cost, cutting the corner.
+    if (qa.w > 0) worst[0].offer(moved_a / qa.w);
+    if (qb.w > 0) worst[1].offer(moved_b / qb.w);
+  });
+  return {error[0], error[1]};
+}
+
+std::span<const float> KeyStepQuadrics::merge(uint32_t v0, uint32_t v1,
+                                              const std::vector<Vec3>* placement) {
+  for (size_t k = 0; k < key_count_; ++k) {
+    Quadric q = merged_quadric(v0, v1, k);  // around v1's position
+    if (placement) {
+      const Vec3 before = position(v1, k);
+      float* p = position_data(v1, k);
+      p[0] = static_cast<float>((*placement)[k].x), p[1] = static_cast<float>((*placement)[k].y),
+      p[2] = static_cast<float>((*placement)[k].z);
+      q = q.translated(position(v1, k) - before);  // around the new one
+    }
+    quadric(v1, k) = LocalQuadric::narrow(q);
+  }
+  return {position_data(v1, 0), key_count_ * 3};
+}
+
+std::vector<float> KeyStepQuadrics::positions_of(std::span<const uint32_t> vertices,
+                                                 size_t k) const {
+  std::vector<float> out;
+  out.reserve(vertices.size() * 3);
+  for (uint32_t v : vertices) out.insert(out.end(), position_data(v, k), position_data(v, k) + 3);
+  return out;
+}
+
+}  // namespace dynpm::simplification

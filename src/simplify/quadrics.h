@@ -1,0 +1,113 @@
+// The cost of a collapse (paper §3, method (1*)): one quadric per vertex per key step, built in
+// named phases, and the largest error over the key steps. The quadric algebra itself is
+// quadric.h; this file knows the mesh.
+//
+// Building, per vertex v and key step t, gathered per vertex (one thread writes one quadric):
+//   1. constrained_edges()   which edges of each face carry a constraint plane (boundary or
+//                            feature edges), once for the whole run
+//   2. per face of v, in v's face order:
+//      add_face_plane()       the face's plane (a triangle's own, a skew quad's quad_plane(),
+//                             core/face_geometry.h), weighted by the face's area
+//      add_constraint_planes() through v's constrained edges in the face, perpendicular to it,
+//                             weighted boundary_weight · |edge|²
+// The phases alternate per face, not one after the other over all faces: the sums stay in the
+// order that makes every output byte-identical to what it was.
+#pragma once
+
+#include <array>
+#include <cmath>
+#include <span>
+#include <vector>
+
+#include "collapse_mesh.h"
+#include "legality.h"
+#include "quadric.h"
+
+namespace dynpm::simplification {
+
+// Paper method (1*): a collapse costs the largest of its errors over the key steps. Each step
+// offers its weighted mean squared distance — for every direction rated at once, kDirections of
+// them — to worst[d].offer(); the cost is the root of the largest, in bounding-box diagonals.
+struct Worst {
+  double squared = 0;
+  void offer(double mean_squared) { squared = std::max(squared, mean_squared); }
+};
+template <size_t kDirections, class PerStep>
+std::array<double, kDirections> worst_over_key_steps(size_t key_count, double diagonal,
+                                                     PerStep&& per_step) {
+  std::array<Worst, kDirections> worst{};
+  for (size_t k = 0; k < key_count; ++k) per_step(k, worst);
+  std::array<double, kDirections> error{};
+  for (size_t d = 0; d < kDirections; ++d) error[d] = std::sqrt(worst[d].squared) / diagonal;
+  return error;
+}
+
+// Which edges of each face carry a constraint plane: bit c is the edge from corner c to the
+// next corner, set when that edge is a boundary or feature edge.
+std::vector<uint8_t> constrained_edges(const Topology& input, const Adjacency& adjacency,
+                                       const FeatureEdges& features);
+
+// Positions and quadrics of every vertex in every key step, vertex-major (one vertex's steps
+// together: rating an edge reads two short runs of memory).
+class KeyStepQuadrics {
+ public:
+  // Reads the key steps' positions; the diagonal is that of their common bounding box.
+  Status load_positions(const FrameSource& frames, std::span<const size_t> key_steps,
+                        uint32_t vertex_count);
+  // The quadrics of the input mesh (phases at the top of this file).
+  void build(const Topology& input, const CollapseMesh& mesh, std::span<const uint8_t> constrained,
+             double boundary_weight, unsigned threads);
+
+  size_t key_count() const { return key_count_; }
+  double diagonal() const { return diagonal_; }
+  Vec3 position(uint32_t v, size_t k) const { return load(position_data(v, k)); }
+  const float* position_data(uint32_t v, size_t k) const {
+    return &positions_[(size_t{v} * key_count_ + k) * 3];
+  }
+  const LocalQuadric& quadric(uint32_t v, size_t k) const {
+    return quadrics_[size_t{v} * key_count_ + k];
+  }
+  // Asks for v's quadrics and positions ahead of use (they are scattered across neighbours).
+  void prefetch(uint32_t v) const {
+    __builtin_prefetch(&quadrics_[size_t{v} * key_count_]);
+    __builtin_prefetch(&positions_[size_t{v} * key_count_ * 3]);
+  }
+
+  // Q_t,v0 + Q_t,v1 with its origin at v1's position in key step k.
+  Quadric merged_quadric(uint32_t v0, uint32_t v1, size_t k) const;
+
+  // The cost of v0 → v1 with optimal placement: per key step the weighted RMS distance to the
+  // planes of (Q_t,v0 + Q_t,v1) at their minimiser (v1 stays when locked; the better endpoint
+  // when the system is ill-conditioned and v1 interior); `placement` gets v1's new positions.
+  double collapse_error(uint32_t v0, uint32_t v1, VertexClass v1_class,
+                        std::vector<Vec3>& placement) const;
+  // The cost of v0 → v1 with half-edge placement: v1's own quadric is c at its position, v0's
+  // is evaluated across the edge; never below v0's own RMS distance there (the cost floor).
+  double half_edge_error(uint32_t v0, uint32_t v1) const;
+  // half_edge_error() of a → b and of b → a at once: rating an edge needs both, and the
+  // quadrics are loaded once.
+  std::pair<double, double> half_edge_errors(uint32_t a, uint32_t b) const;
+
+  // After the collapse v0 → v1: Q_t,v1 = Q_t,v0 + Q_t,v1, and with a placement v1 moved there
+  // (its quadric re-centred on the new position); placement is null for half-edge collapses.
+  // Returns v1's positions, xyz per key step.
+  std::span<const float> merge(uint32_t v0, uint32_t v1, const std::vector<Vec3>* placement);
+
+  // Positions of the given vertices in key step k, xyz each.
+  std::vector<float> positions_of(std::span<const uint32_t> vertices, size_t k) const;
+
+ private:
+  float* position_data(uint32_t v, size_t k) {
+    return &positions_[(size_t{v} * key_count_ + k) * 3];
+  }
+  LocalQuadric& quadric(uint32_t v, size_t k) { return quadrics_[size_t{v} * key_count_ + k]; }
+  Quadric vertex_quadric(const Topology& input, const CollapseMesh& mesh, uint32_t v, size_t k,
+                         std::span<const uint8_t> constrained, double boundary_weight) const;
+
+  size_t key_count_ = 0;
+  std::vector<float> positions_;        // #V × #key steps × xyz
+  std::vector<LocalQuadric> quadrics_;  // #V × #key steps, each around its own vertex
+  double diagonal_ = 1;
+};
+
+}  // namespace dynpm::simplification
