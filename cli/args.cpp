@@ -5,7 +5,9 @@
 #include <cstdio>
 #include <iostream>
 
+#include "commands.h"
 #include "dynpm/text.h"
+#include "report.h"
 
 namespace dynpm::cli {
 
@@ -41,18 +43,16 @@ Result<Args> parse_args(std::span<char* const> arguments, const VerbSpec& spec) 
     for (const FlagSpec& f : spec.flags)
       if (f.name == arg || (!f.short_name.empty() && f.short_name == arg)) flag = &f;
     if (!flag)
-      return Status::error("dynpm " + spec.name + ": unknown option " + quoted_value(arg) +
-                           " (see dynpm " + spec.name + " --help)");
+      return Status::error("unknown option " + quoted_value(arg) + " (see dynpm " + spec.name +
+                           " --help)");
     if (!flag->takes_value) {
-      if (inline_value)
-        return Status::error("dynpm " + spec.name + ": " + flag->name + " takes no value");
+      if (inline_value) return Status::error(flag->name + " takes no value");
       args.set_flag(flag->name);
       continue;
     }
     if (!inline_value) {
       if (i + 1 >= arguments.size())
-        return Status::error("dynpm " + spec.name + ": " + flag->name + " needs a value (" +
-                             flag->value_name + ")");
+        return Status::error(flag->name + " needs a value (" + flag->value_name + ")");
       inline_value = arguments[++i];
     }
     args.set_value(flag->name, *inline_value);
@@ -63,13 +63,10 @@ Result<Args> parse_args(std::span<char* const> arguments, const VerbSpec& spec) 
 std::optional<int> parse_verb_args(std::span<char* const> arguments, const VerbSpec& spec,
                                    Args& args) {
   auto parsed = parse_args(arguments, spec);
-  if (!parsed) {
-    std::cerr << parsed.message() << "\n";
-    return 2;  // bad usage
-  }
+  if (!parsed) return fail(spec.name, kExitUsage, parsed.message());
   if (parsed->has("--help")) {
     std::cout << help_text(spec);
-    return 0;
+    return kExitOk;
   }
   args = std::move(parsed).value();
   return std::nullopt;

@@ -48,11 +48,12 @@ class Args {
 };
 
 // Parses arguments after the verb; --help is always accepted and reported as the flag "--help".
+// The error is the usage message, without the verb.
 Result<Args> parse_args(std::span<char* const> arguments, const VerbSpec& spec);
 
-// What every verb does first: parse its arguments into `args`. On a usage error it prints the
-// message, on --help the help text, and returns the exit code the verb must return at once;
-// otherwise nothing.
+// What every verb does first: parse its arguments into `args`. On a usage error it reports the
+// message (fail(), report.h), on --help it prints the help text, and returns the exit code the verb
+// must return at once; otherwise nothing.
 std::optional<int> parse_verb_args(std::span<char* const> arguments, const VerbSpec& spec,
                                    Args& args);
 std::string help_text(const VerbSpec& spec);

@@ -8,7 +8,11 @@
 #include "args.h"
 #include "commands.h"
 #include "dynpm/pipeline.h"
+#include "inputs.h"
 #include "json.h"
+#include "outputs.h"
+#include "report.h"
+#include "shared_flags.h"
 
 namespace dynpm::cli {
 namespace {
@@ -24,19 +28,13 @@ const VerbSpec kSpec{
     "Positions are quantized so that none moves more than --position-error (default 2^-18 of\n"
     "the bounding-box diagonal); --lossless stores float32 exactly.",
     {{"--output", "-o", true, "MODEL.dpm", "the progressive mesh file to write"},
-     {"--key-steps", "", true, "RULE",
-      "steps that rate collapses: all (default), paper, auto:K, 0,12,24"},
+     kKeyStepsFlag,
      {"--lossless", "", false, "", "store positions bit-exactly (larger file)"},
      {"--position-error", "", true, "E", "largest position error, in diagonals (3.8e-6)"},
-     {"--boundary-weight", "", true, "W", "weight of boundary/feature constraint planes (1)"},
-     {"--ignore-parts", "", false, "", "let collapses cross part boundaries"},
+     kBoundaryWeightFlag,
+     kIgnorePartsFlag,
      {"--json", "", false, "", "print the result as JSON"},
-     {"--split-polygons", "", false, "", "fan-split faces with more than 4 corners"}}};
-
-int fail_usage(const std::string& message) {
-  std::cerr << "dynpm build: " << message << "\n";
-  return kExitUsage;
-}
+     kSplitPolygonsFlag}};
 
 }  // namespace
 
@@ -44,47 +42,32 @@ int run_build(std::span<char* const> arguments) {
   Args args;
   if (auto exit_code = parse_verb_args(arguments, kSpec, args)) return *exit_code;
   const auto output = args.value("--output");
-  if (args.positional.empty() || !output) {
-    std::cerr << "dynpm build: needs INPUT... and -o MODEL.dpm\n\n" << help_text(kSpec);
-    return kExitUsage;
-  }
+  if (args.positional.empty() || !output)
+    return fail(kSpec.name, kExitUsage, "needs INPUT... and -o MODEL.dpm", help_text(kSpec));
   BuildOptions options;
   options.lossless = args.has("--lossless");
   if (auto v = args.value("--position-error")) {
     // In diagonals: above one the grid keeps nothing of the shape (and inf cannot be stored).
     auto r = parse_number("--position-error", *v, kFraction);
-    if (!r) return fail_usage(r.message());
+    if (!r) return fail(kSpec.name, kExitUsage, r.message());
     options.max_position_error = *r;
   }
-  if (auto v = args.value("--boundary-weight")) {
-    auto r = parse_number("--boundary-weight", *v, kBoundaryWeights);
-    if (!r) return fail_usage(r.message());
-    options.simplify.boundary_weight = *r;
-  }
-  options.simplify.keep_part_boundaries = !args.has("--ignore-parts");
-  auto key_rule = parse_key_step_rule(args.value("--key-steps").value_or("all"));
-  if (!key_rule) return fail_usage(key_rule.message());
+  KeyStepRule key_rule;
+  if (Status s = parse_simplify_flags(args, options.simplify, key_rule); !s.ok())
+    return fail(kSpec.name, kExitUsage, s.message());
 
-  if (Status s = check_output_folder(*output); !s.ok()) {
-    std::cerr << "dynpm build: " << s.message() << "\n";
-    return kExitFailure;
-  }
+  if (Status s = check_output_folder(*output); !s.ok())
+    return fail(kSpec.name, kExitFailure, s.message());
   std::optional<Phase> phase(std::in_place, "reading the input");
   auto stream =
       open_inputs(args.positional, args.has("--split-polygons"), InputChecks::kSimplifiable);
-  if (!stream) {
-    std::cerr << "dynpm build: " << stream.message() << "\n";
-    return kExitFailure;
-  }
+  if (!stream) return fail(kSpec.name, kExitFailure, stream.message());
   const Topology& input = stream->topology;
   const FrameSource& frames = *stream->frames;
   const auto start = std::chrono::steady_clock::now();
   phase.emplace("choosing the key steps");
-  auto key_steps = choose_key_steps(frames, *key_rule);
-  if (!key_steps) {
-    std::cerr << "dynpm build: " << key_steps.message() << "\n";
-    return kExitFailure;
-  }
+  auto key_steps = choose_key_steps(frames, key_rule);
+  if (!key_steps) return fail(kSpec.name, kExitFailure, key_steps.message());
   options.simplify.key_steps = key_steps->steps;
   const bool json = args.has("--json");
   if (!json)
@@ -96,17 +79,12 @@ int run_build(std::span<char* const> arguments) {
 
   phase.emplace("simplifying and recording the vertex splits");
   auto mesh = build_progressive_mesh(input, frames, options);
-  if (!mesh) {
-    std::cerr << "dynpm build: " << mesh.message() << "\n";
-    return kExitFailure;
-  }
+  if (!mesh) return fail(kSpec.name, kExitFailure, mesh.message());
   phase.emplace("encoding the .dpm file");
   const std::string bytes = encode_dpm(*mesh);
   phase.emplace("writing the .dpm file");
-  if (Status s = write_file_atomically(*output, bytes); !s.ok()) {
-    std::cerr << "dynpm build: " << s.message() << "\n";
-    return kExitFailure;
-  }
+  if (Status s = write_file_atomically(*output, bytes); !s.ok())
+    return fail(kSpec.name, kExitFailure, s.message());
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 

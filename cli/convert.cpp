@@ -4,6 +4,9 @@
 
 #include "args.h"
 #include "commands.h"
+#include "inputs.h"
+#include "outputs.h"
+#include "report.h"
 
 namespace dynpm::cli {
 namespace {
@@ -19,7 +22,7 @@ const VerbSpec kSpec{
     "Each file is written under a temporary name and renamed when complete.",
     {{"--output", "-o", true, "OUTPUT", "output file, or pattern with {:03d} for several steps"},
      {"--ascii", "", false, "", "write PLY and VTK as text instead of binary"},
-     {"--split-polygons", "", false, "", "fan-split faces with more than 4 corners"}}};
+     kSplitPolygonsFlag}};
 
 }  // namespace
 
@@ -27,30 +30,23 @@ int run_convert(std::span<char* const> arguments) {
   Args args;
   if (auto exit_code = parse_verb_args(arguments, kSpec, args)) return *exit_code;
   const auto output = args.value("--output");
-  if (args.positional.empty() || !output) {
-    std::cerr << "dynpm convert: needs INPUT... and -o OUTPUT\n\n" << help_text(kSpec);
-    return kExitUsage;
-  }
-  if (format_from_extension(*output) == FileFormat::kUnknown) {
-    std::cerr << "dynpm convert: " << *output
-              << ": cannot tell the output format from the extension (use .obj, .ply or .vtk)\n";
-    return kExitUsage;
-  }
+  if (args.positional.empty() || !output)
+    return fail(kSpec.name, kExitUsage, "needs INPUT... and -o OUTPUT", help_text(kSpec));
+  if (format_from_extension(*output) == FileFormat::kUnknown)
+    return fail(
+        kSpec.name, kExitUsage,
+        *output + ": cannot tell the output format from the extension (use .obj, .ply or .vtk)");
   Phase phase("reading and writing the steps");
   auto stream = open_inputs(args.positional, args.has("--split-polygons"));
-  if (!stream) {
-    std::cerr << "dynpm convert: " << stream.message() << "\n";
-    return kExitFailure;
-  }
+  if (!stream) return fail(kSpec.name, kExitFailure, stream.message());
   const FrameSource& frames = *stream->frames;
   const size_t steps = frames.step_count();
   const bool pattern = has_step_field(*output);
-  if (steps > 1 && !pattern) {
-    std::cerr << "dynpm convert: the input has " << steps << " time steps; give an output "
-              << "pattern with a step field, e.g. 'frame_{:03d}"
-              << output->substr(output->rfind('.')) << "'\n";
-    return kExitUsage;
-  }
+  if (steps > 1 && !pattern)
+    return fail(kSpec.name, kExitUsage,
+                "the input has " + std::to_string(steps) +
+                    " time steps; give an output pattern with a step field, e.g. 'frame_{:03d}" +
+                    output->substr(output->rfind('.')) + "'");
 
   WriteOptions options;
   options.binary = !args.has("--ascii");
@@ -60,26 +56,16 @@ int run_convert(std::span<char* const> arguments) {
   for (size_t t = 0; t < steps; ++t) {
     progress("converting step", t + 1, steps);
     auto path = pattern ? step_path(*output, t) : Result<std::string>(*output);
-    if (!path) {
-      std::cerr << "dynpm convert: " << path.message() << "\n";
-      return kExitUsage;
-    }
-    if (Status s = frames.read_step(t, xyz); !s.ok()) {
-      std::cerr << "dynpm convert: " << s.message() << "\n";
-      return kExitFailure;
-    }
+    if (!path) return fail(kSpec.name, kExitUsage, path.message());
+    if (Status s = frames.read_step(t, xyz); !s.ok())
+      return fail(kSpec.name, kExitFailure, s.message());
     options.comment =
         "dynpm: step " + std::to_string(t) + ", time " + std::to_string(frames.step_time(t));
-    if (Status s = write_mesh(staged.stage(*path), stream->topology, xyz, options); !s.ok()) {
-      std::cerr << "dynpm convert: " << s.message() << "\n";
-      return kExitFailure;
-    }
+    if (Status s = write_mesh(staged.stage(*path), stream->topology, xyz, options); !s.ok())
+      return fail(kSpec.name, kExitFailure, s.message());
     (t == 0 ? first : last) = *path;
   }
-  if (Status s = staged.commit(); !s.ok()) {
-    std::cerr << "dynpm convert: " << s.message() << "\n";
-    return kExitFailure;
-  }
+  if (Status s = staged.commit(); !s.ok()) return fail(kSpec.name, kExitFailure, s.message());
   std::cout << "wrote " << steps << (steps == 1 ? " step: " : " steps: ") << first
             << (steps > 1 ? " … " + last : "") << " (" << stream->topology.vertex_count
             << " vertices, " << stream->topology.quad_count() << " quads, "

@@ -6,8 +6,12 @@
 
 #include "args.h"
 #include "commands.h"
+#include "dynpm/io.h"
 #include "dynpm/lod.h"
 #include "json.h"
+#include "outputs.h"
+#include "report.h"
+#include "shared_flags.h"
 
 namespace dynpm::cli {
 namespace {
@@ -32,10 +36,7 @@ const VerbSpec kSpec{
      {"--ascii", "", false, "", "write PLY and VTK as text"},
      {"--json", "", false, "", "print what was written as JSON"}}};
 
-int fail_usage(const std::string& message) {
-  std::cerr << "dynpm extract: " << message << "\n";
-  return kExitUsage;
-}
+int fail_usage(const std::string& message) { return fail(kSpec.name, kExitUsage, message); }
 
 }  // namespace
 
@@ -43,10 +44,8 @@ int run_extract(std::span<char* const> arguments) {
   Args args;
   if (auto exit_code = parse_verb_args(arguments, kSpec, args)) return *exit_code;
   const auto output = args.value("--output");
-  if (args.positional.size() != 1 || !output) {
-    std::cerr << "dynpm extract: needs one MODEL.dpm and -o OUTPUT\n\n" << help_text(kSpec);
-    return kExitUsage;
-  }
+  if (args.positional.size() != 1 || !output)
+    return fail(kSpec.name, kExitUsage, "needs one MODEL.dpm and -o OUTPUT", help_text(kSpec));
   const int choices =
       args.has("--vertices") + args.has("--ratio") + args.has("--max-error") + args.has("--full");
   if (choices != 1) return fail_usage("give one of --vertices, --ratio, --max-error, --full");
@@ -65,42 +64,19 @@ int run_extract(std::span<char* const> arguments) {
         "'out_{:03d}.obj'");
 
   // The resolution, checked before the model is read.
-  std::optional<uint64_t> vertices;
-  std::optional<double> ratio, max_error;
-  bool error_in_percent = false;
-  if (auto n = args.value("--vertices")) {
-    auto r = parse_whole("--vertices", *n, 1, kMaxVertexCount);
-    if (!r) return fail_usage(r.message());
-    vertices = *r;
-  } else if (auto fraction = args.value("--ratio")) {
-    auto r = parse_number("--ratio", *fraction, kFraction);
-    if (!r) return fail_usage(r.message());
-    ratio = *r;
-  } else if (auto error = args.value("--max-error")) {
-    std::string text = *error;
-    error_in_percent = !text.empty() && text.back() == '%';
-    if (error_in_percent) text.pop_back();
-    auto r = error_in_percent ? parse_number("--max-error (in %)", text, kPercent)
-                              : parse_number("--max-error", text, kNonNegative);
-    if (!r) return fail_usage(r.message());
-    max_error = *r;
-  }
+  auto level = parse_level_flags(args);
+  if (!level) return fail_usage(level.message());
 
-  if (Status s = check_output_folder(*output); !s.ok()) {
-    std::cerr << "dynpm extract: " << s.message() << "\n";
-    return kExitFailure;
-  }
+  if (Status s = check_output_folder(*output); !s.ok())
+    return fail(kSpec.name, kExitFailure, s.message());
 
   std::optional<Phase> phase(std::in_place, "reading the model");
   auto mesh = read_dpm(args.positional[0]);
-  if (!mesh) {
-    std::cerr << "dynpm extract: " << mesh.message() << "\n";
-    return kExitFailure;
-  }
+  if (!mesh) return fail(kSpec.name, kExitFailure, mesh.message());
   if (!mesh->complete)
-    std::cerr << "dynpm extract: note: " << args.positional[0]
-              << " is a prefix of a file; it holds " << mesh->split_count() << " of "
-              << mesh->full_split_count << " splits\n";
+    note(kSpec.name, args.positional[0] + " is a prefix of a file; it holds " +
+                         std::to_string(mesh->split_count()) + " of " +
+                         std::to_string(mesh->full_split_count) + " splits");
   const size_t steps = mesh->step_count();
   if (step && *step > double(steps - 1))
     return fail_usage("--step needs a number in [0, " + std::to_string(steps - 1) + "] (" +
@@ -110,12 +86,14 @@ int run_extract(std::span<char* const> arguments) {
 
   phase.emplace("extracting the meshes");
   Navigator nav(*mesh);
-  if (vertices)
-    nav.set_vertex_count(static_cast<uint32_t>(*vertices));  // past the full count: the full mesh
-  else if (ratio)
-    nav.set_vertex_count(static_cast<uint32_t>(std::lround(*ratio * mesh->full_vertex_count)));
-  else if (max_error)
-    nav.set_error(error_in_percent ? *max_error / 100.0 * mesh->diagonal() : *max_error);
+  if (level->vertices)  // past the full count: the full mesh
+    nav.set_vertex_count(static_cast<uint32_t>(*level->vertices));
+  else if (level->ratio)
+    nav.set_vertex_count(
+        static_cast<uint32_t>(std::lround(*level->ratio * mesh->full_vertex_count)));
+  else if (level->max_error)
+    nav.set_error(level->max_error_in_percent ? *level->max_error / 100.0 * mesh->diagonal()
+                                              : *level->max_error);
   else
     nav.set_level(mesh->split_count());
 
@@ -125,10 +103,7 @@ int run_extract(std::span<char* const> arguments) {
   std::vector<uint32_t> vertex_order;  // output vertex → navigator vertex
   if (full) {
     auto ordered = original_order(nav);
-    if (!ordered) {
-      std::cerr << "dynpm extract: " << ordered.message() << "\n";
-      return kExitFailure;
-    }
+    if (!ordered) return fail(kSpec.name, kExitFailure, ordered.message());
     topology = std::move(ordered->topology);
     vertex_order = std::move(ordered->vertex_of_original);
   } else {
@@ -154,16 +129,11 @@ int run_extract(std::span<char* const> arguments) {
     write.comment = "dynpm extract: " + std::to_string(nav.vertex_count()) + " vertices, step " +
                     std::to_string(t) + ", time " +
                     std::to_string(mesh->times[std::min(size_t(t), steps - 1)]);
-    if (Status s = write_mesh(staged.stage(*path), topology, xyz, write); !s.ok()) {
-      std::cerr << "dynpm extract: " << s.message() << "\n";
-      return kExitFailure;
-    }
+    if (Status s = write_mesh(staged.stage(*path), topology, xyz, write); !s.ok())
+      return fail(kSpec.name, kExitFailure, s.message());
     written.push_back(*path);
   }
-  if (Status s = staged.commit(); !s.ok()) {
-    std::cerr << "dynpm extract: " << s.message() << "\n";
-    return kExitFailure;
-  }
+  if (Status s = staged.commit(); !s.ok()) return fail(kSpec.name, kExitFailure, s.message());
 
   if (args.has("--json")) {
     Json j;

@@ -8,7 +8,10 @@
 #include "args.h"
 #include "commands.h"
 #include "dynpm/eval.h"
+#include "inputs.h"
 #include "json.h"
+#include "report.h"
+#include "shared_flags.h"
 
 namespace dynpm::cli {
 namespace {
@@ -24,14 +27,13 @@ const VerbSpec kSpec{
     "triangles through their centroid. A and B are each a mesh file or a quoted glob of step\n"
     "files ('frames/frame_*.obj'); two sequences are compared step by step, and a single mesh\n"
     "against every step of a sequence. Results depend on the seed only, not on the threads.",
-    {{"--samples", "", true, "N",
-      "area samples on each surface (default 10 per face of the larger)"},
-     {"--samples-per-face", "", true, "K", "area samples per face of the larger mesh (default 10)"},
-     {"--seed", "", true, "S", "seed of the sampling (default 1)"},
+    {kSamplesFlag,
+     kSamplesPerFaceFlag,
+     kSeedFlag,
      {"--diagonal", "", true, "D", "percentages of D instead of A's bounding-box diagonal"},
-     {"--threads", "", true, "T", "worker threads (default: all cores)"},
+     kThreadsFlag,
      {"--json", "", false, "", "print the result as JSON on stdout"},
-     {"--split-polygons", "", false, "", "fan-split faces with more than 4 corners"}}};
+     kSplitPolygonsFlag}};
 
 // The steps seen as one result: max over steps for maxima, mean over steps for means, root of
 // the mean square over steps for RMS values, sample counts summed.
@@ -190,37 +192,15 @@ void print_json(const std::vector<std::string>& a, const std::vector<std::string
 int run_hausdorff(std::span<char* const> arguments) {
   Args args;
   if (auto exit_code = parse_verb_args(arguments, kSpec, args)) return *exit_code;
-  if (args.positional.size() != 2) {
-    std::cerr << "dynpm hausdorff: needs two inputs, A and B (quote a glob of step files)\n\n"
-              << help_text(kSpec);
-    return kExitUsage;
-  }
+  if (args.positional.size() != 2)
+    return fail(kSpec.name, kExitUsage, "needs two inputs, A and B (quote a glob of step files)",
+                help_text(kSpec));
   StepsOptions options;
   HausdorffOptions& h = options.hausdorff;
   auto fail_usage = [](const std::string& message) {
-    std::cerr << "dynpm hausdorff: " << message << "\n";
-    return kExitUsage;
+    return fail(kSpec.name, kExitUsage, message);
   };
-  struct WholeFlag {
-    const char* name;
-    uint64_t max;
-    uint64_t* value;
-  };
-  uint64_t threads = 0;
-  for (const WholeFlag& flag :
-       {WholeFlag{"--samples", kMaxSamples, &h.face_samples},
-        WholeFlag{"--seed", UINT64_MAX, &h.seed}, WholeFlag{"--threads", kMaxThreads, &threads}})
-    if (const auto text = args.value(flag.name)) {
-      auto r = parse_whole(flag.name, *text, 0, flag.max);
-      if (!r) return fail_usage(r.message());
-      *flag.value = *r;
-    }
-  h.threads = static_cast<unsigned>(threads);
-  if (const auto text = args.value("--samples-per-face")) {
-    auto r = parse_number("--samples-per-face", *text, {0, 1e4, true});
-    if (!r) return fail_usage(r.message());
-    h.samples_per_face = *r;
-  }
+  if (Status s = parse_sampling_flags(args, h); !s.ok()) return fail_usage(s.message());
   if (const auto text = args.value("--diagonal")) {
     auto r = parse_number("--diagonal", *text, {0, kAnyNumber.max, true});
     if (!r) return fail_usage(r.message());
@@ -232,16 +212,10 @@ int run_hausdorff(std::span<char* const> arguments) {
   for (int side = 0; side < 2; ++side) {
     const std::string argument = args.positional[side];
     auto expanded = expand_inputs(std::span<const std::string>(&argument, 1));
-    if (!expanded) {
-      std::cerr << "dynpm hausdorff: " << expanded.message() << "\n";
-      return kExitFailure;
-    }
+    if (!expanded) return fail(kSpec.name, kExitFailure, expanded.message());
     files[side] = *expanded;
     auto stream = open_inputs(files[side], args.has("--split-polygons"));
-    if (!stream) {
-      std::cerr << "dynpm hausdorff: " << stream.message() << "\n";
-      return kExitFailure;
-    }
+    if (!stream) return fail(kSpec.name, kExitFailure, stream.message());
     streams[side] = std::move(*stream);
   }
   const size_t steps = std::max(streams[0].frames->step_count(), streams[1].frames->step_count());
@@ -249,10 +223,7 @@ int run_hausdorff(std::span<char* const> arguments) {
     options.progress = [](size_t done, size_t total) { progress("measuring step", done, total); };
   auto result = hausdorff_steps(streams[0].topology, *streams[0].frames, streams[1].topology,
                                 *streams[1].frames, options);
-  if (!result) {
-    std::cerr << "dynpm hausdorff: " << result.message() << "\n";
-    return kExitFailure;
-  }
+  if (!result) return fail(kSpec.name, kExitFailure, result.message());
   const HausdorffResult all = over_all_steps(*result);
   if (args.has("--json"))
     print_json(files[0], files[1], *result, all, h.seed);

@@ -8,7 +8,9 @@
 #include "commands.h"
 #include "dynpm/lod.h"
 #include "dynpm/text.h"
+#include "inputs.h"
 #include "json.h"
+#include "report.h"
 
 namespace dynpm::cli {
 namespace {
@@ -26,7 +28,7 @@ const VerbSpec kSpec{
     "Exit code: 0 valid, 1 unreadable input, 2 bad usage, 3 read but invalid.",
     {{"--json", "", false, "", "print the result as JSON on stdout"},
      {"--problems", "", true, "N", "list at most N problems of each severity (default 10)"},
-     {"--split-polygons", "", false, "", "fan-split faces with more than 4 corners"}}};
+     kSplitPolygonsFlag}};
 
 // Passes steps through to validate() and extends the bounding box of all steps on the way,
 // so every step is read once.
@@ -177,10 +179,7 @@ void print_json(std::span<const std::string> inputs, const Topology& topology,
 // A progressive mesh file: what it holds and at what levels.
 int print_dpm_info(const std::string& path, bool json) {
   auto mesh = read_dpm(path);
-  if (!mesh) {
-    std::cerr << "dynpm info: " << mesh.message() << "\n";
-    return kExitFailure;
-  }
+  if (!mesh) return fail(kSpec.name, kExitFailure, mesh.message());
   const ProgressiveMesh& m = *mesh;
   Navigator nav(m);
   const Topology base = nav.topology();
@@ -264,24 +263,16 @@ int print_dpm_info(const std::string& path, bool json) {
 int run_info(std::span<char* const> arguments) {
   Args args;
   if (auto exit_code = parse_verb_args(arguments, kSpec, args)) return *exit_code;
-  if (args.positional.empty()) {
-    std::cerr << "dynpm info: no input given\n\n" << help_text(kSpec);
-    return kExitUsage;
-  }
+  if (args.positional.empty())
+    return fail(kSpec.name, kExitUsage, "no input given", help_text(kSpec));
   size_t problems = 10;
   if (auto n = args.value("--problems")) {
     auto r = parse_whole("--problems", *n, 0, 1'000'000'000);
-    if (!r) {
-      std::cerr << "dynpm info: " << r.message() << "\n";
-      return kExitUsage;
-    }
+    if (!r) return fail(kSpec.name, kExitUsage, r.message());
     problems = *r;
   }
   auto inputs = expand_inputs(args.positional);
-  if (!inputs) {
-    std::cerr << "dynpm info: " << inputs.message() << "\n";
-    return kExitFailure;
-  }
+  if (!inputs) return fail(kSpec.name, kExitFailure, inputs.message());
   if (inputs->size() == 1) {
     // By signature, or by name: a damaged .dpm gets the .dpm reader's message.
     auto head = read_file_head(inputs->front(), 8);
@@ -290,19 +281,13 @@ int run_info(std::span<char* const> arguments) {
       return print_dpm_info(inputs->front(), args.has("--json"));
   }
   auto stream = open_inputs(*inputs, args.has("--split-polygons"), InputChecks::kNone);
-  if (!stream) {
-    std::cerr << "dynpm info: " << stream.message() << "\n";
-    return kExitFailure;
-  }
+  if (!stream) return fail(kSpec.name, kExitFailure, stream.message());
   const Topology& topology = stream->topology;
   BoxingSource frames(*stream->frames);
   const ValidationReport report = validate(topology, &frames);
   // A step that cannot be read (another face list, a broken file) is an input error.
   for (const Problem& p : report.problems) {
-    if (p.kind == ProblemKind::kUnreadableStep) {
-      std::cerr << "dynpm info: " << p.message << "\n";
-      return kExitFailure;
-    }
+    if (p.kind == ProblemKind::kUnreadableStep) return fail(kSpec.name, kExitFailure, p.message);
   }
   const TopologyStats stats = topology_stats(topology, Adjacency::build(topology));
   if (args.has("--json"))

@@ -9,7 +9,11 @@
 #include "args.h"
 #include "commands.h"
 #include "dynpm/simplify.h"
+#include "inputs.h"
 #include "json.h"
+#include "outputs.h"
+#include "report.h"
+#include "shared_flags.h"
 
 namespace dynpm::cli {
 namespace {
@@ -32,13 +36,12 @@ const VerbSpec kSpec{
      {"--faces", "", true, "N", "stop at N faces"},
      {"--max-error", "", true, "E", "stop before a collapse's error exceeds E"},
      {"--placement", "", true, "half|optimal", "half-edge (default, the paper) or optimal (QSlim)"},
-     {"--key-steps", "", true, "RULE",
-      "steps that rate collapses: all (default), paper, auto:K, 0,12,24"},
-     {"--boundary-weight", "", true, "W", "weight of boundary/feature constraint planes (1)"},
-     {"--ignore-parts", "", false, "", "let collapses cross part boundaries"},
+     kKeyStepsFlag,
+     kBoundaryWeightFlag,
+     kIgnorePartsFlag,
      {"--ascii", "", false, "", "write PLY and VTK as text"},
      {"--json", "", false, "", "print the result as JSON"},
-     {"--split-polygons", "", false, "", "fan-split faces with more than 4 corners"}}};
+     kSplitPolygonsFlag}};
 
 // A progress bar on stderr for long runs (only on a terminal).
 class ProgressListener final : public CollapseListener {
@@ -60,85 +63,48 @@ int run_simplify(std::span<char* const> arguments) {
   Args args;
   if (auto exit_code = parse_verb_args(arguments, kSpec, args)) return *exit_code;
   const auto output = args.value("--output");
-  if (args.positional.empty() || !output) {
-    std::cerr << "dynpm simplify: needs INPUT... and -o OUTPUT\n\n" << help_text(kSpec);
-    return kExitUsage;
-  }
+  if (args.positional.empty() || !output)
+    return fail(kSpec.name, kExitUsage, "needs INPUT... and -o OUTPUT", help_text(kSpec));
+  auto usage = [](const std::string& message) { return fail(kSpec.name, kExitUsage, message); };
+  auto level = parse_level_flags(args);
+  if (!level) return usage(level.message());
   SimplifyOptions options;
-  auto fail_usage = [](std::string message) {
-    if (!message.starts_with("dynpm ")) message = "dynpm simplify: " + message;
-    std::cerr << message << "\n";
-    return kExitUsage;
-  };
-  if (auto v = args.value("--ratio")) {
-    auto r = parse_number("--ratio", *v, kFraction);
-    if (!r) return fail_usage(r.message());
-    options.target_ratio = *r;
-  }
-  if (auto v = args.value("--vertices")) {
-    auto r = parse_whole("--vertices", *v, 1, kMaxVertexCount);
-    if (!r) return fail_usage(r.message());
-    options.target_vertices = static_cast<uint32_t>(*r);
-  }
-  if (auto v = args.value("--faces")) {
-    auto r = parse_whole("--faces", *v, 1, kMaxFaceCount);
-    if (!r) return fail_usage(r.message());
-    options.target_faces = static_cast<size_t>(*r);
-  }
-  if (auto v = args.value("--max-error")) {
-    std::string text = *v;
-    const bool percent = !text.empty() && text.back() == '%';
-    if (percent) text.pop_back();
-    auto r = percent ? parse_number("--max-error (in %)", text, kPercent)
-                     : parse_number("--max-error", text, kNonNegative);
-    if (!r) return fail_usage(r.message());
-    options.max_error = percent ? *r / 100.0 : *r;
-  }
+  options.target_ratio = level->ratio;
+  if (level->vertices) options.target_vertices = static_cast<uint32_t>(*level->vertices);
+  if (level->faces) options.target_faces = static_cast<size_t>(*level->faces);
+  if (level->max_error)
+    options.max_error = level->max_error_in_percent ? *level->max_error / 100.0 : *level->max_error;
   if (!options.target_ratio && !options.target_vertices && !options.target_faces &&
       !options.max_error)
-    return fail_usage("dynpm simplify: give a target: --ratio, --vertices, --faces or --max-error");
+    return usage("give a target: --ratio, --vertices, --faces or --max-error");
   if (auto v = args.value("--placement")) {
     if (*v == "optimal")
       options.placement = Placement::kOptimal;
     else if (*v != "half")
-      return fail_usage("dynpm simplify: --placement is half or optimal");
+      return usage("--placement is half or optimal");
   }
-  auto key_rule = parse_key_step_rule(args.value("--key-steps").value_or("all"));
-  if (!key_rule) return fail_usage("dynpm simplify: " + key_rule.message());
-  if (auto v = args.value("--boundary-weight")) {
-    auto r = parse_number("--boundary-weight", *v, kBoundaryWeights);
-    if (!r) return fail_usage(r.message());
-    options.boundary_weight = *r;
-  }
-  options.keep_part_boundaries = !args.has("--ignore-parts");
+  KeyStepRule key_rule;
+  if (Status s = parse_simplify_flags(args, options, key_rule); !s.ok()) return usage(s.message());
   if (format_from_extension(*output) == FileFormat::kUnknown)
-    return fail_usage("dynpm simplify: " + *output + ": use .obj, .ply or .vtk");
+    return usage(*output + ": use .obj, .ply or .vtk");
 
-  if (Status s = check_output_folder(*output); !s.ok()) {
-    std::cerr << "dynpm simplify: " << s.message() << "\n";
-    return kExitFailure;
-  }
+  if (Status s = check_output_folder(*output); !s.ok())
+    return fail(kSpec.name, kExitFailure, s.message());
   std::optional<Phase> phase(std::in_place, "reading the input");
   auto stream =
       open_inputs(args.positional, args.has("--split-polygons"), InputChecks::kSimplifiable);
-  if (!stream) {
-    std::cerr << "dynpm simplify: " << stream.message() << "\n";
-    return kExitFailure;
-  }
+  if (!stream) return fail(kSpec.name, kExitFailure, stream.message());
   const Topology& input = stream->topology;
   const FrameSource& frames = *stream->frames;
   const size_t steps = frames.step_count();
   const bool pattern = has_step_field(*output);
   if (steps > 1 && !pattern)
-    return fail_usage("dynpm simplify: the input has " + std::to_string(steps) +
-                      " time steps; give an output pattern such as 'out_{:03d}.obj'");
+    return usage("the input has " + std::to_string(steps) +
+                 " time steps; give an output pattern such as 'out_{:03d}.obj'");
 
   const auto start = std::chrono::steady_clock::now();
-  auto key_steps = choose_key_steps(frames, *key_rule);
-  if (!key_steps) {
-    std::cerr << "dynpm simplify: " << key_steps.message() << "\n";
-    return kExitFailure;
-  }
+  auto key_steps = choose_key_steps(frames, key_rule);
+  if (!key_steps) return fail(kSpec.name, kExitFailure, key_steps.message());
   options.key_steps = key_steps->steps;
   if (!args.has("--json"))
     for (const std::string& reason : key_steps->reasons)
@@ -155,10 +121,7 @@ int run_simplify(std::span<char* const> arguments) {
   listener.finish();
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  if (!result) {
-    std::cerr << "dynpm simplify: " << result.message() << "\n";
-    return kExitFailure;
-  }
+  if (!result) return fail(kSpec.name, kExitFailure, result.message());
 
   // Write every step: the surviving vertices at their positions in that step.
   WriteOptions write;
@@ -171,10 +134,8 @@ int run_simplify(std::span<char* const> arguments) {
     if (!result->key_step_positions.empty()) {
       out = result->key_step_positions[t];
     } else {
-      if (Status s = frames.read_step(t, step); !s.ok()) {
-        std::cerr << "dynpm simplify: " << s.message() << "\n";
-        return kExitFailure;
-      }
+      if (Status s = frames.read_step(t, step); !s.ok())
+        return fail(kSpec.name, kExitFailure, s.message());
       out.clear();
       for (uint32_t v : result->original_vertex)
         out.insert(out.end(), &step[size_t{v} * 3], &step[size_t{v} * 3] + 3);
@@ -183,15 +144,9 @@ int run_simplify(std::span<char* const> arguments) {
     write.comment = "dynpm simplify: step " + std::to_string(t) + ", time " +
                     std::to_string(frames.step_time(t));
     Status s = path ? write_mesh(staged.stage(*path), result->topology, out, write) : path.status();
-    if (!s.ok()) {
-      std::cerr << "dynpm simplify: " << s.message() << "\n";
-      return kExitFailure;
-    }
+    if (!s.ok()) return fail(kSpec.name, kExitFailure, s.message());
   }
-  if (Status s = staged.commit(); !s.ok()) {
-    std::cerr << "dynpm simplify: " << s.message() << "\n";
-    return kExitFailure;
-  }
+  if (Status s = staged.commit(); !s.ok()) return fail(kSpec.name, kExitFailure, s.message());
 
   const Topology& t = result->topology;
   if (args.has("--json")) {

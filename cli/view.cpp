@@ -9,12 +9,10 @@
 
 #include <algorithm>
 #include <charconv>
-#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -22,6 +20,8 @@
 #include "args.h"
 #include "assets.h"
 #include "commands.h"
+#include "dynpm/core.h"
+#include "report.h"
 #include "view_server.h"
 
 namespace dynpm::cli {
@@ -244,47 +244,17 @@ int serve_model(const fs::path& model, uintmax_t model_size, int port, double th
   pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
 
   auto listener = listen_on_loopback(port);
-  if (!listener) {
-    std::cerr << "dynpm view: " << listener.message() << "\n";
-    return kExitFailure;
-  }
+  if (!listener) return fail(kSpec.name, kExitFailure, listener.message());
   const std::string config = config_json(model);
   std::cout << "dynpm view: " << model.filename().string() << " (" << model_size / 1024
             << " KiB) at http://127.0.0.1:" << listener->port << "/  (Ctrl-C stops)" << std::endl;
   if (!viewer::assets_complete())
     std::cerr << "warning: dynpm was built without viewer/node_modules; the page cannot draw "
                  "(run 'npm ci' in viewer/ and rebuild)\n";
-  if (Status s = serve(server_options(model, config, throttle_kib), *listener); !s.ok()) {
-    std::cerr << "dynpm view: " << s.message() << "\n";
-    return kExitFailure;
-  }
+  if (Status s = serve(server_options(model, config, throttle_kib), *listener); !s.ok())
+    return fail(kSpec.name, kExitFailure, s.message());
   std::cout << "dynpm view: stopped" << std::endl;
   return kExitOk;
-}
-
-// "--port abc" and "--throttle inf" each get a message that names the flag and its range.
-std::optional<int> parse_port(const std::string& text) {
-  int port = -1;
-  auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), port);
-  if (text.empty() || ec != std::errc() || end != text.data() + text.size() || port < 0 ||
-      port > 65535) {
-    std::cerr << "dynpm view: --port takes a whole number in 0…65535 (0: any free port), not "
-              << quoted_value(text) << "\n";
-    return std::nullopt;
-  }
-  return port;
-}
-
-std::optional<double> parse_throttle(const std::string& text) {
-  double kib = 0;
-  auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), kib);
-  if (text.empty() || ec != std::errc() || end != text.data() + text.size() ||
-      !std::isfinite(kib) || kib < kMinThrottleKib || kib > kMaxThrottleKib) {
-    std::cerr << "dynpm view: --throttle takes KiB per second in 1…1048576, not "
-              << quoted_value(text) << "\n";
-    return std::nullopt;
-  }
-  return kib;
 }
 
 }  // namespace
@@ -292,33 +262,33 @@ std::optional<double> parse_throttle(const std::string& text) {
 int run_view(std::span<char* const> arguments) {
   Args args;
   if (auto exit = parse_verb_args(arguments, kSpec, args)) return *exit;
-  if (args.positional.size() != 1) {
-    std::cerr << "dynpm view: expected one .dpm file\n\n" << help_text(kSpec);
-    return kExitUsage;
-  }
+  if (args.positional.size() != 1)
+    return fail(kSpec.name, kExitUsage, "expected one .dpm file", help_text(kSpec));
   int port = 8765;
   double throttle_kib = 0;
+  // "--port abc" and "--throttle inf" each get a message that names the flag and its range.
   if (auto p = args.value("--port")) {
-    auto parsed = parse_port(*p);
-    if (!parsed) return kExitUsage;
-    port = *parsed;
+    auto r = parse_whole("--port", *p, 0, 65535);
+    if (!r)
+      return fail(
+          kSpec.name, kExitUsage,
+          "--port takes a whole number in 0…65535 (0: any free port), not " + quoted_value(*p));
+    port = static_cast<int>(*r);
   }
   if (auto t = args.value("--throttle")) {
-    auto parsed = parse_throttle(*t);
-    if (!parsed) return kExitUsage;
-    throttle_kib = *parsed;
+    auto r = parse_number("--throttle", *t, {kMinThrottleKib, kMaxThrottleKib});
+    if (!r)
+      return fail(kSpec.name, kExitUsage,
+                  "--throttle takes KiB per second in 1…1048576, not " + quoted_value(*t));
+    throttle_kib = *r;
   }
   const fs::path model = args.positional.front();
   uintmax_t model_size = 0;
-  if (Status s = check_model(model, model_size); !s.ok()) {
-    std::cerr << "dynpm view: " << s.message() << "\n";
-    return kExitFailure;
-  }
+  if (Status s = check_model(model, model_size); !s.ok())
+    return fail(kSpec.name, kExitFailure, s.message());
   if (auto dir = args.value("--export")) {
-    if (Status s = export_folder(model, *dir); !s.ok()) {
-      std::cerr << "dynpm view: " << s.message() << "\n";
-      return kExitFailure;
-    }
+    if (Status s = export_folder(model, *dir); !s.ok())
+      return fail(kSpec.name, kExitFailure, s.message());
     std::cout << "wrote " << (fs::path(*dir) / "index.html").string() << " with "
               << viewer::assets().size() << " files and " << kModelPath
               << "; serve the folder with any web server, e.g.\n"

@@ -1,5 +1,7 @@
-// dynpm/pipeline.h — build(): animation → simplifier → collapse record → progressive mesh.
+// dynpm/pipeline.h — the library's whole jobs, each joining several modules:
+// build_progressive_mesh() (simplify → progressive) and evaluate_levels() (lod → eval).
 //
+// build: animation → simplifier → collapse record → progressive mesh.
 // The simplifier runs to the end (until no legal collapse remains) with a listener that keeps
 // every collapse. Reversed, the collapses are the vertex splits; vertices are renumbered so the
 // base mesh holds 0…b−1 and split i creates vertex b+i, faces so the base holds the first ones
@@ -7,9 +9,13 @@
 // positions are then read once through the FrameSource and stored in that order.
 #pragma once
 
+#include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <string>
+#include <vector>
 
+#include "dynpm/eval.h"
 #include "dynpm/progressive.h"
 #include "dynpm/simplify.h"
 
@@ -32,5 +38,72 @@ struct BuildOptions {
 // positions (read once each, through the FrameSource) and the source's scalar fields.
 Result<ProgressiveMesh> build_progressive_mesh(const Topology& topology, const FrameSource& frames,
                                                const BuildOptions& options);
+
+// ---------------------------------------------------------------------------------------------
+// evaluate_levels(): the paper's Table 2 — a progressive mesh against the animation it was built
+// from, at several resolutions and time steps.
+//
+//   for each ratio r (ascending): the model at round(r % of the full vertex count) vertices,
+//     at least 1 (the navigator clamps to the levels the model holds) → one row
+//   for each measured step t (every step, or only the chosen ones):
+//     the original at t against each row's level at t: two-sided Hausdorff (dynpm/eval.h)
+//     a chosen step's distances fill its column; the max column keeps each value's largest
+//
+// Every distance is in % of one reference length (by default the model's bounding-box diagonal
+// over all steps, which is the original's within the position bound), so that the columns
+// compare like with like, as hausdorff_steps() does for step sequences.
+
+struct LevelsOptions {
+  // Resolutions in % of the full vertex count, each in (0, 100]; sorted, duplicates dropped.
+  std::vector<double> ratios;
+  // The table's steps, each < the step count; sorted, duplicates dropped. Empty: the first,
+  // middle and last.
+  std::vector<size_t> steps;
+  // The max column over every step of the animation (true) or over `steps` only.
+  bool max_over_all_steps = true;
+  // Sampling, seed and threads; reference_diagonal 0 means the model's diagonal.
+  HausdorffOptions hausdorff;
+  // Names the model in messages ("rail.dpm was built from another mesh: …").
+  std::string model_name = "the model";
+  // Called with (steps measured, steps to measure) before each step and once at the end. May be
+  // empty.
+  std::function<void(size_t, size_t)> progress;
+};
+
+// One cell of the table: the original against one level at one step.
+struct LevelDistance {
+  double hausdorff_pct = 0, mean_pct = 0, rms_pct = 0;  // % of the reference diagonal
+  double diagonal = 0;                                  // the reference diagonal itself
+};
+
+// One row of the table: one resolution.
+struct LevelRow {
+  double ratio = 0;       // as requested, % of the full vertex count
+  uint32_t vertices = 0;  // the level's vertex count (what the model holds nearest)
+  uint32_t faces = 0;     // the level's face count
+  uint32_t level = 0;     // splits applied
+  double error = 0;       // the level's simplification error, absolute (Navigator::error)
+  std::vector<LevelDistance> steps;  // one per LevelsTable::steps, in that order
+  LevelDistance max;    // each value's max over the measured steps (diagonal: at max_step)
+  size_t max_step = 0;  // the measured step of the largest Hausdorff distance
+};
+
+struct LevelsTable {
+  std::vector<size_t> steps;      // the chosen steps (the columns), ascending
+  double reference_diagonal = 0;  // the length every percentage is of
+  std::vector<LevelRow> rows;     // one per distinct ratio, ascending
+};
+
+// An error if `model` was not built from this animation: other vertex, face or step counts. The
+// message names the model as `model_name`.
+Status check_built_from(const Topology& original, const FrameSource& frames,
+                        const ProgressiveMesh& model, const std::string& model_name);
+
+// Measures `model` against the original animation (topology and steps). Errors: the model was
+// built from another animation (check_built_from), a step out of range, a step that cannot be
+// read, a distance that cannot be measured ("step 3, 120 vertices: …"). Reads each measured step
+// of the original once; one Hausdorff measurement per row and measured step.
+Result<LevelsTable> evaluate_levels(const Topology& original, const FrameSource& frames,
+                                    const ProgressiveMesh& model, const LevelsOptions& options);
 
 }  // namespace dynpm

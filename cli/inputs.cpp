@@ -1,0 +1,89 @@
+#include "inputs.h"
+
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <vector>
+
+namespace dynpm::cli {
+namespace {
+// Hands steps through and refuses a NaN or infinite coordinate, naming the file, the step and
+// the vertex (and its node number): such a position must never reach the simplifier, a writer
+// or the distance measure. Readers keep such values (validation judges them), so 'dynpm info'
+// lists them instead.
+class FinitePositions final : public FrameSource {
+ public:
+  FinitePositions(std::unique_ptr<FrameSource> source, std::vector<std::string> paths,
+                  std::vector<int64_t> node_ids)
+      : source_(std::move(source)), paths_(std::move(paths)), node_ids_(std::move(node_ids)) {}
+  uint32_t vertex_count() const override { return source_->vertex_count(); }
+  size_t step_count() const override { return source_->step_count(); }
+  double step_time(size_t t) const override { return source_->step_time(t); }
+  size_t step_float_count(size_t t) const override { return source_->step_float_count(t); }
+  std::vector<std::string> field_names() const override { return source_->field_names(); }
+  Status read_field(size_t field, size_t t, std::span<float> out) const override {
+    return source_->read_field(field, t, out);
+  }
+  Status read_step(size_t t, std::span<float> out) const override {
+    DYNPM_RETURN_IF_ERROR(source_->read_step(t, out));
+    for (size_t i = 0; i < out.size(); ++i) {
+      if (std::isfinite(out[i])) continue;
+      const size_t v = i / 3;
+      char xyz[96];
+      std::snprintf(xyz, sizeof xyz, "(%g, %g, %g)", double(out[v * 3]), double(out[v * 3 + 1]),
+                    double(out[v * 3 + 2]));
+      // One file per step, or one file holding every step.
+      const std::string& file = paths_.size() == step_count() ? paths_[t] : paths_.front();
+      std::string node;
+      if (v < node_ids_.size()) node = " (node " + std::to_string(node_ids_[v]) + ")";
+      return Status::error(file + ": step " + std::to_string(t) + ": vertex " + std::to_string(v) +
+                           node + " is at " + xyz + ", not a finite position");
+    }
+    return {};
+  }
+
+ private:
+  std::unique_ptr<FrameSource> source_;
+  std::vector<std::string> paths_;
+  std::vector<int64_t> node_ids_;
+};
+
+// The first error validate() finds in the faces, named by the file they came from (the first
+// one of a sequence), with the element or node number where the file has one.
+Status check_faces(const Topology& topology, const std::string& file) {
+  const ValidationReport report = validate(topology);
+  for (const Problem& p : report.problems) {
+    if (p.severity != Severity::kError) continue;
+    std::string message = file + ": " + p.message;
+    if (p.face < topology.element_ids.size() && topology.element_ids[p.face] != 0)
+      message += " (element " + std::to_string(topology.element_ids[p.face]) + ")";
+    else if (p.face == kNoIndex && p.vertex < topology.node_ids.size())
+      message += " (node " + std::to_string(topology.node_ids[p.vertex]) + ")";
+    const size_t errors = report.count(Severity::kError);
+    if (errors > 1)
+      message += "; " + std::to_string(errors - 1) + " more errors ('dynpm info' lists them)";
+    return Status::error(message);
+  }
+  return {};
+}
+
+}  // namespace
+
+Result<AnimationStream> open_inputs(std::span<const std::string> arguments, bool split_polygons,
+                                    InputChecks checks) {
+  auto paths = expand_inputs(arguments);
+  if (!paths) return paths.status();
+  ReadOptions options;
+  options.split_polygons = split_polygons;
+  options.warn = [](const std::string& note) { std::cerr << "warning: " << note << "\n"; };
+  auto stream = open_input(*paths, options);
+  if (!stream || checks == InputChecks::kNone) return stream;
+  if (checks == InputChecks::kSimplifiable)
+    DYNPM_RETURN_IF_ERROR(check_faces(stream->topology, paths->front()));
+  stream->frames = std::make_unique<FinitePositions>(std::move(stream->frames), *paths,
+                                                     stream->topology.node_ids);
+  return stream;
+}
+
+}  // namespace dynpm::cli

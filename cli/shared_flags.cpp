@@ -1,0 +1,73 @@
+#include "shared_flags.h"
+
+#include <string>
+
+namespace dynpm::cli {
+
+Status parse_simplify_flags(const Args& args, SimplifyOptions& options, KeyStepRule& key_steps) {
+  auto rule = parse_key_step_rule(args.value("--key-steps").value_or("all"));
+  if (!rule) return rule.status();
+  key_steps = *rule;
+  if (auto v = args.value("--boundary-weight")) {
+    auto r = parse_number("--boundary-weight", *v, kBoundaryWeights);
+    if (!r) return r.status();
+    options.boundary_weight = *r;
+  }
+  options.keep_part_boundaries = !args.has("--ignore-parts");
+  return {};
+}
+
+Result<LevelFlags> parse_level_flags(const Args& args) {
+  LevelFlags level;
+  if (auto v = args.value("--ratio")) {
+    auto r = parse_number("--ratio", *v, kFraction);
+    if (!r) return r.status();
+    level.ratio = *r;
+  }
+  if (auto v = args.value("--vertices")) {
+    auto r = parse_whole("--vertices", *v, 1, kMaxVertexCount);
+    if (!r) return r.status();
+    level.vertices = *r;
+  }
+  if (auto v = args.value("--faces")) {
+    auto r = parse_whole("--faces", *v, 1, kMaxFaceCount);
+    if (!r) return r.status();
+    level.faces = *r;
+  }
+  if (auto v = args.value("--max-error")) {
+    std::string text = *v;
+    level.max_error_in_percent = !text.empty() && text.back() == '%';
+    if (level.max_error_in_percent) text.pop_back();
+    auto r = level.max_error_in_percent ? parse_number("--max-error (in %)", text, kPercent)
+                                        : parse_number("--max-error", text, kNonNegative);
+    if (!r) return r.status();
+    level.max_error = *r;
+  }
+  return level;
+}
+
+Status parse_sampling_flags(const Args& args, HausdorffOptions& options) {
+  struct WholeFlag {
+    const char* name;
+    uint64_t max;
+    uint64_t* value;
+  };
+  uint64_t threads = 0;
+  for (const WholeFlag& flag : {WholeFlag{"--samples", kMaxSamples, &options.face_samples},
+                                WholeFlag{"--seed", UINT64_MAX, &options.seed},
+                                WholeFlag{"--threads", kMaxThreads, &threads}})
+    if (const auto text = args.value(flag.name)) {
+      auto r = parse_whole(flag.name, *text, 0, flag.max);
+      if (!r) return r.status();
+      *flag.value = *r;
+    }
+  options.threads = static_cast<unsigned>(threads);
+  if (const auto text = args.value("--samples-per-face")) {
+    auto r = parse_number("--samples-per-face", *text, {0, 1e4, true});
+    if (!r) return r.status();
+    options.samples_per_face = *r;
+  }
+  return {};
+}
+
+}  // namespace dynpm::cli

@@ -1,0 +1,55 @@
+// Flags that several verbs share, each with its help line defined once and parsed in one place:
+// the simplification options (build, simplify), a level of detail (simplify, extract) and the
+// surface sampling (hausdorff, eval). A verb lists the FlagSpecs in its VerbSpec, in the order
+// its help shows them, and calls the parse_ function after parse_verb_args(). A flag a verb
+// does not list is never present, so each parse_ function reads only what the verb offers.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+
+#include "args.h"
+#include "dynpm/eval.h"
+#include "dynpm/simplify.h"
+
+namespace dynpm::cli {
+
+// ---- Simplification (build, simplify): how collapses are rated and limited.
+inline const FlagSpec kKeyStepsFlag{"--key-steps", "", true, "RULE",
+                                    "steps that rate collapses: all (default), paper, auto:K, "
+                                    "0,12,24"};
+inline const FlagSpec kBoundaryWeightFlag{"--boundary-weight", "", true, "W",
+                                          "weight of boundary/feature constraint planes (1)"};
+inline const FlagSpec kIgnorePartsFlag{"--ignore-parts", "", false, "",
+                                       "let collapses cross part boundaries"};
+
+// --key-steps (default all) into `key_steps`; --boundary-weight and --ignore-parts into
+// `options`. The error is the usage message, without the verb.
+Status parse_simplify_flags(const Args& args, SimplifyOptions& options, KeyStepRule& key_steps);
+
+// ---- A level of detail (simplify's targets, extract's resolution).
+struct LevelFlags {
+  std::optional<double> ratio;        // --ratio, a fraction of the vertices in (0, 1]
+  std::optional<uint64_t> vertices;   // --vertices, ≥ 1
+  std::optional<uint64_t> faces;      // --faces, ≥ 1
+  std::optional<double> max_error;    // --max-error, as given (E, or E of "E%")
+  bool max_error_in_percent = false;  // "E%": max_error is in % of the diagonal
+};
+// The error is the usage message, without the verb.
+Result<LevelFlags> parse_level_flags(const Args& args);
+
+// ---- Surface sampling (hausdorff, eval): HausdorffOptions.
+inline const FlagSpec kSamplesFlag{"--samples", "", true, "N",
+                                   "area samples on each surface (default 10 per face of the "
+                                   "larger)"};
+inline const FlagSpec kSamplesPerFaceFlag{"--samples-per-face", "", true, "K",
+                                          "area samples per face of the larger mesh (default 10)"};
+inline const FlagSpec kSeedFlag{"--seed", "", true, "S", "seed of the sampling (default 1)"};
+inline const FlagSpec kThreadsFlag{"--threads", "", true, "T",
+                                   "worker threads (default: all cores)"};
+
+// --samples, --seed, --threads, --samples-per-face into `options`. The error is the usage
+// message, without the verb.
+Status parse_sampling_flags(const Args& args, HausdorffOptions& options);
+
+}  // namespace dynpm::cli
