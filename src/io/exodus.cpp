@@ -13,19 +13,19 @@
 // are coordinates + displacement. The other nodal variables are scalar fields.
 //
 // Classic netCDF files are read here, in dynpm's process: their header is checked by our own
-// code first (ClassicHeaderCheck) and netCDF's classic reader is fuzzed with ours. Every other
-// file (netCDF-4, i.e. HDF5) is read in a child process (contained_read.h): libhdf5 crashes on
-// damaged files (issue 16), and that must end the child, not dynpm.
+// code first (ClassicHeaderCheck, exodus_classic.cpp) and netCDF's classic reader is fuzzed with
+// ours. Every other file (netCDF-4, i.e. HDF5) is read in a child process (contained_read.h):
+// libhdf5 crashes on damaged files (issue 16), and that must end the child, not dynpm.
 #include <netcdf.h>
 
 #include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <optional>
 
 #include "contained_read.h"
+#include "exodus_classic.h"
 #include "formats.h"
 #include "solid_surface.h"
 
@@ -145,239 +145,6 @@ class NcFile {
   bool compressed_;
 };
 
-// netCDF's classic formats (CDF-1, CDF-2 "64-bit offset", CDF-5) are checked here, before
-// nc_open sees the file, for two reasons:
-//  - nc_open allocates what the header declares before it has read it: a name of 4 GB, a
-//    billion dimensions, attribute values past the end of the file (fuzzing finding 4,
-//    docs/RELIABILITY.md). Every count and length is checked against the bytes left in the file.
-//  - netCDF reads a file cut short as if the missing bytes were zeros, so the file must hold
-//    every byte of data the header describes.
-// The layout is netCDF's "classic format specification" (netCDF Users Guide, appendix B):
-//   header = 'C' 'D' 'F' version  numrecs  dim_list  gatt_list  var_list
-//   list   = tag nelems [item ...]        tag 0x0A dimensions, 0x0B variables, 0x0C attributes
-//   dim    = name length                  (length 0: the record dimension)
-//   attr   = name nc_type nelems values   (values padded to 4 bytes)
-//   var    = name nelems [dimid ...] attr_list nc_type vsize begin
-//   name   = nelems chars                 (padded to 4 bytes)
-// Counts, lengths and ids take 4 bytes (8 in CDF-5), begin 4 (8 in CDF-2 and CDF-5), tags and
-// types 4; all big-endian. As in netCDF, a list of 0 items is absent whatever its tag.
-// Other files (netCDF-4, "\x89HDF") are read in a child process, see open_exodus.
-class ClassicHeaderCheck {
- public:
-  ClassicHeaderCheck(std::string path, uint64_t file_size, char version)
-      : path_(std::move(path)),
-        file_size_(file_size),
-        version_(version),
-        in_(path_, std::ios::binary) {}
-
-  Status run() {
-    if (!in_) return Status::error(path_ + ": cannot open the file");
-    in_.seekg(4);
-    pos_ = 4;
-    const uint64_t numrecs = count();
-    // Dimensions: their lengths, 0 for the record (unlimited) dimension.
-    std::vector<uint64_t> dim_lengths;
-    const uint64_t dim_count = list(0x0A, "dimensions", 2 * count_size());
-    for (uint64_t i = 0; i < dim_count && ok(); ++i) {
-      name();
-      dim_lengths.push_back(count());
-    }
-    attributes("global attribute");
-    const uint64_t var_size = 4 * count_size() + 8 + offset_size();
-    const uint64_t var_count = list(0x0B, "variables", var_size);
-    struct Extent {
-      uint64_t begin, size, padded;
-    };
-    std::vector<Extent> fixed, records;
-    for (uint64_t i = 0; i < var_count && ok(); ++i) {
-      const std::string var = "variable " + name();
-      const uint64_t rank_at = pos_;
-      const uint64_t rank = count();
-      if (ok() && rank > left() / count_size())
-        fail(rank_at, var + " has " + std::to_string(rank) + " dimensions, more than the " +
-                          std::to_string(left()) + " bytes left in the file can hold");
-      bool record = false;
-      uint64_t elements = 1;
-      for (uint64_t d = 0; d < rank && ok(); ++d) {
-        const uint64_t id_at = pos_;
-        const uint64_t id = count();
-        if (!ok()) break;
-        if (id >= dim_lengths.size()) {
-          fail(id_at, var + ": dimension id " + std::to_string(id) + ", but the header has " +
-                          std::to_string(dim_lengths.size()) + " dimensions");
-          break;
-        }
-        if (d == 0 && dim_lengths[id] == 0)
-          record = true;
-        else
-          elements = saturating_product(elements, dim_lengths[id]);
-      }
-      attributes(var + " attribute");
-      const uint64_t type_size = type(var);
-      count();  // vsize: recomputed from the shape, the header's may be clipped to 32 bits
-      const uint64_t begin = offset_size() == 4 ? u32() : u64();
-      const uint64_t size = saturating_product(elements, type_size);
-      (record ? records : fixed).push_back({begin, size, saturating_sum(size, 3) / 4 * 4});
-    }
-    if (!ok()) return error_;
-
-    uint64_t end = 0;
-    for (const Extent& v : fixed) end = std::max(end, saturating_sum(v.begin, v.size));
-    // Records interleave the record variables, each padded to 4 bytes, except that a single
-    // record variable is not padded.
-    const bool streaming = numrecs == (version_ == 5 ? ~uint64_t{0} : 0xffffffffu);
-    if (numrecs > 0 && !streaming) {
-      uint64_t record_size = 0;
-      for (const Extent& v : records)
-        record_size = saturating_sum(record_size, records.size() == 1 ? v.size : v.padded);
-      for (const Extent& v : records)
-        end = std::max(end, saturating_sum(saturating_sum(v.begin, v.size),
-                                           saturating_product(numrecs - 1, record_size)));
-    }
-    if (end > file_size_)
-      return Status::error(path_ + ": byte " + std::to_string(file_size_) +
-                           ": the file ends before its data does (the header describes " +
-                           std::to_string(end) + " bytes): cut short?");
-    return {};
-  }
-
- private:
-  bool ok() const { return error_.ok(); }
-  uint64_t left() const { return file_size_ - std::min(pos_, file_size_); }
-  uint64_t count_size() const { return version_ == 5 ? 8 : 4; }
-  uint64_t offset_size() const { return version_ == 1 ? 4 : 8; }
-
-  void fail(uint64_t at, const std::string& what) {
-    if (ok()) error_ = Status::error(path_ + ": byte " + std::to_string(at) + ": " + what);
-  }
-  // Reads `n` bytes of a field the file must hold; false (and the error) past its end.
-  bool read(char* out, uint64_t n) {
-    if (!ok()) return false;
-    if (n > left() || !in_.read(out, static_cast<std::streamsize>(n))) {
-      fail(pos_, "the file ends inside the netCDF header: cut short?");
-      return false;
-    }
-    pos_ += n;
-    return true;
-  }
-  uint64_t big_endian(int bytes) {
-    char b[8];
-    if (!read(b, static_cast<uint64_t>(bytes))) return 0;
-    uint64_t v = 0;
-    for (int i = 0; i < bytes; ++i) v = (v << 8) | static_cast<unsigned char>(b[i]);
-    return v;
-  }
-  uint64_t u32() { return big_endian(4); }
-  uint64_t u64() { return big_endian(8); }
-  uint64_t count() { return version_ == 5 ? u64() : u32(); }
-
-  // Skips `bytes` plus the padding to 4, all of which the file must hold.
-  void skip_padded(uint64_t at, uint64_t bytes, const std::string& what) {
-    if (!ok()) return;
-    const uint64_t padded = bytes > left() ? bytes : (bytes + 3) / 4 * 4;
-    if (padded > left()) {
-      fail(at, what + " of " + std::to_string(bytes) + " bytes, but the file has " +
-                   std::to_string(left()) + " bytes left");
-      return;
-    }
-    in_.seekg(static_cast<std::streamoff>(padded), std::ios::cur);
-    pos_ += padded;
-  }
-  // A list's item count, after checking its tag; each item takes at least `item_size` bytes.
-  uint64_t list(uint64_t tag, const std::string& items, uint64_t item_size) {
-    const uint64_t at = pos_;
-    const uint64_t found = u32(), n = count();
-    if (!ok() || n == 0) return 0;
-    if (found != tag) {
-      fail(at, "the netCDF header has tag " + std::to_string(found) + " where its list of " +
-                   items + " (tag " + std::to_string(tag) + ") should be");
-      return 0;
-    }
-    if (n > left() / item_size)
-      fail(at + 4, "the netCDF header declares " + std::to_string(n) + " " + items +
-                       ", more than the " + std::to_string(left()) +
-                       " bytes left in the file can hold");
-    return ok() ? n : 0;
-  }
-  // A name: short printable ones are kept for the messages, others are "#<byte>".
-  std::string name() {
-    const uint64_t at = pos_;
-    const uint64_t length = count();
-    if (!ok()) return "";
-    const uint64_t padded = (length + 3) / 4 * 4;
-    if (length > 64 || padded > left()) {
-      skip_padded(at, length, "the netCDF header declares a name");
-      return "#" + std::to_string(at);
-    }
-    std::string s(static_cast<size_t>(padded), '\0');
-    if (!read(s.data(), padded)) return "";
-    s.resize(static_cast<size_t>(length));
-    const bool printable =
-        !s.empty() && std::all_of(s.begin(), s.end(), [](char c) { return c > ' ' && c < 127; });
-    return printable ? s : "#" + std::to_string(at);
-  }
-  // The size of one value of a netCDF type (1 byte … 8 bytes: NC_BYTE … NC_UINT64).
-  uint64_t type(const std::string& owner) {
-    const uint64_t at = pos_;
-    const uint64_t t = u32();
-    if (!ok()) return 1;
-    switch (t) {
-      case NC_BYTE:
-      case NC_CHAR:
-      case NC_UBYTE: return 1;
-      case NC_SHORT:
-      case NC_USHORT: return 2;
-      case NC_INT:
-      case NC_UINT:
-      case NC_FLOAT: return 4;
-      case NC_DOUBLE:
-      case NC_INT64:
-      case NC_UINT64: return 8;
-      default: fail(at, owner + ": unknown netCDF type " + std::to_string(t)); return 1;
-    }
-  }
-  void attributes(const std::string& kind) {
-    const uint64_t n = list(0x0C, kind + "s", 2 * count_size() + 4);
-    for (uint64_t i = 0; i < n && ok(); ++i) {
-      const std::string attribute = kind + " " + name();
-      const uint64_t size = type(attribute);
-      const uint64_t values_at = pos_;
-      const uint64_t values = count();
-      if (!ok()) return;
-      if (values > left() / size) {
-        fail(values_at, attribute + ": the netCDF header declares " + std::to_string(values) +
-                            " values of " + std::to_string(size) + " bytes, but the file has " +
-                            std::to_string(left()) + " bytes left");
-        return;
-      }
-      skip_padded(values_at, values * size, attribute + ": values");
-    }
-  }
-  static uint64_t saturating_sum(uint64_t a, uint64_t b) {
-    uint64_t s;
-    return __builtin_add_overflow(a, b, &s) ? ~uint64_t{0} : s;
-  }
-  static uint64_t saturating_product(uint64_t a, uint64_t b) {
-    uint64_t p;
-    return __builtin_mul_overflow(a, b, &p) ? ~uint64_t{0} : p;
-  }
-
-  std::string path_;
-  uint64_t file_size_;
-  char version_;
-  std::ifstream in_;
-  uint64_t pos_ = 0;
-  Status error_;
-};
-
-// The classic format's version byte (1, 2 or 5) if the file starts like one, else 0.
-char classic_version(const std::string& path) {
-  char magic[4] = {};
-  std::ifstream in(path, std::ios::binary);
-  if (!in.read(magic, 4) || std::string_view(magic, 3) != "CDF") return 0;
-  return magic[3] == 1 || magic[3] == 2 || magic[3] == 5 ? magic[3] : 0;
-}
-
 // Where a nodal variable's values for one step live.
 struct NodalVariable {
   std::string name;
@@ -495,18 +262,12 @@ BlockType block_type(const std::string& elem_type, size_t nodes_per_element) {
   return {};
 }
 
-// Everything from nc_open on; in dynpm's process for classic files, in a child for the others.
-Result<AnimationStream> read_exodus(const std::string& path, uint64_t file_size,
-                                    const ReadOptions& options) {
-  int id = -1;
-  if (int rc = nc_open(path.c_str(), NC_NOWRITE, &id); rc != NC_NOERR)
-    return Status::error(path + ": not a readable netCDF (Exodus II) file: " + nc_strerror(rc));
-  int format = 0, mode = 0;
-  nc_inq_format_extended(id, &format, &mode);
-  auto file = std::make_shared<const NcFile>(path, id, file_size, format != NC_FORMATX_NC3);
-  const NcFile& nc = *file;
+// ---------------------------------------------------------------------------------------------
+// read_exodus()'s phases
 
-  // Nodes.
+// The node coordinates, one array per axis (num_dim of them, num_nodes values each).
+Result<std::vector<std::vector<double>>> read_coordinates(const NcFile& nc,
+                                                          const std::string& path) {
   const auto node_count = nc.dim("num_nodes");
   const auto dims = nc.dim("num_dim");
   if (!node_count || !dims)
@@ -524,41 +285,46 @@ Result<AnimationStream> read_exodus(const std::string& path, uint64_t file_size,
                            " values, expected num_dim × num_nodes");
     for (size_t a = 0; a < *dims; ++a)
       axes.emplace_back(all->begin() + a * n, all->begin() + (a + 1) * n);
-  } else {
-    for (size_t a = 0; a < *dims; ++a) {
-      const std::string name = std::string("coord") + "xyz"[a];
-      auto var = nc.var(name);
-      if (!var) return Status::error(path + ": no variable " + name + " (node coordinates)");
-      auto values = nc.doubles(*var, name);
-      if (!values) return values.status();
-      if (values->size() != n)
-        return Status::error(path + ": " + name + ": " + std::to_string(values->size()) +
-                             " values for " + std::to_string(n) + " nodes");
-      axes.push_back(std::move(values).value());
+    return axes;
+  }
+  for (size_t a = 0; a < *dims; ++a) {
+    const std::string name = std::string("coord") + "xyz"[a];
+    auto var = nc.var(name);
+    if (!var) return Status::error(path + ": no variable " + name + " (node coordinates)");
+    auto values = nc.doubles(*var, name);
+    if (!values) return values.status();
+    if (values->size() != n)
+      return Status::error(path + ": " + name + ": " + std::to_string(values->size()) +
+                           " values for " + std::to_string(n) + " nodes");
+    axes.push_back(std::move(values).value());
+  }
+  return axes;
+}
+
+// The user numbers of nodes and elements and the block ids (the parts); empty where the file
+// has none.
+struct UserNumbers {
+  std::vector<long long> node_ids, element_ids, block_ids;
+};
+
+Result<UserNumbers> read_user_numbers(const NcFile& nc) {
+  UserNumbers numbers;
+  for (auto [name, into] : {std::pair{"node_num_map", &numbers.node_ids},
+                            {"elem_num_map", &numbers.element_ids},
+                            {"eb_prop1", &numbers.block_ids}})
+    if (auto var = nc.var(name)) {
+      auto ids = nc.integers(*var, name);
+      if (!ids) return ids.status();
+      *into = std::move(ids).value();
     }
-  }
+  return numbers;
+}
 
-  // User numbers.
-  Topology topology = Topology::with_vertices(static_cast<uint32_t>(n));
-  if (auto map = nc.var("node_num_map")) {
-    auto ids = nc.integers(*map, "node_num_map");
-    if (!ids) return ids.status();
-    if (ids->size() == n) topology.node_ids.assign(ids->begin(), ids->end());
-  }
-  std::vector<long long> element_ids;
-  if (auto map = nc.var("elem_num_map")) {
-    auto ids = nc.integers(*map, "elem_num_map");
-    if (!ids) return ids.status();
-    element_ids = std::move(ids).value();
-  }
-  std::vector<long long> block_ids;
-  if (auto prop = nc.var("eb_prop1")) {
-    auto ids = nc.integers(*prop, "eb_prop1");
-    if (!ids) return ids.status();
-    block_ids = std::move(ids).value();
-  }
-
-  // Element blocks.
+// The element blocks: shells and 2-D elements as faces, solids as their outer faces, the rest
+// ignored with a warning.
+Status read_blocks(const NcFile& nc, const std::string& path, const UserNumbers& numbers,
+                   const ReadOptions& options, Topology& topology) {
+  const size_t n = topology.vertex_count;
   const size_t block_count = nc.dim("num_el_blk").value_or(0);
   SolidSurface solids;
   size_t element = 0, ignored = 0, degenerate = 0;
@@ -577,8 +343,8 @@ Result<AnimationStream> read_exodus(const std::string& path, uint64_t file_size,
     const size_t per_element = (*shape)[1];
     const std::string elem_type = nc.text_attribute(*var, "elem_type");
     const BlockType type = block_type(elem_type, per_element);
-    const int32_t part =
-        b < block_ids.size() ? static_cast<int32_t>(block_ids[b]) : static_cast<int32_t>(b + 1);
+    const int32_t part = b < numbers.block_ids.size() ? static_cast<int32_t>(numbers.block_ids[b])
+                                                      : static_cast<int32_t>(b + 1);
     if (type.kind == BlockKind::kIgnored) {
       ignored += in_block;
       if (std::find(ignored_types.begin(), ignored_types.end(), elem_type) == ignored_types.end())
@@ -599,23 +365,19 @@ Result<AnimationStream> read_exodus(const std::string& path, uint64_t file_size,
                                std::to_string(n) + " nodes");
         v[size_t(k)] = static_cast<uint32_t>(nodes[k] - 1);
       }
-      const int64_t user_id =
-          element < element_ids.size() ? element_ids[element] : static_cast<int64_t>(element + 1);
+      const int64_t user_id = element < numbers.element_ids.size()
+                                  ? numbers.element_ids[element]
+                                  : static_cast<int64_t>(element + 1);
       if (type.kind == BlockKind::kSolid) {
         solids.add_cell(type.solid, std::span(v.data(), size_t(corners)), part, user_id);
         continue;
       }
-      Face face;
-      int distinct = 0;
-      for (int k = 0; k < corners; ++k)
-        if (std::find(face.v.begin(), face.v.begin() + distinct, v[size_t(k)]) ==
-            face.v.begin() + distinct)
-          face.v[size_t(distinct++)] = v[size_t(k)];
-      if (distinct < 3) {
+      const auto face = distinct_corner_face(std::span(v.data(), size_t(corners)));
+      if (!face) {
         ++degenerate;
         continue;
       }
-      topology.add_face(face, part, user_id);
+      topology.add_face(*face, part, user_id);
     }
   }
   const size_t outer = solids.append_outer_faces(topology);
@@ -637,13 +399,12 @@ Result<AnimationStream> read_exodus(const std::string& path, uint64_t file_size,
     return Status::error(path + ": no shell faces and no solid elements (" +
                          std::to_string(element) + " elements in " + std::to_string(block_count) +
                          " blocks, none of them shells or solids)");
-  std::vector<uint32_t> kept = drop_unused_vertices(topology);
-  std::vector<float> coordinates(size_t{topology.vertex_count} * 3, 0.0f);
-  for (size_t v = 0; v < topology.vertex_count; ++v)
-    for (size_t a = 0; a < axes.size(); ++a)
-      coordinates[3 * v + a] = static_cast<float>(axes[a][kept.empty() ? v : kept[v]]);
+  return {};
+}
 
-  // Time steps; a step whose time was never written (netCDF's fill value) gets its index.
+// The step times; a step whose time was never written (netCDF's fill value) gets its index.
+Result<std::vector<double>> read_times(const NcFile& nc, const std::string& path,
+                                       const ReadOptions& options) {
   std::vector<double> times;
   const size_t steps = nc.dim("time_step").value_or(0);
   if (steps > 0) {
@@ -660,9 +421,20 @@ Result<AnimationStream> read_exodus(const std::string& path, uint64_t file_size,
   } else if (options.warn) {
     options.warn(path + ": no time step; the mesh is given as one step at time 0");
   }
+  return times;
+}
 
-  // Nodal variables: displacements move the nodes, the rest are fields.
-  std::vector<NodalVariable> displacement(*dims), fields;
+// The nodal variables: the displacement components (all of them, or none), and the fields.
+struct NodalVariables {
+  std::vector<NodalVariable> displacement, fields;
+};
+
+Result<NodalVariables> read_nodal_variables(const NcFile& nc, const std::string& path, size_t n,
+                                            size_t dims, size_t steps, const ReadOptions& options) {
+  NodalVariables out;
+  std::vector<NodalVariable>& displacement = out.displacement;
+  std::vector<NodalVariable>& fields = out.fields;
+  displacement.resize(dims);
   const size_t variable_count = nc.dim("num_nod_var").value_or(0);
   if (variable_count > 0 && steps > 0) {
     std::vector<std::string> names(variable_count);
@@ -704,7 +476,7 @@ Result<AnimationStream> read_exodus(const std::string& path, uint64_t file_size,
         continue;
       }
       const auto axis = displacement_axis(nodal.name);
-      if (axis && *axis < *dims && displacement[*axis].var < 0)
+      if (axis && *axis < dims && displacement[*axis].var < 0)
         displacement[*axis] = nodal;
       else
         fields.push_back(nodal);
@@ -722,12 +494,48 @@ Result<AnimationStream> read_exodus(const std::string& path, uint64_t file_size,
                    ": no nodal displacement (DISPL_X/Y/Z): every step has the initial "
                    "coordinates");
   }
+  return out;
+}
 
+// Everything from nc_open on; in dynpm's process for classic files, in a child for the others.
+Result<AnimationStream> read_exodus(const std::string& path, uint64_t file_size,
+                                    const ReadOptions& options) {
+  int id = -1;
+  if (int rc = nc_open(path.c_str(), NC_NOWRITE, &id); rc != NC_NOERR)
+    return Status::error(path + ": not a readable netCDF (Exodus II) file: " + nc_strerror(rc));
+  int format = 0, mode = 0;
+  nc_inq_format_extended(id, &format, &mode);
+  auto file = std::make_shared<const NcFile>(path, id, file_size, format != NC_FORMATX_NC3);
+  const NcFile& nc = *file;
+  // 1. The nodes' coordinates, and the user numbers of nodes, elements and blocks.
+  auto axes = read_coordinates(nc, path);
+  if (!axes) return axes.status();
+  const size_t n = (*axes)[0].size();
+  auto numbers = read_user_numbers(nc);
+  if (!numbers) return numbers.status();
+  Topology topology = Topology::with_vertices(static_cast<uint32_t>(n));
+  if (numbers->node_ids.size() == n)
+    topology.node_ids.assign(numbers->node_ids.begin(), numbers->node_ids.end());
+  // 2. The element blocks: faces, and solids as their outer faces.
+  DYNPM_RETURN_IF_ERROR(read_blocks(nc, path, *numbers, options, topology));
+  // 3. The nodes no face uses are dropped; the others' coordinates are the initial positions.
+  std::vector<uint32_t> kept = drop_unused_vertices(topology);
+  std::vector<float> coordinates(size_t{topology.vertex_count} * 3, 0.0f);
+  for (size_t v = 0; v < topology.vertex_count; ++v)
+    for (size_t a = 0; a < axes->size(); ++a)
+      coordinates[3 * v + a] = static_cast<float>((*axes)[a][kept.empty() ? v : kept[v]]);
+  // 4. The step times and the nodal variables: displacements move the nodes, the rest are
+  //    fields.
+  auto times = read_times(nc, path, options);
+  if (!times) return times.status();
+  auto nodal = read_nodal_variables(nc, path, n, axes->size(), times->size(), options);
+  if (!nodal) return nodal.status();
+  // 5. The steps stay in the file, read one by one.
   AnimationStream stream;
   stream.topology = std::move(topology);
-  stream.frames =
-      std::make_unique<ExodusSource>(std::move(file), n, std::move(kept), std::move(coordinates),
-                                     std::move(times), std::move(displacement), std::move(fields));
+  stream.frames = std::make_unique<ExodusSource>(
+      std::move(file), n, std::move(kept), std::move(coordinates), std::move(times).value(),
+      std::move(nodal->displacement), std::move(nodal->fields));
   return stream;
 }
 
@@ -738,7 +546,7 @@ Result<AnimationStream> open_exodus(const std::string& path, const ReadOptions& 
   const uint64_t file_size = std::filesystem::file_size(path, ec);
   if (ec) return Status::error(path + ": " + ec.message());
   if (const char version = classic_version(path)) {
-    DYNPM_RETURN_IF_ERROR(ClassicHeaderCheck(path, file_size, version).run());
+    DYNPM_RETURN_IF_ERROR(check_classic_header(path, file_size, version));
     return read_exodus(path, file_size, options);
   }
   return open_in_child(path, options, "HDF5", [&](const ReadOptions& child_options) {

@@ -3,6 +3,7 @@
 // and place; each writer turns a mesh into bytes that write_file_atomically() puts in place.
 #pragma once
 
+#include <algorithm>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -72,6 +73,19 @@ Result<AnimationStream> open_vtk_series(const std::string& path, const ReadOptio
 // number (a whole token, text.h's parse_real; a ',', ';' or ')' after it is punctuation), nullopt
 // without such a note, an error without a place (the caller adds it) when it is not finite.
 Result<std::optional<double>> time_from_comment(std::string_view comment);
+
+// The face of an element's corners (at most 4) with repeats dropped, in order: LS-DYNA and
+// Exodus write a triangle as a quad whose last node repeats. nullopt when fewer than 3 distinct
+// corners are left (a degenerate element, which the readers count and skip).
+inline std::optional<Face> distinct_corner_face(std::span<const uint32_t> corners) {
+  Face face;
+  int distinct = 0;
+  for (uint32_t c : corners)
+    if (std::find(face.v.begin(), face.v.begin() + distinct, c) == face.v.begin() + distinct)
+      face.v[size_t(distinct++)] = c;
+  if (distinct < 3) return std::nullopt;
+  return face;
+}
 
 // Adds a face of n ≥ 3 corners: as is when n ≤ 4; as a fan of triangles around corner 0 when
 // options.split_polygons is set; otherwise an error naming the place.

@@ -240,8 +240,7 @@ Result<FileFormat> detect_format(const std::string& path) {
                        "CalculiX .frd, Exodus II or an LS-DYNA d3plot)");
 }
 
-Result<AnimationStream> open_input(std::span<const std::string> paths,
-                                   const ReadOptions& options) {
+Result<AnimationStream> open_input(std::span<const std::string> paths, const ReadOptions& options) {
   if (paths.empty()) return Status::error("no input file given");
   auto format = detect_format(paths[0]);
   if (!format) return format.status();
@@ -278,9 +277,11 @@ Result<AnimationStream> open_file_sequence(std::span<const std::string> paths,
                                            const ReadOptions& options) {
   if (paths.empty()) return Status::error("no input file given");
   assert(given_times.empty() || given_times.size() == paths.size());
+  // 1. The first file: the mesh, and step 0's positions and fields.
   auto first = parse_mesh_file(paths[0], options);
   if (!first) return first.status();
 
+  // 2. The step times: as given, else each file's time note, else its place in the list.
   std::vector<double> times(given_times.begin(), given_times.end());
   if (times.empty()) {
     times.resize(paths.size());
@@ -292,6 +293,7 @@ Result<AnimationStream> open_file_sequence(std::span<const std::string> paths,
     }
   }
 
+  // 3. The other files stay on disk, each read when its step is asked for.
   AnimationStream stream;
   auto topology = std::make_shared<const Topology>(first->topology);
   stream.topology = first->topology;

@@ -149,6 +149,52 @@ Status add_polygon(std::span<const uint32_t> corners, int32_t part, int64_t elem
   return {};
 }
 
+namespace {
+
+// ---------------------------------------------------------------------------------------------
+// parse_obj()'s phases
+
+// The faces' corners as 0-based vertices: an index counts from 1, a negative one back from the
+// last vertex so far. Corners past the vertices so far are allowed (a later 'v' may define
+// them); needs_later_check says the face must be checked once every vertex is known. where()
+// gives the place for a message (made only then: this runs for every face).
+template <class Where>
+Status face_corners(std::span<const int64_t> raw, int64_t vertex_count, const Where& where,
+                    std::vector<uint32_t>& corners, bool& needs_later_check) {
+  corners.clear();
+  needs_later_check = false;
+  for (int64_t index : raw) {
+    if (index == 0) return Status::error(where() + ": face index 0 (OBJ counts from 1)");
+    const int64_t zero_based = index > 0 ? index - 1 : vertex_count + index;
+    if (zero_based < 0)
+      return Status::error(where() + ": relative index " + std::to_string(index) +
+                           " reaches before the first vertex");
+    if (zero_based >= 0xfffffffeLL)
+      return Status::error(where() + ": face index " + std::to_string(index) + " is too large");
+    needs_later_check |= zero_based >= vertex_count;
+    corners.push_back(static_cast<uint32_t>(zero_based));
+  }
+  return {};
+}
+
+// The faces that named a vertex past the ones before them, (face, line): every corner must be a
+// vertex once the file has been read.
+Status check_forward_corners(std::span<const std::pair<uint32_t, int64_t>> forward,
+                             const Topology& topology, uint32_t vertex_count,
+                             const std::string& path) {
+  for (auto [face, face_line] : forward) {
+    for (uint32_t c : topology.faces[face].v) {
+      if (c != kNoVertex && c >= vertex_count)
+        return Status::error(path + ":" + std::to_string(face_line) + ": face index " +
+                             std::to_string(c + 1) + " is past the last vertex (" +
+                             std::to_string(vertex_count) + ")");
+    }
+  }
+  return {};
+}
+
+}  // namespace
+
 Result<ParsedMesh> parse_obj(std::string_view text, const std::string& path,
                              const ReadOptions& options) {
   ParsedMesh mesh;
@@ -160,12 +206,14 @@ Result<ParsedMesh> parse_obj(std::string_view text, const std::string& path,
   bool seen_data = false;
   std::vector<int64_t> raw;  // raw corner indices of the current face
   std::vector<uint32_t> corners;
-  std::vector<std::pair<uint32_t, int64_t>>
-      forward;  // (face, line) with indices past the vertices seen so far
+  // (face, line) with indices past the vertices seen so far
+  std::vector<std::pair<uint32_t, int64_t>> forward;
 
   mesh.positions.reserve(text.size() / 24);
   mesh.topology.faces.reserve(text.size() / 48);
 
+  // 1. One pass over the lines: v, f and g statements; a time note in a comment before them;
+  //    the rest skipped.
   const char* p = text.data();
   const char* const end = p + text.size();
   uint32_t line = 0;
@@ -216,20 +264,9 @@ Result<ParsedMesh> parse_obj(std::string_view text, const std::string& path,
               " is not i, i/t, i//n or i/t/n (whole numbers)");
         raw.push_back(index);
       }
-      const int64_t vertex_count = static_cast<int64_t>(mesh.positions.size() / 3);
-      corners.clear();
       bool needs_later_check = false;
-      for (int64_t index : raw) {
-        if (index == 0) return Status::error(where() + ": face index 0 (OBJ counts from 1)");
-        const int64_t zero_based = index > 0 ? index - 1 : vertex_count + index;
-        if (zero_based < 0)
-          return Status::error(where() + ": relative index " + std::to_string(index) +
-                               " reaches before the first vertex");
-        if (zero_based >= 0xfffffffeLL)
-          return Status::error(where() + ": face index " + std::to_string(index) + " is too large");
-        needs_later_check |= zero_based >= vertex_count;
-        corners.push_back(static_cast<uint32_t>(zero_based));
-      }
+      DYNPM_RETURN_IF_ERROR(face_corners(raw, static_cast<int64_t>(mesh.positions.size() / 3),
+                                         where, corners, needs_later_check));
       const auto first_face = static_cast<uint32_t>(mesh.topology.faces.size());
       DYNPM_RETURN_IF_ERROR(
           add_polygon(corners, part, 0, line, where(), options, mesh, split_count));
@@ -255,15 +292,10 @@ Result<ParsedMesh> parse_obj(std::string_view text, const std::string& path,
     }
   }
 
+  // 2. The faces that named a later vertex, checked now that every vertex is known.
   const auto vertex_count = static_cast<uint32_t>(mesh.positions.size() / 3);
-  for (auto [face, face_line] : forward) {
-    for (uint32_t c : mesh.topology.faces[face].v) {
-      if (c != kNoVertex && c >= vertex_count)
-        return Status::error(path + ":" + std::to_string(face_line) + ": face index " +
-                             std::to_string(c + 1) + " is past the last vertex (" +
-                             std::to_string(vertex_count) + ")");
-    }
-  }
+  DYNPM_RETURN_IF_ERROR(check_forward_corners(forward, mesh.topology, vertex_count, path));
+  // 3. A mesh needs both; vertices are numbered 1, 2, … as OBJ counts them.
   if (vertex_count == 0) return Status::error(path + ": no vertices (no 'v x y z' line)");
   if (mesh.topology.faces.empty()) return Status::error(path + ": no faces (no 'f' line)");
   if (split_count && options.warn)

@@ -10,6 +10,7 @@
 #include <cstring>
 
 #include "formats.h"
+#include "scalar_types.h"
 
 namespace dynpm::io {
 namespace {
@@ -23,8 +24,6 @@ std::string number_text(double value) {
   return ec == std::errc() ? std::string(buffer, end) : std::to_string(value);
 }
 
-enum class ScalarType { kInt8, kUInt8, kInt16, kUInt16, kInt32, kUInt32, kFloat32, kFloat64 };
-
 std::optional<ScalarType> scalar_type(std::string_view name) {
   if (name == "char" || name == "int8") return ScalarType::kInt8;
   if (name == "uchar" || name == "uint8") return ScalarType::kUInt8;
@@ -37,33 +36,6 @@ std::optional<ScalarType> scalar_type(std::string_view name) {
   return std::nullopt;
 }
 
-size_t size_of(ScalarType t) {
-  switch (t) {
-    case ScalarType::kInt8:
-    case ScalarType::kUInt8: return 1;
-    case ScalarType::kInt16:
-    case ScalarType::kUInt16: return 2;
-    case ScalarType::kInt32:
-    case ScalarType::kUInt32:
-    case ScalarType::kFloat32: return 4;
-    case ScalarType::kFloat64: return 8;
-  }
-  return 1;
-}
-
-// The values an integer type holds (ascii files must keep to them as binary ones do).
-std::pair<int64_t, int64_t> integer_range(ScalarType t) {
-  switch (t) {
-    case ScalarType::kInt8: return {INT8_MIN, INT8_MAX};
-    case ScalarType::kUInt8: return {0, UINT8_MAX};
-    case ScalarType::kInt16: return {INT16_MIN, INT16_MAX};
-    case ScalarType::kUInt16: return {0, UINT16_MAX};
-    case ScalarType::kInt32: return {INT32_MIN, INT32_MAX};
-    case ScalarType::kUInt32: return {0, UINT32_MAX};
-    default: return {INT64_MIN, INT64_MAX};
-  }
-}
-
 const char* type_name(ScalarType t) {
   switch (t) {
     case ScalarType::kInt8: return "char";
@@ -74,6 +46,8 @@ const char* type_name(ScalarType t) {
     case ScalarType::kUInt32: return "uint";
     case ScalarType::kFloat32: return "float";
     case ScalarType::kFloat64: return "double";
+    case ScalarType::kInt64:
+    case ScalarType::kUInt64: break;  // no PLY types
   }
   return "?";
 }
@@ -101,56 +75,11 @@ class BodyReader {
     if (encoding_ == Encoding::kAscii) return read_ascii(type, out);
     const size_t n = size_of(type);
     if (pos_ + n > body_.size()) return fail("the file ends inside the data (truncated)");
-    unsigned char b[8];
-    std::memcpy(b, body_.data() + pos_, n);
-    if ((encoding_ == Encoding::kBinaryBig) == (std::endian::native == std::endian::little))
-      std::reverse(b, b + n);
+    // PLY's binary encodings name their byte order; swap when it is not the machine's.
+    const bool swap =
+        (encoding_ == Encoding::kBinaryBig) == (std::endian::native == std::endian::little);
+    out = load_scalar(type, body_.data() + pos_, swap);
     pos_ += n;
-    switch (type) {
-      case ScalarType::kInt8: {
-        int8_t v;
-        std::memcpy(&v, b, 1);
-        out = v;
-        break;
-      }
-      case ScalarType::kUInt8: out = b[0]; break;
-      case ScalarType::kInt16: {
-        int16_t v;
-        std::memcpy(&v, b, 2);
-        out = v;
-        break;
-      }
-      case ScalarType::kUInt16: {
-        uint16_t v;
-        std::memcpy(&v, b, 2);
-        out = v;
-        break;
-      }
-      case ScalarType::kInt32: {
-        int32_t v;
-        std::memcpy(&v, b, 4);
-        out = v;
-        break;
-      }
-      case ScalarType::kUInt32: {
-        uint32_t v;
-        std::memcpy(&v, b, 4);
-        out = v;
-        break;
-      }
-      case ScalarType::kFloat32: {
-        float v;
-        std::memcpy(&v, b, 4);
-        out = v;
-        break;
-      }
-      case ScalarType::kFloat64: {
-        double v;
-        std::memcpy(&v, b, 8);
-        out = v;
-        break;
-      }
-    }
     return true;
   }
 
@@ -192,20 +121,9 @@ class BodyReader {
            body_[stop] != '\r' && body_[stop] != '\n')
       ++stop;
     const std::string_view token = body_.substr(pos_, stop - pos_);
-    NumberError e = NumberError::kNone;
-    if (type == ScalarType::kFloat32 || type == ScalarType::kFloat64) {
-      e = parse_real(token, out);
-    } else {
-      const auto [lo, hi] = integer_range(type);
-      int64_t v = 0;
-      e = parse_integer(token, lo, hi, v);
-      out = static_cast<double>(v);
-    }
+    const NumberError e = parse_scalar(token, type, out);
     if (e == NumberError::kNotANumber)
-      return fail(quoted_bytes(token) + " is not " +
-                  (type == ScalarType::kFloat32 || type == ScalarType::kFloat64
-                       ? "a number"
-                       : "a whole number"));
+      return fail(quoted_bytes(token) + " is not " + number_kind(type));
     if (e == NumberError::kOutOfRange)
       return fail(quoted_bytes(token) + " is out of the range of its type " + type_name(type));
     pos_ = stop;
@@ -328,118 +246,149 @@ int find_property(const Element& e, std::string_view name) {
   return -1;
 }
 
+// ---------------------------------------------------------------------------------------------
+// parse_ply()'s phases
+
+// Every record takes at least one byte per property (two in ascii: value and separator), so a
+// count the remaining bytes cannot hold is refused before anything is allocated.
+Status check_count(const Element& e, Encoding encoding, const BodyReader& reader,
+                   const std::string& path) {
+  size_t min_record = 0;
+  for (const Property& p : e.properties)
+    min_record += encoding == Encoding::kAscii ? 2 : size_of(p.is_list ? p.count_type : p.type);
+  if (min_record > 0 && e.count > reader.remaining() / min_record)
+    return Status::error(path + ": element " + quoted_bytes(e.name) + " claims " +
+                         std::to_string(e.count) + " records, more than the " +
+                         std::to_string(reader.remaining()) + " bytes left can hold");
+  return {};
+}
+
+// The properties of an element that dynpm reads (-1 where absent): x, y, z and node_id of the
+// vertex element; the corner list, part_id and element_id of the face element.
+struct Roles {
+  bool is_vertex = false, is_face = false;
+  int x = -1, y = -1, z = -1, node = -1, list = -1, part = -1, elem = -1;
+};
+
+// The element's roles, its count checked, and the mesh made ready for its records.
+Result<Roles> prepare_element(const Element& element, Encoding encoding, const BodyReader& reader,
+                              const std::string& path, bool& have_vertices, bool& have_faces,
+                              ParsedMesh& mesh) {
+  Roles r;
+  r.is_vertex = element.name == "vertex";
+  r.is_face = element.name == "face";
+  if (r.is_vertex) {
+    if (have_vertices) return Status::error(path + ": two 'vertex' elements");
+    r.x = find_property(element, "x"), r.y = find_property(element, "y"),
+    r.z = find_property(element, "z");
+    r.node = find_property(element, "node_id");
+    if (r.x < 0 || r.y < 0 || r.z < 0)
+      return Status::error(path + ": the vertex element lacks x, y or z");
+    DYNPM_RETURN_IF_ERROR(check_count(element, encoding, reader, path));
+    if (element.count >= kNoVertex)
+      return Status::error(path + ": too many vertices (" + std::to_string(element.count) + ")");
+    mesh.positions.resize(element.count * 3);
+    mesh.topology = Topology::with_vertices(static_cast<uint32_t>(element.count));
+    have_vertices = true;
+  } else if (r.is_face) {
+    if (have_faces) return Status::error(path + ": two 'face' elements");
+    r.list = find_property(element, "vertex_indices");
+    if (r.list < 0) r.list = find_property(element, "vertex_index");
+    if (r.list < 0 || !element.properties[r.list].is_list)
+      return Status::error(path + ": the face element lacks a vertex_indices list");
+    DYNPM_RETURN_IF_ERROR(check_count(element, encoding, reader, path));
+    mesh.topology.faces.reserve(element.count);
+    r.part = find_property(element, "part_id");
+    r.elem = find_property(element, "element_id");
+    have_faces = true;
+  } else {
+    DYNPM_RETURN_IF_ERROR(check_count(element, encoding, reader, path));
+  }
+  return r;
+}
+
+// The element's records in file order: vertices' positions and node numbers, faces with their
+// parts and element numbers; every other property read by its type and dropped.
+Status read_records(const Element& element, const Roles& roles, bool have_vertices,
+                    const std::string& path, const ReadOptions& options, BodyReader& reader,
+                    ParsedMesh& mesh, size_t& split_count) {
+  std::vector<uint32_t> corners;
+  for (uint64_t r = 0; r < element.count; ++r) {
+    const uint32_t place = reader.place();
+    int32_t part_id = 0;
+    int64_t element_id = 0;
+    corners.clear();
+    for (int pi = 0; pi < static_cast<int>(element.properties.size()); ++pi) {
+      const Property& property = element.properties[pi];
+      double value = 0;
+      if (property.is_list) {
+        double n = 0;
+        if (!reader.read(property.count_type, n)) return Status::error(reader.error());
+        if (n < 0 || n > 1e6 || n != std::floor(n))
+          return Status::error(reader.where() + ": bad list length " + number_text(n));
+        for (int k = 0; k < static_cast<int>(n); ++k) {
+          if (!reader.read(property.type, value)) return Status::error(reader.error());
+          if (pi == roles.list) {
+            if (value < 0 || value != std::floor(value) || value >= mesh.topology.vertex_count)
+              return Status::error(reader.where() + ": face index " + number_text(value) +
+                                   " is not a vertex (there are " +
+                                   std::to_string(mesh.topology.vertex_count) + ")");
+            corners.push_back(static_cast<uint32_t>(value));
+          }
+        }
+        continue;
+      }
+      if (!reader.read(property.type, value)) return Status::error(reader.error());
+      // Ids are integers: an ascii value out of their range would not convert.
+      const bool is_id = (roles.is_vertex && pi == roles.node) ||
+                         (roles.is_face && (pi == roles.part || pi == roles.elem));
+      if (is_id && !(value >= -9.2e18 && value <= 9.2e18 &&
+                     (pi != roles.part || (value >= INT32_MIN && value <= INT32_MAX))))
+        return Status::error(reader.where() + ": " + (roles.is_vertex ? "vertex " : "face ") +
+                             std::to_string(r) + ": id " + number_text(value) + " is out of range");
+      if (roles.is_vertex) {
+        if (pi == roles.x) mesh.positions[r * 3 + 0] = static_cast<float>(value);
+        if (pi == roles.y) mesh.positions[r * 3 + 1] = static_cast<float>(value);
+        if (pi == roles.z) mesh.positions[r * 3 + 2] = static_cast<float>(value);
+        if (pi == roles.node) mesh.topology.node_ids[r] = static_cast<int64_t>(value);
+      } else if (roles.is_face) {
+        if (pi == roles.part) part_id = static_cast<int32_t>(value);
+        if (pi == roles.elem) element_id = static_cast<int64_t>(value);
+      }
+    }
+    if (roles.is_face) {
+      if (!have_vertices) return Status::error(path + ": faces come before the vertex element");
+      DYNPM_RETURN_IF_ERROR(add_polygon(corners, part_id, element_id, place, reader.where(),
+                                        options, mesh, split_count));
+    }
+    if (!reader.end_record()) return Status::error(reader.error());
+  }
+  return {};
+}
+
 }  // namespace
 
 Result<ParsedMesh> parse_ply(std::string_view bytes, const std::string& path,
                              const ReadOptions& options) {
+  // 1. The header: the encoding, the elements with their properties, a time note.
   auto header = parse_header(bytes, path);
   if (!header) return header.status();
   BodyReader reader(bytes.substr(header->body_offset), header->body_offset, header->encoding, path);
   reader.set_first_line(header->body_line);
-
   ParsedMesh mesh;
   mesh.places_are_lines = header->encoding == Encoding::kAscii;
   mesh.time = header->time;
+  // 2. The elements in file order: the vertex element, the face element, any other one skipped.
   bool have_vertices = false, have_faces = false;
   size_t split_count = 0;
-  std::vector<uint32_t> corners;
-
   for (const Element& element : header->elements) {
-    // Every record takes at least one byte per property (two in ascii: value and separator),
-    // so a count the remaining bytes cannot hold is refused before anything is allocated.
-    auto check_count = [&](const Element& e) -> Status {
-      size_t min_record = 0;
-      for (const Property& p : e.properties)
-        min_record +=
-            header->encoding == Encoding::kAscii ? 2 : size_of(p.is_list ? p.count_type : p.type);
-      if (min_record > 0 && e.count > reader.remaining() / min_record)
-        return Status::error(path + ": element " + quoted_bytes(e.name) + " claims " +
-                             std::to_string(e.count) + " records, more than the " +
-                             std::to_string(reader.remaining()) + " bytes left can hold");
-      return {};
-    };
-    const bool is_vertex = element.name == "vertex";
-    const bool is_face = element.name == "face";
-    int x = -1, y = -1, z = -1, node = -1, list = -1, part = -1, elem = -1;
-    if (is_vertex) {
-      if (have_vertices) return Status::error(path + ": two 'vertex' elements");
-      x = find_property(element, "x"), y = find_property(element, "y"),
-      z = find_property(element, "z");
-      node = find_property(element, "node_id");
-      if (x < 0 || y < 0 || z < 0)
-        return Status::error(path + ": the vertex element lacks x, y or z");
-      DYNPM_RETURN_IF_ERROR(check_count(element));
-      if (element.count >= kNoVertex)
-        return Status::error(path + ": too many vertices (" + std::to_string(element.count) + ")");
-      mesh.positions.resize(element.count * 3);
-      mesh.topology = Topology::with_vertices(static_cast<uint32_t>(element.count));
-      have_vertices = true;
-    } else if (is_face) {
-      if (have_faces) return Status::error(path + ": two 'face' elements");
-      list = find_property(element, "vertex_indices");
-      if (list < 0) list = find_property(element, "vertex_index");
-      if (list < 0 || !element.properties[list].is_list)
-        return Status::error(path + ": the face element lacks a vertex_indices list");
-      DYNPM_RETURN_IF_ERROR(check_count(element));
-      mesh.topology.faces.reserve(element.count);
-      part = find_property(element, "part_id");
-      elem = find_property(element, "element_id");
-      have_faces = true;
-    } else {
-      DYNPM_RETURN_IF_ERROR(check_count(element));
-    }
-
-    for (uint64_t r = 0; r < element.count; ++r) {
-      const uint32_t place = reader.place();
-      int32_t part_id = 0;
-      int64_t element_id = 0;
-      corners.clear();
-      for (int pi = 0; pi < static_cast<int>(element.properties.size()); ++pi) {
-        const Property& property = element.properties[pi];
-        double value = 0;
-        if (property.is_list) {
-          double n = 0;
-          if (!reader.read(property.count_type, n)) return Status::error(reader.error());
-          if (n < 0 || n > 1e6 || n != std::floor(n))
-            return Status::error(reader.where() + ": bad list length " + number_text(n));
-          for (int k = 0; k < static_cast<int>(n); ++k) {
-            if (!reader.read(property.type, value)) return Status::error(reader.error());
-            if (pi == list) {
-              if (value < 0 || value != std::floor(value) || value >= mesh.topology.vertex_count)
-                return Status::error(reader.where() + ": face index " + number_text(value) +
-                                     " is not a vertex (there are " +
-                                     std::to_string(mesh.topology.vertex_count) + ")");
-              corners.push_back(static_cast<uint32_t>(value));
-            }
-          }
-          continue;
-        }
-        if (!reader.read(property.type, value)) return Status::error(reader.error());
-        // Ids are integers: an ascii value out of their range would not convert.
-        const bool is_id = (is_vertex && pi == node) || (is_face && (pi == part || pi == elem));
-        if (is_id && !(value >= -9.2e18 && value <= 9.2e18 &&
-                       (pi != part || (value >= INT32_MIN && value <= INT32_MAX))))
-          return Status::error(reader.where() + ": " + (is_vertex ? "vertex " : "face ") +
-                               std::to_string(r) + ": id " + number_text(value) +
-                               " is out of range");
-        if (is_vertex) {
-          if (pi == x) mesh.positions[r * 3 + 0] = static_cast<float>(value);
-          if (pi == y) mesh.positions[r * 3 + 1] = static_cast<float>(value);
-          if (pi == z) mesh.positions[r * 3 + 2] = static_cast<float>(value);
-          if (pi == node) mesh.topology.node_ids[r] = static_cast<int64_t>(value);
-        } else if (is_face) {
-          if (pi == part) part_id = static_cast<int32_t>(value);
-          if (pi == elem) element_id = static_cast<int64_t>(value);
-        }
-      }
-      if (is_face) {
-        if (!have_vertices) return Status::error(path + ": faces come before the vertex element");
-        DYNPM_RETURN_IF_ERROR(add_polygon(corners, part_id, element_id, place, reader.where(),
-                                          options, mesh, split_count));
-      }
-      if (!reader.end_record()) return Status::error(reader.error());
-    }
+    auto roles =
+        prepare_element(element, header->encoding, reader, path, have_vertices, have_faces, mesh);
+    if (!roles) return roles.status();
+    DYNPM_RETURN_IF_ERROR(
+        read_records(element, *roles, have_vertices, path, options, reader, mesh, split_count));
   }
+  // 3. A mesh needs both.
   if (!have_vertices || mesh.topology.vertex_count == 0)
     return Status::error(path + ": no vertices");
   if (!have_faces || mesh.topology.faces.empty()) return Status::error(path + ": no faces");

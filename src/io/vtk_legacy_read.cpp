@@ -11,50 +11,14 @@
 #include <cmath>
 #include <cstring>
 
+#include "scalar_types.h"
 #include "vtk_read.h"
 
 namespace dynpm::io {
 namespace {
 
-enum class Type {
-  kUInt8,
-  kInt8,
-  kUInt16,
-  kInt16,
-  kUInt32,
-  kInt32,
-  kUInt64,
-  kInt64,
-  kFloat,
-  kDouble
-};
-
-size_t size_of(Type t) {
-  switch (t) {
-    case Type::kUInt8:
-    case Type::kInt8: return 1;
-    case Type::kUInt16:
-    case Type::kInt16: return 2;
-    case Type::kUInt32:
-    case Type::kInt32:
-    case Type::kFloat: return 4;
-    default: return 8;
-  }
-}
-
-// The values an integer type holds (ascii files must keep to them as binary ones do).
-std::pair<int64_t, int64_t> integer_range(Type t) {
-  switch (t) {
-    case Type::kUInt8: return {0, UINT8_MAX};
-    case Type::kInt8: return {INT8_MIN, INT8_MAX};
-    case Type::kUInt16: return {0, UINT16_MAX};
-    case Type::kInt16: return {INT16_MIN, INT16_MAX};
-    case Type::kUInt32: return {0, UINT32_MAX};
-    case Type::kInt32: return {INT32_MIN, INT32_MAX};
-    case Type::kUInt64: return {0, INT64_MAX};
-    default: return {INT64_MIN, INT64_MAX};
-  }
-}
+// Legacy VTK writes its binary data big-endian.
+constexpr bool kSwap = std::endian::native == std::endian::little;
 
 std::string upper(std::string_view s) {
   std::string out(s);
@@ -62,48 +26,19 @@ std::string upper(std::string_view s) {
   return out;
 }
 
-std::optional<Type> data_type(std::string_view name) {
+std::optional<ScalarType> data_type(std::string_view name) {
   const std::string n = upper(name);
-  if (n == "UNSIGNED_CHAR") return Type::kUInt8;
-  if (n == "CHAR" || n == "SIGNED_CHAR") return Type::kInt8;
-  if (n == "UNSIGNED_SHORT") return Type::kUInt16;
-  if (n == "SHORT") return Type::kInt16;
-  if (n == "UNSIGNED_INT") return Type::kUInt32;
-  if (n == "INT" || n == "VTKIDTYPE") return Type::kInt32;  // VTK reads vtkIdType as int
-  if (n == "UNSIGNED_LONG" || n == "VTKTYPEUINT64") return Type::kUInt64;
-  if (n == "LONG" || n == "VTKTYPEINT64") return Type::kInt64;
-  if (n == "FLOAT") return Type::kFloat;
-  if (n == "DOUBLE") return Type::kDouble;
+  if (n == "UNSIGNED_CHAR") return ScalarType::kUInt8;
+  if (n == "CHAR" || n == "SIGNED_CHAR") return ScalarType::kInt8;
+  if (n == "UNSIGNED_SHORT") return ScalarType::kUInt16;
+  if (n == "SHORT") return ScalarType::kInt16;
+  if (n == "UNSIGNED_INT") return ScalarType::kUInt32;
+  if (n == "INT" || n == "VTKIDTYPE") return ScalarType::kInt32;  // VTK reads vtkIdType as int
+  if (n == "UNSIGNED_LONG" || n == "VTKTYPEUINT64") return ScalarType::kUInt64;
+  if (n == "LONG" || n == "VTKTYPEINT64") return ScalarType::kInt64;
+  if (n == "FLOAT") return ScalarType::kFloat32;
+  if (n == "DOUBLE") return ScalarType::kFloat64;
   return std::nullopt;
-}
-
-template <class T>
-double big_endian(const char* p) {
-  T v;
-  std::memcpy(&v, p, sizeof(T));
-  if constexpr (std::endian::native == std::endian::little && sizeof(T) > 1) {
-    char b[sizeof(T)];
-    std::memcpy(b, &v, sizeof(T));
-    std::reverse(b, b + sizeof(T));
-    std::memcpy(&v, b, sizeof(T));
-  }
-  return static_cast<double>(v);
-}
-
-double decode(Type t, const char* p) {
-  switch (t) {
-    case Type::kUInt8: return big_endian<uint8_t>(p);
-    case Type::kInt8: return big_endian<int8_t>(p);
-    case Type::kUInt16: return big_endian<uint16_t>(p);
-    case Type::kInt16: return big_endian<int16_t>(p);
-    case Type::kUInt32: return big_endian<uint32_t>(p);
-    case Type::kInt32: return big_endian<int32_t>(p);
-    case Type::kUInt64: return big_endian<uint64_t>(p);
-    case Type::kInt64: return big_endian<int64_t>(p);
-    case Type::kFloat: return big_endian<float>(p);
-    case Type::kDouble: return big_endian<double>(p);
-  }
-  return 0;
 }
 
 // VTK 5.1 writes blanks and other specials in names as %XX.
@@ -188,7 +123,7 @@ class Reader {
   }
 
   // count values of the given type, appended to out as doubles.
-  Status values(Type type, uint64_t count, std::vector<double>& out) {
+  Status values(ScalarType type, uint64_t count, std::vector<double>& out) {
     const size_t left = bytes_.size() - pos_;
     if (binary_) {
       const size_t size = size_of(type);
@@ -197,7 +132,7 @@ class Reader {
                                std::to_string(left) + " bytes left (truncated file?)");
       out.reserve(out.size() + count);
       for (uint64_t i = 0; i < count; ++i, pos_ += size)
-        out.push_back(decode(type, bytes_.data() + pos_));
+        out.push_back(load_scalar(type, bytes_.data() + pos_, kSwap));
       return {};
     }
     if (count > left / 2 + 1)
@@ -216,21 +151,12 @@ class Reader {
       // The rule of every text reader (text.h): a whole number; an integer type takes whole
       // integers within its range, as its binary form could hold.
       double v = 0;
-      NumberError e = NumberError::kNone;
-      if (type == Type::kFloat || type == Type::kDouble) {
-        e = parse_real(token, v);
-      } else {
-        const auto [lo, hi] = integer_range(type);
-        int64_t n = 0;
-        e = parse_integer(token, lo, hi, n);
-        v = static_cast<double>(n);
-      }
+      const NumberError e = parse_scalar(token, type, v);
       if (e != NumberError::kNone)
         return fail("value " + std::to_string(i + 1) + " of " + std::to_string(count) + ", " +
                     quoted_bytes(token) + ", " +
-                    (e == NumberError::kOutOfRange ? "is out of the range of its type"
-                     : type == Type::kFloat || type == Type::kDouble ? "is not a number"
-                                                                     : "is not a whole number"));
+                    (e == NumberError::kOutOfRange ? std::string("is out of the range of its type")
+                                                   : std::string("is not ") + number_kind(type)));
       pos_ = stop;
       out.push_back(v);
     }
@@ -268,7 +194,7 @@ Result<uint64_t> count_word(Reader& r, const std::vector<std::string_view>& w, s
   return n;
 }
 
-Result<Type> type_word(Reader& r, const std::vector<std::string_view>& w, size_t i) {
+Result<ScalarType> type_word(Reader& r, const std::vector<std::string_view>& w, size_t i) {
   if (i >= w.size()) return r.fail_at_keyword("expected a data type after " + quoted_bytes(w[0]));
   auto t = data_type(w[i]);
   if (!t)
@@ -317,7 +243,7 @@ Status read_cell_list(Reader& r, const std::vector<std::string_view>& w, CellLis
     return {};
   }
   std::vector<double> flat;
-  DYNPM_RETURN_IF_ERROR(r.values(Type::kInt32, *size, flat));
+  DYNPM_RETURN_IF_ERROR(r.values(ScalarType::kInt32, *size, flat));
   // Each cell takes at least its point count from the list: a larger n fails below, unreserved.
   cells.offsets.reserve(std::min<uint64_t>(*n, flat.size()) + 1);
   cells.points.reserve(flat.size());
@@ -340,11 +266,18 @@ Status read_cell_list(Reader& r, const std::vector<std::string_view>& w, CellLis
   return {};
 }
 
-}  // namespace
+// ---------------------------------------------------------------------------------------------
+// parse_vtk()'s phases
 
-Result<ParsedMesh> parse_vtk(std::string_view bytes, const std::string& path,
-                             const ReadOptions& options) {
-  Reader r(bytes, path);
+// The first lines: the version line, the title (which may hold a "time" note), ASCII or BINARY,
+// and the DATASET line.
+struct Header {
+  bool binary = false;
+  std::optional<double> time;
+  std::string dataset;  // POLYDATA or UNSTRUCTURED_GRID
+};
+
+Result<Header> read_header(Reader& r, const std::string& path) {
   std::string_view line;
   if (!r.raw_line(line) || !line.starts_with("# vtk DataFile"))
     return Status::error(path + ":1: not a legacy VTK file (no '# vtk DataFile' line)");
@@ -354,22 +287,24 @@ Result<ParsedMesh> parse_vtk(std::string_view bytes, const std::string& path,
   const std::string encoding = upper(std::string(line.substr(0, line.find_last_not_of(" \t") + 1)));
   if (encoding != "ASCII" && encoding != "BINARY")
     return Status::error(path + ":3: expected ASCII or BINARY, found " + quoted_bytes(line));
-
-  ParsedMesh mesh;
-  mesh.places_are_lines = encoding == "ASCII";
+  Header header;
+  header.binary = encoding == "BINARY";
   auto title_time = time_from_comment(title);
   if (!title_time) return Status::error(path + ":2: " + title_time.message());
-  mesh.time = *title_time;
-
-  auto w = r.words();
+  header.time = *title_time;
+  const auto w = r.words();
   if (w.size() < 2 || upper(w[0]) != "DATASET")
     return r.fail("expected 'DATASET POLYDATA' or 'DATASET UNSTRUCTURED_GRID'");
-  const std::string dataset = upper(w[1]);
-  if (dataset != "POLYDATA" && dataset != "UNSTRUCTURED_GRID")
+  header.dataset = upper(w[1]);
+  if (header.dataset != "POLYDATA" && header.dataset != "UNSTRUCTURED_GRID")
     return r.fail_at_keyword("DATASET " + quoted_bytes(w[1]) +
                              " is not a surface mesh; dynpm reads POLYDATA and UNSTRUCTURED_GRID");
-  r.set_binary(encoding == "BINARY");
+  r.set_binary(header.binary);
+  return header;
+}
 
+// What the sections after the header hold, as read.
+struct Sections {
   std::vector<double> points;
   bool have_points = false;
   // POLYDATA numbers its cells vertices, lines, polygons, strips, whatever the file order.
@@ -377,13 +312,18 @@ Result<ParsedMesh> parse_vtk(std::string_view bytes, const std::string& path,
   CellList cells;    // UNSTRUCTURED_GRID
   std::vector<double> cell_types;
   std::vector<vtk::Array> point_arrays, cell_arrays, dataset_arrays;
-  uint64_t point_data = 0, cell_data = 0;
-  std::vector<vtk::Array>* target = &dataset_arrays;
+  uint64_t point_data = 0, cell_data = 0;  // the counts of POINT_DATA and CELL_DATA
+};
+
+// The sections, keyword by keyword up to the end of the file: points, cells, attribute data.
+Status read_sections(Reader& r, const std::string& dataset, size_t file_size, Sections& s) {
+  std::vector<vtk::Array>* target = &s.dataset_arrays;
   uint64_t target_count = 0;
+  std::vector<std::string_view> w;
 
   // An attribute array of `components` values per tuple.
-  auto attribute = [&](std::string_view name, Type type, uint64_t components) -> Status {
-    if (target == &dataset_arrays) return r.fail("attribute data before POINT_DATA or CELL_DATA");
+  auto attribute = [&](std::string_view name, ScalarType type, uint64_t components) -> Status {
+    if (target == &s.dataset_arrays) return r.fail("attribute data before POINT_DATA or CELL_DATA");
     if (components == 0 || components > 1000) return r.fail("bad component count");
     vtk::Array a;
     a.name = unescape_name(name);
@@ -408,28 +348,28 @@ Result<ParsedMesh> parse_vtk(std::string_view bytes, const std::string& path,
       auto t = type_word(r, w, 2);
       if (!t) return t.status();
       if (*n > kNoVertex - 1) return r.fail("too many points");
-      points.clear();
-      DYNPM_RETURN_IF_ERROR(r.values(*t, *n * 3, points));
-      have_points = true;
+      s.points.clear();
+      DYNPM_RETURN_IF_ERROR(r.values(*t, *n * 3, s.points));
+      s.have_points = true;
     } else if (dataset == "POLYDATA" && (key == "VERTICES" || key == "LINES" || key == "POLYGONS" ||
                                          key == "TRIANGLE_STRIPS")) {
       const int k = key == "VERTICES" ? 0 : key == "LINES" ? 1 : key == "POLYGONS" ? 2 : 3;
-      DYNPM_RETURN_IF_ERROR(read_cell_list(r, w, poly[k]));
+      DYNPM_RETURN_IF_ERROR(read_cell_list(r, w, s.poly[k]));
     } else if (dataset == "UNSTRUCTURED_GRID" && key == "CELLS") {
-      DYNPM_RETURN_IF_ERROR(read_cell_list(r, w, cells));
+      DYNPM_RETURN_IF_ERROR(read_cell_list(r, w, s.cells));
     } else if (dataset == "UNSTRUCTURED_GRID" && key == "CELL_TYPES") {
       auto n = count_word(r, w, 1, "a cell count");
       if (!n) return n.status();
-      cell_types.clear();
-      DYNPM_RETURN_IF_ERROR(r.values(Type::kInt32, *n, cell_types));
+      s.cell_types.clear();
+      DYNPM_RETURN_IF_ERROR(r.values(ScalarType::kInt32, *n, s.cell_types));
     } else if (key == "POINT_DATA" || key == "CELL_DATA") {
       auto n = count_word(r, w, 1, "a count");
       if (!n) return n.status();
-      if (*n > bytes.size())
+      if (*n > file_size)
         return r.fail(key + " " + std::to_string(*n) + ": more than the file can hold");
       const bool is_point = key == "POINT_DATA";
-      (is_point ? point_data : cell_data) = *n;
-      target = is_point ? &point_arrays : &cell_arrays;
+      (is_point ? s.point_data : s.cell_data) = *n;
+      target = is_point ? &s.point_arrays : &s.cell_arrays;
       target_count = *n;
     } else if (key == "SCALARS") {
       if (w.size() < 3) return r.fail("SCALARS needs a name and a data type");
@@ -468,13 +408,15 @@ Result<ParsedMesh> parse_vtk(std::string_view bytes, const std::string& path,
     } else if (key == "COLOR_SCALARS") {
       auto c = count_word(r, w, 2, "a component count");
       if (!c) return c.status();
-      DYNPM_RETURN_IF_ERROR(attribute(w[1], r.binary() ? Type::kUInt8 : Type::kFloat, *c));
+      DYNPM_RETURN_IF_ERROR(
+          attribute(w[1], r.binary() ? ScalarType::kUInt8 : ScalarType::kFloat32, *c));
     } else if (key == "LOOKUP_TABLE") {
       auto n = count_word(r, w, 2, "a table size");
       if (!n) return n.status();
-      if (*n > bytes.size()) return r.fail("a LOOKUP_TABLE larger than the file");
+      if (*n > file_size) return r.fail("a LOOKUP_TABLE larger than the file");
       std::vector<double> table;
-      DYNPM_RETURN_IF_ERROR(r.values(r.binary() ? Type::kUInt8 : Type::kFloat, *n * 4, table));
+      DYNPM_RETURN_IF_ERROR(
+          r.values(r.binary() ? ScalarType::kUInt8 : ScalarType::kFloat32, *n * 4, table));
     } else if (key == "FIELD") {
       auto n = count_word(r, w, 2, "an array count");
       if (!n) return n.status();
@@ -495,7 +437,7 @@ Result<ParsedMesh> parse_vtk(std::string_view bytes, const std::string& path,
         auto t = type_word(r, aw, 3);
         if (!t) return t.status();
         if (*c == 0 || *c > 1000) return r.fail("bad component count in FIELD array");
-        if (*tuples > bytes.size()) return r.fail("more tuples than the file can hold");
+        if (*tuples > file_size) return r.fail("more tuples than the file can hold");
         vtk::Array a;
         a.name = unescape_name(aw[0]);
         a.components = *c;
@@ -506,55 +448,78 @@ Result<ParsedMesh> parse_vtk(std::string_view bytes, const std::string& path,
       return r.fail_at_keyword("unexpected keyword " + quoted_bytes(w[0]));
     }
   }
-  if (!have_points) return Status::error(path + ": no POINTS");
+  return {};
+}
 
-  const uint64_t n_points = points.size() / 3;
-  mesh.topology = Topology::with_vertices(static_cast<uint32_t>(n_points));
-  mesh.positions.resize(points.size());
-  std::transform(points.begin(), points.end(), mesh.positions.begin(),
-                 [](double c) { return static_cast<float>(c); });
-  std::vector<double>().swap(points);
-
-  for (const vtk::Array& a : dataset_arrays)
-    if ((a.name == "TIME" || a.name == "TimeValue") && a.values.size() == 1) {
-      if (!std::isfinite(a.values[0]))
-        return Status::error(path + ": the FIELD array " + a.name + " holds the time " +
-                             vtk::number_text(a.values[0]) + ", not a finite number");
-      mesh.time = a.values[0];
-    }
-
-  vtk::CellSink sink(mesh, n_points, path, options);
+// The cells of either dataset into the sink, numbered as CELL_DATA counts them; their count.
+Result<uint64_t> add_cells(const Sections& s, const std::string& dataset, const std::string& path,
+                           vtk::CellSink& sink) {
   auto cell_points = [](const CellList& list, uint64_t c) {
     const size_t a = size_t(list.offsets[c]), b = size_t(list.offsets[c + 1]);
     return std::span<const double>(list.points.data() + a, b - a);
   };
   uint64_t cell_count = 0;
   if (dataset == "UNSTRUCTURED_GRID") {
-    if (cell_types.size() != cells.count())
-      return Status::error(path + ": CELL_TYPES lists " + std::to_string(cell_types.size()) +
-                           " cells, CELLS " + std::to_string(cells.count()));
-    for (uint64_t c = 0; c < cells.count(); ++c)
-      DYNPM_RETURN_IF_ERROR(sink.add(cell_types[c], cell_points(cells, c), c, cells.place));
-    cell_count = cells.count();
-  } else {
-    const int types[4] = {1, 4, 7, 6};  // vertex, polyline, polygon, triangle strip
-    for (int k = 0; k < 4; ++k) {
-      for (uint64_t c = 0; c < poly[k].count(); ++c)
-        DYNPM_RETURN_IF_ERROR(
-            sink.add(types[k], cell_points(poly[k], c), cell_count + c, poly[k].place));
-      cell_count += poly[k].count();
-    }
+    if (s.cell_types.size() != s.cells.count())
+      return Status::error(path + ": CELL_TYPES lists " + std::to_string(s.cell_types.size()) +
+                           " cells, CELLS " + std::to_string(s.cells.count()));
+    for (uint64_t c = 0; c < s.cells.count(); ++c)
+      DYNPM_RETURN_IF_ERROR(sink.add(s.cell_types[c], cell_points(s.cells, c), c, s.cells.place));
+    return s.cells.count();
   }
-  sink.finish();
+  const int types[4] = {1, 4, 7, 6};  // vertex, polyline, polygon, triangle strip
+  for (int k = 0; k < 4; ++k) {
+    for (uint64_t c = 0; c < s.poly[k].count(); ++c)
+      DYNPM_RETURN_IF_ERROR(
+          sink.add(types[k], cell_points(s.poly[k], c), cell_count + c, s.poly[k].place));
+    cell_count += s.poly[k].count();
+  }
+  return cell_count;
+}
 
-  if (point_data && point_data != n_points)
-    return Status::error(path + ": POINT_DATA " + std::to_string(point_data) + " but " +
+}  // namespace
+
+Result<ParsedMesh> parse_vtk(std::string_view bytes, const std::string& path,
+                             const ReadOptions& options) {
+  Reader r(bytes, path);
+  // 1. The header: version, title, encoding, dataset.
+  auto header = read_header(r, path);
+  if (!header) return header.status();
+  ParsedMesh mesh;
+  mesh.places_are_lines = !header->binary;
+  mesh.time = header->time;
+  // 2. The sections: points, cells, attribute data.
+  Sections s;
+  DYNPM_RETURN_IF_ERROR(read_sections(r, header->dataset, bytes.size(), s));
+  if (!s.have_points) return Status::error(path + ": no POINTS");
+  // 3. The points as positions, and the time a FIELD array may hold.
+  const uint64_t n_points = s.points.size() / 3;
+  mesh.topology = Topology::with_vertices(static_cast<uint32_t>(n_points));
+  mesh.positions.resize(s.points.size());
+  std::transform(s.points.begin(), s.points.end(), mesh.positions.begin(),
+                 [](double c) { return static_cast<float>(c); });
+  std::vector<double>().swap(s.points);
+  for (const vtk::Array& a : s.dataset_arrays)
+    if ((a.name == "TIME" || a.name == "TimeValue") && a.values.size() == 1) {
+      if (!std::isfinite(a.values[0]))
+        return Status::error(path + ": the FIELD array " + a.name + " holds the time " +
+                             vtk::number_text(a.values[0]) + ", not a finite number");
+      mesh.time = a.values[0];
+    }
+  // 4. The cells, as faces.
+  vtk::CellSink sink(mesh, n_points, path, options);
+  auto cell_count = add_cells(s, header->dataset, path, sink);
+  if (!cell_count) return cell_count.status();
+  sink.finish();
+  // 5. Cell data (parts, element numbers) and point data (node numbers, fields).
+  if (s.point_data && s.point_data != n_points)
+    return Status::error(path + ": POINT_DATA " + std::to_string(s.point_data) + " but " +
                          std::to_string(n_points) + " points");
-  if (cell_data && cell_data != cell_count)
-    return Status::error(path + ": CELL_DATA " + std::to_string(cell_data) + " but " +
-                         std::to_string(cell_count) + " cells");
-  vtk::apply_cell_data(cell_arrays, cell_count, sink.cell_of_face, path, options, mesh);
-  vtk::apply_point_data(point_arrays, path, options, mesh);
+  if (s.cell_data && s.cell_data != *cell_count)
+    return Status::error(path + ": CELL_DATA " + std::to_string(s.cell_data) + " but " +
+                         std::to_string(*cell_count) + " cells");
+  vtk::apply_cell_data(s.cell_arrays, *cell_count, sink.cell_of_face, path, options, mesh);
+  vtk::apply_point_data(s.point_arrays, path, options, mesh);
   return mesh;
 }
 

@@ -13,7 +13,9 @@
 #include <cstring>
 #include <filesystem>
 
+#include "scalar_types.h"
 #include "vtk_read.h"
+#include "xml_tags.h"
 
 #if DYNPM_HAVE_ZLIB
 #include <zlib.h>
@@ -23,217 +25,20 @@ namespace dynpm::io {
 namespace {
 
 // ---------------------------------------------------------------------------------------------
-// XML tags
-
-struct Tag {
-  std::string_view name;
-  std::string_view attributes;
-  bool closing = false, empty = false;
-  size_t begin = 0, end = 0;  // the '<' and one past the '>'
-};
-
-class XmlScanner {
- public:
-  explicit XmlScanner(std::string_view text) : text_(text) {}
-
-  // The next start, end or empty-element tag; comments, <?…?> and <!…> are skipped. false at the
-  // end of the text or on a tag that never closes (error() says so).
-  bool next(Tag& tag) {
-    while (true) {
-      const size_t open = text_.find('<', pos_);
-      if (open == std::string_view::npos) return false;
-      if (text_.compare(open, 4, "<!--") == 0) {
-        const size_t close = text_.find("-->", open + 4);
-        if (close == std::string_view::npos) return broken(open, "a comment never ends");
-        pos_ = close + 3;
-        continue;
-      }
-      if (text_.compare(open, 2, "<?") == 0 || text_.compare(open, 2, "<!") == 0) {
-        const size_t close = text_.find('>', open);
-        if (close == std::string_view::npos) return broken(open, "a tag never ends");
-        pos_ = close + 1;
-        continue;
-      }
-      // The '>' that ends the tag, outside quoted attribute values.
-      size_t i = open + 1;
-      char quote = 0;
-      for (; i < text_.size(); ++i) {
-        const char c = text_[i];
-        if (quote) {
-          if (c == quote) quote = 0;
-        } else if (c == '"' || c == '\'') {
-          quote = c;
-        } else if (c == '>') {
-          break;
-        }
-      }
-      if (i >= text_.size()) return broken(open, "a tag never ends");
-      std::string_view body = text_.substr(open + 1, i - open - 1);
-      tag = Tag();
-      tag.begin = open;
-      tag.end = i + 1;
-      if (!body.empty() && body.front() == '/') {
-        tag.closing = true;
-        body.remove_prefix(1);
-      }
-      if (!body.empty() && body.back() == '/') {
-        tag.empty = true;
-        body.remove_suffix(1);
-      }
-      size_t n = 0;
-      while (n < body.size() && !std::isspace(static_cast<unsigned char>(body[n]))) ++n;
-      tag.name = body.substr(0, n);
-      tag.attributes = body.substr(n);
-      pos_ = tag.end;
-      return true;
-    }
-  }
-
-  void seek(size_t pos) { pos_ = pos; }
-  const std::string& error() const { return error_; }
-  size_t error_at() const { return error_at_; }
-
- private:
-  bool broken(size_t at, const char* cause) {
-    error_ = cause;
-    error_at_ = at;
-    return false;
-  }
-
-  std::string_view text_;
-  size_t pos_ = 0;
-  std::string error_;
-  size_t error_at_ = 0;
-};
-
-std::string unescape_xml(std::string_view s) {
-  std::string out;
-  for (size_t i = 0; i < s.size(); ++i) {
-    if (s[i] == '&') {
-      static const std::pair<std::string_view, char> kEntities[] = {
-          {"&lt;", '<'}, {"&gt;", '>'}, {"&amp;", '&'}, {"&quot;", '"'}, {"&apos;", '\''}};
-      bool done = false;
-      for (const auto& [entity, c] : kEntities)
-        if (s.compare(i, entity.size(), entity) == 0) {
-          out += c;
-          i += entity.size() - 1;
-          done = true;
-          break;
-        }
-      if (done) continue;
-    }
-    out += s[i];
-  }
-  return out;
-}
-
-// The value of attribute `key` in a tag's attribute text.
-std::optional<std::string> attribute(const Tag& tag, std::string_view key) {
-  std::string_view a = tag.attributes;
-  size_t i = 0;
-  while (i < a.size()) {
-    while (i < a.size() && std::isspace(static_cast<unsigned char>(a[i]))) ++i;
-    const size_t name_start = i;
-    while (i < a.size() && a[i] != '=' && !std::isspace(static_cast<unsigned char>(a[i]))) ++i;
-    const std::string_view name = a.substr(name_start, i - name_start);
-    while (i < a.size() && std::isspace(static_cast<unsigned char>(a[i]))) ++i;
-    if (i >= a.size() || a[i] != '=') {
-      if (name.empty()) break;
-      continue;  // an attribute without a value
-    }
-    ++i;
-    while (i < a.size() && std::isspace(static_cast<unsigned char>(a[i]))) ++i;
-    if (i >= a.size() || (a[i] != '"' && a[i] != '\'')) break;
-    const char quote = a[i++];
-    const size_t value_end = a.find(quote, i);
-    if (value_end == std::string_view::npos) break;
-    if (name == key) return unescape_xml(a.substr(i, value_end - i));
-    i = value_end + 1;
-  }
-  return std::nullopt;
-}
-
-// ---------------------------------------------------------------------------------------------
 // DataArray payloads
 
-enum class Type {
-  kInt8,
-  kUInt8,
-  kInt16,
-  kUInt16,
-  kInt32,
-  kUInt32,
-  kInt64,
-  kUInt64,
-  kFloat32,
-  kFloat64
-};
-
-std::optional<Type> xml_type(std::string_view name) {
-  if (name == "Int8" || name == "Char") return Type::kInt8;
-  if (name == "UInt8") return Type::kUInt8;
-  if (name == "Int16") return Type::kInt16;
-  if (name == "UInt16") return Type::kUInt16;
-  if (name == "Int32") return Type::kInt32;
-  if (name == "UInt32") return Type::kUInt32;
-  if (name == "Int64") return Type::kInt64;
-  if (name == "UInt64") return Type::kUInt64;
-  if (name == "Float32") return Type::kFloat32;
-  if (name == "Float64") return Type::kFloat64;
+std::optional<ScalarType> xml_type(std::string_view name) {
+  if (name == "Int8" || name == "Char") return ScalarType::kInt8;
+  if (name == "UInt8") return ScalarType::kUInt8;
+  if (name == "Int16") return ScalarType::kInt16;
+  if (name == "UInt16") return ScalarType::kUInt16;
+  if (name == "Int32") return ScalarType::kInt32;
+  if (name == "UInt32") return ScalarType::kUInt32;
+  if (name == "Int64") return ScalarType::kInt64;
+  if (name == "UInt64") return ScalarType::kUInt64;
+  if (name == "Float32") return ScalarType::kFloat32;
+  if (name == "Float64") return ScalarType::kFloat64;
   return std::nullopt;
-}
-
-// The values an integer type holds (ascii data must keep to them as binary data do).
-std::pair<int64_t, int64_t> integer_range(Type t) {
-  switch (t) {
-    case Type::kInt8: return {INT8_MIN, INT8_MAX};
-    case Type::kUInt8: return {0, UINT8_MAX};
-    case Type::kInt16: return {INT16_MIN, INT16_MAX};
-    case Type::kUInt16: return {0, UINT16_MAX};
-    case Type::kInt32: return {INT32_MIN, INT32_MAX};
-    case Type::kUInt32: return {0, UINT32_MAX};
-    case Type::kUInt64: return {0, INT64_MAX};
-    default: return {INT64_MIN, INT64_MAX};
-  }
-}
-
-size_t size_of(Type t) {
-  switch (t) {
-    case Type::kInt8:
-    case Type::kUInt8: return 1;
-    case Type::kInt16:
-    case Type::kUInt16: return 2;
-    case Type::kInt32:
-    case Type::kUInt32:
-    case Type::kFloat32: return 4;
-    default: return 8;
-  }
-}
-
-template <class T>
-double load(const unsigned char* p, bool swap) {
-  unsigned char b[sizeof(T)];
-  std::memcpy(b, p, sizeof(T));
-  if (swap) std::reverse(b, b + sizeof(T));
-  T v;
-  std::memcpy(&v, b, sizeof(T));
-  return static_cast<double>(v);
-}
-
-double load(Type t, const unsigned char* p, bool swap) {
-  switch (t) {
-    case Type::kInt8: return load<int8_t>(p, swap);
-    case Type::kUInt8: return load<uint8_t>(p, swap);
-    case Type::kInt16: return load<int16_t>(p, swap);
-    case Type::kUInt16: return load<uint16_t>(p, swap);
-    case Type::kInt32: return load<int32_t>(p, swap);
-    case Type::kUInt32: return load<uint32_t>(p, swap);
-    case Type::kInt64: return load<int64_t>(p, swap);
-    case Type::kUInt64: return load<uint64_t>(p, swap);
-    case Type::kFloat32: return load<float>(p, swap);
-    case Type::kFloat64: return load<double>(p, swap);
-  }
-  return 0;
 }
 
 int base64_value(char c) {
@@ -285,7 +90,7 @@ struct FileInfo {
 
 struct ArrayRef {
   std::string name;
-  Type type = Type::kFloat32;
+  ScalarType type = ScalarType::kFloat32;
   size_t components = 1;
   std::string format;        // ascii, binary, appended
   uint64_t offset = 0;       // appended
@@ -318,22 +123,13 @@ class Decoder {
         // The rule of every text reader (text.h): a whole number; an integer type takes whole
         // integers within its range, as its binary form could hold.
         double v = 0;
-        NumberError e = NumberError::kNone;
-        if (a.type == Type::kFloat32 || a.type == Type::kFloat64) {
-          e = parse_real(token, v);
-        } else {
-          const auto [lo, hi] = integer_range(a.type);
-          int64_t n = 0;
-          e = parse_integer(token, lo, hi, n);
-          v = static_cast<double>(n);
-        }
+        const NumberError e = parse_scalar(token, a.type, v);
         if (e != NumberError::kNone)
           return Status::error(where + ": value " + std::to_string(out.size() + 1) + ", " +
                                quoted_bytes(token) + ", " +
-                               (e == NumberError::kOutOfRange ? "is out of the range of its type"
-                                : a.type == Type::kFloat32 || a.type == Type::kFloat64
-                                    ? "is not a number"
-                                    : "is not a whole number"));
+                               (e == NumberError::kOutOfRange
+                                    ? std::string("is out of the range of its type")
+                                    : std::string("is not ") + number_kind(a.type)));
         if (out.size() == count)
           return Status::error(where + ": more than the " + std::to_string(count) +
                                " values expected");
@@ -365,15 +161,15 @@ class Decoder {
     }
     out.resize(count);
     const auto* p = reinterpret_cast<const unsigned char*>(bytes.data());
-    for (uint64_t i = 0; i < count; ++i) out[i] = load(a.type, p + i * size, f_.swap);
+    for (uint64_t i = 0; i < count; ++i) out[i] = load_scalar(a.type, p + i * size, f_.swap);
     return out;
   }
 
  private:
   uint64_t header_word(const std::string& b, size_t i) const {
     const auto* p = reinterpret_cast<const unsigned char*>(b.data()) + i * f_.header_size;
-    return f_.header_size == 8 ? uint64_t(load<uint64_t>(p, f_.swap))
-                               : uint64_t(load<uint32_t>(p, f_.swap));
+    return f_.header_size == 8 ? uint64_t(load_scalar<uint64_t>(p, f_.swap))
+                               : uint64_t(load_scalar<uint32_t>(p, f_.swap));
   }
 
   // Header + data (decoded) → the expected bytes of data, decompressed if need be.
@@ -499,18 +295,25 @@ class Decoder {
   const FileInfo& f_;
 };
 
-}  // namespace
+// ---------------------------------------------------------------------------------------------
+// parse_vtu()'s phases
 
-Result<ParsedMesh> parse_vtu(std::string_view bytes, const std::string& path,
-                             const ReadOptions& options) {
+// What the tags of a .vtu say: the file's encoding, the piece's counts, and where each
+// DataArray lies.
+struct VtuLayout {
   FileInfo file;
+  std::optional<ArrayRef> points, connectivity, offsets, types;
+  std::vector<ArrayRef> point_arrays, cell_arrays, field_arrays;
+  uint64_t n_points = 0, n_cells = 0;
+};
+
+Result<VtuLayout> scan_tags(std::string_view bytes, const std::string& path) {
+  VtuLayout layout;
+  FileInfo& file = layout.file;
   file.path = path;
   XmlScanner xml(bytes);
   Tag tag;
   std::vector<std::string_view> stack;
-  std::optional<ArrayRef> points, connectivity, offsets, types;
-  std::vector<ArrayRef> point_arrays, cell_arrays, field_arrays;
-  uint64_t n_points = 0, n_cells = 0;
   int pieces = 0;
   bool saw_file = false;
   auto fail_at = [&](size_t at, const std::string& cause) {
@@ -564,9 +367,9 @@ Result<ParsedMesh> parse_vtu(std::string_view bytes, const std::string& path,
       if (!np) return np.status();
       auto nc = count_attribute(tag, "NumberOfCells");
       if (!nc) return nc.status();
-      n_points = *np, n_cells = *nc;
-      if (n_cells > (uint64_t(1) << 40)) return fail_at(tag.begin, "too many cells");
-      if (n_points > kNoVertex - 1) return fail_at(tag.begin, "too many points");
+      layout.n_points = *np, layout.n_cells = *nc;
+      if (layout.n_cells > (uint64_t(1) << 40)) return fail_at(tag.begin, "too many cells");
+      if (layout.n_points > kNoVertex - 1) return fail_at(tag.begin, "too many points");
     } else if (tag.name == "DataArray") {
       ArrayRef a;
       a.name = attribute(tag, "Name").value_or("");
@@ -599,18 +402,18 @@ Result<ParsedMesh> parse_vtu(std::string_view bytes, const std::string& path,
         xml.seek(close);
       }
       if (parent == "Points" && a.name.empty()) a.name = "Points";
-      if (parent == "Points" && !points) {
-        points = a;
+      if (parent == "Points" && !layout.points) {
+        layout.points = a;
       } else if (parent == "Cells") {
-        if (a.name == "connectivity") connectivity = a;
-        if (a.name == "offsets") offsets = a;
-        if (a.name == "types") types = a;
+        if (a.name == "connectivity") layout.connectivity = a;
+        if (a.name == "offsets") layout.offsets = a;
+        if (a.name == "types") layout.types = a;
       } else if (parent == "PointData") {
-        point_arrays.push_back(a);
+        layout.point_arrays.push_back(a);
       } else if (parent == "CellData") {
-        cell_arrays.push_back(a);
+        layout.cell_arrays.push_back(a);
       } else if (parent == "FieldData") {
-        field_arrays.push_back(a);
+        layout.field_arrays.push_back(a);
       }
     } else if (tag.name == "AppendedData") {
       const std::string encoding = attribute(tag, "encoding").value_or("raw");
@@ -629,23 +432,27 @@ Result<ParsedMesh> parse_vtu(std::string_view bytes, const std::string& path,
   if (!xml.error().empty()) return fail_at(xml.error_at(), xml.error());
   if (!saw_file) return Status::error(path + ": not a VTK XML file (no <VTKFile>)");
   if (pieces == 0) return Status::error(path + ": no <Piece>");
-  if (!points) return Status::error(path + ": no <Points> DataArray");
-  if (n_cells > 0 && (!connectivity || !offsets || !types))
+  if (!layout.points) return Status::error(path + ": no <Points> DataArray");
+  if (layout.n_cells > 0 && (!layout.connectivity || !layout.offsets || !layout.types))
     return Status::error(path + ": <Cells> needs the DataArrays connectivity, offsets and types");
 
-  Decoder decode(file);
-  ParsedMesh mesh;
-  mesh.places_are_lines = false;
-  if (points->components != 3)
-    return Status::error(path + ": Points have " + std::to_string(points->components) +
+  return layout;
+}
+
+// The points as positions, and the time a FieldData array (TimeValue, TIME) may hold.
+Status read_points(const VtuLayout& layout, Decoder& decode, const std::string& path,
+                   ParsedMesh& mesh) {
+  const ArrayRef& points = *layout.points;
+  if (points.components != 3)
+    return Status::error(path + ": Points have " + std::to_string(points.components) +
                          " components, expected 3");
-  auto xyz = decode.values(*points, n_points * 3);
+  auto xyz = decode.values(points, layout.n_points * 3);
   if (!xyz) return xyz.status();
-  mesh.topology = Topology::with_vertices(static_cast<uint32_t>(n_points));
+  mesh.topology = Topology::with_vertices(static_cast<uint32_t>(layout.n_points));
   mesh.positions.resize(xyz->size());
   std::transform(xyz->begin(), xyz->end(), mesh.positions.begin(),
                  [](double c) { return static_cast<float>(c); });
-  for (const ArrayRef& a : field_arrays)
+  for (const ArrayRef& a : layout.field_arrays)
     if (a.name == "TimeValue" || a.name == "TIME") {
       auto t = decode.values(a, 1);
       if (!t) return t.status();
@@ -655,48 +462,72 @@ Result<ParsedMesh> parse_vtu(std::string_view bytes, const std::string& path,
                              ", not a finite number");
       mesh.time = (*t)[0];
     }
+  return {};
+}
 
-  vtk::CellSink sink(mesh, n_points, path, options);
-  if (n_cells > 0) {
-    auto off = decode.values(*offsets, n_cells);
-    if (!off) return off.status();
-    auto ty = decode.values(*types, n_cells);
-    if (!ty) return ty.status();
-    const double conn_size = off->back();
-    if (!(conn_size >= 0) || conn_size > 9.007199254740992e15)
-      return Status::error(path + ": the last cell offset (" + std::to_string(conn_size) +
-                           ") is not a possible connectivity size");
-    auto conn = decode.values(*connectivity, uint64_t(conn_size));
-    if (!conn) return conn.status();
-    double start = 0;
-    const uint32_t place = static_cast<uint32_t>(connectivity->content_at);
-    for (uint64_t c = 0; c < n_cells; ++c) {
-      const double stop = (*off)[c];
-      if (!(stop >= start) || stop > conn_size)
-        return Status::error(path + ": cell offsets decrease or overrun at cell " +
-                             std::to_string(c));
-      DYNPM_RETURN_IF_ERROR(sink.add(
-          (*ty)[c], std::span<const double>(conn->data() + size_t(start), size_t(stop - start)), c,
-          place));
-      start = stop;
-    }
+// The cells (offsets, types, connectivity) into the sink, which makes them faces.
+Status read_cells(const VtuLayout& layout, Decoder& decode, const std::string& path,
+                  vtk::CellSink& sink) {
+  const uint64_t n_cells = layout.n_cells;
+  if (n_cells == 0) return {};
+  auto off = decode.values(*layout.offsets, n_cells);
+  if (!off) return off.status();
+  auto ty = decode.values(*layout.types, n_cells);
+  if (!ty) return ty.status();
+  const double conn_size = off->back();
+  if (!(conn_size >= 0) || conn_size > 9.007199254740992e15)
+    return Status::error(path + ": the last cell offset (" + std::to_string(conn_size) +
+                         ") is not a possible connectivity size");
+  auto conn = decode.values(*layout.connectivity, uint64_t(conn_size));
+  if (!conn) return conn.status();
+  double start = 0;
+  const uint32_t place = static_cast<uint32_t>(layout.connectivity->content_at);
+  for (uint64_t c = 0; c < n_cells; ++c) {
+    const double stop = (*off)[c];
+    if (!(stop >= start) || stop > conn_size)
+      return Status::error(path + ": cell offsets decrease or overrun at cell " +
+                           std::to_string(c));
+    DYNPM_RETURN_IF_ERROR(sink.add(
+        (*ty)[c], std::span<const double>(conn->data() + size_t(start), size_t(stop - start)), c,
+        place));
+    start = stop;
   }
-  sink.finish();
+  return {};
+}
 
-  auto read_arrays = [&](const std::vector<ArrayRef>& refs,
-                         uint64_t tuples) -> Result<std::vector<vtk::Array>> {
-    std::vector<vtk::Array> arrays;
-    for (const ArrayRef& r : refs) {
-      auto v = decode.values(r, tuples * r.components);
-      if (!v) return v.status();
-      arrays.push_back(vtk::Array{r.name, r.components, std::move(v).value()});
-    }
-    return arrays;
-  };
-  auto cell_data = read_arrays(cell_arrays, n_cells);
+// The DataArrays of CellData or PointData, `tuples` tuples each.
+Result<std::vector<vtk::Array>> read_arrays(Decoder& decode, const std::vector<ArrayRef>& refs,
+                                            uint64_t tuples) {
+  std::vector<vtk::Array> arrays;
+  for (const ArrayRef& r : refs) {
+    auto v = decode.values(r, tuples * r.components);
+    if (!v) return v.status();
+    arrays.push_back(vtk::Array{r.name, r.components, std::move(v).value()});
+  }
+  return arrays;
+}
+
+}  // namespace
+
+Result<ParsedMesh> parse_vtu(std::string_view bytes, const std::string& path,
+                             const ReadOptions& options) {
+  // 1. The tags: the file's encoding, the piece's counts, where each DataArray lies.
+  auto layout = scan_tags(bytes, path);
+  if (!layout) return layout.status();
+  Decoder decode(layout->file);
+  ParsedMesh mesh;
+  mesh.places_are_lines = false;
+  // 2. The points, and the step's time.
+  DYNPM_RETURN_IF_ERROR(read_points(*layout, decode, path, mesh));
+  // 3. The cells, as faces.
+  vtk::CellSink sink(mesh, layout->n_points, path, options);
+  DYNPM_RETURN_IF_ERROR(read_cells(*layout, decode, path, sink));
+  sink.finish();
+  // 4. Cell data (parts, element numbers), then point data (node numbers, fields).
+  auto cell_data = read_arrays(decode, layout->cell_arrays, layout->n_cells);
   if (!cell_data) return cell_data.status();
-  vtk::apply_cell_data(*cell_data, n_cells, sink.cell_of_face, path, options, mesh);
-  auto point_data = read_arrays(point_arrays, n_points);
+  vtk::apply_cell_data(*cell_data, layout->n_cells, sink.cell_of_face, path, options, mesh);
+  auto point_data = read_arrays(decode, layout->point_arrays, layout->n_points);
   if (!point_data) return point_data.status();
   vtk::apply_point_data(*point_data, path, options, mesh);
   return mesh;
