@@ -143,6 +143,44 @@ def chunk(tag, flags, raw, stored):
     return tag + struct.pack("<IIIII", flags, len(stored), raw, zlib.crc32(stored), 0) + stored
 
 
+def varint(n):
+    out = bytearray()
+    while n >= 0x80:
+        out.append((n & 0x7F) | 0x80)
+        n >>= 7
+    out.append(n)
+    return bytes(out)
+
+
+def svarint(n):
+    return varint(2 * n if n >= 0 else -2 * n - 1)
+
+
+def figure_dpm(split_error):
+    """A .dpm written from docs/FORMAT.md, chunks uncompressed: FORMAT.md's quad-wing figure as
+    viewer/test/dpm.test.mjs builds it (5 base vertices, 2 triangles, one split with a quad wing,
+    a triangle wing and a moved face, one step), with the split's error given."""
+    q = [(0, 0, 0), (4, 0, 0), (4, 4, 0), (8, 2, 0), (6, -2, 1), (2, 1, 0)]
+    head = struct.pack("<8I", 6, 3, 5, 2, 1, 1, 0, 0)
+    head += struct.pack("<9d", 0, 0, 0, 2, 1, 0.25, 0.25, 0.2165, 0.5)
+    head += struct.pack("<dI", 0.0, 1) + struct.pack("<I", 0)  # times, key steps
+    head += struct.pack("<H", 11) + b"make_corpus"
+    base = b"".join(svarint(min(v, 1)) + svarint(1) for v in range(5))  # original index, node id
+    base += bytes([3]) + varint(0) + varint(1) + varint(2) + bytes([3]) + varint(1) + varint(4) + varint(3)
+    base += svarint(7) + svarint(500) + svarint(0) + svarint(8) + svarint(1) + svarint(1)
+    base += b"".join(svarint(q[v][c] - (q[v - 1][c] if v else 0)) for v in range(5) for c in range(3))
+    split = struct.pack("<II", 0, 1) + varint(5 - 1 - 1) + struct.pack("<f", split_error)
+    split += bytes([2, 2 | 1 << 2]) + varint(5 - 1 - 0) + varint(2 - 1 - 0)  # quad wing, face 0
+    split += bytes([1]) + varint(5 - 1 - 3)  # triangle wing, w = 3
+    split += varint(1) + varint(2 - 1 - 1)  # moved: face 1
+    split += svarint(1) + svarint(1) + svarint(9) + svarint(3) + svarint(1)
+    split += b"".join(svarint(q[5][c] - q[1][c]) for c in range(3))
+    magic = b"\x89DPM\r\n\x1a\n" + struct.pack("<I", 1)
+    return magic + b"".join(
+        chunk(tag, 0, len(p), p) for tag, p in
+        [(b"HEAD", head), (b"BASE", base), (b"SPLT", split), (b"END ", b"")])
+
+
 def main():
     dynpm = sys.argv[1] if len(sys.argv) > 1 else None
 
@@ -254,6 +292,9 @@ def main():
         # 2^31 zero bytes (16384 RLE blocks of 128 KiB, 4 bytes each: 64 KiB for 2 GiB).
         head_end = base  # the BASE chunk starts where HEAD ends
         write("bomb-base.dpm", data[:head_end] + chunk(b"BASE", 1, 2**31, zstd_zeros(2**31)))
+
+    # A split whose error is NaN (the browser's decoder took it; both readers refuse it now).
+    write("split-error-nan.dpm", figure_dpm(math.nan))
 
     # d3plot-like garbage: named like an LS-DYNA result, 4 KB of noise.
     noise = bytearray()

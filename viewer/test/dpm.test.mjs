@@ -95,7 +95,8 @@ function makeFile(baseFrame = null) {
   chunk(out, 'HEAD', head.bytes);
 
   const base = new Bytes();
-  [[10, 100], [11, 101], [12, 102], [13, 103], [14, 104]].reduce((prev, [o, n]) => {
+  // Original indices must be < V (the C++ reader checks them): an input order 1, 0, 3, 2, 4, 5.
+  [[1, 100], [0, 101], [3, 102], [2, 103], [4, 104]].reduce((prev, [o, n]) => {
     base.svarint(o - prev[0]), base.svarint(n - prev[1]);
     return [o, n];
   }, [0, 0]);
@@ -119,7 +120,7 @@ function makeFile(baseFrame = null) {
   split.u8(2 | (1 << 2)), split.varint(5 - 1 - 0), split.varint(2 - 1 - 0);  // quad wing, face 0
   split.u8(1 | (0 << 2)), split.varint(5 - 1 - 3);  // triangle wing, w = 3
   split.varint(1), split.varint(2 - 1 - 1);  // moved: face 1
-  split.svarint(15 - 14), split.svarint(105 - 104);
+  split.svarint(5 - 4), split.svarint(105 - 104);
   split.svarint(9), split.svarint(3 - 501), split.svarint(2 - 1);
   for (let c = 0; c < 3; c++) split.svarint(Q[0][5][c] - Q[0][1][c]);
   for (let c = 0; c < 3; c++) split.svarint(Q[1][5][c] - Q[0][5][c] - (Q[1][1][c] - Q[0][1][c]));
@@ -139,7 +140,7 @@ test('decodes HEAD, BASE, the split and its attributes', () => {
   assert.deepEqual(mesh.head.fieldNames, ['stress']);
   assert.equal(mesh.head.note, 'dpm.test.mjs');
   assert.deepEqual(Array.from(mesh.nodeId), [100, 101, 102, 103, 104, 105]);
-  assert.deepEqual(Array.from(mesh.vertexOriginal), [10, 11, 12, 13, 14, 15]);
+  assert.deepEqual(Array.from(mesh.vertexOriginal), [1, 0, 3, 2, 4, 5]);
   assert.deepEqual(Array.from(mesh.partId), [7, 8, 9]);
   assert.deepEqual(Array.from(mesh.elementId), [500, 501, 3]);
   assert.deepEqual(Array.from(mesh.faceOriginal), [0, 1, 2]);

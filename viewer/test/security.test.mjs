@@ -3,7 +3,7 @@
 // Policy on every response; ?file= naming another origin refused (docs/viewer.md "Security").
 import assert from 'node:assert/strict';
 import { execFileSync } from 'node:child_process';
-import { mkdirSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
+import { mkdirSync, readdirSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
 import { createServer } from 'node:http';
 import { join } from 'node:path';
 import { after, before, test } from 'node:test';
@@ -148,7 +148,8 @@ test('?file= naming another origin is refused, and nothing leaves the origin', a
 });
 
 test("the page's own code builds no markup from strings", () => {
-  const sources = ['index.html', 'src/viewer.js', 'src/dpm.js'].map((f) => [f, readFileSync(f, 'utf8')]);
+  const sources = ['index.html', 'src/viewer.js', 'src/dpm.js',
+    ...readdirSync('src/dpm').map((f) => `src/dpm/${f}`)].map((f) => [f, readFileSync(f, 'utf8')]);
   for (const [file, text] of sources)
     assert.doesNotMatch(text, /\.(inner|outer)HTML\s*[+]?=|insertAdjacentHTML|document\.write|\bstyle="/, file);
 });

@@ -1,76 +1,22 @@
-// The .dpm file: docs/FORMAT.md is the specification; this file follows it section by section.
+// Reading the .dpm file: docs/FORMAT.md is the specification (the writer is dpm_write.cpp). The
+// browser's decoder, viewer/src/dpm/file.js, makes the same checks at the same moment and rejects
+// a file at the same byte (viewer/test/conformance.test.mjs).
 #include <zstd.h>
 
-#include <array>
-#include <bit>
+#include <algorithm>
 #include <cmath>
-#include <cstdint>
 #include <cstring>
 #include <memory>
+#include <string>
 
 #include "bytes.h"
+#include "dpm_format.h"
 #include "dynpm/progressive.h"
 
 namespace dynpm {
 namespace {
 
-using progressive::ByteReader;
-using progressive::ByteWriter;
-
-constexpr std::string_view kMagic{
-    "\x89"
-    "DPM\r\n\x1a\n",
-    8};
-constexpr uint32_t kVersion = 1;
-constexpr size_t kChunkHeaderSize = 24;
-constexpr uint32_t kFirstChunkSplits = 256;
-constexpr uint32_t kMaxChunkSplits = 16384;
-constexpr int kZstdLevel = 12;
-// Bounds on a chunk's decompressed size, so that a corrupt header cannot ask for more memory
-// than real content of that size would need.
-constexpr uint64_t kMaxRawChunk = uint64_t{1} << 31;
-constexpr uint64_t kMaxQuantized = uint64_t{1} << 31;
-// zstd's densest block is an RLE block: 4 bytes (header and the byte) for at most 128 KiB, so no
-// frame decompresses to more than 32768 times its size.
-constexpr uint64_t kMaxZstdRatio = 32768;
-// The longest varint the reader takes (ByteReader::varint: 64 bits, 7 per byte).
-constexpr double kMaxVarint = 10;
-
-uint32_t crc32(std::string_view bytes) {
-  static const std::array<uint32_t, 256> table = [] {
-    std::array<uint32_t, 256> t{};
-    for (uint32_t i = 0; i < 256; ++i) {
-      uint32_t c = i;
-      for (int k = 0; k < 8; ++k) c = (c & 1) ? 0xedb88320u ^ (c >> 1) : c >> 1;
-      t[i] = c;
-    }
-    return t;
-  }();
-  uint32_t c = 0xffffffffu;
-  for (unsigned char b : bytes) c = table[(c ^ b) & 0xff] ^ (c >> 8);
-  return c ^ 0xffffffffu;
-}
-
-void put_chunk(std::string& out, std::string_view tag, std::string_view raw, bool compress) {
-  std::string stored;
-  if (compress) {
-    stored.resize(ZSTD_compressBound(raw.size()));
-    const size_t n =
-        ZSTD_compress(stored.data(), stored.size(), raw.data(), raw.size(), kZstdLevel);
-    stored.resize(ZSTD_isError(n) ? 0 : n);
-    if (ZSTD_isError(n)) compress = false;
-  }
-  if (!compress) stored.assign(raw);
-  ByteWriter h;
-  h.bytes.append(tag);
-  h.put<uint32_t>(compress ? 1u : 0u);
-  h.put<uint32_t>(static_cast<uint32_t>(stored.size()));
-  h.put<uint32_t>(static_cast<uint32_t>(raw.size()));
-  h.put<uint32_t>(crc32(stored));
-  h.put<uint32_t>(0);
-  out += h.bytes;
-  out += stored;
-}
+using namespace progressive;
 
 struct DStreamFree {
   void operator()(ZSTD_DStream* d) const { ZSTD_freeDStream(d); }
@@ -104,176 +50,6 @@ std::string inflate(std::string_view frame, uint64_t raw, std::string& out) {
   return {};
 }
 
-// Position q-values (docs/FORMAT.md "Positions"): grid integers, or float bits when lossless.
-struct Grid {
-  std::array<double, 3> origin;
-  double step;
-  bool lossless;
-
-  int64_t q(float p, int c) const {
-    if (lossless) return std::bit_cast<uint32_t>(p);
-    return std::llround((p - origin[c]) / step);
-  }
-  float p(int64_t q, int c) const {
-    if (lossless) return std::bit_cast<float>(static_cast<uint32_t>(q));
-    return static_cast<float>(origin[c] + static_cast<double>(q) * step);
-  }
-  // Residual → value, wrapping modulo 2^32 when lossless.
-  int64_t add(int64_t prediction, int64_t residual) const {
-    const uint64_t sum = static_cast<uint64_t>(prediction) + static_cast<uint64_t>(residual);
-    return lossless ? static_cast<int64_t>(static_cast<uint32_t>(sum)) : static_cast<int64_t>(sum);
-  }
-  int64_t residual(int64_t value, int64_t prediction) const {
-    const uint64_t diff = static_cast<uint64_t>(value) - static_cast<uint64_t>(prediction);
-    return lossless ? static_cast<int32_t>(static_cast<uint32_t>(diff))
-                    : static_cast<int64_t>(diff);
-  }
-};
-
-Grid grid_of(const ProgressiveMesh& mesh) {
-  return {mesh.bbox_min, mesh.quant_step, mesh.lossless};
-}
-
-// The prediction of vertex v's coordinate c at step t from values already known.
-int64_t predict(const ProgressiveMesh& mesh, const Grid& g, uint32_t v, size_t t, int c) {
-  auto q = [&](uint32_t u, size_t s) { return g.q(mesh.positions[s][size_t{u} * 3 + c], c); };
-  if (v < mesh.base_vertex_count) {
-    if (t > 0) return q(v, t - 1);
-    return v > 0 ? q(v - 1, 0) : 0;
-  }
-  const uint32_t p = mesh.parent[v - mesh.base_vertex_count];
-  if (t == 0) return q(p, 0);
-  return g.add(q(v, t - 1), g.residual(q(p, t), q(p, t - 1)));
-}
-
-void write_positions(ByteWriter& w, const ProgressiveMesh& mesh, uint32_t begin, uint32_t end) {
-  const Grid g = grid_of(mesh);
-  for (size_t t = 0; t < mesh.step_count(); ++t)
-    for (uint32_t v = begin; v < end; ++v)
-      for (int c = 0; c < 3; ++c)
-        w.svarint(
-            g.residual(g.q(mesh.positions[t][size_t{v} * 3 + c], c), predict(mesh, g, v, t, c)));
-  for (const auto& field : mesh.fields)
-    for (const auto& values : field)
-      for (uint32_t v = begin; v < end; ++v) w.put<float>(values[v]);
-}
-
-// Attribute deltas continue across chunks (docs/FORMAT.md).
-struct Deltas {
-  int64_t vertex_index = 0, node_id = 0, element_id = 0, face_index = 0;
-};
-
-void write_vertex_attributes(ByteWriter& w, const ProgressiveMesh& mesh, uint32_t v, Deltas& d) {
-  w.svarint(int64_t{mesh.vertex_original_index[v]} - d.vertex_index);
-  w.svarint(mesh.node_ids[v] - d.node_id);
-  d.vertex_index = mesh.vertex_original_index[v];
-  d.node_id = mesh.node_ids[v];
-}
-
-void write_face_attributes(ByteWriter& w, const ProgressiveMesh& mesh, uint32_t f, Deltas& d) {
-  w.svarint(mesh.part_ids[f]);
-  w.svarint(mesh.element_ids[f] - d.element_id);
-  w.svarint(int64_t{mesh.face_original_index[f]} - d.face_index);
-  d.element_id = mesh.element_ids[f];
-  d.face_index = mesh.face_original_index[f];
-}
-
-std::string head_payload(const ProgressiveMesh& mesh) {
-  ByteWriter w;
-  w.put<uint32_t>(mesh.full_vertex_count);
-  w.put<uint32_t>(mesh.full_face_count);
-  w.put<uint32_t>(mesh.base_vertex_count);
-  w.put<uint32_t>(mesh.base_face_count);
-  w.put<uint32_t>(mesh.full_split_count);
-  w.put<uint32_t>(static_cast<uint32_t>(mesh.step_count()));
-  w.put<uint32_t>(static_cast<uint32_t>(mesh.field_names.size()));
-  w.put<uint32_t>(mesh.lossless ? 1u : 0u);
-  for (double x : mesh.bbox_min) w.put<double>(x);
-  for (double x : mesh.bbox_max) w.put<double>(x);
-  w.put<double>(mesh.quant_step);
-  w.put<double>(mesh.max_error);
-  w.put<double>(mesh.base_error);
-  for (double t : mesh.times) w.put<double>(t);
-  w.put<uint32_t>(static_cast<uint32_t>(mesh.key_steps.size()));
-  for (size_t k : mesh.key_steps) w.put<uint32_t>(static_cast<uint32_t>(k));
-  for (const std::string& name : mesh.field_names) w.text(name);
-  w.text(mesh.note);
-  return std::move(w.bytes);
-}
-
-}  // namespace
-
-bool looks_like_dpm(std::string_view head) { return head.substr(0, kMagic.size()) == kMagic; }
-
-std::string encode_dpm(const ProgressiveMesh& mesh) {
-  std::string out(kMagic);
-  ByteWriter version;
-  version.put<uint32_t>(kVersion);
-  out += version.bytes;
-  put_chunk(out, "HEAD", head_payload(mesh), false);
-
-  Deltas d;
-  {
-    ByteWriter w;
-    for (uint32_t v = 0; v < mesh.base_vertex_count; ++v) write_vertex_attributes(w, mesh, v, d);
-    for (const Face& face : mesh.base_faces) {
-      w.put<uint8_t>(static_cast<uint8_t>(face.degree()));
-      for (int c = 0; c < face.degree(); ++c) w.varint(face.v[c]);
-    }
-    for (uint32_t f = 0; f < mesh.base_face_count; ++f) write_face_attributes(w, mesh, f, d);
-    write_positions(w, mesh, 0, mesh.base_vertex_count);
-    put_chunk(out, "BASE", w.bytes, true);
-  }
-
-  uint32_t face_count = mesh.base_face_count;
-  uint32_t chunk = kFirstChunkSplits;
-  for (uint32_t first = 0; first < mesh.split_count();
-       first += chunk, chunk = std::min(chunk * 2, kMaxChunkSplits)) {
-    const uint32_t last = std::min(mesh.split_count(), first + chunk);
-    ByteWriter w;
-    w.put<uint32_t>(first);
-    w.put<uint32_t>(last - first);
-    const uint32_t first_face = face_count;
-    for (uint32_t i = first; i < last; ++i) {
-      const uint32_t v0 = mesh.base_vertex_count + i;
-      w.varint(v0 - 1 - mesh.parent[i]);
-      w.put<float>(mesh.error[i]);
-      w.put<uint8_t>(static_cast<uint8_t>(mesh.wing_start[i + 1] - mesh.wing_start[i]));
-      uint32_t created = 0;
-      for (uint32_t k = mesh.wing_start[i]; k < mesh.wing_start[i + 1]; ++k) {
-        const SplitWing& wing = mesh.wings[k];
-        w.put<uint8_t>(wing.flags);
-        w.varint(v0 - 1 - wing.vertex);
-        if (wing.was_triangle())
-          ++created;
-        else
-          w.varint(face_count - 1 - wing.face);
-      }
-      w.varint(mesh.moved_start[i + 1] - mesh.moved_start[i]);
-      for (uint32_t m = mesh.moved_start[i]; m < mesh.moved_start[i + 1]; ++m)
-        w.varint(face_count - 1 - mesh.moved_faces[m]);
-      face_count += created;
-    }
-    for (uint32_t i = first; i < last; ++i)
-      write_vertex_attributes(w, mesh, mesh.base_vertex_count + i, d);
-    for (uint32_t f = first_face; f < face_count; ++f) write_face_attributes(w, mesh, f, d);
-    write_positions(w, mesh, mesh.base_vertex_count + first, mesh.base_vertex_count + last);
-    put_chunk(out, "SPLT", w.bytes, true);
-  }
-  put_chunk(out, "END ", {}, false);
-  return out;
-}
-
-Status write_dpm(const std::string& path, const ProgressiveMesh& mesh) {
-  if (!mesh.complete) return Status::error(path + ": cannot write a partial progressive mesh");
-  return write_file_atomically(path, encode_dpm(mesh));
-}
-
-// ---------------------------------------------------------------------------------------------
-// Reading
-
-namespace {
-
 class Decoder {
  public:
   Decoder(std::string_view bytes, const std::string& name) : bytes_(bytes), name_(name) {}
@@ -295,7 +71,7 @@ class Decoder {
     DYNPM_RETURN_IF_ERROR(parse_base(payload));
     for (;;) {
       std::string tag;
-      auto got = next_chunk(tag, payload);
+      auto got = next_chunk("SPLT", tag, payload);
       if (!got) return got.status();
       if (!*got) {  // a prefix: keep what has arrived
         mesh_.complete = false;
@@ -308,7 +84,6 @@ class Decoder {
         if (pos_ != bytes_.size()) return fail(pos_, "bytes after the END chunk");
         break;
       }
-      if (tag != "SPLT") return fail(chunk_start_, "unexpected chunk '" + tag + "'");
       DYNPM_RETURN_IF_ERROR(parse_splits(payload));
     }
     return std::move(mesh_);
@@ -319,8 +94,42 @@ class Decoder {
     return Status::error(name_ + ": byte " + std::to_string(at) + ": " + what);
   }
 
+  // What a chunk's 24 header bytes say, checked before its payload is looked at (the browser's
+  // decoder checks them as they arrive, in this order). `expected`: HEAD, BASE, or SPLT (which
+  // END may end).
+  Status check_chunk_header(std::string_view expected, const std::string& tag, uint32_t flags,
+                            uint32_t stored, uint32_t raw, uint32_t reserved) const {
+    const size_t at = pos_;
+    if (tag != "HEAD" && tag != "BASE" && tag != "SPLT" && tag != "END ")
+      return fail(at, "unknown chunk tag (not HEAD, BASE, SPLT or END)");
+    if (expected != "SPLT" && tag != expected)
+      return fail(at, "expected the " + std::string(expected) + " chunk, found '" + tag + "'");
+    if (expected == "SPLT" && tag != "SPLT" && tag != "END ")
+      return fail(at, "unexpected chunk '" + tag + "'");
+    if (flags > 1) return fail(at + 4, "unknown chunk flags " + std::to_string(flags));
+    if (reserved != 0) return fail(at + 20, "the chunk's reserved field is not 0");
+    if (stored > kMaxRawChunk)
+      return fail(at + 8, "the chunk's stored size " + std::to_string(stored) + " is above 2^31");
+    if (flags == 0 && raw != stored) return fail(at + 12, "an uncompressed chunk's sizes differ");
+    if (flags == 1 && (tag == "HEAD" || tag == "END "))
+      return fail(at + 4, "a compressed " + tag + " chunk (only BASE and SPLT may be)");
+    if (tag == "END " && raw != 0) return fail(at + 12, "the END chunk is not empty");
+    if (tag != "BASE" && tag != "SPLT") return {};
+    // Before any allocation: what the chunk says it holds against what it can hold.
+    const double limit = std::min(payload_limit(tag), double(kMaxRawChunk));
+    if (raw > limit)
+      return fail(at + 12, "the " + tag + " chunk claims " + std::to_string(raw) +
+                               " bytes; the header's counts allow at most " +
+                               std::to_string(uint64_t(limit)));
+    if (flags == 1 && raw > uint64_t{stored} * kMaxZstdRatio)
+      return fail(at + 12, "the " + tag + " chunk claims " + std::to_string(raw) +
+                               " bytes, more than " + std::to_string(stored) +
+                               " compressed bytes can hold");
+    return {};
+  }
+
   // false: the file ends inside this chunk (a prefix).
-  Result<bool> next_chunk(std::string& tag, std::string& payload) {
+  Result<bool> next_chunk(std::string_view expected, std::string& tag, std::string& payload) {
     chunk_start_ = pos_;
     if (bytes_.size() - pos_ < kChunkHeaderSize) return false;
     ByteReader h(bytes_.substr(pos_, kChunkHeaderSize));
@@ -330,29 +139,15 @@ class Decoder {
     const uint32_t stored = h.get<uint32_t>();
     const uint32_t raw = h.get<uint32_t>();
     const uint32_t crc = h.get<uint32_t>();
-    if (tag != "HEAD" && tag != "BASE" && tag != "SPLT" && tag != "END ")
-      return fail(pos_, "unknown chunk tag (not HEAD, BASE, SPLT or END)");
-    if (flags > 1) return fail(pos_ + 4, "unknown chunk flags " + std::to_string(flags));
+    const uint32_t reserved = h.get<uint32_t>();
+    DYNPM_RETURN_IF_ERROR(check_chunk_header(expected, tag, flags, stored, raw, reserved));
     if (bytes_.size() - pos_ - kChunkHeaderSize < stored) return false;
     const std::string_view body = bytes_.substr(pos_ + kChunkHeaderSize, stored);
     if (crc32(body) != crc)
       return fail(pos_, tag + " chunk checksum mismatch (the file is damaged)");
     if (flags == 0) {
-      if (raw != stored) return fail(pos_ + 12, "an uncompressed chunk's sizes differ");
       payload.assign(body);
     } else {
-      // Before any allocation: what the chunk says it holds against what it can hold.
-      if (tag == "HEAD" || tag == "END ")
-        return fail(pos_ + 4, "a compressed " + tag + " chunk (only BASE and SPLT may be)");
-      const double limit = std::min(payload_limit(tag), double(kMaxRawChunk));
-      if (raw > limit)
-        return fail(pos_ + 12, "the " + tag + " chunk claims " + std::to_string(raw) +
-                                   " bytes; the header's counts allow at most " +
-                                   std::to_string(uint64_t(limit)));
-      if (raw > uint64_t{stored} * kMaxZstdRatio)
-        return fail(pos_ + 12, "the " + tag + " chunk claims " + std::to_string(raw) +
-                                   " bytes, more than " + std::to_string(stored) +
-                                   " compressed bytes can hold");
       const unsigned long long content = ZSTD_getFrameContentSize(body.data(), body.size());
       if (content != raw)
         return fail(pos_ + kChunkHeaderSize, "compressed chunk size does not match its header");
@@ -367,7 +162,7 @@ class Decoder {
   // The most bytes a BASE or SPLT payload can take for the counts in HEAD, each value at the
   // longest encoding the reader accepts (docs/FORMAT.md). A split's moved faces are bounded only
   // by the face count, which makes the SPLT bound loose but still a bound.
-  double payload_limit(const std::string& tag) const {
+  double payload_limit(std::string_view tag) const {
     const ProgressiveMesh& m = mesh_;
     const double steps = double(m.times.size()), fields = double(m.field_names.size());
     const double per_vertex = 2 * kMaxVarint + steps * (3 * kMaxVarint + 4 * fields);
@@ -384,12 +179,10 @@ class Decoder {
 
   Status expect_chunk(const char* tag, std::string& payload, const char* what) {
     std::string got;
-    auto ok = next_chunk(got, payload);
+    auto ok = next_chunk(tag, got, payload);
     if (!ok) return ok.status();
     if (!*ok)
       return fail(chunk_start_, std::string("the file ends before ") + what + " is complete");
-    if (got != tag)
-      return fail(chunk_start_, std::string("expected the ") + tag + " chunk, found '" + got + "'");
     return {};
   }
 
@@ -429,6 +222,14 @@ class Decoder {
       if (!std::isfinite(x)) return bad(r, "the bounding box is not finite");
     if (!m.lossless && !(m.quant_step > 0 && std::isfinite(m.quant_step)))
       return bad(r, "the quantization step is not valid");
+    // The writer keeps the grid at least 4 float32 ulps at the box's largest coordinate
+    // (FORMAT.md "Positions"), so that positions survive float32 and the predictions made from
+    // them are the grid's integers; a finer grid is refused, as the browser's decoder does.
+    double largest = 0;
+    for (int k = 0; k < 3; ++k)
+      largest = std::max({largest, std::abs(m.bbox_min[k]), std::abs(m.bbox_max[k])});
+    if (!m.lossless && m.quant_step < 4 * largest * std::ldexp(1.0, -23))
+      return bad(r, "the quantization step is finer than float32 holds in the bounding box");
     if (!(std::isfinite(m.max_error) && m.max_error >= 0 && std::isfinite(m.base_error) &&
           m.base_error >= 0))
       return bad(r, "the header's error bounds are not finite numbers ≥ 0");
@@ -443,6 +244,7 @@ class Decoder {
     for (uint32_t f = 0; f < fields; ++f) m.field_names.push_back(r.text());
     m.note = r.text();
     if (!r.ok()) return bad(r, "the header is too short");
+    if (r.remaining() != 0) return bad(r, "unexpected bytes after the header");
     if (uint64_t{fields} * steps > (uint64_t{1} << 24)) return bad(r, "too many fields × steps");
     // Field values come with vertices: a model without base vertices has none (its splits
     // cannot apply either, each needs a parent).
@@ -483,12 +285,15 @@ class Decoder {
     const size_t steps = mesh_.step_count();
     if (!r.can_hold(uint64_t{end - begin} * steps * 3, 1)) return bad(r, "positions are cut short");
     const Grid g = grid_of(mesh_);
+    // A quantized position lies in the bounding box, give or take two grid steps.
+    std::array<double, 3> top{};
+    for (int c = 0; c < 3; ++c) top[c] = (mesh_.bbox_max[c] - mesh_.bbox_min[c]) / g.step + 2;
     for (auto& xyz : mesh_.positions) xyz.resize(size_t{end} * 3);
     for (size_t t = 0; t < steps; ++t)
       for (uint32_t v = begin; v < end; ++v)
         for (int c = 0; c < 3; ++c) {
           const int64_t q = g.add(predict(mesh_, g, v, t, c), r.svarint());
-          if (!g.lossless && (q < -int64_t(kMaxQuantized) || q > int64_t(kMaxQuantized)))
+          if (!g.lossless && (q < -2 || double(q) > top[c]))
             return bad(r, "a position is far outside the bounding box");
           mesh_.positions[t][size_t{v} * 3 + c] = g.p(q, c);
         }
@@ -588,6 +393,8 @@ class Decoder {
     }
     if (face_count > m.full_face_count)
       return bad(r, "splits create more faces than the header says");
+    if (first + n == m.full_split_count && face_count != m.full_face_count)
+      return bad(r, "the splits create fewer faces than the header says");
     DYNPM_RETURN_IF_ERROR(read_vertex_attributes(r, n));
     DYNPM_RETURN_IF_ERROR(read_face_attributes(r, face_count - face_count_));
     DYNPM_RETURN_IF_ERROR(
@@ -613,6 +420,8 @@ class Decoder {
 };
 
 }  // namespace
+
+bool looks_like_dpm(std::string_view head) { return head.substr(0, kMagic.size()) == kMagic; }
 
 Result<ProgressiveMesh> decode_dpm(std::string_view bytes, const std::string& name) {
   return Decoder(bytes, name).run();

@@ -1,0 +1,91 @@
+// The .dpm file's pieces shared by its writer (dpm_write.cpp) and its reader (dpm_read.cpp):
+// docs/FORMAT.md is the specification. Internal to dynpm_progressive.
+#pragma once
+
+#include <array>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <string_view>
+
+#include "dynpm/progressive.h"
+
+namespace dynpm::progressive {
+
+inline constexpr std::string_view kMagic{
+    "\x89"
+    "DPM\r\n\x1a\n",
+    8};
+inline constexpr uint32_t kVersion = 1;
+inline constexpr size_t kChunkHeaderSize = 24;
+// Bound on a chunk's stored and decompressed sizes (a corrupt header cannot ask for more).
+inline constexpr uint64_t kMaxRawChunk = uint64_t{1} << 31;
+// zstd's densest block is an RLE block: 4 bytes (header and the byte) for at most 128 KiB, so no
+// frame decompresses to more than 32768 times its size.
+inline constexpr uint64_t kMaxZstdRatio = 32768;
+// The longest varint the reader takes (ByteReader::varint: 64 bits, 7 per byte).
+inline constexpr double kMaxVarint = 10;
+
+inline uint32_t crc32(std::string_view bytes) {
+  static const std::array<uint32_t, 256> table = [] {
+    std::array<uint32_t, 256> t{};
+    for (uint32_t i = 0; i < 256; ++i) {
+      uint32_t c = i;
+      for (int k = 0; k < 8; ++k) c = (c & 1) ? 0xedb88320u ^ (c >> 1) : c >> 1;
+      t[i] = c;
+    }
+    return t;
+  }();
+  uint32_t c = 0xffffffffu;
+  for (unsigned char b : bytes) c = table[(c ^ b) & 0xff] ^ (c >> 8);
+  return c ^ 0xffffffffu;
+}
+
+// Position q-values (docs/FORMAT.md "Positions"): grid integers, or float bits when lossless.
+struct Grid {
+  std::array<double, 3> origin;
+  double step;
+  bool lossless;
+
+  int64_t q(float p, int c) const {
+    if (lossless) return std::bit_cast<uint32_t>(p);
+    return std::llround((p - origin[c]) / step);
+  }
+  float p(int64_t q, int c) const {
+    if (lossless) return std::bit_cast<float>(static_cast<uint32_t>(q));
+    return static_cast<float>(origin[c] + static_cast<double>(q) * step);
+  }
+  // Residual → value, wrapping modulo 2^32 when lossless.
+  int64_t add(int64_t prediction, int64_t residual) const {
+    const uint64_t sum = static_cast<uint64_t>(prediction) + static_cast<uint64_t>(residual);
+    return lossless ? static_cast<int64_t>(static_cast<uint32_t>(sum)) : static_cast<int64_t>(sum);
+  }
+  int64_t residual(int64_t value, int64_t prediction) const {
+    const uint64_t diff = static_cast<uint64_t>(value) - static_cast<uint64_t>(prediction);
+    return lossless ? static_cast<int32_t>(static_cast<uint32_t>(diff))
+                    : static_cast<int64_t>(diff);
+  }
+};
+
+inline Grid grid_of(const ProgressiveMesh& mesh) {
+  return {mesh.bbox_min, mesh.quant_step, mesh.lossless};
+}
+
+// The prediction of vertex v's coordinate c at step t from values already known.
+inline int64_t predict(const ProgressiveMesh& mesh, const Grid& g, uint32_t v, size_t t, int c) {
+  auto q = [&](uint32_t u, size_t s) { return g.q(mesh.positions[s][size_t{u} * 3 + c], c); };
+  if (v < mesh.base_vertex_count) {
+    if (t > 0) return q(v, t - 1);
+    return v > 0 ? q(v - 1, 0) : 0;
+  }
+  const uint32_t p = mesh.parent[v - mesh.base_vertex_count];
+  if (t == 0) return q(p, 0);
+  return g.add(q(v, t - 1), g.residual(q(p, t), q(p, t - 1)));
+}
+
+// Attribute deltas continue across chunks (docs/FORMAT.md).
+struct Deltas {
+  int64_t vertex_index = 0, node_id = 0, element_id = 0, face_index = 0;
+};
+
+}  // namespace dynpm::progressive

@@ -1,0 +1,157 @@
+// Writing the .dpm file: docs/FORMAT.md is the specification; this file follows it section by
+// section (the reader is dpm_read.cpp).
+#include <zstd.h>
+
+#include <string>
+
+#include "bytes.h"
+#include "dpm_format.h"
+#include "dynpm/progressive.h"
+
+namespace dynpm {
+namespace {
+
+using namespace progressive;
+
+constexpr uint32_t kFirstChunkSplits = 256;
+constexpr uint32_t kMaxChunkSplits = 16384;
+constexpr int kZstdLevel = 12;
+
+void put_chunk(std::string& out, std::string_view tag, std::string_view raw, bool compress) {
+  std::string stored;
+  if (compress) {
+    stored.resize(ZSTD_compressBound(raw.size()));
+    const size_t n =
+        ZSTD_compress(stored.data(), stored.size(), raw.data(), raw.size(), kZstdLevel);
+    stored.resize(ZSTD_isError(n) ? 0 : n);
+    if (ZSTD_isError(n)) compress = false;
+  }
+  if (!compress) stored.assign(raw);
+  ByteWriter h;
+  h.bytes.append(tag);
+  h.put<uint32_t>(compress ? 1u : 0u);
+  h.put<uint32_t>(static_cast<uint32_t>(stored.size()));
+  h.put<uint32_t>(static_cast<uint32_t>(raw.size()));
+  h.put<uint32_t>(crc32(stored));
+  h.put<uint32_t>(0);
+  out += h.bytes;
+  out += stored;
+}
+
+void write_positions(ByteWriter& w, const ProgressiveMesh& mesh, uint32_t begin, uint32_t end) {
+  const Grid g = grid_of(mesh);
+  for (size_t t = 0; t < mesh.step_count(); ++t)
+    for (uint32_t v = begin; v < end; ++v)
+      for (int c = 0; c < 3; ++c)
+        w.svarint(
+            g.residual(g.q(mesh.positions[t][size_t{v} * 3 + c], c), predict(mesh, g, v, t, c)));
+  for (const auto& field : mesh.fields)
+    for (const auto& values : field)
+      for (uint32_t v = begin; v < end; ++v) w.put<float>(values[v]);
+}
+
+void write_vertex_attributes(ByteWriter& w, const ProgressiveMesh& mesh, uint32_t v, Deltas& d) {
+  w.svarint(int64_t{mesh.vertex_original_index[v]} - d.vertex_index);
+  w.svarint(mesh.node_ids[v] - d.node_id);
+  d.vertex_index = mesh.vertex_original_index[v];
+  d.node_id = mesh.node_ids[v];
+}
+
+void write_face_attributes(ByteWriter& w, const ProgressiveMesh& mesh, uint32_t f, Deltas& d) {
+  w.svarint(mesh.part_ids[f]);
+  w.svarint(mesh.element_ids[f] - d.element_id);
+  w.svarint(int64_t{mesh.face_original_index[f]} - d.face_index);
+  d.element_id = mesh.element_ids[f];
+  d.face_index = mesh.face_original_index[f];
+}
+
+std::string head_payload(const ProgressiveMesh& mesh) {
+  ByteWriter w;
+  w.put<uint32_t>(mesh.full_vertex_count);
+  w.put<uint32_t>(mesh.full_face_count);
+  w.put<uint32_t>(mesh.base_vertex_count);
+  w.put<uint32_t>(mesh.base_face_count);
+  w.put<uint32_t>(mesh.full_split_count);
+  w.put<uint32_t>(static_cast<uint32_t>(mesh.step_count()));
+  w.put<uint32_t>(static_cast<uint32_t>(mesh.field_names.size()));
+  w.put<uint32_t>(mesh.lossless ? 1u : 0u);
+  for (double x : mesh.bbox_min) w.put<double>(x);
+  for (double x : mesh.bbox_max) w.put<double>(x);
+  w.put<double>(mesh.quant_step);
+  w.put<double>(mesh.max_error);
+  w.put<double>(mesh.base_error);
+  for (double t : mesh.times) w.put<double>(t);
+  w.put<uint32_t>(static_cast<uint32_t>(mesh.key_steps.size()));
+  for (size_t k : mesh.key_steps) w.put<uint32_t>(static_cast<uint32_t>(k));
+  for (const std::string& name : mesh.field_names) w.text(name);
+  w.text(mesh.note);
+  return std::move(w.bytes);
+}
+
+}  // namespace
+
+std::string encode_dpm(const ProgressiveMesh& mesh) {
+  std::string out(kMagic);
+  ByteWriter version;
+  version.put<uint32_t>(kVersion);
+  out += version.bytes;
+  put_chunk(out, "HEAD", head_payload(mesh), false);
+
+  Deltas d;
+  {
+    ByteWriter w;
+    for (uint32_t v = 0; v < mesh.base_vertex_count; ++v) write_vertex_attributes(w, mesh, v, d);
+    for (const Face& face : mesh.base_faces) {
+      w.put<uint8_t>(static_cast<uint8_t>(face.degree()));
+      for (int c = 0; c < face.degree(); ++c) w.varint(face.v[c]);
+    }
+    for (uint32_t f = 0; f < mesh.base_face_count; ++f) write_face_attributes(w, mesh, f, d);
+    write_positions(w, mesh, 0, mesh.base_vertex_count);
+    put_chunk(out, "BASE", w.bytes, true);
+  }
+
+  uint32_t face_count = mesh.base_face_count;
+  uint32_t chunk = kFirstChunkSplits;
+  for (uint32_t first = 0; first < mesh.split_count();
+       first += chunk, chunk = std::min(chunk * 2, kMaxChunkSplits)) {
+    const uint32_t last = std::min(mesh.split_count(), first + chunk);
+    ByteWriter w;
+    w.put<uint32_t>(first);
+    w.put<uint32_t>(last - first);
+    const uint32_t first_face = face_count;
+    for (uint32_t i = first; i < last; ++i) {
+      const uint32_t v0 = mesh.base_vertex_count + i;
+      w.varint(v0 - 1 - mesh.parent[i]);
+      w.put<float>(mesh.error[i]);
+      w.put<uint8_t>(static_cast<uint8_t>(mesh.wing_start[i + 1] - mesh.wing_start[i]));
+      uint32_t created = 0;
+      for (uint32_t k = mesh.wing_start[i]; k < mesh.wing_start[i + 1]; ++k) {
+        const SplitWing& wing = mesh.wings[k];
+        w.put<uint8_t>(wing.flags);
+        w.varint(v0 - 1 - wing.vertex);
+        if (wing.was_triangle())
+          ++created;
+        else
+          w.varint(face_count - 1 - wing.face);
+      }
+      w.varint(mesh.moved_start[i + 1] - mesh.moved_start[i]);
+      for (uint32_t m = mesh.moved_start[i]; m < mesh.moved_start[i + 1]; ++m)
+        w.varint(face_count - 1 - mesh.moved_faces[m]);
+      face_count += created;
+    }
+    for (uint32_t i = first; i < last; ++i)
+      write_vertex_attributes(w, mesh, mesh.base_vertex_count + i, d);
+    for (uint32_t f = first_face; f < face_count; ++f) write_face_attributes(w, mesh, f, d);
+    write_positions(w, mesh, mesh.base_vertex_count + first, mesh.base_vertex_count + last);
+    put_chunk(out, "SPLT", w.bytes, true);
+  }
+  put_chunk(out, "END ", {}, false);
+  return out;
+}
+
+Status write_dpm(const std::string& path, const ProgressiveMesh& mesh) {
+  if (!mesh.complete) return Status::error(path + ": cannot write a partial progressive mesh");
+  return write_file_atomically(path, encode_dpm(mesh));
+}
+
+}  // namespace dynpm

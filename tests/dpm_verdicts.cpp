@@ -1,0 +1,33 @@
+// The C++ reader's verdict on many .dpm files in one process, for viewer/test/conformance.test.mjs
+// (a dynpm process per file would take minutes on a thousand mutants):
+//   dpm_verdicts FILE...
+// prints one line per file: "error <message>", or "counts" and the counts `dynpm info --json`
+// prints, as name=value pairs. Test-only; reads with read_dpm() as `dynpm info` does.
+#include <cstdio>
+
+#include "dynpm/lod.h"
+#include "dynpm/progressive.h"
+
+int main(int argc, char** argv) {
+  using namespace dynpm;
+  for (int i = 1; i < argc; ++i) {
+    auto mesh = read_dpm(argv[i]);
+    if (!mesh) {
+      std::printf("error %s\n", mesh.message().c_str());
+      continue;
+    }
+    const ProgressiveMesh& m = *mesh;
+    Navigator nav(m);
+    nav.set_level(m.split_count());
+    const Topology full = nav.topology();
+    std::printf(
+        "counts complete=%d vertices=%u faces=%u vertices_present=%u faces_present=%zu "
+        "quads_present=%zu triangles_present=%zu base_vertices=%u base_faces=%u splits=%u "
+        "steps=%zu key_steps=%zu fields=%zu parts=%zu lossless=%d\n",
+        m.complete, m.full_vertex_count, m.full_face_count, m.vertex_count(), full.faces.size(),
+        full.quad_count(), full.triangle_count(), m.base_vertex_count, m.base_face_count,
+        m.split_count(), m.step_count(), m.key_steps.size(), m.field_names.size(),
+        full.parts().size(), m.lossless);
+  }
+  return 0;
+}

@@ -1,0 +1,510 @@
+// The .dpm file (docs/FORMAT.md): its header, its chunks and their payloads, as a plain ES module
+// that runs in the browser and in Node (tests, benchmarks). The C++ reader is
+// src/progressive/dpm_read.cpp: both make the same checks at the same moment, and reject a file
+// at the same byte (viewer/test/conformance.test.mjs holds them to it).
+//
+// DpmDecoder takes the file's bytes in pieces as they arrive and parses every chunk as soon as it
+// is complete, into a ProgressiveMesh whose arrays are sized from HEAD once. Each chunk's header
+// is checked as soon as its 24 bytes are in, before the payload has arrived; the split records
+// are replayed on a face array as they are decoded, so that the navigator applies them unchecked.
+import { decompress } from 'fzstd';
+
+import { crc32, DpmError, Reader } from './bytes.js';
+import {
+  applySplit,
+  checkSplit,
+  HEAD_FLAG_LOSSLESS,
+  ProgressiveMesh,
+  touchedFacesValid,
+  WING_WAS_TRIANGLE,
+} from './progressive_mesh.js';
+
+export const MAGIC = Uint8Array.of(0x89, 0x44, 0x50, 0x4d, 0x0d, 0x0a, 0x1a, 0x0a);
+const VERSION = 1;
+const CHUNK_HEADER_BYTES = 24;
+const FLAG_ZSTD = 1;
+const TAGS = ['HEAD', 'BASE', 'SPLT', 'END '];
+// A chunk's bounds (FORMAT.md "Chunk"): stored and raw at most 2^31 bytes; zstd's densest block,
+// RLE, holds 128 KiB in 4 bytes, so no frame decompresses to more than 32768 times its size.
+const MAX_CHUNK_BYTES = 2 ** 31;
+const MAX_ZSTD_RATIO = 32768;
+// The longest varint the reader takes (Reader.varint: 64 bits, 7 per byte).
+const MAX_VARINT = 10;
+
+// What is wrong with a chunk's zstd payload before fzstd sees it, or null. fzstd allocates
+// what the frame header declares (up to 2 GB, or the window when no size is declared), not the
+// chunk's raw size, so a small chunk could make the page take gigabytes before the size check
+// after decompression. As FORMAT.md says and the C++ reader checks: one frame, declaring
+// exactly `raw` bytes, and nothing after it. Blocks are walked by their headers only.
+export function zstdFrameProblem(bytes, raw) {
+  const n = bytes.length;
+  if (n < 6 || bytes[0] !== 0x28 || bytes[1] !== 0xb5 || bytes[2] !== 0x2f || bytes[3] !== 0xfd)
+    return 'the payload is not a zstd frame';
+  const descriptor = bytes[4];
+  if (descriptor & 8) return 'zstd frame header has its reserved bit set';
+  const sizeFlag = descriptor >> 6;
+  const singleSegment = (descriptor >> 5) & 1;
+  const checksum = (descriptor >> 2) & 1;
+  const sizeBytes = sizeFlag ? 1 << sizeFlag : singleSegment;
+  if (!sizeBytes) return 'the zstd frame does not declare its size';
+  let at = 5 + (singleSegment ? 0 : 1) + [0, 1, 2, 4][descriptor & 3];
+  if (at + sizeBytes > n) return 'the zstd frame header is cut short';
+  let size = 0;
+  for (let i = sizeBytes - 1; i >= 0; i--) size = size * 256 + bytes[at + i];
+  if (sizeFlag === 1) size += 256;
+  if (size !== raw) return `the zstd frame declares ${size} bytes, the chunk header ${raw}`;
+  at += sizeBytes;
+  for (let last = 0; !last; ) {
+    if (at + 3 > n) return 'the zstd frame is cut short';
+    const block = bytes[at] | (bytes[at + 1] << 8) | (bytes[at + 2] << 16);
+    const type = (block >> 1) & 3;
+    if (type === 3) return 'the zstd frame has a reserved block type';
+    last = block & 1;
+    at += 3 + (type === 1 ? 1 : block >>> 3);  // an RLE block stores one byte
+  }
+  if (at + 4 * checksum !== n) return 'bytes after the zstd frame';
+  return null;
+}
+
+// Feed it the file's bytes with push() as they arrive; it parses each chunk once complete and
+// calls the callbacks: onHead(mesh), onBase(mesh), onSplits(mesh, first, count), onEnd(mesh).
+export class DpmDecoder {
+  constructor({ name = 'file', onHead, onBase, onSplits, onEnd } = {}) {
+    this.name = name;
+    this.callbacks = { onHead, onBase, onSplits, onEnd };
+    this.buffer = new Uint8Array(1 << 16);
+    this.start = 0;   // first unparsed byte in buffer
+    this.end = 0;     // end of the received bytes in buffer
+    this.offset = 0;  // file offset of buffer[0]
+    this.bytesReceived = 0;
+    this.state = 'magic';  // magic → HEAD → BASE → SPLT… → END → done
+    this.mesh = null;
+    this.replay = null;  // the faces at the last decoded split (4 slots each), for the checks
+  }
+
+  get complete() {
+    return this.state === 'done';
+  }
+  // The file offset of the first byte not parsed yet: where the next chunk starts.
+  get chunkStart() {
+    return this.offset + this.start;
+  }
+
+  fail(fileByte, cause) {
+    throw new DpmError(`${this.name}: byte ${fileByte}: ${cause}`);
+  }
+
+  push(bytes) {
+    this.append(bytes);
+    this.bytesReceived += bytes.length;
+    for (;;) {
+      const available = this.end - this.start;
+      const at = this.offset + this.start;
+      if (this.state === 'magic') {
+        const b = this.buffer.subarray(this.start, this.start + Math.min(available, 12));
+        for (let i = 0; i < Math.min(b.length, 8); i++)
+          if (b[i] !== MAGIC[i]) this.fail(0, 'not a .dpm file (wrong magic)');
+        if (available < 12) return;
+        const version = new DataView(b.buffer, b.byteOffset + 8, 4).getUint32(0, true);
+        if (version !== VERSION) this.fail(8, `version ${version}, this reader knows version 1`);
+        this.start += 12;
+        this.state = 'HEAD';
+        continue;
+      }
+      if (this.state === 'done') {
+        if (available > 0) this.fail(at, 'bytes after the END chunk');
+        return;
+      }
+      if (available < CHUNK_HEADER_BYTES) return;
+      const h = new DataView(this.buffer.buffer, this.start, CHUNK_HEADER_BYTES);
+      const tag = String.fromCharCode(...this.buffer.subarray(this.start, this.start + 4));
+      const flags = h.getUint32(4, true);
+      const stored = h.getUint32(8, true);
+      const raw = h.getUint32(12, true);
+      const crc = h.getUint32(16, true);
+      const reserved = h.getUint32(20, true);
+      this.checkChunkHeader(at, tag, flags, stored, raw, reserved);
+      if (available < CHUNK_HEADER_BYTES + stored) return;  // wait for the rest of the chunk
+      const payloadStart = this.start + CHUNK_HEADER_BYTES;
+      const payloadAt = at + CHUNK_HEADER_BYTES;
+      const storedBytes = this.buffer.subarray(payloadStart, payloadStart + stored);
+      if (crc32(storedBytes) !== crc) this.fail(at, `${tag} chunk: wrong checksum`);
+      let payload = storedBytes;
+      if (flags & FLAG_ZSTD) {
+        const frame = zstdFrameProblem(storedBytes, raw);
+        if (frame) this.fail(payloadAt, `${tag} chunk: ${frame}`);
+        try {
+          payload = decompress(storedBytes);
+        } catch (e) {
+          this.fail(payloadAt, `${tag} chunk: zstd: ${e.message}`);
+        }
+        if (payload.length !== raw)
+          this.fail(payloadAt, `${tag} chunk: ${payload.length} bytes decompressed, not ${raw}`);
+      } else {
+        payload = storedBytes.slice();  // the buffer is reused for later bytes
+      }
+      this.start = payloadStart + stored;
+      const where = (pos) =>
+        `${tag} payload byte ${pos}` + (flags & FLAG_ZSTD ? ' (decompressed)' : '');
+      this.parseChunk(at, tag, new Reader(payload, `${this.name}: byte ${payloadAt}`, where));
+    }
+  }
+
+  append(bytes) {
+    if (this.end + bytes.length > this.buffer.length) {
+      // Drop what has been parsed; grow only if the pending chunk needs it.
+      const pending = this.end - this.start;
+      if (pending + bytes.length > this.buffer.length) {
+        let size = this.buffer.length;
+        while (size < pending + bytes.length) size *= 2;
+        const bigger = new Uint8Array(size);
+        bigger.set(this.buffer.subarray(this.start, this.end));
+        this.buffer = bigger;
+      } else {
+        this.buffer.copyWithin(0, this.start, this.end);
+      }
+      this.offset += this.start;
+      this.end = pending;
+      this.start = 0;
+    }
+    this.buffer.set(bytes, this.end);
+    this.end += bytes.length;
+  }
+
+  // What the 24 bytes of a chunk's header say, checked before its payload has arrived, in the
+  // order the C++ reader checks them (Decoder::check_chunk_header).
+  checkChunkHeader(at, tag, flags, stored, raw, reserved) {
+    const expected = this.state === 'SPLT' ? ['SPLT', 'END '] : [this.state];
+    if (!TAGS.includes(tag)) this.fail(at, `unknown chunk tag '${tag}'`);
+    if (!expected.includes(tag))
+      this.fail(at, `${tag} chunk where ${expected.join(' or ')} belongs`);
+    if (flags & ~FLAG_ZSTD) this.fail(at + 4, `${tag} chunk: unknown flags ${flags}`);
+    if (reserved !== 0) this.fail(at + 20, `${tag} chunk: reserved field is ${reserved}, not 0`);
+    if (stored > MAX_CHUNK_BYTES) this.fail(at + 8, `${tag} chunk: stored size ${stored} > 2^31`);
+    if (!(flags & FLAG_ZSTD) && raw !== stored)
+      this.fail(at + 12, `${tag} chunk: raw size ${raw} differs from stored ${stored}`);
+    if ((tag === 'HEAD' || tag === 'END ') && flags & FLAG_ZSTD)
+      this.fail(at + 4, `${tag} chunk is compressed`);
+    if (tag === 'END ' && raw !== 0) this.fail(at + 12, 'END chunk is not empty');
+    if (tag === 'BASE' || tag === 'SPLT') {
+      const limit = this.maxRawBytes(tag);
+      if (raw > limit)
+        this.fail(at + 12, `${tag} chunk: raw size ${raw}, HEAD allows ${Math.floor(limit)}`);
+      if (flags & FLAG_ZSTD && raw > stored * MAX_ZSTD_RATIO)
+        this.fail(at + 12, `${tag} chunk: raw size ${raw} from ${stored} compressed bytes`);
+    }
+  }
+
+  // The most bytes a BASE or SPLT payload can take for HEAD's counts, each value at its longest
+  // encoding (at most 2^31). Moved faces have no count in HEAD: every remaining split may move
+  // every face, a loose bound but a bound. The same arithmetic as the C++ payload_limit().
+  maxRawBytes(tag) {
+    const h = this.mesh.head;
+    const steps = h.stepCount, fields = h.fieldCount;
+    const perVertex = 2 * MAX_VARINT + steps * (3 * MAX_VARINT + 4 * fields);
+    const perFaceAttributes = 3 * MAX_VARINT;
+    let limit;
+    if (tag === 'BASE') {
+      limit = h.baseVertexCount * perVertex +
+        h.baseFaceCount * (1 + 4 * MAX_VARINT + perFaceAttributes);
+    } else {
+      const splits = h.splitCount - this.mesh.splitsLoaded;
+      const perSplit = MAX_VARINT + 4 + 1 + 4 * (1 + 2 * MAX_VARINT) + MAX_VARINT +
+        MAX_VARINT * h.faceCount + perVertex + 4 * perFaceAttributes;
+      limit = 8 + splits * perSplit;
+    }
+    return Math.min(limit, MAX_CHUNK_BYTES);
+  }
+
+  parseChunk(at, tag, r) {
+    if (tag === 'HEAD') {
+      this.mesh = new ProgressiveMesh(parseHead(r));
+      this.state = 'BASE';
+      this.callbacks.onHead?.(this.mesh);
+    } else if (tag === 'BASE') {
+      parseBase(r, this.mesh);
+      this.replay = new Int32Array(4 * this.mesh.head.faceCount).fill(-1);
+      this.replay.set(this.mesh.baseCorners);
+      this.state = 'SPLT';
+      this.callbacks.onBase?.(this.mesh);
+    } else if (tag === 'SPLT') {
+      const first = this.mesh.splitsLoaded;
+      const count = parseSplits(r, this.mesh, this.replay);
+      this.callbacks.onSplits?.(this.mesh, first, count);
+    } else {
+      const { splitsLoaded, head } = this.mesh;
+      if (splitsLoaded !== head.splitCount)
+        this.fail(at, `END after ${splitsLoaded} of ${head.splitCount} splits`);
+      this.mesh.complete = true;
+      this.state = 'done';
+      this.callbacks.onEnd?.(this.mesh);
+    }
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Payloads
+
+function parseHead(r) {
+  const h = {};
+  h.vertexCount = r.u32();
+  h.faceCount = r.u32();
+  h.baseVertexCount = r.u32();
+  h.baseFaceCount = r.u32();
+  h.splitCount = r.u32();
+  h.stepCount = r.u32();
+  h.fieldCount = r.u32();
+  h.flags = r.u32();
+  h.bboxMin = [r.f64(), r.f64(), r.f64()];
+  h.bboxMax = [r.f64(), r.f64(), r.f64()];
+  h.quantStep = r.f64();
+  h.maxError = r.f64();
+  h.baseError = r.f64();
+  // Each split brings back at most 4 faces (its triangle wings).
+  if (h.splitCount !== h.vertexCount - h.baseVertexCount)
+    r.fail(`split_count ${h.splitCount} is not V − b = ${h.vertexCount - h.baseVertexCount}`);
+  if (h.baseFaceCount > h.faceCount) r.fail('more base faces than faces');
+  if (h.faceCount - h.baseFaceCount > 4 * h.splitCount)
+    r.fail(`${h.faceCount - h.baseFaceCount} faces from ${h.splitCount} splits (4 each at most)`);
+  if (h.stepCount < 1) r.fail('no time steps');
+  if (r.remaining() < 8 * h.stepCount) r.fail(`${h.stepCount} step times do not fit in HEAD`);
+  if (h.flags & ~HEAD_FLAG_LOSSLESS) r.fail(`unknown HEAD flags ${h.flags}`);
+  if (![...h.bboxMin, ...h.bboxMax].every(Number.isFinite)) r.fail('the box is not finite');
+  if (!(h.flags & HEAD_FLAG_LOSSLESS) && !(h.quantStep > 0 && Number.isFinite(h.quantStep)))
+    r.fail(`quant_step ${h.quantStep} is not valid`);
+  // The writer keeps the grid at least 4 float32 ulps at the box's largest coordinate
+  // (FORMAT.md "Positions"); the C++ reader predicts from float32 positions, so a finer grid
+  // would decode differently there: refused by both.
+  const largest = Math.max(...h.bboxMin.map(Math.abs), ...h.bboxMax.map(Math.abs));
+  if (!(h.flags & HEAD_FLAG_LOSSLESS) && h.quantStep < 4 * largest * 2 ** -23)
+    r.fail(`quant_step ${h.quantStep} is finer than float32 holds in the bounding box`);
+  if (!(h.maxError >= 0 && h.maxError < Infinity && h.baseError >= 0 && h.baseError < Infinity))
+    r.fail('the error bounds are not finite numbers ≥ 0');
+  h.times = new Float64Array(h.stepCount);
+  for (let t = 0; t < h.stepCount; t++) h.times[t] = r.f64();
+  if (!h.times.every(Number.isFinite)) r.fail('a step time is not finite');
+  const keyCount = r.u32();
+  if (r.remaining() < 4 * keyCount) r.fail(`${keyCount} key steps do not fit in HEAD`);
+  h.keySteps = [];
+  for (let i = 0; i < keyCount; i++) h.keySteps.push(r.u32());
+  if (r.remaining() < 2 * h.fieldCount) r.fail(`${h.fieldCount} field names do not fit in HEAD`);
+  h.fieldNames = [];
+  for (let i = 0; i < h.fieldCount; i++) h.fieldNames.push(r.string());
+  h.note = r.string();
+  if (h.fieldCount * h.stepCount > 2 ** 24) r.fail('too many fields × steps');
+  // Field values come with vertices: a model without base vertices has none.
+  if (h.fieldCount > 0 && h.baseVertexCount === 0) r.fail('fields on a model without vertices');
+  if (r.remaining() !== 0) r.fail(`${r.remaining()} bytes left over at the end of HEAD`);
+  return h;
+}
+
+function parseBase(r, mesh) {
+  const h = mesh.head;
+  const b = h.baseVertexCount;
+  const nf = h.baseFaceCount;
+  if (r.remaining() < 2 * b + 4 * nf) r.fail(`${b} vertices and ${nf} faces do not fit in BASE`);
+  parseVertexIds(r, mesh, 0, b);
+  const degree = new Uint8Array(nf);
+  const corners = new Int32Array(4 * nf).fill(-1);
+  for (let f = 0; f < nf; f++) {
+    const d = r.u8();
+    if (d !== 3 && d !== 4) r.fail(`base face ${f} has degree ${d}`);
+    degree[f] = d;
+    for (let c = 0; c < d; c++) {
+      const v = r.varint();
+      if (v >= b) r.fail(`base face ${f}: corner ${v} is not a base vertex (b = ${b})`);
+      corners[4 * f + c] = v;
+    }
+    for (let c = 0; c < d; c++)
+      for (let e = c + 1; e < d; e++)
+        if (corners[4 * f + c] === corners[4 * f + e]) r.fail(`base face ${f}: corner twice`);
+  }
+  mesh.baseDegree = degree;
+  mesh.baseCorners = corners;
+  parseFaceIds(r, mesh, 0, nf);
+  parsePositions(r, mesh, 0, b);
+  parseFields(r, mesh, 0, b);
+  if (r.remaining() !== 0) r.fail(`${r.remaining()} bytes left over at the end of BASE`);
+  mesh.faceCountAt[0] = nf;
+  mesh.hasBase = true;
+}
+
+// Original indices must name an input vertex (face); part ids are int32 (the C++ reader's
+// read_vertex_attributes() and read_face_attributes()).
+function parseVertexIds(r, mesh, first, count) {
+  const V = mesh.head.vertexCount;
+  for (let v = first; v < first + count; v++) {
+    const original = (mesh.lastVertexOriginal += r.svarint());
+    mesh.nodeId[v] = mesh.lastNodeId += r.svarint();
+    if (!(original >= 0 && original < V)) r.fail(`vertex ${v}: original index ${original}`);
+    mesh.vertexOriginal[v] = original;
+  }
+}
+
+function parseFaceIds(r, mesh, first, count) {
+  const F = mesh.head.faceCount;
+  for (let f = first; f < first + count; f++) {
+    // part_id is absolute; element_id and original_index are deltas (FORMAT.md, and the C++
+    // writer: the "delta" note binds to the fields after part_id).
+    const part = r.svarint();
+    mesh.elementId[f] = mesh.lastElementId += r.svarint();
+    const original = (mesh.lastFaceOriginal += r.svarint());
+    if (!(part >= -2147483648 && part <= 2147483647)) r.fail(`face ${f}: part id ${part}`);
+    if (!(original >= 0 && original < F)) r.fail(`face ${f}: original index ${original}`);
+    mesh.partId[f] = part;
+    mesh.faceOriginal[f] = original;
+  }
+}
+
+// Residuals per FORMAT.md "Positions": base vertices against the previous vertex (step 0) and
+
+// Residuals per FORMAT.md "Positions": base vertices against the previous vertex (step 0) and
+// their own previous step; split vertices against their parent, in both step and time.
+// Int32Array stores wrap modulo 2^32, as lossless residual arithmetic requires; a quantized
+// position lies in the bounding box, give or take two grid steps.
+function parsePositions(r, mesh, first, count) {
+  const q = mesh.q;
+  const parent = mesh.parent;
+  const { baseVertexCount: b, bboxMin, bboxMax, quantStep } = mesh.head;
+  const checked = !mesh.lossless;
+  const top = [0, 1, 2].map((c) => (bboxMax[c] - bboxMin[c]) / quantStep + 2);
+  const end = first + count;
+  for (let t = 0; t < q.length; t++) {
+    const cur = q[t];
+    const prev = t > 0 ? q[t - 1] : null;
+    for (let v = first; v < end; v++) {
+      const p = v < b ? -1 : 3 * parent[v - b];
+      for (let i = 3 * v, j = p; i < 3 * v + 3; i++, j++) {
+        let prediction;
+        if (p < 0) prediction = t > 0 ? prev[i] : v > 0 ? cur[i - 3] : 0;
+        else prediction = t === 0 ? cur[j] : prev[i] + cur[j] - prev[j];
+        const value = r.svarint() + prediction;
+        if (checked && (value < -2 || value > top[i - 3 * v]))
+          r.fail(`vertex ${v} step ${t}: a position far outside the bounding box`);
+        cur[i] = value;
+      }
+    }
+  }
+}
+
+function parseFields(r, mesh, first, count) {
+  for (const steps of mesh.fields) {
+    for (const values of steps) {
+      for (let v = first; v < first + count; v++) values[v] = r.f32();
+    }
+  }
+}
+
+function parseSplits(r, mesh, replay) {
+  const h = mesh.head;
+  const b = h.baseVertexCount;
+  const s = r.u32();
+  const n = r.u32();
+  if (s !== mesh.splitsLoaded) r.fail(`first_split ${s}, expected ${mesh.splitsLoaded}`);
+  if (n === 0 || n > h.splitCount - s) r.fail(`${n} splits from ${s} (${h.splitCount} in all)`);
+  // A split takes at least 7 bytes: parent, error, wing count, moved count.
+  if (r.remaining() < n * 7) r.fail(`${n} splits do not fit in the chunk`);
+  const { parent, error, wingStart, movedStart, faceCountAt } = mesh;
+  const { wingFlags, wingVertex, wingFace, movedFaces } = mesh;
+  let newFaces = 0;
+  for (let i = s; i < s + n; i++) {
+    const v0 = b + i;
+    let F = faceCountAt[i];
+    const pv = r.varint();
+    if (pv > v0 - 1) r.fail(`split ${i}: parent ${v0 - 1 - pv} < 0`);
+    parent[i] = v0 - 1 - pv;
+    const e = r.f32();
+    if (!(e >= 0 && e < Infinity)) r.fail(`split ${i}: error ${e} is not a finite number ≥ 0`);
+    error[i] = e;
+    const wings = r.u8();
+    if (wings > 4) r.fail(`split ${i}: ${wings} wings (at most 4)`);
+    wingStart[i] = wingFlags.length;
+    let created = 0;
+    for (let w = 0; w < wings; w++) {
+      const flags = r.u8();
+      if (flags & ~0xf) r.fail(`split ${i}: wing flags ${flags}`);
+      const wv = r.varint();
+      if (wv > v0 - 1) r.fail(`split ${i}: wing vertex ${v0 - 1 - wv} < 0`);
+      wingFlags.push(flags);
+      wingVertex.push(v0 - 1 - wv);
+      if (flags & WING_WAS_TRIANGLE) {
+        wingFace.push(F + created++);
+      } else {
+        const fv = r.varint();
+        if (fv > F - 1) r.fail(`split ${i}: wing face ${F - 1 - fv} < 0`);
+        wingFace.push(F - 1 - fv);
+      }
+    }
+    const movedCount = r.varint();
+    if (movedCount > r.remaining()) r.fail(`split ${i}: ${movedCount} moved faces do not fit`);
+    movedStart[i] = movedFaces.length;
+    for (let k = 0; k < movedCount; k++) {
+      const fv = r.varint();
+      if (fv > F - 1) r.fail(`split ${i}: moved face ${F - 1 - fv} < 0`);
+      movedFaces.push(F - 1 - fv);
+    }
+    faceCountAt[i + 1] = F + created;
+    wingStart[i + 1] = wingFlags.length;
+    movedStart[i + 1] = movedFaces.length;
+    newFaces += created;
+  }
+  if (faceCountAt[s + n] > h.faceCount) r.fail(`splits create more faces than F = ${h.faceCount}`);
+  if (s + n === h.splitCount && faceCountAt[s + n] !== h.faceCount)
+    r.fail(`all splits give ${faceCountAt[s + n]} faces, HEAD says ${h.faceCount}`);
+  parseVertexIds(r, mesh, b + s, n);
+  parseFaceIds(r, mesh, faceCountAt[s], newFaces);
+  parsePositions(r, mesh, b + s, n);
+  parseFields(r, mesh, b + s, n);
+  if (r.remaining() !== 0) r.fail(`${r.remaining()} bytes left over at the end of SPLT`);
+  // Replay the splits on the faces: a record that does not fit is an error here, so that the
+  // navigator can apply them unchecked.
+  const touch = () => {};
+  for (let i = s; i < s + n; i++) {
+    let problem = checkSplit(mesh, i, replay);
+    if (!problem) {
+      try {
+        applySplit(mesh, i, replay, touch);
+        problem = touchedFacesValid(mesh, i, replay);
+      } catch (e) {
+        if (!(e instanceof DpmError)) throw e;
+        problem = e.message;
+      }
+    }
+    if (problem) r.failChunk(problem);
+  }
+  // Only now: a chunk that fails half-way leaves the loaded levels as they were.
+  mesh.splitsLoaded = s + n;
+  return n;
+}
+
+// Reads a whole .dpm held in memory, or a prefix of one (Node tests, tools).
+export function readDpm(bytes, name = 'file') {
+  const decoder = new DpmDecoder({ name });
+  decoder.push(bytes instanceof Uint8Array ? bytes : new Uint8Array(bytes));
+  if (!decoder.mesh) throw new DpmError(`${name}: ends before HEAD is complete`);
+  return { mesh: decoder.mesh, complete: decoder.complete, decoder };
+}
+
+// Reads a whole .dpm, or a prefix that holds at least HEAD and BASE, as the C++ decode_dpm()
+// does: a file that ends before is an error at the chunk it ends in.
+export function decodeDpm(bytes, name = 'file') {
+  const decoder = new DpmDecoder({ name });
+  decoder.push(bytes instanceof Uint8Array ? bytes : new Uint8Array(bytes));
+  if (decoder.state === 'magic') decoder.fail(0, 'not a .dpm file (shorter than its signature)');
+  if (!decoder.mesh?.hasBase)
+    decoder.fail(decoder.chunkStart, `the file ends before ${decoder.state} is complete`);
+  return { mesh: decoder.mesh, complete: decoder.complete, decoder };
+}
+
+// Streams a fetch() Response (or any ReadableStream of Uint8Array) into a decoder;
+// onProgress(bytesReceived) after every piece.
+export async function streamDpm(stream, decoder, onProgress) {
+  const reader = stream.getReader();
+  for (;;) {
+    const { done, value } = await reader.read();
+    if (done) break;
+    decoder.push(value);
+    onProgress?.(decoder.bytesReceived);
+  }
+  return decoder.mesh;
+}

@@ -1,0 +1,118 @@
+// The mesh at one level (C++: Navigator, src/lod/navigator.cpp): splits applied or undone in
+// place between levels, touching only the faces their records name.
+import { DpmError } from './bytes.js';
+import { applySplit, undoSplit } from './progressive_mesh.js';
+
+// Holds the current faces (4 corner slots, −1 in slot 3 of a triangle) for levels up to what has
+// been loaded. Changes are recorded as a list of touched faces, which the renderer drains
+// (takeDirty) to rewrite just those faces' index entries (draw_indices.js).
+export class Navigator {
+  constructor(mesh) {
+    if (!mesh.hasBase) throw new DpmError('Navigator needs the BASE chunk');
+    this.mesh = mesh;
+    const F = mesh.head.faceCount;
+    const nf = mesh.head.baseFaceCount;
+    // 4 slots per face, −1 in slot 3 of a triangle: the degree is read from the slots, so that a
+    // face is one 16-byte record (one cache miss per face a split touches, not two).
+    this.corners = new Int32Array(4 * F).fill(-1);
+    this.corners.set(mesh.baseCorners);
+    this.level = 0;  // splits applied
+    this.quads = 0;
+    for (let f = 0; f < nf; f++) this.quads += mesh.baseDegree[f] === 4 ? 1 : 0;
+    // The touched faces, each once: a mark per face and a list (grown by hand, so that this hot
+    // path sees one array type only).
+    this.dirtyMark = new Uint8Array(F);
+    this.dirtyList = new Uint32Array(1024);
+    this.dirtyCount = 0;
+    this.touchFace = (f) => {
+      if (!this.dirtyMark[f]) this.touch(f);
+    };
+    for (let f = 0; f < nf; f++) this.touch(f);
+  }
+
+  get vertexCount() {
+    return this.mesh.head.baseVertexCount + this.level;
+  }
+  get faceCount() {
+    return this.mesh.faceCountAt[this.level];
+  }
+  get quadCount() {
+    return this.quads;
+  }
+  get triangleCount() {
+    return this.faceCount - this.quads;
+  }
+  get error() {
+    return this.mesh.levelError(this.level);
+  }
+
+  touch(f) {
+    if (this.dirtyMark[f]) return;
+    this.dirtyMark[f] = 1;
+    if (this.dirtyCount === this.dirtyList.length) {
+      const bigger = new Uint32Array(2 * this.dirtyList.length);
+      bigger.set(this.dirtyList);
+      this.dirtyList = bigger;
+    }
+    this.dirtyList[this.dirtyCount++] = f;
+  }
+
+  // The faces changed since the last call (may include faces now beyond faceCount).
+  takeDirty() {
+    const list = this.dirtyList.subarray(0, this.dirtyCount);
+    for (let i = 0; i < list.length; i++) this.dirtyMark[list[i]] = 0;
+    this.dirtyCount = 0;
+    return list;
+  }
+
+  // Any level in [0, splitsLoaded]; returns the level reached.
+  setLevel(k) {
+    k = Math.max(0, Math.min(k, this.mesh.splitsLoaded));
+    if (k > this.level) this.refine(k);
+    else if (k < this.level) this.coarsen(k);
+    return this.level;
+  }
+  setVertexCount(n) {
+    return this.setLevel(n - this.mesh.head.baseVertexCount);
+  }
+
+  // The coarsest loaded level whose error is ≤ e (errors never increase along the stream).
+  levelForError(e) {
+    const { mesh } = this;
+    if (mesh.head.baseError <= e) return 0;
+    let lo = 0, hi = mesh.splitsLoaded;  // search the first split i with error[i] ≤ e
+    while (lo < hi) {
+      const mid = (lo + hi) >> 1;
+      if (mesh.error[mid] <= e) hi = mid;
+      else lo = mid + 1;
+    }
+    return Math.min(lo + 1, mesh.splitsLoaded);
+  }
+
+  // Applies splits [level, k): split i re-creates v0 = b + i from its parent.
+  refine(k = this.level + 1) {
+    const { mesh, corners } = this;
+    let quads = this.quads;
+    for (let i = this.level; i < k; i++) quads += applySplit(mesh, i, corners, this.touchFace);
+    this.quads = quads;
+    this.level = k;
+  }
+
+  // Undoes splits [k, level) from the last: each is the collapse v0 → v1.
+  coarsen(k = this.level - 1) {
+    const { mesh, corners } = this;
+    let quads = this.quads;
+    for (let i = this.level - 1; i >= k; i--) quads -= undoSplit(mesh, i, corners, this.touchFace);
+    this.quads = quads;
+    this.level = k;
+  }
+
+  // Face f's corners at this level (for tests and exports).
+  face(f) {
+    return Array.from(this.corners.subarray(4 * f, 4 * f + this.degree(f)));
+  }
+
+  degree(f) {
+    return this.corners[4 * f + 3] < 0 ? 3 : 4;
+  }
+}

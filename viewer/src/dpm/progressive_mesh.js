@@ -1,0 +1,288 @@
+// The progressive mesh as far as it has arrived, and the vertex split and its inverse on a face
+// array (docs/FORMAT.md "Applying a split"). The C++ side: ProgressiveMesh in
+// include/dynpm/progressive.h, apply_split()/undo_split() in src/progressive/progressive_mesh.cpp;
+// the names of the split record are the same on both sides.
+//
+// Positions are kept as the file's quantized integers, one Int32Array of 3·V per step, so that
+// any level at any (fractional) step is a prefix of them. Faces are 4 corner slots each, −1 in
+// slot 3 of a triangle (one 16-byte record per face).
+import { DpmError, Growable } from './bytes.js';
+
+// A wing's flags (FORMAT.md "SPLT payload"; C++ SplitWing::kWasTriangle, kV1FollowsV0,
+// kSlotShift): the face was a triangle (re-created), v1 followed v0 in its corner order, and
+// v0's corner slot in bits 2–3.
+export const WING_WAS_TRIANGLE = 1;
+export const WING_V1_FOLLOWS_V0 = 2;
+export const WING_SLOT_SHIFT = 2;
+export const HEAD_FLAG_LOSSLESS = 1;
+// A browser tab cannot hold more; a HEAD asking for it is refused before anything is allocated.
+const MAX_ARRAY_ELEMENTS = 2 ** 31 - 1;
+
+export class ProgressiveMesh {
+  constructor(head) {
+    this.head = head;
+    const { vertexCount: V, faceCount: F, stepCount: m, fieldCount } = head;
+    if (3 * V * 1 > MAX_ARRAY_ELEMENTS || 4 * F > MAX_ARRAY_ELEMENTS || m * fieldCount > 65536)
+      throw new DpmError(`HEAD: ${V} vertices, ${F} faces, ${m} steps: more than a browser holds`);
+    this.q = [];  // per step: Int32Array(3V), quantized (or f32 bit patterns when lossless)
+    for (let t = 0; t < m; t++) this.q.push(new Int32Array(3 * V));
+    this.fields = [];  // per field, per step: Float32Array(V)
+    for (let f = 0; f < fieldCount; f++) {
+      const steps = [];
+      for (let t = 0; t < m; t++) steps.push(new Float32Array(V));
+      this.fields.push(steps);
+    }
+    this.vertexOriginal = new Float64Array(V);  // per vertex: its position in the input's order
+    this.nodeId = new Float64Array(V);  // per vertex: the FE node id
+    // Faces as the base mesh has them; splits re-create the others (Navigator).
+    this.baseDegree = null;  // per base face: 3 or 4 (Uint8Array, from BASE)
+    this.baseCorners = null;  // per base face: 4 slots, −1 in slot 3 of a triangle (Int32Array)
+    this.faceOriginal = new Float64Array(F);  // per face: its position in the input's order
+    this.partId = new Float64Array(F);  // per face: the FE part id
+    this.elementId = new Float64Array(F);  // per face: the FE element id
+    // The split records (paper §4's vsp), flat; split i creates vertex v0 = b + i.
+    const S = head.splitCount;
+    this.parent = new Int32Array(S);  // per split: v1, the vertex v0 was collapsed into
+    this.error = new Float32Array(S);  // per split: the error of the mesh right after it
+    this.wingStart = new Uint32Array(S + 1);  // split i's wings: [wingStart[i], wingStart[i+1])
+    // per wing: the quad's face (a triangle until the split), or the re-created triangle's face
+    this.wingFace = new Growable(Int32Array, S * 2);
+    this.wingVertex = new Growable(Int32Array, S * 2);  // per wing: w, v0's other neighbour in it
+    // per wing: WING_WAS_TRIANGLE | WING_V1_FOLLOWS_V0 | v0's corner slot << WING_SLOT_SHIFT
+    this.wingFlags = new Growable(Uint8Array, S * 2);
+    // split i's moved faces: [movedStart[i], movedStart[i+1])
+    this.movedStart = new Uint32Array(S + 1);
+    this.movedFaces = new Growable(Int32Array, S * 2);  // faces that hold v1 and take v0 instead
+    this.faceCountAt = new Uint32Array(S + 1);  // faces after k splits
+    this.hasBase = false;
+    this.splitsLoaded = 0;
+    this.complete = false;
+    // Delta chains that continue across chunks.
+    this.lastVertexOriginal = 0;
+    this.lastNodeId = 0;
+    this.lastElementId = 0;
+    this.lastFaceOriginal = 0;
+  }
+
+  get lossless() {
+    return (this.head.flags & HEAD_FLAG_LOSSLESS) !== 0;
+  }
+  // Vertices available: the base plus the splits that have arrived.
+  get vertexCountLoaded() {
+    return this.hasBase ? this.head.baseVertexCount + this.splitsLoaded : 0;
+  }
+  // The error of the level with k splits applied.
+  levelError(k) {
+    return k === 0 ? this.head.baseError : this.error[k - 1];
+  }
+  // Position of vertex v at integer step t, as the f32 the file means.
+  position(v, t, out = [0, 0, 0]) {
+    const q = this.q[t];
+    if (this.lossless) {
+      const f = new Float32Array(q.buffer, q.byteOffset + 12 * v, 3);
+      out[0] = f[0], out[1] = f[1], out[2] = f[2];
+    } else {
+      const { bboxMin, quantStep } = this.head;
+      for (let c = 0; c < 3; c++) out[c] = Math.fround(bboxMin[c] + q[3 * v + c] * quantStep);
+    }
+    return out;
+  }
+
+  // Positions of vertices [0, n) at fractional step t (linear between the two steps around it),
+  // into out (Float32Array, ≥ 3n). This is the per-frame work while time changes: one pass over
+  // a prefix of two arrays.
+  positionsAt(t, n, out) {
+    const m = this.head.stepCount;
+    t = Math.min(Math.max(t, 0), m - 1);
+    const t0 = Math.floor(t);
+    const t1 = Math.min(t0 + 1, m - 1);
+    const a = t - t0;
+    const count = 3 * n;
+    if (this.lossless) {
+      const p0 = new Float32Array(this.q[t0].buffer, 0, count);
+      const p1 = new Float32Array(this.q[t1].buffer, 0, count);
+      if (a === 0) out.set(p0);
+      else for (let i = 0; i < count; i++) out[i] = p0[i] + (p1[i] - p0[i]) * a;
+      return out;
+    }
+    const q0 = this.q[t0];
+    const q1 = this.q[t1];
+    const s = this.head.quantStep;
+    const [x0, y0, z0] = this.head.bboxMin;
+    if (a === 0) {
+      for (let i = 0; i < count; i += 3) {
+        out[i] = x0 + q0[i] * s;
+        out[i + 1] = y0 + q0[i + 1] * s;
+        out[i + 2] = z0 + q0[i + 2] * s;
+      }
+    } else {
+      const b0 = (1 - a) * s;
+      const b1 = a * s;
+      for (let i = 0; i < count; i += 3) {
+        out[i] = x0 + q0[i] * b0 + q1[i] * b1;
+        out[i + 1] = y0 + q0[i + 1] * b0 + q1[i + 1] * b1;
+        out[i + 2] = z0 + q0[i + 2] * b0 + q1[i + 2] * b1;
+      }
+    }
+    return out;
+  }
+
+  // |p − p(0)| of vertices [0, n), given their positions now and at step 0.
+  static displacement(positions, base, n, out) {
+    for (let v = 0, i = 0; v < n; v++, i += 3) {
+      const dx = positions[i] - base[i];
+      const dy = positions[i + 1] - base[i + 1];
+      const dz = positions[i + 2] - base[i + 2];
+      out[v] = Math.sqrt(dx * dx + dy * dy + dz * dz);
+    }
+    return out;
+  }
+
+  // Field f's values of vertices [0, n) at fractional step t.
+  fieldAt(f, t, n, out) {
+    const m = this.head.stepCount;
+    t = Math.min(Math.max(t, 0), m - 1);
+    const t0 = Math.floor(t);
+    const t1 = Math.min(t0 + 1, m - 1);
+    const a = t - t0;
+    const v0 = this.fields[f][t0];
+    const v1 = this.fields[f][t1];
+    for (let v = 0; v < n; v++) out[v] = v0[v] + (v1[v] - v0[v]) * a;
+    return out;
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// The vertex split and its inverse on a face array: corners holds 4 slots per face (−1 in slot 3
+// of a triangle) and room for every face of the mesh; its first faceCountAt[i] faces are the
+// current ones when split i is applied. touch(f) hears of every face that changes.
+
+function slotOf(corners, f, v) {
+  const c = 4 * f;
+  for (let k = 0; k < 4; k++) if (corners[c + k] === v) return k;
+  return -1;
+}
+
+// What is wrong with split i on these faces, or null: indices in range, moved faces hold the
+// parent, quad wings are triangles holding the parent and the wing vertex. For decoders of
+// untrusted files, before applySplit() (C++: check_split()).
+export function checkSplit(mesh, i, corners) {
+  const v0 = mesh.head.baseVertexCount + i;
+  const v1 = mesh.parent[i];
+  const faceCount = mesh.faceCountAt[i];
+  const where = `split ${i}: `;
+  if (v1 >= v0) return `${where}parent ${v1} does not exist yet`;
+  const movedFaces = mesh.movedFaces.data;
+  for (let j = mesh.movedStart[i]; j < mesh.movedStart[i + 1]; j++) {
+    const f = movedFaces[j];
+    if (f >= faceCount) return `${where}moved face ${f} does not exist`;
+    if (slotOf(corners, f, v1) < 0) return `${where}moved face ${f} does not hold the parent`;
+  }
+  let created = faceCount;
+  for (let j = mesh.wingStart[i]; j < mesh.wingStart[i + 1]; j++) {
+    const flags = mesh.wingFlags.data[j];
+    const w = mesh.wingVertex.data[j];
+    const f = mesh.wingFace.data[j];
+    if (w >= v0 || w === v1) return `${where}wing vertex ${w} is not valid`;
+    if (flags & WING_WAS_TRIANGLE) {
+      if (f !== created || 4 * created >= corners.length)
+        return `${where}re-created face ${f} is out of order`;
+      if (flags >> WING_SLOT_SHIFT > 2) return `${where}a triangle has no corner slot 3`;
+      created++;
+      continue;
+    }
+    if (f >= faceCount) return `${where}wing face ${f} does not exist`;
+    if (corners[4 * f + 3] >= 0 || slotOf(corners, f, v1) < 0 || slotOf(corners, f, w) < 0)
+      return `${where}wing face ${f} is not a triangle holding the parent and the wing vertex`;
+  }
+  return null;
+}
+
+// Split i re-creates v0 = b + i from its parent v1 (FORMAT.md "Applying a split"); returns the
+// quads it makes (its quad wings). Records are applied unchecked: checkSplit() and
+// touchedFacesValid() ran when they were decoded. The navigator's hot path, every array in a
+// local.
+export function applySplit(mesh, i, corners, touch) {
+  const v0 = mesh.head.baseVertexCount + i;
+  const v1 = mesh.parent[i];
+  const movedFaces = mesh.movedFaces.data;
+  // 1. Moved faces: the corner holding v1 takes v0.
+  for (let j = mesh.movedStart[i], end = mesh.movedStart[i + 1]; j < end; j++) {
+    const f = movedFaces[j];
+    const s = slotOf(corners, f, v1);
+    if (s < 0) throw new DpmError(`split ${i}: moved face ${f} is named twice`);
+    corners[4 * f + s] = v0;
+    touch(f);
+  }
+  const wingFlags = mesh.wingFlags.data;
+  const wingVertex = mesh.wingVertex.data;
+  const wingFace = mesh.wingFace.data;
+  let quads = 0;
+  for (let j = mesh.wingStart[i], end = mesh.wingStart[i + 1]; j < end; j++) {
+    const flags = wingFlags[j];
+    const w = wingVertex[j];
+    const f = wingFace[j];
+    const s = (flags >> WING_SLOT_SHIFT) & 3;
+    const c = 4 * f;
+    if (flags & WING_WAS_TRIANGLE) {
+      // 2. Triangle wing: the face the collapse removed comes back, v0 at slot s.
+      const v1Follows = (flags & WING_V1_FOLLOWS_V0) !== 0;
+      corners[c + s] = v0;
+      corners[c + ((s + 1) % 3)] = v1Follows ? v1 : w;
+      corners[c + ((s + 2) % 3)] = v1Follows ? w : v1;
+      corners[c + 3] = -1;
+    } else {
+      // 3. Quad wing: the triangle becomes the quad again, v0 back into slot s.
+      for (let k = 3; k > s; k--) corners[c + k] = corners[c + k - 1];
+      corners[c + s] = v0;
+      quads++;
+    }
+    touch(f);
+  }
+  return quads;
+}
+
+// The inverse of applySplit(): the collapse v0 → v1. Returns the quads it turns back into
+// triangles.
+export function undoSplit(mesh, i, corners, touch) {
+  const v0 = mesh.head.baseVertexCount + i;
+  const v1 = mesh.parent[i];
+  const wingFlags = mesh.wingFlags.data;
+  const wingFace = mesh.wingFace.data;
+  let quads = 0;
+  for (let j = mesh.wingStart[i + 1] - 1; j >= mesh.wingStart[i]; j--) {
+    const f = wingFace[j];
+    const flags = wingFlags[j];
+    const c = 4 * f;
+    if (!(flags & WING_WAS_TRIANGLE)) {
+      for (let k = (flags >> WING_SLOT_SHIFT) & 3; k < 3; k++) corners[c + k] = corners[c + k + 1];
+      quads++;
+    }
+    corners[c + 3] = -1;  // a re-created triangle is removed: beyond the face count now
+    touch(f);
+  }
+  const movedFaces = mesh.movedFaces.data;
+  for (let j = mesh.movedStart[i], end = mesh.movedStart[i + 1]; j < end; j++) {
+    const f = movedFaces[j];
+    corners[4 * f + slotOf(corners, f, v0)] = v1;
+    touch(f);
+  }
+  return quads;
+}
+
+// After a checked split: every face it touched has distinct corners (a face named twice, or
+// both moved and a wing, would not). What is wrong, or null (C++: touched_faces_valid()).
+export function touchedFacesValid(mesh, i, corners) {
+  const distinct = (f) => {
+    const c = 4 * f;
+    const a = corners[c], b = corners[c + 1], d = corners[c + 2], x = corners[c + 3];
+    return !(a === b || a === d || b === d || a === x || b === x || d === x);
+  };
+  for (let j = mesh.movedStart[i]; j < mesh.movedStart[i + 1]; j++)
+    if (!distinct(mesh.movedFaces.data[j]))
+      return `split ${i}: face ${mesh.movedFaces.data[j]} is named twice`;
+  for (let j = mesh.wingStart[i]; j < mesh.wingStart[i + 1]; j++)
+    if (!distinct(mesh.wingFace.data[j]))
+      return `split ${i}: face ${mesh.wingFace.data[j]} is named twice`;
+  return null;
+}
