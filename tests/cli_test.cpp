@@ -198,11 +198,14 @@ namespace {
 TEST(Cli, BuildFromFrdExtractFullIsTheInputAndInfoDescribesTheModel) {
   test::TempDir dir;
   const std::string frd = dir.file("rail.frd");
-  ASSERT_EQ(std::system(("zcat '" + test::source_dir() + "/data/hat-rail/rail.frd.gz' > " + frd).c_str()), 0);
+  ASSERT_EQ(
+      std::system(("zcat '" + test::source_dir() + "/data/hat-rail/rail.frd.gz' > " + frd).c_str()),
+      0);
   auto build = dynpm_cli("build " + frd + " --lossless -o " + dir.file("rail.dpm"));
   ASSERT_EQ(build.exit_code, 0) << build.output;
   EXPECT_TRUE(contains(build.output, "vertex splits rebuild the input")) << build.output;
-  auto extract = dynpm_cli("extract " + dir.file("rail.dpm") + " --full -o " + dir.file("full_{:03d}.ply"));
+  auto extract =
+      dynpm_cli("extract " + dir.file("rail.dpm") + " --full -o " + dir.file("full_{:03d}.ply"));
   ASSERT_EQ(extract.exit_code, 0) << extract.output;
   auto stream = open_input(std::vector<std::string>{frd});
   ASSERT_TRUE(stream.ok()) << stream.message();
@@ -221,7 +224,8 @@ TEST(Cli, BuildFromFrdExtractFullIsTheInputAndInfoDescribesTheModel) {
   ASSERT_EQ(info.exit_code, 0) << info.output;
   EXPECT_TRUE(contains(info.output, "\"splits\"")) << info.output;
   EXPECT_TRUE(contains(info.output, "\"lossless\": true")) << info.output;
-  auto coarse = dynpm_cli("extract " + dir.file("rail.dpm") + " --max-error 1% --step 12.5 -o " + dir.file("c.obj"));
+  auto coarse = dynpm_cli("extract " + dir.file("rail.dpm") + " --max-error 1% --step 12.5 -o " +
+                          dir.file("c.obj"));
   EXPECT_EQ(coarse.exit_code, 0) << coarse.output;
   auto bad = dynpm_cli("extract " + frd + " --full -o " + dir.file("x_{:03d}.obj"));
   EXPECT_EQ(bad.exit_code, 1) << bad.output;
@@ -321,7 +325,9 @@ TEST(Cli, NumericFlagsOutsideTheirRangeAreRefused) {
            // A value's length in a message is bounded.
            {"extract " + model + " --full --step " + huge + out, "…' (5000 characters)"},
            {"build " + grid + " --key-steps auto:" + huge + " -o " + model,
-            "key steps 'auto:999999999999999999999999999999999999999999999999999999999999999999999999999… (5005 bytes)'"},
+            "key steps "
+            "'auto:999999999999999999999999999999999999999999999999999999999999999999999999999… "
+            "(5005 bytes)'"},
        }) {
     SCOPED_TRACE(c.arguments.substr(0, 200));
     auto r = dynpm_cli(c.arguments);

@@ -27,9 +27,12 @@ struct Harness {
 };
 
 const Harness kHarnesses[] = {
-    {"obj", dynpm::fuzz::run_obj},       {"ply", dynpm::fuzz::run_ply},
-    {"vtk", dynpm::fuzz::run_vtk},       {"frd", dynpm::fuzz::run_frd},
-    {"d3plot", dynpm::fuzz::run_d3plot}, {"exodus", dynpm::fuzz::run_exodus},
+    {"obj", dynpm::fuzz::run_obj},
+    {"ply", dynpm::fuzz::run_ply},
+    {"vtk", dynpm::fuzz::run_vtk},
+    {"frd", dynpm::fuzz::run_frd},
+    {"d3plot", dynpm::fuzz::run_d3plot},
+    {"exodus", dynpm::fuzz::run_exodus},
     {"exodus_hdf5", dynpm::fuzz::run_exodus_hdf5, "exodus"},
     {"dpm", dynpm::fuzz::run_dpm},
 };

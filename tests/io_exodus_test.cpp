@@ -342,7 +342,8 @@ TEST(ContainedReadTest, ChildReadsErrorsAndCrashes) {
   EXPECT_EQ(values[0], 2.25f);
   EXPECT_EQ(frames.read_step(1, xyz).message(), "step 1: no data");
   const std::string died = "a.exo: damaged HDF5 file (the HDF5 library crashed reading it: ";
-  EXPECT_TRUE(frames.read_step(2, xyz).message().starts_with(died)) << frames.read_step(2, xyz).message();
+  EXPECT_TRUE(frames.read_step(2, xyz).message().starts_with(died))
+      << frames.read_step(2, xyz).message();
   EXPECT_TRUE(frames.read_step(0, xyz).message().starts_with(died));  // and stays dead
 
   auto refused = io::open_in_child("b.exo", options, "HDF5", [](const ReadOptions&) {
@@ -353,8 +354,9 @@ TEST(ContainedReadTest, ChildReadsErrorsAndCrashes) {
     std::raise(SIGSEGV);
     return Result<AnimationStream>(Status::error("not reached"));
   });
-  EXPECT_TRUE(crashed.message().starts_with("c.exo: damaged HDF5 file (the HDF5 library crashed "
-                                            "reading it: "))
+  EXPECT_TRUE(
+      crashed.message().starts_with("c.exo: damaged HDF5 file (the HDF5 library crashed "
+                                    "reading it: "))
       << crashed.message();
 }
 

@@ -67,7 +67,8 @@ inline std::string vtk_python() {
   } while (0)
 #define DYNPM_REQUIRE_MESHIO() \
   DYNPM_REQUIRE_PYTHON(::dynpm::test::meshio_python(), "python3-meshio")
-#define DYNPM_REQUIRE_MESHIO_EXODUS()                                                \
-  DYNPM_REQUIRE_PYTHON(::dynpm::test::meshio_exodus_python(), "python3-meshio with " \
-                                                              "python3-netcdf4")
+#define DYNPM_REQUIRE_MESHIO_EXODUS()                         \
+  DYNPM_REQUIRE_PYTHON(::dynpm::test::meshio_exodus_python(), \
+                       "python3-meshio with "                 \
+                       "python3-netcdf4")
 #define DYNPM_REQUIRE_VTK() DYNPM_REQUIRE_PYTHON(::dynpm::test::vtk_python(), "python3-vtk9")

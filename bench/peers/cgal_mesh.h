@@ -47,7 +47,8 @@ inline SoupInfo soup_to_surface_mesh(TriSoup soup, SurfaceMesh& mesh) {
   return info;
 }
 
-inline void surface_mesh_to_arrays(const SurfaceMesh& mesh, std::vector<Vec3>& V, std::vector<Tri>& F) {
+inline void surface_mesh_to_arrays(const SurfaceMesh& mesh, std::vector<Vec3>& V,
+                                   std::vector<Tri>& F) {
   V.clear();
   F.clear();
   std::vector<std::uint32_t> id(mesh.num_vertices(), UINT32_MAX);  // indexed by vertex index

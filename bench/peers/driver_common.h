@@ -31,9 +31,12 @@ inline Args parse_args(int argc, char** argv, const char* peer) {
   Args a;
   for (int i = 1; i < argc; ++i) {
     std::string s = argv[i];
-    if ((s == "-o" || s == "--output") && i + 1 < argc) a.output = argv[++i];
-    else if ((s == "--vertices" || s == "-n") && i + 1 < argc) a.vertices = std::strtoull(argv[++i], nullptr, 10);
-    else if (!s.empty() && s[0] != '-' && a.input.empty()) a.input = s;
+    if ((s == "-o" || s == "--output") && i + 1 < argc)
+      a.output = argv[++i];
+    else if ((s == "--vertices" || s == "-n") && i + 1 < argc)
+      a.vertices = std::strtoull(argv[++i], nullptr, 10);
+    else if (!s.empty() && s[0] != '-' && a.input.empty())
+      a.input = s;
     else {
       std::fprintf(stderr, "%s: unknown argument '%s'\n", peer, s.c_str());
       std::exit(2);
@@ -82,9 +85,15 @@ inline double peak_rss_mb() {
 inline std::string json_string(const std::string& s) {
   std::string o = "\"";
   for (char c : s) {
-    if (c == '"' || c == '\\') { o += '\\'; o += c; }
-    else if (static_cast<unsigned char>(c) < 0x20) { char b[8]; std::snprintf(b, sizeof b, "\\u%04x", c); o += b; }
-    else o += c;
+    if (c == '"' || c == '\\') {
+      o += '\\';
+      o += c;
+    } else if (static_cast<unsigned char>(c) < 0x20) {
+      char b[8];
+      std::snprintf(b, sizeof b, "\\u%04x", c);
+      o += b;
+    } else
+      o += c;
   }
   return o + "\"";
 }

@@ -33,10 +33,14 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     std::string s = argv[i];
     if (s == "--json") continue;  // JSON is the only output format
-    if (s == "--samples" && i + 1 < argc) samples = std::strtoull(argv[++i], nullptr, 10);
-    else if (s == "--seed" && i + 1 < argc) seed = static_cast<unsigned>(std::strtoul(argv[++i], nullptr, 10));
-    else if (!s.empty() && s[0] != '-' && a_path.empty()) a_path = s;
-    else if (!s.empty() && s[0] != '-' && b_path.empty()) b_path = s;
+    if (s == "--samples" && i + 1 < argc)
+      samples = std::strtoull(argv[++i], nullptr, 10);
+    else if (s == "--seed" && i + 1 < argc)
+      seed = static_cast<unsigned>(std::strtoul(argv[++i], nullptr, 10));
+    else if (!s.empty() && s[0] != '-' && a_path.empty())
+      a_path = s;
+    else if (!s.empty() && s[0] != '-' && b_path.empty())
+      b_path = s;
     else {
       std::fprintf(stderr, "usage: %s A.obj B.obj [--json] [--samples N] [--seed S]\n", kTool);
       return 2;

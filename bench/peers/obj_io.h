@@ -29,9 +29,9 @@ using Tri = std::array<std::uint32_t, 3>;
 struct TriSoup {
   std::vector<Vec3> V;
   std::vector<Tri> F;
-  std::size_t faces_in = 0;    // faces in the file (a quad counts once)
-  std::size_t quads_in = 0;    // quads split in two
-  std::size_t polys_in = 0;    // faces with more than 4 corners, fanned
+  std::size_t faces_in = 0;  // faces in the file (a quad counts once)
+  std::size_t quads_in = 0;  // quads split in two
+  std::size_t polys_in = 0;  // faces with more than 4 corners, fanned
 };
 
 inline double dist2(const Vec3& a, const Vec3& b) {
@@ -78,14 +78,16 @@ inline std::string read_obj(const std::string& path, TriSoup& m) {
   std::size_t line = 0;
   while (p < e) {
     ++line;
-    const char* eol = static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(e - p)));
+    const char* eol =
+        static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(e - p)));
     if (!eol) eol = e;
     detail::skip_ws(p, eol);
     if (eol - p >= 2 && p[0] == 'v' && (p[1] == ' ' || p[1] == '\t')) {
       p += 2;
       Vec3 v{};
       for (double& c : v)
-        if (!detail::parse_double(p, eol, c)) return path + ":" + std::to_string(line) + ": bad vertex";
+        if (!detail::parse_double(p, eol, c))
+          return path + ":" + std::to_string(line) + ": bad vertex";
       m.V.push_back(v);
     } else if (eol - p >= 2 && p[0] == 'f' && (p[1] == ' ' || p[1] == '\t')) {
       p += 2;

@@ -68,8 +68,8 @@ int main(int argc, char** argv) {
   surface_mesh_to_arrays(mesh, outV, outF);
   if (auto err = write_obj(args.output, outV, outF); !err.empty()) die(kPeer, err);
 
-  Json j = result_json(kPeer, args, in, args.vertices, outV.size(), outF.size(), secs,
-                       setup_seconds);
+  Json j =
+      result_json(kPeer, args, in, args.vertices, outV.size(), outF.size(), secs, setup_seconds);
   j.add("soup_was_mesh", info.was_polygon_mesh)
       .add("vertices_duplicated", info.duplicated)
       .add("vertices_mesh", vertices_mesh)

@@ -56,7 +56,10 @@ int main(int argc, char** argv) {
   mesh.request_face_status();
   std::size_t isolated = 0;
   for (auto v : mesh.vertices())
-    if (mesh.is_isolated(v)) { mesh.delete_vertex(v, false); ++isolated; }
+    if (mesh.is_isolated(v)) {
+      mesh.delete_vertex(v, false);
+      ++isolated;
+    }
   mesh.garbage_collection();
   const double setup_seconds = setup_timer.seconds();
 
@@ -91,12 +94,13 @@ int main(int argc, char** argv) {
   compact(outV, outF);
   if (auto err = write_obj(args.output, outV, outF); !err.empty()) die(kPeer, err);
 
-  Json j = result_json(kPeer, args, in, args.vertices, outV.size(), outF.size(), secs,
-                       setup_seconds);
+  Json j =
+      result_json(kPeer, args, in, args.vertices, outV.size(), outF.size(), secs, setup_seconds);
   j.add("faces_rejected", rejected)
       .add("isolated_vertices_dropped", isolated)
       .add("collapses", collapses)
-      .add("version", std::string("OpenMesh ") + std::to_string(OM_GET_VER) + "." + std::to_string(OM_GET_MAJ));
+      .add("version", std::string("OpenMesh ") + std::to_string(OM_GET_VER) + "." +
+                          std::to_string(OM_GET_MAJ));
   j.print();
   return 0;
 }

@@ -227,8 +227,7 @@ void serve(int fd, const FrameSource& frames, size_t field_count) {
       continue;
     }
     values.assign(step ? frames.step_float_count(t) : frames.vertex_count(), 0.0f);
-    const Status status =
-        step ? frames.read_step(t, values) : frames.read_field(field, t, values);
+    const Status status = step ? frames.read_step(t, values) : frames.read_field(field, t, values);
     const bool sent =
         status.ok() ? send_message(fd, 'D',
                                    std::string_view(reinterpret_cast<const char*>(values.data()),
@@ -238,8 +237,9 @@ void serve(int fd, const FrameSource& frames, size_t field_count) {
   }
 }
 
-[[noreturn]] void run_child(int fd, const ReadOptions& options,
-                            const std::function<Result<AnimationStream>(const ReadOptions&)>& open) {
+[[noreturn]] void run_child(
+    int fd, const ReadOptions& options,
+    const std::function<Result<AnimationStream>(const ReadOptions&)>& open) {
   restore_crash_signals();
   limit_resources();
   try {
@@ -314,8 +314,8 @@ class Child {
       why = "crashed reading it: exit status " + std::to_string(WEXITSTATUS(status));
     else
       why = "stopped reading it";
-    dead_ = Status::error(path_ + ": damaged " + library_ + " file (the " + library_ +
-                          " library " + why + ")");
+    dead_ = Status::error(path_ + ": damaged " + library_ + " file (the " + library_ + " library " +
+                          why + ")");
     return dead_;
   }
 
