@@ -41,9 +41,8 @@ const VerbSpec kSpec{
 int run_build(std::span<char* const> arguments) {
   Args args;
   if (auto exit_code = parse_verb_args(arguments, kSpec, args)) return *exit_code;
+  if (auto exit_code = require_inputs_and_output(args, kSpec, "MODEL.dpm")) return *exit_code;
   const auto output = args.value("--output");
-  if (args.positional.empty() || !output)
-    return fail(kSpec.name, kExitUsage, "needs INPUT... and -o MODEL.dpm", help_text(kSpec));
   BuildOptions options;
   options.lossless = args.has("--lossless");
   if (auto v = args.value("--position-error")) {
@@ -56,16 +55,12 @@ int run_build(std::span<char* const> arguments) {
   if (Status s = parse_simplify_flags(args, options.simplify, key_rule); !s.ok())
     return fail(kSpec.name, kExitUsage, s.message());
 
-  if (Status s = check_output_folder(*output); !s.ok())
-    return fail(kSpec.name, kExitFailure, s.message());
-  std::optional<Phase> phase(std::in_place, "reading the input");
-  auto stream =
-      open_inputs(args.positional, args.has("--split-polygons"), InputChecks::kSimplifiable);
+  auto stream = open_input_to_simplify(args, *output);
   if (!stream) return fail(kSpec.name, kExitFailure, stream.message());
   const Topology& input = stream->topology;
   const FrameSource& frames = *stream->frames;
   const auto start = std::chrono::steady_clock::now();
-  phase.emplace("choosing the key steps");
+  std::optional<Phase> phase(std::in_place, "choosing the key steps");
   auto key_steps = choose_key_steps(frames, key_rule);
   if (!key_steps) return fail(kSpec.name, kExitFailure, key_steps.message());
   options.simplify.key_steps = key_steps->steps;

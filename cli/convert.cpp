@@ -29,9 +29,8 @@ const VerbSpec kSpec{
 int run_convert(std::span<char* const> arguments) {
   Args args;
   if (auto exit_code = parse_verb_args(arguments, kSpec, args)) return *exit_code;
+  if (auto exit_code = require_inputs_and_output(args, kSpec, "OUTPUT")) return *exit_code;
   const auto output = args.value("--output");
-  if (args.positional.empty() || !output)
-    return fail(kSpec.name, kExitUsage, "needs INPUT... and -o OUTPUT", help_text(kSpec));
   if (format_from_extension(*output) == FileFormat::kUnknown)
     return fail(
         kSpec.name, kExitUsage,

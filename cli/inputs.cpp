@@ -6,6 +6,10 @@
 #include <memory>
 #include <vector>
 
+#include "commands.h"
+#include "outputs.h"
+#include "report.h"
+
 namespace dynpm::cli {
 namespace {
 // Hands steps through and refuses a NaN or infinite coordinate, naming the file, the step and
@@ -84,6 +88,18 @@ Result<AnimationStream> open_inputs(std::span<const std::string> arguments, bool
   stream->frames = std::make_unique<FinitePositions>(std::move(stream->frames), *paths,
                                                      stream->topology.node_ids);
   return stream;
+}
+
+std::optional<int> require_inputs_and_output(const Args& args, const VerbSpec& spec,
+                                             const std::string& output_name) {
+  if (!args.positional.empty() && args.value("--output")) return std::nullopt;
+  return fail(spec.name, kExitUsage, "needs INPUT... and -o " + output_name, help_text(spec));
+}
+
+Result<AnimationStream> open_input_to_simplify(const Args& args, const std::string& output) {
+  DYNPM_RETURN_IF_ERROR(check_output_folder(output));
+  Phase phase("reading the input");
+  return open_inputs(args.positional, args.has("--split-polygons"), InputChecks::kSimplifiable);
 }
 
 }  // namespace dynpm::cli

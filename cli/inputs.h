@@ -2,6 +2,7 @@
 // AnimationStream, with reader notes on stderr and the checks the verb needs.
 #pragma once
 
+#include <optional>
 #include <span>
 #include <string>
 
@@ -24,5 +25,14 @@ enum class InputChecks {
 // Globs → files, then open them as one animation; reader notes go to stderr.
 Result<AnimationStream> open_inputs(std::span<const std::string> arguments, bool split_polygons,
                                     InputChecks checks = InputChecks::kFinite);
+
+// A verb that reads INPUT... and writes -o OUTPUT: the exit code of the usage failure when
+// either is missing ("dynpm convert: needs INPUT... and -o OUTPUT", then the help).
+std::optional<int> require_inputs_and_output(const Args& args, const VerbSpec& spec,
+                                             const std::string& output_name);
+
+// The input of 'build' and 'simplify': first the output's folder (so that the work is not lost
+// at the end), then the inputs opened with InputChecks::kSimplifiable ("reading the input").
+Result<AnimationStream> open_input_to_simplify(const Args& args, const std::string& output);
 
 }  // namespace dynpm::cli

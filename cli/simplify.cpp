@@ -62,9 +62,8 @@ class ProgressListener final : public CollapseListener {
 int run_simplify(std::span<char* const> arguments) {
   Args args;
   if (auto exit_code = parse_verb_args(arguments, kSpec, args)) return *exit_code;
+  if (auto exit_code = require_inputs_and_output(args, kSpec, "OUTPUT")) return *exit_code;
   const auto output = args.value("--output");
-  if (args.positional.empty() || !output)
-    return fail(kSpec.name, kExitUsage, "needs INPUT... and -o OUTPUT", help_text(kSpec));
   auto usage = [](const std::string& message) { return fail(kSpec.name, kExitUsage, message); };
   auto level = parse_level_flags(args);
   if (!level) return usage(level.message());
@@ -88,12 +87,9 @@ int run_simplify(std::span<char* const> arguments) {
   if (format_from_extension(*output) == FileFormat::kUnknown)
     return usage(*output + ": use .obj, .ply or .vtk");
 
-  if (Status s = check_output_folder(*output); !s.ok())
-    return fail(kSpec.name, kExitFailure, s.message());
-  std::optional<Phase> phase(std::in_place, "reading the input");
-  auto stream =
-      open_inputs(args.positional, args.has("--split-polygons"), InputChecks::kSimplifiable);
+  auto stream = open_input_to_simplify(args, *output);
   if (!stream) return fail(kSpec.name, kExitFailure, stream.message());
+  std::optional<Phase> phase(std::in_place, "reading the input");
   const Topology& input = stream->topology;
   const FrameSource& frames = *stream->frames;
   const size_t steps = frames.step_count();

@@ -25,6 +25,8 @@
 #include <memory>
 #include <optional>
 
+#include "dynpm/text.h"
+
 namespace dynpm::cli {
 namespace {
 
@@ -43,12 +45,6 @@ bool iequals(std::string_view a, std::string_view b) {
            return std::tolower(static_cast<unsigned char>(x)) ==
                   std::tolower(static_cast<unsigned char>(y));
          });
-}
-
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.remove_suffix(1);
-  return s;
 }
 
 struct Connection {
@@ -83,7 +79,7 @@ struct Range {
   bool unsatisfiable = false;
 };
 std::optional<Range> parse_range(std::string_view value, uint64_t size) {
-  value = trim(value);
+  value = trim_blanks(value);
   if (value.substr(0, 6) != "bytes=" || value.find(',') != std::string_view::npos)
     return std::nullopt;
   value.remove_prefix(6);
@@ -267,7 +263,7 @@ void Server::answer(Connection& c, std::string_view head) {
     if (colon == 0 || colon == std::string_view::npos || lines[i][0] == ' ' || lines[i][0] == '\t')
       return refuse(c, 400, "Bad Request", true);
     const std::string_view name = lines[i].substr(0, colon),
-                           value = trim(lines[i].substr(colon + 1));
+                           value = trim_blanks(lines[i].substr(colon + 1));
     if (iequals(name, "host")) {
       if (host) return refuse(c, 400, "Bad Request", true);
       host = value;

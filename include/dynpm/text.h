@@ -22,6 +22,9 @@ NumberError parse_integer(std::string_view token, int64_t lo, int64_t hi, int64_
 // A count: parse_integer within [0, 2^63 - 1].
 NumberError parse_count(std::string_view token, uint64_t& out);
 
+// `s` without the spaces and tabs at either end (fixed-column fields, HTTP header values).
+std::string_view trim_blanks(std::string_view s);
+
 // Bytes from a file as a message may show them: printable ASCII as it is, '\n', '\r', '\t' and
 // '\\' escaped, every other byte as \xNN, so that a message never carries a terminal escape
 // sequence or a NUL; at most kQuotedBytes bytes, then "… (N bytes)".

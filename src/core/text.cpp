@@ -117,4 +117,10 @@ std::string printable(std::string_view bytes) {
 
 std::string quoted_bytes(std::string_view bytes) { return "'" + printable(bytes) + "'"; }
 
+std::string_view trim_blanks(std::string_view s) {
+  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.remove_suffix(1);
+  return s;
+}
+
 }  // namespace dynpm

@@ -140,14 +140,8 @@ inline std::string_view columns(std::string_view line, size_t a, size_t b) {
   return line.substr(a, std::min(b, line.size()) - a);
 }
 
-inline std::string_view trim(std::string_view s) {
-  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.remove_suffix(1);
-  return s;
-}
-
 inline std::optional<int64_t> to_int(std::string_view s) {
-  s = trim(s);
+  s = trim_blanks(s);
   if (!s.empty() && s.size() <= 18) {  // the common case: plain digits
     int64_t v = 0;
     size_t i = s[0] == '-' ? 1 : 0;
@@ -202,7 +196,7 @@ inline std::optional<double> fast_real(std::string_view s) {
 }
 
 inline std::optional<double> to_real(std::string_view s) {
-  s = trim(s);
+  s = trim_blanks(s);
   if (s.empty()) return std::nullopt;
   if (auto v = fast_real(s)) return v;
   double v = 0;  // the rule of every text reader (text.h): 1E+39 is inf, as in OBJ

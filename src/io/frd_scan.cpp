@@ -53,7 +53,7 @@ class FrdScanner : public Layout {
 
     std::string_view line;
     while (!ended && next(line)) {
-      if (trim(line).empty()) continue;
+      if (trim_blanks(line).empty()) continue;
       const auto key = to_int(columns(line, 0, 5));
       const char code = line.size() > 5 ? line[5] : ' ';
       if (!key) return fail("not a CalculiX .frd record (expected a block key such as '    2C')");
@@ -111,9 +111,9 @@ class FrdScanner : public Layout {
                       uint64_t& count) {
     const auto n = to_int(columns(line, 24, 36));
     const auto f = to_int(columns(line, 36, line.size()));
-    if (!n && !trim(columns(line, 24, 36)).empty())
+    if (!n && !trim_blanks(columns(line, 24, 36)).empty())
       return fail(std::string("the record count of the ") + what + " header, " +
-                  quoted_bytes(trim(columns(line, 24, 36))) + ", is not a whole number");
+                  quoted_bytes(trim_blanks(columns(line, 24, 36))) + ", is not a whole number");
     if (n && *n < 0) return fail(std::string("negative record count in the ") + what + " header");
     count = n ? static_cast<uint64_t>(*n) : 0;
     if (!f && line.size() > 36)
@@ -286,7 +286,7 @@ class FrdScanner : public Layout {
   // is kept; ASCII data are skipped line by line, binary data by their size.
   Status scan_result(std::string_view header) {
     ResultBlock block;
-    block.value_text = std::string(trim(columns(header, 12, 24)));
+    block.value_text = std::string(trim_blanks(columns(header, 12, 24)));
     const auto time = to_real(block.value_text);
     if (!time)
       return fail("cannot read the step time " + quoted_bytes(block.value_text) +
@@ -297,7 +297,7 @@ class FrdScanner : public Layout {
     block.time = *time;
     // Integer fields: blank means not given; anything else must be a whole number.
     auto field = [&](size_t a, size_t b, const char* what) -> Result<int64_t> {
-      const std::string_view text = trim(columns(header, a, b));
+      const std::string_view text = trim_blanks(columns(header, a, b));
       if (text.empty()) return int64_t{0};
       const auto v = to_int(text);
       if (!v)
@@ -325,10 +325,10 @@ class FrdScanner : public Layout {
     // " -4" record: (1X,I2,2X,8A1,2I5)
     do {
       if (!next(line)) return truncated("a result block header");
-    } while (record_key(line) == 0 && trim(line).empty());
+    } while (record_key(line) == 0 && trim_blanks(line).empty());
     if (record_key(line) != 4) return fail("expected the ' -4' record after a 100C line");
     // Shown in messages and used as a field name: only printable characters.
-    const std::string name = printable(trim(columns(line, 5, 13)));
+    const std::string name = printable(trim_blanks(columns(line, 5, 13)));
     const auto components = to_int(columns(line, 13, 18));
     if (!components || *components < 1 || *components > 1000)
       return fail("cannot read the component count of result block " + name);

@@ -70,9 +70,8 @@ class FileSequence final : public FrameSource {
       std::copy(first_step_.begin(), first_step_.end(), out.begin());
       return {};
     }
-    auto mesh = parse_mesh_file(paths_[t], options_);
+    auto mesh = parse_later_step(t);
     if (!mesh) return mesh.status();
-    DYNPM_RETURN_IF_ERROR(check_same_faces(t, *mesh));
     std::copy(mesh->positions.begin(), mesh->positions.end(), out.begin());
     return {};
   }
@@ -91,9 +90,8 @@ class FileSequence final : public FrameSource {
                 out.begin());
       return {};
     }
-    auto mesh = parse_mesh_file(paths_[t], options_);
+    auto mesh = parse_later_step(t);
     if (!mesh) return mesh.status();
-    DYNPM_RETURN_IF_ERROR(check_same_faces(t, *mesh));
     for (const io::PointField& f : mesh->point_fields)
       if (f.name == name) {
         std::copy(f.values.begin(), f.values.end(), out.begin());
@@ -104,6 +102,13 @@ class FileSequence final : public FrameSource {
   }
 
  private:
+  // Step t's file (t > 0), parsed, with the first file's faces.
+  Result<io::ParsedMesh> parse_later_step(size_t t) const {
+    auto mesh = parse_mesh_file(paths_[t], options_);
+    if (mesh) DYNPM_RETURN_IF_ERROR(check_same_faces(t, *mesh));
+    return mesh;
+  }
+
   Status check_same_faces(size_t t, const io::ParsedMesh& mesh) const {
     const Topology& first = *topology_;
     const std::string& path = paths_[t];

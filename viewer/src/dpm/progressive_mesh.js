@@ -88,15 +88,20 @@ export class ProgressiveMesh {
     return out;
   }
 
+  // The steps around fractional step t (clamped to the animation) and the weight of the later:
+  // a value at t is v[t0] + (v[t1] - v[t0]) * a.
+  stepsAround(t) {
+    const m = this.head.stepCount;
+    t = Math.min(Math.max(t, 0), m - 1);
+    const t0 = Math.floor(t);
+    return { t0, t1: Math.min(t0 + 1, m - 1), a: t - t0 };
+  }
+
   // Positions of vertices [0, n) at fractional step t (linear between the two steps around it),
   // into out (Float32Array, ≥ 3n). This is the per-frame work while time changes: one pass over
   // a prefix of two arrays.
   positionsAt(t, n, out) {
-    const m = this.head.stepCount;
-    t = Math.min(Math.max(t, 0), m - 1);
-    const t0 = Math.floor(t);
-    const t1 = Math.min(t0 + 1, m - 1);
-    const a = t - t0;
+    const { t0, t1, a } = this.stepsAround(t);
     const count = 3 * n;
     if (this.lossless) {
       const p0 = new Float32Array(this.q[t0].buffer, 0, count);
@@ -140,11 +145,7 @@ export class ProgressiveMesh {
 
   // Field f's values of vertices [0, n) at fractional step t.
   fieldAt(f, t, n, out) {
-    const m = this.head.stepCount;
-    t = Math.min(Math.max(t, 0), m - 1);
-    const t0 = Math.floor(t);
-    const t1 = Math.min(t0 + 1, m - 1);
-    const a = t - t0;
+    const { t0, t1, a } = this.stepsAround(t);
     const v0 = this.fields[f][t0];
     const v1 = this.fields[f][t1];
     for (let v = 0; v < n; v++) out[v] = v0[v] + (v1[v] - v0[v]) * a;
