@@ -35,31 +35,6 @@ const VerbSpec kSpec{
      {"--json", "", false, "", "print the result as JSON on stdout"},
      kSplitPolygonsFlag}};
 
-// The steps seen as one result: max over steps for maxima, mean over steps for means, root of
-// the mean square over steps for RMS values, sample counts summed.
-HausdorffResult over_all_steps(const HausdorffSteps& s) {
-  HausdorffResult all;
-  all.diagonal = s.diagonal;
-  const double n = double(s.steps.size());
-  for (const HausdorffResult& r : s.steps) {
-    for (auto [to, d] : {std::pair{&all.a_to_b, &r.a_to_b}, std::pair{&all.b_to_a, &r.b_to_a}}) {
-      if (d->max > to->max || &r == &s.steps.front()) to->max_at = d->max_at;
-      to->max = std::max(to->max, d->max);
-      to->mean += d->mean / n;
-      to->rms += d->rms * d->rms / n;
-      to->vertex_samples += d->vertex_samples, to->edge_samples += d->edge_samples;
-      to->face_samples += d->face_samples;
-    }
-    all.mean += r.mean / n;
-    all.rms += r.rms * r.rms / n;
-  }
-  all.a_to_b.rms = std::sqrt(all.a_to_b.rms);
-  all.b_to_a.rms = std::sqrt(all.b_to_a.rms);
-  all.rms = std::sqrt(all.rms);
-  all.hausdorff = std::max(all.a_to_b.max, all.b_to_a.max);
-  return all;
-}
-
 std::string describe(const std::vector<std::string>& files, const AnimationStream& stream) {
   std::string text = files.front();
   if (files.size() > 1) text += " … " + files.back();
@@ -224,7 +199,7 @@ int run_hausdorff(std::span<char* const> arguments) {
   auto result = hausdorff_steps(streams[0].topology, *streams[0].frames, streams[1].topology,
                                 *streams[1].frames, options);
   if (!result) return fail(kSpec.name, kExitFailure, result.message());
-  const HausdorffResult all = over_all_steps(*result);
+  const HausdorffResult all = as_one_result(*result);
   if (args.has("--json"))
     print_json(files[0], files[1], *result, all, h.seed);
   else

@@ -491,5 +491,30 @@ TEST(EvalCli, HausdorffOfTwoStepSequencesReportsEachStep) {
   EXPECT_GT(json_number(moving.output, "hausdorff_pct"), 0.01) << moving.output;
 }
 
+// Steps as one result: maxima are the largest step's (with its place), means the mean of the
+// steps' means, RMS values the root of the mean square, sample counts summed.
+TEST(HausdorffSteps, AsOneResultCombinesTheSteps) {
+  HausdorffSteps s;
+  s.diagonal = 10;
+  s.steps.resize(2);
+  s.steps[0].a_to_b.max = 1, s.steps[0].a_to_b.mean = 0.5, s.steps[0].a_to_b.rms = 3;
+  s.steps[0].a_to_b.max_at = {1, 2, 3};
+  s.steps[1].a_to_b.max = 2, s.steps[1].a_to_b.mean = 1.5, s.steps[1].a_to_b.rms = 4;
+  s.steps[1].a_to_b.max_at = {4, 5, 6};
+  s.steps[0].b_to_a.max = 7, s.steps[1].b_to_a.max = 0.5;
+  s.steps[0].a_to_b.face_samples = 10, s.steps[1].a_to_b.face_samples = 32;
+  s.steps[0].mean = 1, s.steps[1].mean = 3;
+  const HausdorffResult all = as_one_result(s);
+  EXPECT_DOUBLE_EQ(all.diagonal, 10);
+  EXPECT_DOUBLE_EQ(all.a_to_b.max, 2);
+  EXPECT_EQ(all.a_to_b.max_at, (Point3{4, 5, 6}));
+  EXPECT_DOUBLE_EQ(all.a_to_b.mean, 1);
+  EXPECT_DOUBLE_EQ(all.a_to_b.rms, std::sqrt((9.0 + 16.0) / 2));
+  EXPECT_EQ(all.a_to_b.face_samples, 42u);
+  EXPECT_DOUBLE_EQ(all.b_to_a.max, 7);
+  EXPECT_DOUBLE_EQ(all.hausdorff, 7);
+  EXPECT_DOUBLE_EQ(all.mean, 2);
+}
+
 }  // namespace
 }  // namespace dynpm

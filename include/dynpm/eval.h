@@ -193,4 +193,8 @@ Result<HausdorffSteps> hausdorff_steps(const Topology& a_topology, const FrameSo
                                        const Topology& b_topology, const FrameSource& b_frames,
                                        const StepsOptions& options = {});
 
+// The steps seen as one result: max over steps for maxima (with where), mean over steps for
+// means, root of the mean square over steps for RMS values, sample counts summed.
+HausdorffResult as_one_result(const HausdorffSteps& steps);
+
 }  // namespace dynpm

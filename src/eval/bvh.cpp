@@ -19,6 +19,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <exception>
 #include <thread>
 
 #include "dynpm/eval.h"
@@ -165,10 +166,25 @@ class BvhBuilder {
                           : may_be_leaf || !median_split(r, left, right))
       return;  // a leaf
     if (depth < spawn_depth_ && r.end - r.begin >= kParallelMinimum) {
+      // An exception in either half (std::bad_alloc) reaches the caller once both have ended,
+      // as with parallel_for(); a thread that throws would end the process.
       std::vector<TriangleBvh::Node> right_nodes;
-      std::thread worker([&] { build(right, depth + 1, right_nodes); });
-      build(left, depth + 1, out);
+      std::exception_ptr right_failed;
+      std::thread worker([&] {
+        try {
+          build(right, depth + 1, right_nodes);
+        } catch (...) {
+          right_failed = std::current_exception();
+        }
+      });
+      try {
+        build(left, depth + 1, out);
+      } catch (...) {
+        worker.join();
+        throw;
+      }
       worker.join();
+      if (right_failed) std::rethrow_exception(right_failed);
       const uint32_t offset = static_cast<uint32_t>(out.size());
       for (TriangleBvh::Node n : right_nodes) {
         if (n.count == 0) n.first += offset;

@@ -432,4 +432,27 @@ Result<HausdorffSteps> hausdorff_steps(const Topology& a_topology, const FrameSo
   return result;
 }
 
+HausdorffResult as_one_result(const HausdorffSteps& s) {
+  HausdorffResult all;
+  all.diagonal = s.diagonal;
+  const double n = double(s.steps.size());
+  for (const HausdorffResult& r : s.steps) {
+    for (auto [to, d] : {std::pair{&all.a_to_b, &r.a_to_b}, std::pair{&all.b_to_a, &r.b_to_a}}) {
+      if (d->max > to->max || &r == &s.steps.front()) to->max_at = d->max_at;
+      to->max = std::max(to->max, d->max);
+      to->mean += d->mean / n;
+      to->rms += d->rms * d->rms / n;
+      to->vertex_samples += d->vertex_samples, to->edge_samples += d->edge_samples;
+      to->face_samples += d->face_samples;
+    }
+    all.mean += r.mean / n;
+    all.rms += r.rms * r.rms / n;
+  }
+  all.a_to_b.rms = std::sqrt(all.a_to_b.rms);
+  all.b_to_a.rms = std::sqrt(all.b_to_a.rms);
+  all.rms = std::sqrt(all.rms);
+  all.hausdorff = std::max(all.a_to_b.max, all.b_to_a.max);
+  return all;
+}
+
 }  // namespace dynpm
