@@ -90,9 +90,12 @@ std::string help_text(const VerbSpec& spec) {
 
 std::string quoted_value(const std::string& text) {
   constexpr size_t kShown = 40;
-  if (text.size() <= kShown) return "'" + printable(text) + "'";
-  return "'" + printable(text.substr(0, kShown)) + "…' (" + std::to_string(text.size()) +
-         " characters)";
+  if (text.size() <= kShown) return quoted_bytes(text);
+  // Appended for the reason of quoted_bytes() (GCC 12's false -Wrestrict at -O3).
+  std::string quoted(1, '\'');
+  quoted += printable(text.substr(0, kShown));
+  quoted += "…' (" + std::to_string(text.size()) + " characters)";
+  return quoted;
 }
 
 namespace {

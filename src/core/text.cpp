@@ -115,7 +115,14 @@ std::string printable(std::string_view bytes) {
   return out;
 }
 
-std::string quoted_bytes(std::string_view bytes) { return "'" + printable(bytes) + "'"; }
+// Appended, not "'" + printable(bytes): GCC 12 at -O3 warns -Wrestrict on the latter (a false
+// positive in libstdc++, GCC bug 105329), which a Release build would print.
+std::string quoted_bytes(std::string_view bytes) {
+  std::string quoted(1, '\'');
+  quoted += printable(bytes);
+  quoted += '\'';
+  return quoted;
+}
 
 std::string_view trim_blanks(std::string_view s) {
   while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
