@@ -366,23 +366,44 @@ function parsePositions(r, mesh, first, count) {
   const q = mesh.q;
   const parent = mesh.parent;
   const { baseVertexCount: b, bboxMin, bboxMax, quantStep } = mesh.head;
+  // Quantized positions lie within two grid steps of the box (dpm_read.cpp checks the same).
   const checked = !mesh.lossless;
-  const top = [0, 1, 2].map((c) => (bboxMax[c] - bboxMin[c]) / quantStep + 2);
+  const topX = (bboxMax[0] - bboxMin[0]) / quantStep + 2;
+  const topY = (bboxMax[1] - bboxMin[1]) / quantStep + 2;
+  const topZ = (bboxMax[2] - bboxMin[2]) / quantStep + 2;
+  const outside = (v, t) => r.fail(`vertex ${v} step ${t}: a position far outside the bounding box`);
   const end = first + count;
   for (let t = 0; t < q.length; t++) {
     const cur = q[t];
     const prev = t > 0 ? q[t - 1] : null;
     for (let v = first; v < end; v++) {
-      const p = v < b ? -1 : 3 * parent[v - b];
-      for (let i = 3 * v, j = p; i < 3 * v + 3; i++, j++) {
-        let prediction;
-        if (p < 0) prediction = t > 0 ? prev[i] : v > 0 ? cur[i - 3] : 0;
-        else prediction = t === 0 ? cur[j] : prev[i] + cur[j] - prev[j];
-        const value = r.svarint() + prediction;
-        if (checked && (value < -2 || value > top[i - 3 * v]))
-          r.fail(`vertex ${v} step ${t}: a position far outside the bounding box`);
-        cur[i] = value;
+      // The prediction (FORMAT.md): a base vertex from the previous base vertex at step 0 and
+      // from itself at the step before later; a split's vertex from its parent at step 0 and from
+      // its own and its parent's motion later. Chosen once per vertex, not per coordinate.
+      const i = 3 * v;
+      let px = 0, py = 0, pz = 0;
+      if (v < b) {
+        if (t > 0) (px = prev[i]), (py = prev[i + 1]), (pz = prev[i + 2]);
+        else if (v > 0) (px = cur[i - 3]), (py = cur[i - 2]), (pz = cur[i - 1]);
+      } else {
+        const j = 3 * parent[v - b];
+        if (t === 0) (px = cur[j]), (py = cur[j + 1]), (pz = cur[j + 2]);
+        else {
+          px = prev[i] + cur[j] - prev[j];
+          py = prev[i + 1] + cur[j + 1] - prev[j + 1];
+          pz = prev[i + 2] + cur[j + 2] - prev[j + 2];
+        }
       }
+      // Int32Array stores wrap modulo 2^32, as lossless residual arithmetic requires.
+      const x = r.svarint() + px;
+      if (checked && (x < -2 || x > topX)) outside(v, t);
+      cur[i] = x;
+      const y = r.svarint() + py;
+      if (checked && (y < -2 || y > topY)) outside(v, t);
+      cur[i + 1] = y;
+      const z = r.svarint() + pz;
+      if (checked && (z < -2 || z > topZ)) outside(v, t);
+      cur[i + 2] = z;
     }
   }
 }
