@@ -39,7 +39,7 @@ class BoxingSource final : public FrameSource {
   size_t step_count() const override { return source_.step_count(); }
   double step_time(size_t t) const override { return source_.step_time(t); }
   size_t step_float_count(size_t t) const override { return source_.step_float_count(t); }
-  std::vector<std::string> field_names() const override { return source_.field_names(); }
+  std::vector<FieldInfo> fields() const override { return source_.fields(); }
   Status read_field(size_t field, size_t t, std::span<float> out) const override {
     return source_.read_field(field, t, out);
   }
@@ -210,7 +210,7 @@ int print_dpm_info(const std::string& path, bool json) {
     for (size_t k : m.key_steps) j.item(int64_t(k));
     j.end_array();
     j.begin_array("fields");
-    for (const std::string& f : m.field_names) j.item(f);
+    for (const ProgressiveField& f : m.fields) j.item(f.info.name);
     j.end_array();
     j.value("parts", uint64_t{full.parts().size()});
     j.value("lossless", m.lossless);
@@ -243,9 +243,9 @@ int print_dpm_info(const std::string& path, bool json) {
       m.base_error, 100 * of_diagonal(m.base_error, m.diagonal()));
   std::printf("steps     %zu, time %g to %g; key steps %zu\n", m.step_count(), m.times.front(),
               m.times.back(), m.key_steps.size());
-  if (!m.field_names.empty()) {
+  if (!m.fields.empty()) {
     std::printf("fields   ");
-    for (const std::string& f : m.field_names) std::printf(" %s", printable(f).c_str());
+    for (const ProgressiveField& f : m.fields) std::printf(" %s", printable(f.info.name).c_str());
     std::printf("\n");
   }
   if (m.lossless)

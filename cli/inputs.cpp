@@ -25,7 +25,7 @@ class FinitePositions final : public FrameSource {
   size_t step_count() const override { return source_->step_count(); }
   double step_time(size_t t) const override { return source_->step_time(t); }
   size_t step_float_count(size_t t) const override { return source_->step_float_count(t); }
-  std::vector<std::string> field_names() const override { return source_->field_names(); }
+  std::vector<FieldInfo> fields() const override { return source_->fields(); }
   Status read_field(size_t field, size_t t, std::span<float> out) const override {
     return source_->read_field(field, t, out);
   }

@@ -26,7 +26,7 @@ int main(int argc, char** argv) {
         "steps=%zu key_steps=%zu fields=%zu parts=%zu lossless=%d\n",
         m.complete, m.full_vertex_count, m.full_face_count, m.vertex_count(), full.faces.size(),
         full.quad_count(), full.triangle_count(), m.base_vertex_count, m.base_face_count,
-        m.split_count(), m.step_count(), m.key_steps.size(), m.field_names.size(),
+        m.split_count(), m.step_count(), m.key_steps.size(), m.fields.size(),
         full.parts().size(), m.lossless);
   }
   return 0;

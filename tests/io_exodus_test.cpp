@@ -307,7 +307,7 @@ class CrashingSteps final : public FrameSource {
     for (size_t i = 0; i < out.size(); ++i) out[i] = float(10 * t + i);
     return t == 1 ? Status::error("step 1: no data") : Status();
   }
-  std::vector<std::string> field_names() const override { return {"T"}; }
+  std::vector<FieldInfo> fields() const override { return {{"T", FieldLocation::kNode, {}}}; }
   Status read_field(size_t, size_t t, std::span<float> out) const override {
     std::fill(out.begin(), out.end(), float(t) + 0.25f);
     return {};

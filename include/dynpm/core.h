@@ -9,7 +9,7 @@
 //   FrameSource  yields the #V × xyz float positions of time step t on demand, so a 5 M-node ×
 //                100-step result never has to sit in memory whole.
 //   Frames       the in-memory FrameSource: one contiguous xyz array per step, plus step times.
-//   Animation    Topology + Frames + per-vertex scalar result fields per step.
+//   Animation    Topology + Frames + scalar result fields per step, per node or per element.
 //   Adjacency    derived on demand: vertex → faces, unique edges → faces (CSR), vertex kinds.
 //   validate()   (M1) manifold with boundary, (M2) inner-vertex valence ≥ 3, (M3) face degree
 //                ≥ 3, indices in range, no repeated corner, finite positions, equal step sizes.
@@ -71,6 +71,20 @@ struct Topology {
   std::vector<int32_t> parts() const;
 };
 
+// Where a result field lives: one value per vertex (a solver's nodal result) or one per face
+// (an element result: shell plastic strain, stress, thickness).
+enum class FieldLocation : uint8_t { kNode = 0, kElement = 1 };
+const char* to_string(FieldLocation location);  // "node", "element"
+
+// What a result field is: its name as the input gives it ("PEEQ", "S_MISES", "thickness"),
+// where it lives and its unit ("" when the input names none).
+struct FieldInfo {
+  std::string name;
+  FieldLocation location = FieldLocation::kNode;
+  std::string unit;
+  bool operator==(const FieldInfo&) const = default;
+};
+
 // Positions of every vertex at time step t, read on demand.
 class FrameSource {
  public:
@@ -84,10 +98,14 @@ class FrameSource {
   // Number of xyz floats step t holds, when a source can know it without reading the step.
   virtual size_t step_float_count(size_t /*t*/) const { return size_t{vertex_count()} * 3; }
 
-  // Per-vertex scalar result fields the source can deliver at every step (a solver's plastic
-  // strain, von Mises stress, |U| …), read one step at a time like the positions.
-  virtual std::vector<std::string> field_names() const { return {}; }
-  // Fills out (vertex_count floats) with field `field` (an index into field_names()) at step t.
+  // Scalar result fields the source can deliver at every step (plastic strain, von Mises
+  // stress, thickness, |V| …), per node or per element, read one step at a time like the
+  // positions.
+  virtual std::vector<FieldInfo> fields() const { return {}; }
+  // The names of fields(), in order.
+  std::vector<std::string> field_names() const;
+  // Fills out with field `field` (an index into fields()) at step t: vertex_count() floats for
+  // a node field, one per face of the source's topology (in its face order) for an element field.
   virtual Status read_field(size_t field, size_t t, std::span<float> out) const;
 };
 
@@ -116,10 +134,14 @@ class Frames final : public FrameSource {
   std::vector<double> times_;
 };
 
-// A per-vertex scalar result (plastic strain, von Mises stress, …) at every step.
+// A scalar result (plastic strain, von Mises stress, …) at every step.
 struct ScalarField {
   std::string name;
-  std::vector<std::vector<float>> steps;  // #steps × #V
+  std::vector<std::vector<float>> steps;  // #steps × (#V for a node field, #F for an element one)
+  FieldLocation location = FieldLocation::kNode;
+  std::string unit;
+
+  FieldInfo info() const { return {name, location, unit}; }
 };
 
 struct Animation {

@@ -133,15 +133,17 @@ struct WriteOptions {
   std::string comment;  // a line of provenance written into the file's header
 };
 
-// One time step of a topology with its positions (3 · vertex_count floats). Per-vertex scalar
-// fields (name, values) are written where the format can hold them (VTK).
+// One time step of a topology with its positions (3 · vertex_count floats). Scalar fields
+// (name, values) per vertex (point data) and per face (cell data) are written where the format
+// can hold them (VTK, VTU: point and cell data; PLY: vertex and face properties).
 struct NamedValues {
   std::string name;
   std::span<const float> values;
 };
 Status write_mesh(const std::string& path, const Topology& topology,
                   std::span<const float> positions, const WriteOptions& options = {},
-                  std::span<const NamedValues> point_fields = {});
+                  std::span<const NamedValues> point_fields = {},
+                  std::span<const NamedValues> cell_fields = {});
 
 // The file name of step t from a pattern holding one "{:03d}"-style field ("{}", "{:d}",
 // "{:0Nd}"); an error if the pattern has none or a malformed one.

@@ -39,6 +39,14 @@ class Navigator {
   // Geomorph towards this level from the coarser level `from`: vertices created after `from`
   // start at their ancestor's position at that level (alpha 0) and reach their own (alpha 1).
   void geomorph(uint32_t from, double alpha, double t, std::span<float> out) const;
+  // The values of result field `field` at step t shown at this level (docs/FORMAT.md, "Shown
+  // values"): each present vertex (node field) or face (element field) shows the aggregate of the
+  // original values it stands for. out.size() ≥ vertex_count() or face_count().
+  void field_values(size_t field, size_t t, std::span<float> out,
+                    FieldAggregate aggregate = FieldAggregate::kMaxAbs) const;
+  // The field error of this level, a fraction of the field's range (ProgressiveField::error).
+  double field_error(size_t field) const;
+
   // The vertex that v is merged into at level k (v itself if it exists there).
   uint32_t ancestor(uint32_t v, uint32_t k) const;
 

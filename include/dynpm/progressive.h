@@ -24,6 +24,33 @@
 
 namespace dynpm {
 
+// A result field of a progressive mesh (docs/FORMAT.md, "Fields: FDEF and FLDS"): its values
+// at every step in the progressive numbering, and how much a level of detail may differ from them.
+struct ProgressiveField {
+  FieldInfo info;
+  double min = 0, max = 0;  // smallest and largest value over every step
+  bool lossless = false;
+  double quant_step = 0;    // quantization grid spacing (0: lossless)
+  double max_error = 0;     // bound on a stored value's error, absolute
+  // Field error of a level (the largest spread of the values one present vertex or face stands
+  // for, over every step), as a fraction of max − min: the base mesh's, and the level's right
+  // after split i. Never increases along the stream.
+  float base_error = 0;
+  std::vector<float> error;  // #splits
+  // values[t]: one value per vertex (node field) or per face (element field) present, at step t.
+  std::vector<std::vector<float>> values;
+
+  size_t count_per_step(uint32_t vertices, uint32_t faces) const {
+    return info.location == FieldLocation::kElement ? faces : vertices;
+  }
+};
+
+// How a vertex or face shows the values of the original ones it stands for at a coarse level.
+enum class FieldAggregate : uint8_t {
+  kMaxAbs,  // the value of largest magnitude, with its sign: a peak is never hidden (default)
+  kMean,    // the mean of the values it stands for
+};
+
 // A decoded (or freshly built) progressive animation. Vertex and face arrays are in the
 // progressive numbering; a prefix of a file holds the base and the first split_count() splits.
 struct ProgressiveMesh {
@@ -62,8 +89,10 @@ struct ProgressiveMesh {
 
   // positions[t]: xyz of every vertex present, at step t.
   std::vector<std::vector<float>> positions;
-  std::vector<std::string> field_names;
-  std::vector<std::vector<std::vector<float>>> fields;  // [field][step][vertex]
+  // Result fields, and for each face a split re-creates the face that stands for it while the
+  // split is undone (its heir; kNoIndex for base faces). Heirs are set when a field is per element.
+  std::vector<ProgressiveField> fields;
+  std::vector<uint32_t> face_heir;
 
   bool complete = true;  // false: read from a prefix of a file
 

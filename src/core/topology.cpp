@@ -69,6 +69,16 @@ Status Frames::read_step(size_t t, std::span<float> out) const {
   return {};
 }
 
+const char* to_string(FieldLocation location) {
+  return location == FieldLocation::kElement ? "element" : "node";
+}
+
+std::vector<std::string> FrameSource::field_names() const {
+  std::vector<std::string> names;
+  for (const FieldInfo& field : fields()) names.push_back(field.name);
+  return names;
+}
+
 Status FrameSource::read_field(size_t field, size_t /*t*/, std::span<float> /*out*/) const {
   return Status::error("this input has no result field " + std::to_string(field));
 }
@@ -84,11 +94,14 @@ Result<Animation> load_all_steps(AnimationStream stream) {
     DYNPM_RETURN_IF_ERROR(source.read_step(t, xyz));
     animation.frames.add_step(std::move(xyz), source.step_time(t));
   }
-  const std::vector<std::string> names = source.field_names();
-  for (size_t f = 0; f < names.size(); ++f) {
-    ScalarField field{names[f], {}};
+  const std::vector<FieldInfo> infos = source.fields();
+  for (size_t f = 0; f < infos.size(); ++f) {
+    ScalarField field{infos[f].name, {}, infos[f].location, infos[f].unit};
+    const size_t count = infos[f].location == FieldLocation::kElement
+                             ? animation.topology.face_count()
+                             : size_t{source.vertex_count()};
     for (size_t t = 0; t < source.step_count(); ++t) {
-      std::vector<float> values(source.vertex_count());
+      std::vector<float> values(count);
       DYNPM_RETURN_IF_ERROR(source.read_field(f, t, values));
       field.steps.push_back(std::move(values));
     }

@@ -223,12 +223,14 @@ void check_fields(const Topology& topology, size_t steps, std::span<const Scalar
                       " steps, the animation " + std::to_string(steps)});
       continue;
     }
+    const bool per_face = field.location == FieldLocation::kElement;
+    const size_t expected = per_face ? topology.faces.size() : size_t{topology.vertex_count};
     for (uint32_t t = 0; t < field.steps.size(); ++t)
-      if (field.steps[t].size() != topology.vertex_count)
+      if (field.steps[t].size() != expected)
         report.add({ProblemKind::kFieldSize, Severity::kError, kNoIndex, kNoIndex, t,
                     "field '" + field.name + "', step " + std::to_string(t) + ": " +
                         std::to_string(field.steps[t].size()) + " values for " +
-                        std::to_string(topology.vertex_count) + " vertices"});
+                        std::to_string(expected) + (per_face ? " faces" : " vertices")});
   }
 }
 

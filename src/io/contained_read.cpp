@@ -208,12 +208,21 @@ Packer pack_opened(const AnimationStream& stream, const std::vector<std::string>
   }
   out.put(times);
   out.put(float_counts);
+  std::vector<std::string> units;
+  std::vector<uint8_t> locations;
+  for (const FieldInfo& field : frames.fields()) {
+    units.push_back(field.unit);
+    locations.push_back(static_cast<uint8_t>(field.location));
+  }
   out.put(frames.field_names());
+  out.put(units);
+  out.put(locations);
   return out;
 }
 
 // Answers step and field requests until the parent closes its end.
-void serve(int fd, const FrameSource& frames, size_t field_count) {
+void serve(int fd, const FrameSource& frames, size_t face_count) {
+  const std::vector<FieldInfo> fields = frames.fields();
   std::vector<float> values;
   char tag = 0;
   std::string request;
@@ -222,11 +231,13 @@ void serve(int fd, const FrameSource& frames, size_t field_count) {
     Unpacker in(request);
     const bool step = tag == 'S';
     if (!in.get(field) || !in.get(t) || !in.done() || t >= frames.step_count() ||
-        (!step && field >= field_count)) {
+        (!step && field >= fields.size())) {
       if (!send_message(fd, 'E', "bad request to the reader's process")) return;
       continue;
     }
-    values.assign(step ? frames.step_float_count(t) : frames.vertex_count(), 0.0f);
+    const bool per_face = !step && fields[field].location == FieldLocation::kElement;
+    values.assign(step ? frames.step_float_count(t) : per_face ? face_count : frames.vertex_count(),
+                  0.0f);
     const Status status = step ? frames.read_step(t, values) : frames.read_field(field, t, values);
     const bool sent =
         status.ok() ? send_message(fd, 'D',
@@ -251,7 +262,7 @@ void serve(int fd, const FrameSource& frames, size_t field_count) {
     if (!stream.ok()) {
       send_message(fd, 'E', stream.status().message());
     } else if (send_message(fd, 'O', pack_opened(*stream, warnings).bytes())) {
-      serve(fd, *stream->frames, stream->frames->field_names().size());
+      serve(fd, *stream->frames, stream->topology.face_count());
     }
   } catch (const std::exception& e) {
     send_message(fd, 'E', std::string("the reader failed: ") + e.what());
@@ -330,7 +341,7 @@ class Child {
 class ChildFrames final : public FrameSource {
  public:
   ChildFrames(std::unique_ptr<Child> child, uint32_t vertex_count, std::vector<double> times,
-              std::vector<uint64_t> float_counts, std::vector<std::string> fields)
+              std::vector<uint64_t> float_counts, std::vector<FieldInfo> fields)
       : child_(std::move(child)),
         vertex_count_(vertex_count),
         times_(std::move(times)),
@@ -341,14 +352,14 @@ class ChildFrames final : public FrameSource {
   size_t step_count() const override { return times_.size(); }
   double step_time(size_t t) const override { return times_[t]; }
   size_t step_float_count(size_t t) const override { return float_counts_[t]; }
-  std::vector<std::string> field_names() const override { return fields_; }
+  std::vector<FieldInfo> fields() const override { return fields_; }
 
   Status read_step(size_t t, std::span<float> out) const override {
     assert(t < step_count() && out.size() == step_float_count(t));
     return request('S', 0, t, out);
   }
   Status read_field(size_t field, size_t t, std::span<float> out) const override {
-    assert(field < fields_.size() && t < step_count() && out.size() == vertex_count_);
+    assert(field < fields_.size() && t < step_count());
     return request('F', field, t, out);
   }
 
@@ -371,7 +382,7 @@ class ChildFrames final : public FrameSource {
   uint32_t vertex_count_;
   std::vector<double> times_;
   std::vector<uint64_t> float_counts_;
-  std::vector<std::string> fields_;
+  std::vector<FieldInfo> fields_;
   mutable std::mutex mutex_;
   mutable std::string reply_;
 };
@@ -411,7 +422,8 @@ Result<AnimationStream> open_in_child(
   uint32_t vertex_count = 0;
   std::vector<double> times;
   std::vector<uint64_t> float_counts;
-  std::vector<std::string> fields;
+  std::vector<std::string> names, units;
+  std::vector<uint8_t> locations;
   Unpacker in(reply);
   in.get(warnings);
   in.get(stream.warnings);
@@ -423,11 +435,19 @@ Result<AnimationStream> open_in_child(
   in.get(vertex_count);
   in.get(times);
   in.get(float_counts);
-  in.get(fields);
-  if (answer != 'O' || !in.done() || float_counts.size() != times.size())
+  in.get(names);
+  in.get(units);
+  in.get(locations);
+  if (answer != 'O' || !in.done() || float_counts.size() != times.size() ||
+      units.size() != names.size() || locations.size() != names.size())
     return Status::error(path + ": the reader's process sent a malformed answer");
   if (options.warn)
     for (const std::string& w : warnings) options.warn(w);
+  std::vector<FieldInfo> fields;
+  for (size_t f = 0; f < names.size(); ++f) {
+    if (locations[f] > 1) return Status::error(path + ": the reader's process sent a malformed answer");
+    fields.push_back({names[f], static_cast<FieldLocation>(locations[f]), units[f]});
+  }
   stream.frames = std::make_unique<ChildFrames>(std::move(child), vertex_count, std::move(times),
                                                 std::move(float_counts), std::move(fields));
   return stream;

@@ -110,7 +110,11 @@ class D3plotSource final : public FrameSource {
     return {};
   }
 
-  std::vector<std::string> field_names() const override { return field_names_; }
+  std::vector<FieldInfo> fields() const override {
+    std::vector<FieldInfo> infos;
+    for (const std::string& name : field_names_) infos.push_back({name, FieldLocation::kNode, {}});
+    return infos;
+  }
 
   Status read_field(size_t field, size_t t, std::span<float> out) const override {
     assert(field < field_names_.size() && out.size() == vertex_count());

@@ -184,10 +184,10 @@ class ExodusSource final : public FrameSource {
     return {};
   }
 
-  std::vector<std::string> field_names() const override {
-    std::vector<std::string> names;
-    for (const auto& f : fields_) names.push_back(f.name);
-    return names;
+  std::vector<FieldInfo> fields() const override {
+    std::vector<FieldInfo> infos;
+    for (const auto& f : fields_) infos.push_back({f.name, FieldLocation::kNode, {}});
+    return infos;
   }
   Status read_field(size_t field, size_t t, std::span<float> out) const override {
     assert(field < fields_.size() && out.size() == vertex_count());

@@ -82,7 +82,11 @@ class FrdSource final : public FrameSource {
   uint32_t vertex_count() const override { return uint32_t(node_ids_.size()); }
   size_t step_count() const override { return steps_.size() + 1; }
   double step_time(size_t t) const override { return t == 0 ? 0.0 : steps_[t - 1].time; }
-  std::vector<std::string> field_names() const override { return field_names_; }
+  std::vector<FieldInfo> fields() const override {
+    std::vector<FieldInfo> infos;
+    for (const std::string& name : field_names_) infos.push_back({name, FieldLocation::kNode, {}});
+    return infos;
+  }
 
   Status read_step(size_t t, std::span<float> out) const override {
     assert(t < step_count() && out.size() == base_.size());

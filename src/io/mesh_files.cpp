@@ -77,10 +77,10 @@ class FileSequence final : public FrameSource {
   }
 
   // The point fields of the first file (VTK point data), looked up by name in the others.
-  std::vector<std::string> field_names() const override {
-    std::vector<std::string> names;
-    for (const io::PointField& f : first_fields_) names.push_back(f.name);
-    return names;
+  std::vector<FieldInfo> fields() const override {
+    std::vector<FieldInfo> infos;
+    for (const io::PointField& f : first_fields_) infos.push_back({f.name, FieldLocation::kNode, {}});
+    return infos;
   }
   Status read_field(size_t field, size_t t, std::span<float> out) const override {
     assert(field < first_fields_.size() && t < paths_.size() && out.size() == vertex_count());
@@ -271,7 +271,7 @@ Result<Animation> read_mesh(const std::string& path, const ReadOptions& options)
   animation.frames.set_vertex_count(animation.topology.vertex_count);
   animation.frames.add_step(std::move(mesh->positions), mesh->time.value_or(0.0));
   for (io::PointField& f : mesh->point_fields)
-    animation.fields.push_back(ScalarField{std::move(f.name), {std::move(f.values)}});
+    animation.fields.push_back(ScalarField{std::move(f.name), {std::move(f.values)}, FieldLocation::kNode, {}});
   return animation;
 }
 
@@ -378,8 +378,10 @@ Result<std::vector<std::string>> expand_inputs(std::span<const std::string> argu
 
 Status write_mesh(const std::string& path, const Topology& topology,
                   std::span<const float> positions, const WriteOptions& options,
-                  std::span<const NamedValues> point_fields) {
+                  std::span<const NamedValues> point_fields,
+                  std::span<const NamedValues> cell_fields) {
   assert(positions.size() == size_t{topology.vertex_count} * 3);
+  (void)cell_fields;  // TODO(issue 18): VTK cell data, PLY face properties, VTU
   std::string bytes;
   switch (format_from_extension(path)) {
     case FileFormat::kObj: bytes = io::write_obj(topology, positions, options); break;

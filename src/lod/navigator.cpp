@@ -47,6 +47,61 @@ void Navigator::positions(double t, std::span<float> out) const {
   for (size_t j = 0; j < n; ++j) out[j] = p0[j] + a * (p1[j] - p0[j]);
 }
 
+namespace {
+
+// max |value| with its sign; of two with equal magnitude the larger: the max of a total order,
+// so the order of merging never changes the result (docs/FORMAT.md, "Shown values").
+float larger_magnitude(float a, float b) {
+  const float ma = std::abs(a), mb = std::abs(b);
+  return ma > mb || (ma == mb && a >= b) ? a : b;
+}
+
+}  // namespace
+
+void Navigator::field_values(size_t field, size_t t, std::span<float> out,
+                             FieldAggregate aggregate) const {
+  const ProgressiveMesh& m = *mesh_;
+  const ProgressiveField& f = m.fields[field];
+  const bool per_face = f.info.location == FieldLocation::kElement;
+  const std::vector<float>& values = f.values[t];
+  const uint32_t b = m.base_vertex_count;
+  const uint32_t shown = per_face ? face_count_ : vertex_count();
+  assert(out.size() >= shown);
+  // The pass of FORMAT.md run from the last split present down to this level: each undone split
+  // merges what its new vertex (the faces it creates) stands for into the parent (their heirs).
+  // Merge order: faces of a split in reverse creation order, as the file's pass.
+  auto each_merge = [&](auto&& merge) {
+    for (uint32_t i = m.split_count(); i-- > level_;) {
+      if (per_face) {
+        for (uint32_t g = m.face_count_after(i + 1); g-- > m.face_count_after(i);)
+          merge(m.face_heir[g], g);
+      } else {
+        merge(m.parent[i], b + i);
+      }
+    }
+  };
+  if (aggregate == FieldAggregate::kMaxAbs) {
+    std::vector<float> cur(values.begin(), values.end());
+    each_merge([&](uint32_t into, uint32_t from) {
+      cur[into] = larger_magnitude(cur[into], cur[from]);
+    });
+    std::copy_n(cur.begin(), shown, out.begin());
+    return;
+  }
+  std::vector<double> sum(values.begin(), values.end());
+  std::vector<uint32_t> count(values.size(), 1);
+  each_merge([&](uint32_t into, uint32_t from) {
+    sum[into] += sum[from];
+    count[into] += count[from];
+  });
+  for (uint32_t i = 0; i < shown; ++i) out[i] = static_cast<float>(sum[i] / count[i]);
+}
+
+double Navigator::field_error(size_t field) const {
+  const ProgressiveField& f = mesh_->fields[field];
+  return level_ == 0 ? f.base_error : f.error[level_ - 1];
+}
+
 uint32_t Navigator::ancestor(uint32_t v, uint32_t k) const {
   const uint32_t b = mesh_->base_vertex_count;
   while (v >= b + k) v = mesh_->parent[v - b];

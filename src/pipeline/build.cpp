@@ -2,6 +2,7 @@
 // vertex splits in the progressive numbering and gather every step's positions in that order.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "dynpm/pipeline.h"
 
@@ -173,16 +174,33 @@ Result<ProgressiveMesh> build_progressive_mesh(const Topology& topology, const F
     all.extend(step_boxes[t]);
     if (options.progress) options.progress(t + 1, steps);
   }
-  pm.field_names = frames.field_names();
-  pm.fields.resize(pm.field_names.size());
-  std::vector<float> values(n);
-  for (size_t f = 0; f < pm.field_names.size(); ++f) {
-    pm.fields[f].resize(steps);
+  // Result fields, per vertex or per face, permuted like the positions; their range over every
+  // step sets their quantization (docs/FORMAT.md, "Fields").
+  for (size_t f = 0; const FieldInfo& info : frames.fields()) {
+    const bool per_face = info.location == FieldLocation::kElement;
+    const std::vector<uint32_t>& renumber = per_face ? new_face : new_vertex;
+    ProgressiveField field;
+    field.info = info;
+    field.values.resize(steps);
+    std::vector<float> values(renumber.size());
+    field.min = std::numeric_limits<double>::infinity();
+    field.max = -field.min;
     for (size_t t = 0; t < steps; ++t) {
       DYNPM_RETURN_IF_ERROR(frames.read_field(f, t, values));
-      pm.fields[f][t].resize(n);
-      for (uint32_t v = 0; v < n; ++v) pm.fields[f][t][new_vertex[v]] = values[v];
+      field.values[t].resize(values.size());
+      for (size_t i = 0; i < values.size(); ++i) {
+        if (!std::isfinite(values[i]))
+          return Status::error("field '" + info.name + "', step " + std::to_string(t) + ", " +
+                               (per_face ? "face " : "vertex ") + std::to_string(i) +
+                               ": the value is not finite");
+        field.values[t][renumber[i]] = values[i];
+        field.min = std::min<double>(field.min, values[i]);
+        field.max = std::max<double>(field.max, values[i]);
+      }
     }
+    if (values.empty()) field.min = field.max = 0;
+    pm.fields.push_back(std::move(field));
+    ++f;
   }
   for (int k = 0; k < 3; ++k) {
     pm.bbox_min[k] = all.empty ? 0.0 : all.min[k];

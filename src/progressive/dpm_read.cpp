@@ -164,8 +164,8 @@ class Decoder {
   // by the face count, which makes the SPLT bound loose but still a bound.
   double payload_limit(std::string_view tag) const {
     const ProgressiveMesh& m = mesh_;
-    const double steps = double(m.times.size()), fields = double(m.field_names.size());
-    const double per_vertex = 2 * kMaxVarint + steps * (3 * kMaxVarint + 4 * fields);
+    const double steps = double(m.times.size());
+    const double per_vertex = 2 * kMaxVarint + steps * 3 * kMaxVarint;
     const double per_face_attributes = 3 * kMaxVarint;
     if (tag == "BASE")
       return m.base_vertex_count * per_vertex +
@@ -240,16 +240,11 @@ class Decoder {
     const uint32_t keys = r.get<uint32_t>();
     if (!r.can_hold(keys, 4)) return bad(r, "the key-step count is not valid");
     for (uint32_t k = 0; k < keys; ++k) m.key_steps.push_back(r.get<uint32_t>());
-    if (!r.can_hold(fields, 2)) return bad(r, "the field count is not valid");
-    for (uint32_t f = 0; f < fields; ++f) m.field_names.push_back(r.text());
+    if (fields != 0)
+      return bad(r, "the header lists fields (written by an older dynpm: build it again)");
     m.note = r.text();
     if (!r.ok()) return bad(r, "the header is too short");
     if (r.remaining() != 0) return bad(r, "unexpected bytes after the header");
-    if (uint64_t{fields} * steps > (uint64_t{1} << 24)) return bad(r, "too many fields × steps");
-    // Field values come with vertices: a model without base vertices has none (its splits
-    // cannot apply either, each needs a parent).
-    if (fields > 0 && m.base_vertex_count == 0)
-      return bad(r, "fields are declared for a model without base vertices");
     m.positions.resize(steps);
     return {};
   }
@@ -297,16 +292,6 @@ class Decoder {
             return bad(r, "a position is far outside the bounding box");
           mesh_.positions[t][size_t{v} * 3 + c] = g.p(q, c);
         }
-    if (!r.can_hold(uint64_t{end - begin} * steps * mesh_.field_names.size(), 4))
-      return bad(r, "field values are cut short");
-    // Allocated once the base mesh's values have arrived, which proves they are in the file.
-    if (mesh_.fields.size() != mesh_.field_names.size())
-      mesh_.fields.assign(mesh_.field_names.size(), std::vector<std::vector<float>>(steps));
-    for (auto& field : mesh_.fields)
-      for (auto& values : field) {
-        values.resize(end);
-        for (uint32_t v = begin; v < end; ++v) values[v] = r.get<float>();
-      }
     return r.ok() ? Status{} : bad(r, "positions are cut short");
   }
 

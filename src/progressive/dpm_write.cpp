@@ -45,9 +45,6 @@ void write_positions(ByteWriter& w, const ProgressiveMesh& mesh, uint32_t begin,
       for (int c = 0; c < 3; ++c)
         w.svarint(
             g.residual(g.q(mesh.positions[t][size_t{v} * 3 + c], c), predict(mesh, g, v, t, c)));
-  for (const auto& field : mesh.fields)
-    for (const auto& values : field)
-      for (uint32_t v = begin; v < end; ++v) w.put<float>(values[v]);
 }
 
 void write_vertex_attributes(ByteWriter& w, const ProgressiveMesh& mesh, uint32_t v, Deltas& d) {
@@ -73,7 +70,7 @@ std::string head_payload(const ProgressiveMesh& mesh) {
   w.put<uint32_t>(mesh.base_face_count);
   w.put<uint32_t>(mesh.full_split_count);
   w.put<uint32_t>(static_cast<uint32_t>(mesh.step_count()));
-  w.put<uint32_t>(static_cast<uint32_t>(mesh.field_names.size()));
+  w.put<uint32_t>(0);  // field_count: the fields have chunks of their own (FDEF, FLDS)
   w.put<uint32_t>(mesh.lossless ? 1u : 0u);
   for (double x : mesh.bbox_min) w.put<double>(x);
   for (double x : mesh.bbox_max) w.put<double>(x);
@@ -83,7 +80,6 @@ std::string head_payload(const ProgressiveMesh& mesh) {
   for (double t : mesh.times) w.put<double>(t);
   w.put<uint32_t>(static_cast<uint32_t>(mesh.key_steps.size()));
   for (size_t k : mesh.key_steps) w.put<uint32_t>(static_cast<uint32_t>(k));
-  for (const std::string& name : mesh.field_names) w.text(name);
   w.text(mesh.note);
   return std::move(w.bytes);
 }
