@@ -32,7 +32,7 @@ const VerbSpec kSpec{
     "of the field's range (default 0.1 %), float32 exactly with --lossless.",
     {{"--output", "-o", true, "MODEL.dpm", "the progressive mesh file to write"},
      kKeyStepsFlag,
-     {"--lossless", "", false, "", "store positions bit-exactly (larger file)"},
+     {"--lossless", "", false, "", "store positions and fields bit-exactly (larger file)"},
      {"--position-error", "", true, "E", "largest position error, in diagonals (3.8e-6)"},
      {"--field-bound", "", true, "F", "largest field value error, in % of its range (0.1)"},
      kBoundaryWeightFlag,
