@@ -38,7 +38,8 @@ const VerbSpec kSpec{
      kBoundaryWeightFlag,
      kIgnorePartsFlag,
      {"--json", "", false, "", "print the result as JSON"},
-     kSplitPolygonsFlag}};
+     kSplitPolygonsFlag,
+     kIntegrationPointFlag}};
 
 }  // namespace
 

@@ -22,7 +22,8 @@ const VerbSpec kSpec{
     "Each file is written under a temporary name and renamed when complete.",
     {{"--output", "-o", true, "OUTPUT", "output file, or pattern with {:03d} for several steps"},
      {"--ascii", "", false, "", "write PLY and VTK as text instead of binary"},
-     kSplitPolygonsFlag}};
+     kSplitPolygonsFlag,
+     kIntegrationPointFlag}};
 
 }  // namespace
 
@@ -36,7 +37,7 @@ int run_convert(std::span<char* const> arguments) {
         kSpec.name, kExitUsage,
         *output + ": cannot tell the output format from the extension (use .obj, .ply or .vtk)");
   Phase phase("reading and writing the steps");
-  auto stream = open_inputs(args.positional, args.has("--split-polygons"));
+  auto stream = open_inputs(args.positional, args);
   if (!stream) return fail(kSpec.name, kExitFailure, stream.message());
   const FrameSource& frames = *stream->frames;
   const size_t steps = frames.step_count();

@@ -40,7 +40,8 @@ const VerbSpec kSpec{
      kThreadsFlag,
      {"--json", "", true, "OUT.json", "also write the results as JSON"},
      {"--plot", "", true, "OUT.svg", "also write an SVG plot of error against % of vertices"},
-     kSplitPolygonsFlag}};
+     kSplitPolygonsFlag,
+     kIntegrationPointFlag}};
 
 int fail_usage(const std::string& message) { return fail(kSpec.name, kExitUsage, message); }
 
@@ -169,7 +170,7 @@ int run_eval(std::span<char* const> arguments) {
   // The original animation and the model.
   auto files = expand_inputs(args.positional);
   if (!files) return fail_input(files.message());
-  auto stream = open_inputs(*files, args.has("--split-polygons"));
+  auto stream = open_inputs(*files, args);
   if (!stream) return fail_input(stream.message());
   const Topology& original = stream->topology;
   const FrameSource& frames = *stream->frames;

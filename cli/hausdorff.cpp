@@ -33,7 +33,8 @@ const VerbSpec kSpec{
      {"--diagonal", "", true, "D", "percentages of D instead of A's bounding-box diagonal"},
      kThreadsFlag,
      {"--json", "", false, "", "print the result as JSON on stdout"},
-     kSplitPolygonsFlag}};
+     kSplitPolygonsFlag,
+     kIntegrationPointFlag}};
 
 std::string describe(const std::vector<std::string>& files, const AnimationStream& stream) {
   std::string text = files.front();
@@ -189,7 +190,7 @@ int run_hausdorff(std::span<char* const> arguments) {
     auto expanded = expand_inputs(std::span<const std::string>(&argument, 1));
     if (!expanded) return fail(kSpec.name, kExitFailure, expanded.message());
     files[side] = *expanded;
-    auto stream = open_inputs(files[side], args.has("--split-polygons"));
+    auto stream = open_inputs(files[side], args);
     if (!stream) return fail(kSpec.name, kExitFailure, stream.message());
     streams[side] = std::move(*stream);
   }

@@ -1,7 +1,9 @@
 // dynpm info: what a mesh or animation holds, and whether dynpm can work on it.
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <limits>
 #include <sstream>
 
 #include "args.h"
@@ -17,18 +19,20 @@ namespace {
 
 const VerbSpec kSpec{
     "info",
-    "dynpm info INPUT... [--json] [--problems N] [--split-polygons]",
+    "dynpm info INPUT... [--json] [--problems N] [--split-polygons] [--integration-point P]",
     "Reads a mesh (OBJ, PLY, VTK, VTU), an animation given as one file per time step (a list\n"
     "or a glob such as 'frames/frame_*.obj', sorted naturally) or a result holding every step\n"
     "(CalculiX .frd, .pvd, Exodus II, d3plot) and prints vertices, faces (triangles and\n"
-    "quads), time steps, result fields, edges, boundary, non-manifold edges and vertices,\n"
+    "quads), time steps, result fields (per node or element, with their range over all steps\n"
+    "and unit), edges, boundary, non-manifold edges and vertices,\n"
     "parts, the bounding box over all steps, and the validation result: the paper's (M1)\n"
     "manifold, (M2) inner valence >= 3, (M3) face degree >= 3, and more.\n"
     "Given a progressive mesh (MODEL.dpm), prints its levels, steps, position bound and size.\n"
     "Exit code: 0 valid, 1 unreadable input, 2 bad usage, 3 read but invalid.",
     {{"--json", "", false, "", "print the result as JSON on stdout"},
      {"--problems", "", true, "N", "list at most N problems of each severity (default 10)"},
-     kSplitPolygonsFlag}};
+     kSplitPolygonsFlag,
+     kIntegrationPointFlag}};
 
 // Passes steps through to validate() and extends the bounding box of all steps on the way,
 // so every step is read once.
@@ -55,6 +59,37 @@ class BoxingSource final : public FrameSource {
   const FrameSource& source_;
 };
 
+// A field's range over every step (NaN values left out; NaN bounds when there is no value).
+struct FieldRange {
+  FieldInfo info;
+  float min = std::numeric_limits<float>::quiet_NaN();
+  float max = std::numeric_limits<float>::quiet_NaN();
+};
+
+// Reads every step of every field once, with progress.
+Result<std::vector<FieldRange>> field_ranges(const FrameSource& frames, size_t face_count) {
+  std::vector<FieldRange> ranges;
+  std::vector<float> values;
+  const std::vector<FieldInfo> fields = frames.fields();
+  const size_t steps = frames.step_count();
+  for (size_t f = 0; f < fields.size(); ++f) {
+    FieldRange range{fields[f]};
+    values.assign(
+        fields[f].location == FieldLocation::kElement ? face_count : frames.vertex_count(), 0.0f);
+    for (size_t t = 0; t < steps; ++t) {
+      progress("reading fields", f * steps + t + 1, fields.size() * steps);
+      DYNPM_RETURN_IF_ERROR(frames.read_field(f, t, values));
+      for (float v : values) {
+        if (std::isnan(v)) continue;
+        if (!(v >= range.min)) range.min = v;
+        if (!(v <= range.max)) range.max = v;
+      }
+    }
+    ranges.push_back(std::move(range));
+  }
+  return ranges;
+}
+
 std::string join(const std::vector<int32_t>& ids, size_t limit) {
   std::ostringstream s;
   for (size_t i = 0; i < ids.size() && i < limit; ++i) s << (i ? ", " : "") << ids[i];
@@ -63,8 +98,9 @@ std::string join(const std::vector<int32_t>& ids, size_t limit) {
 }
 
 void print_text(std::span<const std::string> inputs, const Topology& topology,
-                const FrameSource& frames, const TopologyStats& stats, const BoundingBox& box,
-                const ValidationReport& report, size_t problems_per_severity) {
+                const FrameSource& frames, std::span<const FieldRange> fields,
+                const TopologyStats& stats, const BoundingBox& box, const ValidationReport& report,
+                size_t problems_per_severity) {
   std::ostream& out = std::cout;
   out << "input         " << inputs.front();
   if (inputs.size() > 1) out << " … " << inputs.back() << " (" << inputs.size() << " files)";
@@ -80,10 +116,15 @@ void print_text(std::span<const std::string> inputs, const Topology& topology,
     out << " (t = " << frames.step_time(0) << " … " << frames.step_time(frames.step_count() - 1)
         << ")";
   out << "\n";
-  if (const auto fields = frames.field_names(); !fields.empty()) {
-    out << "fields        " << fields.size() << " (";
-    for (size_t i = 0; i < fields.size(); ++i) out << (i ? ", " : "") << printable(fields[i]);
-    out << ") per vertex and step\n";
+  if (!fields.empty()) {
+    out << "fields        " << fields.size() << " (per node: one value per vertex and step; per "
+        << "element: one per face and step)\n";
+    for (const FieldRange& f : fields) {
+      out << "  " << printable(f.info.name) << "  " << to_string(f.info.location) << ", " << f.min
+          << " … " << f.max << " over all steps";
+      if (!f.info.unit.empty()) out << ", unit " << printable(f.info.unit);
+      out << "\n";
+    }
   }
   out << "edges         " << stats.edges << "\n";
   out << "boundary      " << stats.boundary_edges << " edges in " << stats.boundary_loops
@@ -116,7 +157,8 @@ void print_text(std::span<const std::string> inputs, const Topology& topology,
 }
 
 void print_json(std::span<const std::string> inputs, const Topology& topology,
-                const FrameSource& frames, const TopologyStats& stats, const BoundingBox& box,
+                const FrameSource& frames, std::span<const FieldRange> fields,
+                const TopologyStats& stats, const BoundingBox& box,
                 const ValidationReport& report) {
   Json j;
   j.begin_object();
@@ -133,7 +175,15 @@ void print_json(std::span<const std::string> inputs, const Topology& topology,
   for (size_t t = 0; t < frames.step_count(); ++t) j.item(frames.step_time(t));
   j.end_array();
   j.begin_array("fields");
-  for (const std::string& name : frames.field_names()) j.item(name);
+  for (const FieldRange& f : fields) {
+    j.begin_object();
+    j.value("name", f.info.name);
+    j.value("location", to_string(f.info.location));
+    j.value("unit", f.info.unit);
+    j.value("min", double(f.min));
+    j.value("max", double(f.max));
+    j.end_object();
+  }
   j.end_array();
   j.value("edges", uint64_t{stats.edges});
   j.value("boundary_edges", uint64_t{stats.boundary_edges});
@@ -280,7 +330,7 @@ int run_info(std::span<char* const> arguments) {
     if ((head && looks_like_dpm(*head)) || ext == ".dpm" || ext == ".DPM")
       return print_dpm_info(inputs->front(), args.has("--json"));
   }
-  auto stream = open_inputs(*inputs, args.has("--split-polygons"), InputChecks::kNone);
+  auto stream = open_inputs(*inputs, args, InputChecks::kNone);
   if (!stream) return fail(kSpec.name, kExitFailure, stream.message());
   const Topology& topology = stream->topology;
   BoxingSource frames(*stream->frames);
@@ -289,11 +339,13 @@ int run_info(std::span<char* const> arguments) {
   for (const Problem& p : report.problems) {
     if (p.kind == ProblemKind::kUnreadableStep) return fail(kSpec.name, kExitFailure, p.message);
   }
+  auto fields = field_ranges(frames, topology.face_count());
+  if (!fields) return fail(kSpec.name, kExitFailure, fields.message());
   const TopologyStats stats = topology_stats(topology, Adjacency::build(topology));
   if (args.has("--json"))
-    print_json(*inputs, topology, frames, stats, frames.box, report);
+    print_json(*inputs, topology, frames, *fields, stats, frames.box, report);
   else
-    print_text(*inputs, topology, frames, stats, frames.box, report, problems);
+    print_text(*inputs, topology, frames, *fields, stats, frames.box, report, problems);
   return report.ok() ? kExitOk : kExitInvalidMesh;
 }
 

@@ -72,14 +72,31 @@ Status check_faces(const Topology& topology, const std::string& file) {
   return {};
 }
 
+// The reading flags every verb that opens inputs offers.
+Result<ReadOptions> read_options(const Args& args) {
+  ReadOptions options;
+  options.split_polygons = args.has("--split-polygons");
+  if (const auto point = args.value("--integration-point")) {
+    bool known = false;
+    for (IntegrationPoint p : {IntegrationPoint::kMid, IntegrationPoint::kTop,
+                               IntegrationPoint::kBottom, IntegrationPoint::kMax})
+      if (*point == to_string(p)) options.integration_point = p, known = true;
+    if (!known)
+      return Status::error("--integration-point: expected mid, top, bottom or max, not '" + *point +
+                           "'");
+  }
+  return options;
+}
+
 }  // namespace
 
-Result<AnimationStream> open_inputs(std::span<const std::string> arguments, bool split_polygons,
+Result<AnimationStream> open_inputs(std::span<const std::string> arguments, const Args& args,
                                     InputChecks checks) {
+  auto read = read_options(args);
+  if (!read) return read.status();
   auto paths = expand_inputs(arguments);
   if (!paths) return paths.status();
-  ReadOptions options;
-  options.split_polygons = split_polygons;
+  ReadOptions options = std::move(read).value();
   options.warn = [](const std::string& note) { std::cerr << "warning: " << note << "\n"; };
   auto stream = open_input(*paths, options);
   if (!stream || checks == InputChecks::kNone) return stream;
@@ -99,7 +116,7 @@ std::optional<int> require_inputs_and_output(const Args& args, const VerbSpec& s
 Result<AnimationStream> open_input_to_simplify(const Args& args, const std::string& output) {
   DYNPM_RETURN_IF_ERROR(check_output_folder(output));
   Phase phase("reading the input");
-  return open_inputs(args.positional, args.has("--split-polygons"), InputChecks::kSimplifiable);
+  return open_inputs(args.positional, args, InputChecks::kSimplifiable);
 }
 
 }  // namespace dynpm::cli

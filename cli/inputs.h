@@ -14,6 +14,10 @@ namespace dynpm::cli {
 // The flag of every verb that reads meshes (ReadOptions::split_polygons).
 inline const FlagSpec kSplitPolygonsFlag{"--split-polygons", "", false, "",
                                          "fan-split faces with more than 4 corners"};
+// ReadOptions::integration_point.
+inline const FlagSpec kIntegrationPointFlag{
+    "--integration-point", "", true, "POINT",
+    "shell element results (d3plot) at mid (default), top, bottom or max over the points"};
 
 // What a verb needs of its input before it starts working.
 enum class InputChecks {
@@ -22,8 +26,9 @@ enum class InputChecks {
   kSimplifiable  // kFinite, and faces that validate() calls errors fail at once (file, face)
 };
 
-// Globs → files, then open them as one animation; reader notes go to stderr.
-Result<AnimationStream> open_inputs(std::span<const std::string> arguments, bool split_polygons,
+// Globs → files, then open them as one animation with the reading flags of args
+// (--split-polygons, --integration-point); reader notes go to stderr.
+Result<AnimationStream> open_inputs(std::span<const std::string> arguments, const Args& args,
                                     InputChecks checks = InputChecks::kFinite);
 
 // A verb that reads INPUT... and writes -o OUTPUT: the exit code of the usage failure when

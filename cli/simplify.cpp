@@ -41,7 +41,8 @@ const VerbSpec kSpec{
      kIgnorePartsFlag,
      {"--ascii", "", false, "", "write PLY and VTK as text"},
      {"--json", "", false, "", "print the result as JSON"},
-     kSplitPolygonsFlag}};
+     kSplitPolygonsFlag,
+     kIntegrationPointFlag}};
 
 // A progress bar on stderr for long runs (only on a terminal).
 class ProgressListener final : public CollapseListener {

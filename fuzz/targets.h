@@ -93,12 +93,18 @@ inline void read_everything(const Result<AnimationStream>& stream, const char* w
   if (n != stream->topology.vertex_count)
     fail(std::string(who) + ": frames and topology disagree on the vertex count");
   std::vector<float> xyz(size_t{n} * 3);
-  std::vector<float> values(n);
-  const std::vector<std::string> fields = frames->field_names();
+  std::vector<float> values;
+  const std::vector<FieldInfo> fields = frames->fields();
   for (size_t t = 0; t < frames->step_count(); ++t) {
     (void)frames->step_time(t);
     (void)frames->read_step(t, xyz);
-    for (size_t f = 0; f < fields.size(); ++f) (void)frames->read_field(f, t, values);
+    for (size_t f = 0; f < fields.size(); ++f) {
+      // One value per vertex, or per face for an element field.
+      values.assign(
+          fields[f].location == FieldLocation::kElement ? stream->topology.face_count() : size_t{n},
+          0.0f);
+      (void)frames->read_field(f, t, values);
+    }
   }
 }
 

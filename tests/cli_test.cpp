@@ -353,5 +353,28 @@ TEST(Cli, ExtractIntoAMissingFolderNamesTheOutput) {
   EXPECT_FALSE(contains(r.output, ".tmp-")) << r.output;
 }
 
+// info lists each field with where it lives and its range over all steps; the integration
+// point of d3plot shell results is one flag, refused when it names no point.
+TEST(Cli, InfoListsFieldsWithLocationAndRange) {
+  const std::string qd = test::shared_data() + "/external/d3plot/qd_d3plot";
+  if (!std::filesystem::exists(qd)) GTEST_SKIP() << qd << " is missing";
+  auto text = dynpm_cli("info " + qd);
+  ASSERT_EQ(text.exit_code, 0) << text.output;
+  EXPECT_TRUE(contains(text.output, "fields        4 (")) << text.output;
+  EXPECT_TRUE(contains(text.output, "  von Mises  element, ")) << text.output;
+  EXPECT_TRUE(contains(text.output, "  |V|  node, ")) << text.output;
+  auto json = dynpm_cli("info --json --integration-point max " + qd);
+  ASSERT_EQ(json.exit_code, 0) << json.output;
+  for (const char* part : {"\"name\": \"plastic strain\"", "\"location\": \"element\"",
+                           "\"location\": \"node\"", "\"unit\": \"\"", "\"min\": 0", "\"max\": "})
+    EXPECT_TRUE(contains(json.output, part)) << part << "\n" << json.output;
+  auto bad = dynpm_cli("info --integration-point side " + qd);
+  EXPECT_EQ(bad.exit_code, 1) << bad.output;
+  EXPECT_TRUE(contains(bad.output,
+                       "--integration-point: expected mid, top, bottom or max, not "
+                       "'side'"))
+      << bad.output;
+}
+
 }  // namespace
 }  // namespace dynpm

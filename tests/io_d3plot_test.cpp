@@ -65,9 +65,9 @@ TEST(D3plotTest, QdCountsIdsAndGeometry) {
   EXPECT_NEAR(box.max[0], 17.0, 1e-3);
   EXPECT_NEAR(box.max[1] - box.min[1], 0.0, 1e-3);
   EXPECT_NEAR(box.max[2], 33.3606, 1e-3);
-  // IV is set: the velocity magnitude is a field.
+  // IV is set: the velocity magnitude is a node field (the shell results follow it).
   const auto names = r.stream->frames->field_names();
-  ASSERT_EQ(names, std::vector<std::string>{"|V|"});
+  ASSERT_EQ(names.front(), "|V|");
   std::vector<float> speed(top.vertex_count);
   ASSERT_TRUE(r.stream->frames->read_field(0, 0, speed).ok());
   EXPECT_NEAR(*std::max_element(speed.begin(), speed.end()), 0.25, 1e-4);
@@ -237,16 +237,28 @@ std::string encode(const std::vector<Word>& words, Encoding e) {
 //   |   |   |      shells 11 (0 1 4 3) and 12 (1 2 5 4), and 13 (1 2 5 5): a triangle on top
 //   0---1---2      of shell 12, enough for the reader (faces are not validated here)
 // with node ids 101…106, part id 42, and `states` states in which the nodes move by +t·0.5 in
-// z and the temperature is 20 + node index + t.
+// z and the temperature is 20 + node index + t. Each shell writes 3 integration points (mid,
+// bottom, top) of 6 stresses and the plastic strain, then thickness and 3 more words (IOSHL
+// 1000 1000 999 1000: NV2D = 3 × 7 + 4 = 25); see shell_value().
 struct Synthetic {
   std::vector<Word> geometry;  // control block, geometry, titles
   std::vector<std::vector<Word>> states;
 };
 
+// Word `word` of integration point `point` (0 mid, 1 bottom, 2 top) of shell e at state t:
+// σxx = 100·(point + 1) + 10·e + t, σxy = 5, the rest 0 (von Mises √(σxx² + 75)); plastic
+// strain 0.01·t·(point + 1) + 0.001·e, growing with t.
+double shell_value(int t, int e, int point, int word) {
+  if (word == 0) return 100.0 * (point + 1) + 10.0 * e + t;
+  if (word == 3) return 5.0;
+  if (word == 6) return 0.01 * t * (point + 1) + 0.001 * e;
+  return 0.0;
+}
+
 Synthetic synthetic(int states) {
   Synthetic s;
   auto& g = s.geometry;
-  const int64_t numnp = 6, nel4 = 3, nv2d = 2;
+  const int64_t numnp = 6, nel4 = 3, nv2d = 25;
   for (int i = 0; i < 10; ++i) g.push_back(int64_t{0x20202020});  // title: blanks
   const int64_t narbs = 10 + numnp + nel4 + 3;
   const std::vector<int64_t> control = {0,
@@ -282,10 +294,10 @@ Synthetic synthetic(int states) {
                                         0,
                                         0,
                                         0,
-                                        0,
-                                        0,
-                                        0,
-                                        0,
+                                        1000 /* IOSHL(1): stresses */,
+                                        1000 /* IOSHL(2): plastic strain */,
+                                        999 /* IOSHL(3): no resultants */,
+                                        1000 /* IOSHL(4): thickness, energy */,
                                         0,
                                         0,
                                         0,
@@ -323,7 +335,11 @@ Synthetic synthetic(int states) {
     std::vector<Word> st{double(t) * 0.25, 1.5 /* kinetic energy */};
     for (auto& p : xy) st.insert(st.end(), {p[0], p[1], 0.5 * t});
     for (int i = 0; i < numnp; ++i) st.push_back(20.0 + i + t);
-    for (int i = 0; i < nel4 * nv2d; ++i) st.push_back(0.1 * i);
+    for (int e = 0; e < nel4; ++e) {
+      for (int point = 0; point < 3; ++point)
+        for (int word = 0; word < 7; ++word) st.push_back(shell_value(t, e, point, word));
+      st.insert(st.end(), {2.0 - 0.1 * t /* thickness */, 0.0, 0.0, 0.0});
+    }
     for (int i = 0; i < nel4; ++i) st.push_back(1.0);  // deletion flags: element alive
     s.states.push_back(std::move(st));
   }
@@ -370,10 +386,48 @@ TEST(D3plotTest, SyntheticFamiliesInEveryEncoding) {
     EXPECT_FLOAT_EQ(last[3 * 4 + 2], 1.0f);  // displaced by 2 · 0.5
     const auto middle = step(*r.stream, 1);  // the state split over d3plot01 and d3plot02
     EXPECT_FLOAT_EQ(middle[3 * 5 + 2], 0.5f);
-    ASSERT_EQ(frames.field_names(), std::vector<std::string>{"temperature"});
+    ASSERT_EQ(frames.field_names(), (std::vector<std::string>{"temperature", "von Mises",
+                                                              "plastic strain", "thickness"}));
     std::vector<float> temperature(6);
     ASSERT_TRUE(frames.read_field(0, 1, temperature).ok());
     EXPECT_EQ(temperature, (std::vector<float>{21, 22, 23, 24, 25, 26}));
+    // The default point is the mid-surface: the first one written when MAXINT = 3.
+    const auto mises = field(*r.stream, 1, 2), strain = field(*r.stream, 2, 2);
+    for (int shell = 0; shell < 3; ++shell) {
+      EXPECT_FLOAT_EQ(mises[size_t(shell)],
+                      float(std::hypot(shell_value(2, shell, 0, 0), std::sqrt(75.0))));
+      EXPECT_FLOAT_EQ(strain[size_t(shell)], float(shell_value(2, shell, 0, 6)));
+    }
+    EXPECT_EQ(field(*r.stream, 3, 1), (std::vector<float>{1.9f, 1.9f, 1.9f}));
+  }
+}
+
+// The integration point the caller picks: MAXINT = 3 writes mid, bottom, top; max takes the
+// largest of them. Plastic strain grows from state to state.
+TEST(D3plotTest, SyntheticShellResultsAtEachIntegrationPoint) {
+  test::TempDir dir;
+  write_family(synthetic(3), {4, false}, dir);
+  const std::pair<IntegrationPoint, int> cases[] = {{IntegrationPoint::kMid, 0},
+                                                    {IntegrationPoint::kBottom, 1},
+                                                    {IntegrationPoint::kTop, 2},
+                                                    {IntegrationPoint::kMax, 2}};
+  for (auto [point, written] : cases) {
+    SCOPED_TRACE(to_string(point));
+    ReadOptions options;
+    options.integration_point = point;
+    Opened r = open(std::vector<std::string>{dir.file("d3plot")}, options);
+    ASSERT_TRUE(r.stream.ok()) << r.stream.message();
+    std::vector<float> before(3, 0.0f);
+    for (size_t t = 0; t < 3; ++t) {
+      const auto mises = field(*r.stream, 1, t), strain = field(*r.stream, 2, t);
+      for (int e = 0; e < 3; ++e) {
+        EXPECT_FLOAT_EQ(mises[size_t(e)],
+                        float(std::hypot(shell_value(int(t), e, written, 0), std::sqrt(75.0))));
+        EXPECT_FLOAT_EQ(strain[size_t(e)], float(shell_value(int(t), e, written, 6)));
+        EXPECT_GE(strain[size_t(e)], before[size_t(e)]);
+      }
+      before = strain;
+    }
   }
 }
 

@@ -57,7 +57,8 @@ double enclosed_volume(const Topology& top, std::span<const float> xyz) {
 
 TopologyStats stats(const Topology& top) { return topology_stats(top, Adjacency::build(top)); }
 
-// 10 × 10 QUAD4 in the plane (num_dim 2), one nodal variable "u".
+// 10 × 10 QUAD4 in the plane (num_dim 2), one nodal variable "u" and one element variable
+// "box" (1 or 2 per quad).
 TEST(ExodusTest, CoarseGridQuads) {
   Opened r = open(exodus_file("vtkdata_coarseGrid.e"));
   ASSERT_TRUE(r.stream.ok()) << r.stream.message();
@@ -67,7 +68,13 @@ TEST(ExodusTest, CoarseGridQuads) {
   EXPECT_EQ(top.quad_count(), 100u);
   EXPECT_EQ(top.parts(), std::vector<int32_t>{0});  // eb_prop1 = 0
   EXPECT_EQ(r.stream->frames->step_count(), 1u);
-  EXPECT_EQ(r.stream->frames->field_names(), std::vector<std::string>{"u"});
+  EXPECT_EQ(r.stream->frames->fields(),
+            (std::vector<FieldInfo>{{"u", FieldLocation::kNode, ""},
+                                    {"box", FieldLocation::kElement, ""}}));
+  std::vector<float> box_values(top.faces.size());
+  ASSERT_TRUE(r.stream->frames->read_field(1, 0, box_values).ok());
+  for (float v : box_values) EXPECT_TRUE(v == 1.0f || v == 2.0f) << v;
+  EXPECT_NE(std::count(box_values.begin(), box_values.end(), 2.0f), 0);
   const auto xyz = step(*r.stream, 0);
   BoundingBox box;
   box.extend(xyz);
@@ -77,7 +84,7 @@ TEST(ExodusTest, CoarseGridQuads) {
 }
 
 // 2,476 HEX8 in two blocks (ids 1 and 76), 3,774 nodes, 21 steps t = 0, 0.1, … 2; nodal
-// variables "convected" and "diffused".
+// variables "convected" and "diffused", element variable "aux_elem".
 TEST(ExodusTest, MugHexesOverTwentyOneSteps) {
   Opened r = open(exodus_file("vtkdata_mug.e"));
   ASSERT_TRUE(r.stream.ok()) << r.stream.message();
@@ -90,7 +97,7 @@ TEST(ExodusTest, MugHexesOverTwentyOneSteps) {
   const FrameSource& frames = *r.stream->frames;
   ASSERT_EQ(frames.step_count(), 21u);
   for (size_t t = 0; t < 21; ++t) EXPECT_NEAR(frames.step_time(t), 0.1 * t, 1e-9);
-  EXPECT_EQ(frames.field_names(), (std::vector<std::string>{"convected", "diffused"}));
+  EXPECT_EQ(frames.field_names(), (std::vector<std::string>{"convected", "diffused", "aux_elem"}));
   std::vector<float> diffused(top.vertex_count);
   ASSERT_TRUE(frames.read_field(1, 20, diffused).ok());
   EXPECT_NEAR(*std::max_element(diffused.begin(), diffused.end()), 2.0, 1e-6);
@@ -113,7 +120,7 @@ TEST(ExodusTest, TetrahedraGiveAClosedOutwardSurface) {
   EXPECT_EQ(top.vertex_count, 26u);
   EXPECT_EQ(stats(top).boundary_edges, 0u);
   EXPECT_NEAR(enclosed_volume(top, step(*r.stream, 0)), 1000.0, 1e-3);  // the 10³ box
-  EXPECT_EQ(r.stream->frames->field_names().size(), 3u);
+  EXPECT_EQ(r.stream->frames->field_names().size(), 3u + 6u);  // nodal, then element variables
 }
 
 // 1,344 WEDGE in three blocks and no time step: the mesh is the one step.

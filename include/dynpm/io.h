@@ -22,9 +22,12 @@
 //         their corners (one warning); solids, vertices and lines are skipped with a warning
 //         that counts them (no outer faces are made). One-component CELL_DATA named part,
 //         part_id, PartId, pid, GeometryIds or gmsh:physical gives part ids, element_id the
-//         element numbers (else cell number + 1); POINT_DATA node_id gives node numbers, every
-//         other one-component point array is a field; multi-component arrays are ignored
-//         (one warning). Times: "time <t>" in a legacy title, TimeValue/TIME field data.
+//         element numbers (else cell number + 1), every other one-component cell array (but
+//         gmsh:geometrical) is an element field (the faces of a split polygon repeat their
+//         cell's value; skipped cells drop theirs); POINT_DATA node_id gives node numbers, every
+//         other one-component point array is a node field; multi-component arrays are ignored
+//         (one warning). No units (VTK names none). Times: "time <t>" in a legacy title,
+//         TimeValue/TIME field data.
 //   FRD   CalculiX result, read: node (2C), element (3C) and nodal result (100C) blocks, ASCII
 //         short/long or binary (float/double, native byte order; what *NODE OUTPUT and
 //         *ELEMENT OUTPUT write). Shells S3, S4/S4R, S6, S8/S8R are faces (quadratic ones by
@@ -36,7 +39,8 @@
 //         0, then one step per DISP block at its 100C time (as frame_000, frame_001, … of the
 //         OBJ sequences made from .frd files). Fields: STRESS → "S_MISES" (von Mises), PE →
 //         "PEEQ", any other one-component block by its name; zeros at step 0 and where a step
-//         has no such block; blocks pair with a DISP block by step number and time. Opening
+//         has no such block; blocks pair with a DISP block by step number and time; all
+//         node fields, no units (FRD names none). Opening
 //         scans the file once and keeps only where each block starts; a step is parsed when
 //         read. A gzip-compressed file is refused ("gunzip it first").
 //   d3plot  LS-DYNA binary database, read: the family d3plot, d3plot01, … (found beside the
@@ -47,16 +51,26 @@
 //         section (node, element and part user numbers). Opening indexes where every state
 //         starts (a state may run on into the next file; LS-DYNA's zero padding is skipped);
 //         read_step() reads only that state's coordinates (IU; the geometry when IU = 0).
-//         Fields: "temperature" (IT), "|V|" (IV). SPH, airbags, CFD, rigid-road and rigid-body
-//         sections and higher-order solids are refused with a clear error.
+//         Fields: per node "temperature" (IT), "|V|" (IV); per face (element fields) "von
+//         Mises" (from the stress tensor), "plastic strain" (effective) at the integration point
+//         of ReadOptions::integration_point (MAXINT = 3 writes mid, bottom, top; others bottom to
+//         top; max: the largest over the points), and "thickness" (IOSHL(4)); solid and thick
+//         shell faces get their element's value where its words are understood (one point:
+//         NV3D = 7 + NEIPH), else 0 with a warning. A shell layout whose words do not add up to
+//         NV2D is refused. No units (d3plot has none). SPH, airbags, CFD, rigid-road and
+//         rigid-body sections and higher-order solids are refused with a clear error.
 //   Exodus II  read through netCDF (classic, 64-bit offset, netCDF-4/HDF5): coordx/y/z or
 //         coord; connect<b> by elem_type: SHELL*, QUAD*, TRI* are faces; HEX, TETRA, WEDGE,
 //         PYRAMID (and their higher-order forms, by corners) give the outer faces of the solid
 //         blocks — faces used by exactly one element, outward; BEAM, BAR and others are ignored
 //         with a warning. Part ids from eb_prop1, ids from node_num_map / elem_num_map, times
 //         from time_whole. Nodal DISPL_X/Y/Z (or DISP_X…) displace the coordinates; the other
-//         nodal variables are fields. Classic files are checked against the sizes their header
-//         declares (netCDF would read a cut file's missing bytes as zeros).
+//         nodal variables are node fields; element variables (name_elem_var,
+//         vals_elem_var<v>eb<b>, elem_var_tab) are element fields on the faces made from each
+//         element (a solid's value on each of its outer faces), 0 with one warning on the faces
+//         of blocks the truth table leaves out; no units. Classic files are checked against
+//         the sizes their header declares (netCDF would read a cut file's missing bytes as
+//         zeros).
 //   Both: nodes no face uses are dropped (vertex i is the i-th used node, node_ids keeps the
 //   original numbers); a file with no time step gives its mesh as one step at time 0.
 //
@@ -92,10 +106,17 @@ FileFormat format_from_extension(const std::string& path);
 // By content where the format has a signature ("ply", "# vtk DataFile"), else by extension.
 Result<FileFormat> detect_format(const std::string& path);
 
+// Which through-thickness integration point of a shell an element field is read at (d3plot):
+// the mid-surface, the top (outermost) or bottom (innermost) one, or the largest value over all.
+enum class IntegrationPoint { kMid, kTop, kBottom, kMax };
+const char* to_string(IntegrationPoint point);  // "mid", "top", "bottom", "max"
+
 struct ReadOptions {
   // Faces with more than 4 corners are an error unless this is set; then they are split into
   // a fan of triangles around their first corner, with a warning.
   bool split_polygons = false;
+  // Where shell element fields (stress, plastic strain) are taken through the thickness.
+  IntegrationPoint integration_point = IntegrationPoint::kMid;
   // Receives notes about the input (ignored OBJ statements, split polygons, …). src/ never
   // prints: the caller decides where these go. May be empty.
   std::function<void(const std::string&)> warn;

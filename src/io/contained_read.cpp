@@ -236,7 +236,9 @@ void serve(int fd, const FrameSource& frames, size_t face_count) {
       continue;
     }
     const bool per_face = !step && fields[field].location == FieldLocation::kElement;
-    values.assign(step ? frames.step_float_count(t) : per_face ? face_count : frames.vertex_count(),
+    values.assign(step       ? frames.step_float_count(t)
+                  : per_face ? face_count
+                             : frames.vertex_count(),
                   0.0f);
     const Status status = step ? frames.read_step(t, values) : frames.read_field(field, t, values);
     const bool sent =
@@ -255,8 +257,7 @@ void serve(int fd, const FrameSource& frames, size_t face_count) {
   limit_resources();
   try {
     std::vector<std::string> warnings;
-    ReadOptions child_options;
-    child_options.split_polygons = options.split_polygons;
+    ReadOptions child_options = options;  // every option but where the notes go
     child_options.warn = [&warnings](const std::string& w) { warnings.push_back(w); };
     Result<AnimationStream> stream = open(child_options);
     if (!stream.ok()) {
@@ -445,7 +446,8 @@ Result<AnimationStream> open_in_child(
     for (const std::string& w : warnings) options.warn(w);
   std::vector<FieldInfo> fields;
   for (size_t f = 0; f < names.size(); ++f) {
-    if (locations[f] > 1) return Status::error(path + ": the reader's process sent a malformed answer");
+    if (locations[f] > 1)
+      return Status::error(path + ": the reader's process sent a malformed answer");
     fields.push_back({names[f], static_cast<FieldLocation>(locations[f]), units[f]});
   }
   stream.frames = std::make_unique<ChildFrames>(std::move(child), vertex_count, std::move(times),

@@ -25,6 +25,7 @@
 #include <filesystem>
 #include <optional>
 
+#include "d3plot_elements.h"
 #include "d3plot_layout.h"
 #include "formats.h"
 #include "solid_surface.h"
@@ -64,14 +65,15 @@ class D3plotSource final : public FrameSource {
 
   D3plotSource(Family family, Control control, StateLayout layout, std::vector<Place> places,
                std::vector<double> times, std::vector<uint32_t> kept_nodes,
-               std::vector<float> initial)
+               std::vector<float> initial, ElementFields elements)
       : family_(std::move(family)),
         control_(control),
         layout_(layout),
         places_(std::move(places)),
         times_(std::move(times)),
         kept_nodes_(std::move(kept_nodes)),
-        initial_(std::move(initial)) {
+        initial_(std::move(initial)),
+        elements_(std::move(elements)) {
     // Without a state the geometry stands in for one; it has no results.
     if (layout_.temperature && !places_.empty()) field_names_.push_back("temperature");
     if (layout_.velocity && !places_.empty()) field_names_.push_back("|V|");
@@ -110,18 +112,22 @@ class D3plotSource final : public FrameSource {
     return {};
   }
 
+  // The node fields, then the element fields (without a state, none).
   std::vector<FieldInfo> fields() const override {
     std::vector<FieldInfo> infos;
     for (const std::string& name : field_names_) infos.push_back({name, FieldLocation::kNode, {}});
+    if (!places_.empty())
+      infos.insert(infos.end(), elements_.fields().begin(), elements_.fields().end());
     return infos;
   }
 
   Status read_field(size_t field, size_t t, std::span<float> out) const override {
-    assert(field < field_names_.size() && out.size() == vertex_count());
-    if (places_.empty()) {
-      std::fill(out.begin(), out.end(), 0.0f);
-      return {};
-    }
+    assert(field < field_names_.size() + elements_.fields().size() && !places_.empty());
+    if (field >= field_names_.size())
+      return elements_.read(
+          field - field_names_.size(),
+          [&](uint64_t first, size_t n, char* into) { return read_words(t, first, n, into); }, out);
+    assert(out.size() == vertex_count());
     const bool temperature = field_names_[field] == "temperature";
     const int per_node = temperature ? layout_.temperature_stride : control_.ndim;
     const uint64_t start = temperature ? *layout_.temperature : *layout_.velocity;
@@ -160,6 +166,7 @@ class D3plotSource final : public FrameSource {
   std::vector<uint32_t> kept_nodes_;  // empty: every node is a vertex
   std::vector<float> initial_;        // xyz per vertex, from the geometry section
   std::vector<std::string> field_names_;
+  ElementFields elements_;
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -305,9 +312,11 @@ UserNumbers read_user_numbers(const std::string& path, const Geometry& g, const 
 }
 
 // Faces: shells as they are (a repeated 4th node makes a triangle), solids and thick shells as
-// their outer surface, beams ignored; over every node (unused ones are dropped later).
+// their outer surface, beams ignored; over every node (unused ones are dropped later). elements
+// receives the element of each face, for element results.
 Result<Topology> read_faces(const std::string& path, const Geometry& g, const Control& c,
-                            const UserNumbers& numbers, const ReadOptions& options) {
+                            const UserNumbers& numbers, const ReadOptions& options,
+                            std::vector<FaceElement>& elements) {
   const Words& w = c.words;
   const uint64_t ws = static_cast<uint64_t>(w.size);
   const uint64_t n = static_cast<uint64_t>(c.numnp);
@@ -339,6 +348,7 @@ Result<Topology> read_faces(const std::string& path, const Geometry& g, const Co
     }
     topology.add_face(*face, numbers.part_id(w.integer(g.word(p + 4 * ws))),
                       numbers.shell_ids.empty() ? e + 1 : numbers.shell_ids[size_t(e)]);
+    elements.push_back({ElementKind::kShell, static_cast<uint32_t>(e)});
   }
   SolidSurface solids;
   for (auto [start, count, ids, kind] :
@@ -356,7 +366,13 @@ Result<Topology> read_faces(const std::string& path, const Geometry& g, const Co
                       ids->empty() ? e + 1 : (*ids)[size_t(e)]);
     }
   }
-  const size_t solid_faces = solids.append_outer_faces(topology);
+  std::vector<uint32_t> cells;  // solids first, then thick shells
+  const size_t solid_faces = solids.append_outer_faces(topology, &cells);
+  for (uint32_t cell : cells)
+    elements.push_back(cell < uint64_t(c.nel8)
+                           ? FaceElement{ElementKind::kSolid, cell}
+                           : FaceElement{ElementKind::kThickShell,
+                                         static_cast<uint32_t>(cell - uint64_t(c.nel8))});
   if (options.warn) {
     if (degenerate > 0)
       options.warn(path + ": " + std::to_string(degenerate) +
@@ -473,8 +489,11 @@ Result<AnimationStream> open_d3plot(const std::string& path, const ReadOptions& 
   if (!geometry) return geometry.status();
   // 3. User numbers and parts, then the faces: shells, and solids as their outer faces.
   const UserNumbers numbers = read_user_numbers(path, *geometry, c, options);
-  auto topology = read_faces(path, *geometry, c, numbers, options);
+  std::vector<FaceElement> face_elements;
+  auto topology = read_faces(path, *geometry, c, numbers, options, face_elements);
   if (!topology) return topology.status();
+  // A shell layout that does not add up is refused before the states are sized by it.
+  if (auto shells = shell_words(path, c); !shells) return shells.status();
   // 4. The nodes no face uses are dropped; the others' coordinates are step 0.
   std::vector<uint32_t> kept = drop_unused_vertices(*topology);
   std::vector<float> initial = initial_positions(*geometry, c, topology->vertex_count, kept);
@@ -487,12 +506,18 @@ Result<AnimationStream> open_d3plot(const std::string& path, const ReadOptions& 
   auto states = index_states(path, *family, c.words, *states_at,
                              layout.words * uint64_t(c.words.size), options);
   if (!states) return states.status();
-  // 6. The states stay on disk, read one by one.
+  // 6. The element results on the faces; without a state there are none to note.
+  const auto quiet = [](const std::string&) {};
+  auto elements = ElementFields::make(
+      path, c, std::move(face_elements), options.integration_point,
+      states->places.empty() ? std::function<void(const std::string&)>(quiet) : options.warn);
+  if (!elements) return elements.status();
+  // 7. The states stay on disk, read one by one.
   AnimationStream stream;
   stream.topology = std::move(topology).value();
   stream.frames = std::make_unique<D3plotSource>(
       std::move(family).value(), c, layout, std::move(states->places), std::move(states->times),
-      std::move(kept), std::move(initial));
+      std::move(kept), std::move(initial), std::move(elements).value());
   return stream;
 }
 

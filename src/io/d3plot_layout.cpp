@@ -27,11 +27,14 @@ enum ControlWord : int {
   kNv1d = 30,
   kNel4 = 31,
   kNv2d = 33,
+  kNeiph = 34,
+  kNeips = 35,
   kMaxint = 36,
   kNmsph = 37,
   kNarbs = 39,
   kNelt = 40,
   kNv3dt = 42,
+  kIoshl = 43,  // IOSHL(1..4): 1000 written, 999 not
   kIalemat = 47,
   kNcfdv1 = 48,
   kNadapt = 50,
@@ -126,6 +129,14 @@ Result<Control> parse_control(const std::string& path, std::string_view head, co
   c.idtdt = word(kIdtdt);
   const int64_t maxint = word(kMaxint);
   c.mdlopt = maxint <= -10000 ? 2 : maxint < 0 ? 1 : 0;
+  c.maxint = maxint <= -10000 ? -maxint - 10000 : maxint < 0 ? -maxint : maxint;
+  c.neips = word(kNeips);
+  c.neiph = word(kNeiph);
+  for (int k = 0; k < 4; ++k) c.ioshl[size_t(k)] = word(kIoshl + k) == 1000;
+  if (c.maxint >= 10000)
+    return Status::error(byte_error(
+        path, uint64_t{kMaxint} * w.size,
+        "MAXINT = " + std::to_string(maxint) + " is not a plausible number of integration points"));
   const int64_t extra = word(kExtra);
   c.header_words = 64 + static_cast<uint64_t>(extra);
 
@@ -145,6 +156,8 @@ Result<Control> parse_control(const std::string& path, std::string_view head, co
                              {kNadapt, "NADAPT"},
                              {kExtra, "EXTRA"},
                              {kIt, "IT"},
+                             {kNeips, "NEIPS"},
+                             {kNeiph, "NEIPH"},
                              {kIdtdt, "IDTDT"}})
     if (word(index) < 0 || word(index) >= kMaxCount)
       return Status::error(byte_error(
@@ -212,6 +225,41 @@ StateLayout state_layout(const Control& c) {
   if (c.mdlopt == 2) at += uint64_t(c.nel8 + c.nelt + c.nel4 + c.nel2);
   s.words = at;
   return s;
+}
+
+ElementData element_data(const Control& c) {
+  ElementData e;
+  const StateLayout s = state_layout(c);
+  const uint64_t after = s.words - (c.mdlopt == 1   ? uint64_t(c.numnp)
+                                    : c.mdlopt == 2 ? uint64_t(c.nel8 + c.nelt + c.nel4 + c.nel2)
+                                                    : 0);
+  e.shells = after - uint64_t(c.nel4) * uint64_t(c.nv2d);
+  const uint64_t beams = e.shells - uint64_t(c.nel2) * uint64_t(c.nv1d);
+  e.thick_shells = beams - uint64_t(c.nelt) * uint64_t(c.nv3dt);
+  e.solids = e.thick_shells - uint64_t(c.nel8) * uint64_t(c.nt3d + c.nv3d);
+  return e;
+}
+
+Result<ShellWords> shell_words(const std::string& path, const Control& c) {
+  ShellWords s;
+  s.points = static_cast<int>(c.maxint);
+  s.stress = c.ioshl[0];
+  s.plastic_strain = c.ioshl[1];
+  s.per_point = 6 * s.stress + s.plastic_strain + static_cast<int>(c.neips);
+  const int64_t points = int64_t{s.points} * s.per_point;
+  const int64_t known = points + 8 * c.ioshl[2] + 4 * c.ioshl[3];
+  if (c.ioshl[3]) s.thickness = static_cast<int>(points + 8 * c.ioshl[2]);
+  // ISTRN (the 12 strain words) is not in the control block of older files: what is left says.
+  if (c.nel4 == 0 || c.nv2d == known || c.nv2d == known + 12) return s;
+  return Status::error(byte_error(
+      path, uint64_t{kNv2d} * c.words.size,
+      "NV2D = " + std::to_string(c.nv2d) + " words per shell does not add up: MAXINT " +
+          std::to_string(s.points) + " × (" + (s.stress ? "6 stresses + " : "") +
+          (s.plastic_strain ? "1 plastic strain + " : "") + std::to_string(c.neips) + " NEIPS) + " +
+          std::to_string(8 * c.ioshl[2]) + " resultants + " + std::to_string(4 * c.ioshl[3]) +
+          " thickness and energy words = " + std::to_string(known) + ", or " +
+          std::to_string(known + 12) +
+          " with strains (a d3plot layout this reader does not know)"));
 }
 
 // The name of member k of the family of path: path, path01, … path99, path100, …

@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <cstdint>
 #include <cstring>
@@ -71,6 +72,11 @@ struct Control {
   int mdlopt = 0;  // deletion data per state: 0 none, 1 per node, 2 per element
   int64_t narbs = 0, nmmat = 0, ialemat = 0, nel48 = 0, nadapt = 0, idtdt = 0, nt3d = 0;
   int64_t nel20 = 0;
+  // Shell element data: MAXINT integration points (its sign and 10000s carry MDLOPT), NEIPS
+  // history values per point, IOSHL(1..4) whether stresses, plastic strain, resultants and
+  // thickness with energy are written; NEIPH history values per solid.
+  int64_t maxint = 0, neips = 0, neiph = 0;
+  std::array<bool, 4> ioshl{};
   uint64_t header_words = 64;
 };
 
@@ -96,6 +102,32 @@ struct StateLayout {
 };
 
 StateLayout state_layout(const Control& c);
+
+// The words each shell writes per state (NV2D of them), in order:
+//   per integration point (MAXINT of them; for MAXINT = 3 mid, bottom, top, otherwise bottom to
+//   top): 6 stresses (σxx σyy σzz σxy σyz σzx) if IOSHL(1), the effective plastic strain if
+//   IOSHL(2), NEIPS history values;
+//   8 resultants (Mxx Myy Mxy Qxz Qyz Nxx Nyy Nxy) if IOSHL(3);
+//   thickness, 2 element-dependent values and the internal energy if IOSHL(4);
+//   12 strains (lower and upper surface tensors) if ISTRN.
+// Thick shells write the same points and strains without resultants and thickness (NV3DT).
+struct ShellWords {
+  int points = 0;     // MAXINT
+  int per_point = 0;  // words of one integration point
+  bool stress = false, plastic_strain = false;
+  std::optional<int> thickness;  // word of the thickness, when written
+};
+
+// The shell layout the control block describes; an error when its words do not add up to NV2D
+// (a layout this reader does not know, whose values it would misread).
+Result<ShellWords> shell_words(const std::string& path, const Control& c);
+
+// Where the element data of a state starts (words from the state's start): solids (NEL8 ×
+// (NT3D + NV3D)), thick shells (NELT × NV3DT), beams (NEL2 × NV1D), shells (NEL4 × NV2D).
+struct ElementData {
+  uint64_t solids = 0, thick_shells = 0, shells = 0;
+};
+ElementData element_data(const Control& c);
 
 // An open file for positioned reads; closed when it goes out of scope.
 class File {

@@ -1,4 +1,5 @@
 // Exodus II reader, through the netCDF C library (classic, 64-bit offset and netCDF-4/HDF5).
+// Long: one format's reader (nodal and element variables, blocks, the netCDF access) kept whole.
 //
 // Exodus II is netCDF with conventions (Sandia's "EXODUS II: A Finite Element Data Model"):
 //   dims  num_nodes, num_dim, num_elem, num_el_blk, num_el_in_blk<b>, num_nod_per_el<b>,
@@ -6,11 +7,15 @@
 //   vars  coordx coordy [coordz] (or coord[num_dim][num_nodes]); connect<b> with the attribute
 //         elem_type; eb_prop1 (block ids); node_num_map, elem_num_map (user numbers);
 //         time_whole; name_nod_var; vals_nod_var<i>[time_step][num_nodes] (or one vals_nod_var
-//         [time_step][num_nod_var][num_nodes] in old files)
+//         [time_step][num_nod_var][num_nodes] in old files); num_elem_var, name_elem_var,
+//         vals_elem_var<v>eb<b>[time_step][num_el_in_blk<b>], elem_var_tab[num_el_blk]
+//         [num_elem_var] (which blocks hold which element variable; absent: all)
 // Shell and 2-D blocks (SHELL*, QUAD*, TRI*) become faces; solid blocks (HEX, TETRA, WEDGE,
 // PYRAMID) give their outer faces; beams, bars and others are ignored with a warning. Nodal
 // variables named DISPL_X/Y/Z (or DISP_X, DISPLX, DISPLACEMENT_X, …) move the nodes: positions
-// are coordinates + displacement. The other nodal variables are scalar fields.
+// are coordinates + displacement. The other nodal variables are node fields; element variables
+// are element fields on the faces made from each element (a solid's value on each of its outer
+// faces), 0 on the faces of a block that lacks the variable. Exodus names no units.
 //
 // Classic netCDF files are read here, in dynpm's process: their header is checked by our own
 // code first (ClassicHeaderCheck, exodus_classic.cpp) and netCDF's classic reader is fuzzed with
@@ -154,18 +159,39 @@ struct NodalVariable {
   size_t index = 0;
 };
 
+// The element each face comes from: its block (0-based) and its index in the block.
+struct FaceOrigin {
+  uint32_t block;
+  uint32_t element;
+};
+
+// An element variable: per block, its netCDF variable (-1 where the block has none).
+struct ElementVariable {
+  std::string name;
+  std::vector<int> block_var;
+};
+
+// What the faces need to show element variables.
+struct ElementData {
+  std::vector<size_t> block_sizes;  // num_el_in_blk<b>
+  std::vector<FaceOrigin> origins;  // per face
+  std::vector<ElementVariable> variables;
+};
+
 class ExodusSource final : public FrameSource {
  public:
   ExodusSource(std::shared_ptr<const NcFile> file, size_t node_count, std::vector<uint32_t> kept,
                std::vector<float> coordinates, std::vector<double> times,
-               std::vector<NodalVariable> displacement, std::vector<NodalVariable> fields)
+               std::vector<NodalVariable> displacement, std::vector<NodalVariable> fields,
+               ElementData elements)
       : file_(std::move(file)),
         node_count_(node_count),
         kept_(std::move(kept)),
         coordinates_(std::move(coordinates)),
         times_(std::move(times)),
         displacement_(std::move(displacement)),
-        fields_(std::move(fields)) {}
+        fields_(std::move(fields)),
+        elements_(std::move(elements)) {}
 
   uint32_t vertex_count() const override { return static_cast<uint32_t>(coordinates_.size() / 3); }
   size_t step_count() const override { return std::max<size_t>(times_.size(), 1); }
@@ -184,17 +210,23 @@ class ExodusSource final : public FrameSource {
     return {};
   }
 
+  // The nodal variables, then the element variables.
   std::vector<FieldInfo> fields() const override {
     std::vector<FieldInfo> infos;
     for (const auto& f : fields_) infos.push_back({f.name, FieldLocation::kNode, {}});
+    for (const auto& f : elements_.variables)
+      infos.push_back({f.name, FieldLocation::kElement, {}});
     return infos;
   }
   Status read_field(size_t field, size_t t, std::span<float> out) const override {
-    assert(field < fields_.size() && out.size() == vertex_count());
+    assert(field < fields_.size() + elements_.variables.size());
     if (times_.empty()) {
       std::fill(out.begin(), out.end(), 0.0f);
       return {};
     }
+    if (field >= fields_.size())
+      return read_element(elements_.variables[field - fields_.size()], t, out);
+    assert(out.size() == vertex_count());
     auto values = read_nodal(fields_[field], t);
     if (!values) return values.status();
     for (size_t v = 0; v < out.size(); ++v)
@@ -212,6 +244,28 @@ class ExodusSource final : public FrameSource {
     return file_->doubles(nodal.var, nodal.var_name + " (" + nodal.name + ")", start, count);
   }
 
+  // One value per face: its element's, each block's values read once.
+  Status read_element(const ElementVariable& variable, size_t t, std::span<float> out) const {
+    assert(out.size() == elements_.origins.size());
+    std::vector<std::vector<double>> blocks(elements_.block_sizes.size());
+    std::vector<bool> used(blocks.size(), false);
+    for (const FaceOrigin& o : elements_.origins) used[o.block] = true;
+    for (size_t b = 0; b < blocks.size(); ++b) {
+      if (!used[b] || variable.block_var[b] < 0) continue;
+      const size_t start[2] = {t, 0}, count[2] = {1, elements_.block_sizes[b]};
+      auto values = file_->doubles(
+          variable.block_var[b],
+          "vals_elem_var eb" + std::to_string(b + 1) + " (" + variable.name + ")", start, count);
+      if (!values) return values.status();
+      blocks[b] = std::move(values).value();
+    }
+    for (size_t i = 0; i < out.size(); ++i) {
+      const FaceOrigin o = elements_.origins[i];
+      out[i] = blocks[o.block].empty() ? 0.0f : static_cast<float>(blocks[o.block][o.element]);
+    }
+    return {};
+  }
+
   std::shared_ptr<const NcFile> file_;
   size_t node_count_;
   std::vector<uint32_t> kept_;
@@ -219,6 +273,7 @@ class ExodusSource final : public FrameSource {
   std::vector<double> times_;
   std::vector<NodalVariable> displacement_;
   std::vector<NodalVariable> fields_;
+  ElementData elements_;
 };
 
 // The displacement component (0, 1, 2) a nodal variable name stands for, if it is one:
@@ -323,10 +378,15 @@ Result<UserNumbers> read_user_numbers(const NcFile& nc) {
 // The element blocks: shells and 2-D elements as faces, solids as their outer faces, the rest
 // ignored with a warning.
 Status read_blocks(const NcFile& nc, const std::string& path, const UserNumbers& numbers,
-                   const ReadOptions& options, Topology& topology) {
+                   const ReadOptions& options, Topology& topology, ElementData& elements) {
   const size_t n = topology.vertex_count;
   const size_t block_count = nc.dim("num_el_blk").value_or(0);
+  if (block_count > kNoVertex)
+    return Status::error(path + ": num_el_blk " + std::to_string(block_count) +
+                         " is not plausible");
   SolidSurface solids;
+  std::vector<FaceOrigin> cell_origins;
+  elements.block_sizes.assign(block_count, 0);
   size_t element = 0, ignored = 0, degenerate = 0;
   std::vector<std::string> ignored_types;
   for (size_t b = 0; b < block_count; ++b) {
@@ -335,6 +395,9 @@ Status read_blocks(const NcFile& nc, const std::string& path, const UserNumbers&
     const std::string var_name = "connect" + suffix;
     const auto var = nc.var(var_name);
     if (in_block == 0 || !var) continue;
+    if (in_block >= kNoVertex)
+      return Status::error(path + ": num_el_in_blk" + suffix + " is not plausible");
+    elements.block_sizes[b] = in_block;
     auto shape = nc.shape(*var, var_name);
     if (!shape) return shape.status();
     if (shape->size() != 2 || (*shape)[0] != in_block)
@@ -368,8 +431,10 @@ Status read_blocks(const NcFile& nc, const std::string& path, const UserNumbers&
       const int64_t user_id = element < numbers.element_ids.size()
                                   ? numbers.element_ids[element]
                                   : static_cast<int64_t>(element + 1);
+      const FaceOrigin origin{static_cast<uint32_t>(b), static_cast<uint32_t>(e)};
       if (type.kind == BlockKind::kSolid) {
         solids.add_cell(type.solid, std::span(v.data(), size_t(corners)), part, user_id);
+        cell_origins.push_back(origin);
         continue;
       }
       const auto face = distinct_corner_face(std::span(v.data(), size_t(corners)));
@@ -378,9 +443,12 @@ Status read_blocks(const NcFile& nc, const std::string& path, const UserNumbers&
         continue;
       }
       topology.add_face(*face, part, user_id);
+      elements.origins.push_back(origin);
     }
   }
-  const size_t outer = solids.append_outer_faces(topology);
+  std::vector<uint32_t> cells;
+  const size_t outer = solids.append_outer_faces(topology, &cells);
+  for (uint32_t cell : cells) elements.origins.push_back(cell_origins[cell]);
   if (options.warn) {
     if (solids.cell_count() > 0)
       options.warn(path + ": " + std::to_string(solids.cell_count()) +
@@ -424,6 +492,22 @@ Result<std::vector<double>> read_times(const NcFile& nc, const std::string& path
   return times;
 }
 
+// The names of a char[count][length] variable (name_nod_var, name_elem_var); empty names where
+// the variable is missing or not of that shape.
+Result<std::vector<std::string>> read_names(const NcFile& nc, const char* variable, size_t count) {
+  std::vector<std::string> names(count);
+  const auto var = nc.var(variable);
+  if (!var) return names;
+  auto shape = nc.shape(*var, variable);
+  if (!shape) return shape.status();
+  if (shape->size() != 2 || (*shape)[0] != count || (*shape)[1] > 4096) return names;
+  std::string text(count * (*shape)[1], '\0');
+  if (int rc = nc_get_var_text(nc.id(), *var, text.data()); rc != NC_NOERR)
+    return nc.error(variable, rc);
+  for (size_t i = 0; i < count; ++i) names[i] = trimmed(text.substr(i * (*shape)[1], (*shape)[1]));
+  return names;
+}
+
 // The nodal variables: the displacement components (all of them, or none), and the fields.
 struct NodalVariables {
   std::vector<NodalVariable> displacement, fields;
@@ -437,18 +521,9 @@ Result<NodalVariables> read_nodal_variables(const NcFile& nc, const std::string&
   displacement.resize(dims);
   const size_t variable_count = nc.dim("num_nod_var").value_or(0);
   if (variable_count > 0 && steps > 0) {
-    std::vector<std::string> names(variable_count);
-    if (auto var = nc.var("name_nod_var")) {
-      auto shape = nc.shape(*var, "name_nod_var");
-      if (!shape) return shape.status();
-      if (shape->size() == 2 && (*shape)[0] == variable_count && (*shape)[1] <= 4096) {
-        std::string text(variable_count * (*shape)[1], '\0');
-        if (int rc = nc_get_var_text(nc.id(), *var, text.data()); rc != NC_NOERR)
-          return nc.error("name_nod_var", rc);
-        for (size_t i = 0; i < variable_count; ++i)
-          names[i] = trimmed(text.substr(i * (*shape)[1], (*shape)[1]));
-      }
-    }
+    auto read = read_names(nc, "name_nod_var", variable_count);
+    if (!read) return read.status();
+    const std::vector<std::string>& names = *read;
     const auto combined = nc.var("vals_nod_var");
     for (size_t i = 0; i < variable_count; ++i) {
       NodalVariable nodal;
@@ -497,6 +572,64 @@ Result<NodalVariables> read_nodal_variables(const NcFile& nc, const std::string&
   return out;
 }
 
+// The element variables: per block, vals_elem_var<v>eb<b> where the truth table (elem_var_tab)
+// says the block has it; each checked to hold one value per element of its block and step.
+Status read_element_variables(const NcFile& nc, const std::string& path, size_t steps,
+                              const ReadOptions& options, ElementData& elements) {
+  const size_t count = nc.dim("num_elem_var").value_or(0);
+  const size_t blocks = elements.block_sizes.size();
+  if (count == 0 || steps == 0) return {};
+  if (count > 100000)
+    return Status::error(path + ": num_elem_var " + std::to_string(count) + " is not plausible");
+  auto names = read_names(nc, "name_elem_var", count);
+  if (!names) return names.status();
+  std::vector<long long> table;
+  if (auto var = nc.var("elem_var_tab")) {
+    auto values = nc.integers(*var, "elem_var_tab");
+    if (!values) return values.status();
+    if (values->size() != blocks * count)
+      return Status::error(
+          path + ": elem_var_tab: " + std::to_string(values->size()) +
+          " entries, expected num_el_blk × num_elem_var = " + std::to_string(blocks * count));
+    table = std::move(values).value();
+  }
+  std::vector<bool> used(blocks, false);
+  for (const FaceOrigin& o : elements.origins) used[o.block] = true;
+  for (size_t v = 0; v < count; ++v) {
+    ElementVariable variable{
+        (*names)[v].empty() ? "element variable " + std::to_string(v + 1) : (*names)[v],
+        std::vector<int>(blocks, -1)};
+    std::string lacking;
+    bool any = false;
+    for (size_t b = 0; b < blocks; ++b) {
+      if (!used[b]) continue;
+      const std::string name =
+          "vals_elem_var" + std::to_string(v + 1) + "eb" + std::to_string(b + 1);
+      const auto var = nc.var(name);
+      if (!var || (!table.empty() && table[b * count + v] == 0)) {
+        lacking += (lacking.empty() ? "" : ", ") + std::to_string(b + 1);
+        continue;
+      }
+      auto shape = nc.shape(*var, name);
+      if (!shape) return shape.status();
+      if (shape->size() != 2 || (*shape)[0] != steps || (*shape)[1] != elements.block_sizes[b])
+        return Status::error(path + ": " + name + " (" + variable.name +
+                             "): expected time_step × num_el_in_blk" + std::to_string(b + 1) +
+                             " = " + std::to_string(steps) + " × " +
+                             std::to_string(elements.block_sizes[b]) + " values");
+      variable.block_var[b] = *var;
+      any = true;
+    }
+    if (!any) continue;
+    if (!lacking.empty() && options.warn)
+      options.warn(path + ": element variable " + variable.name + " is 0 on the faces of block" +
+                   (lacking.find(',') == std::string::npos ? " " : "s ") + lacking +
+                   ", which do not hold it");
+    elements.variables.push_back(std::move(variable));
+  }
+  return {};
+}
+
 // Everything from nc_open on; in dynpm's process for classic files, in a child for the others.
 Result<AnimationStream> read_exodus(const std::string& path, uint64_t file_size,
                                     const ReadOptions& options) {
@@ -517,7 +650,8 @@ Result<AnimationStream> read_exodus(const std::string& path, uint64_t file_size,
   if (numbers->node_ids.size() == n)
     topology.node_ids.assign(numbers->node_ids.begin(), numbers->node_ids.end());
   // 2. The element blocks: faces, and solids as their outer faces.
-  DYNPM_RETURN_IF_ERROR(read_blocks(nc, path, *numbers, options, topology));
+  ElementData elements;
+  DYNPM_RETURN_IF_ERROR(read_blocks(nc, path, *numbers, options, topology, elements));
   // 3. The nodes no face uses are dropped; the others' coordinates are the initial positions.
   std::vector<uint32_t> kept = drop_unused_vertices(topology);
   std::vector<float> coordinates(size_t{topology.vertex_count} * 3, 0.0f);
@@ -530,12 +664,13 @@ Result<AnimationStream> read_exodus(const std::string& path, uint64_t file_size,
   if (!times) return times.status();
   auto nodal = read_nodal_variables(nc, path, n, axes->size(), times->size(), options);
   if (!nodal) return nodal.status();
+  DYNPM_RETURN_IF_ERROR(read_element_variables(nc, path, times->size(), options, elements));
   // 5. The steps stay in the file, read one by one.
   AnimationStream stream;
   stream.topology = std::move(topology);
   stream.frames = std::make_unique<ExodusSource>(
       std::move(file), n, std::move(kept), std::move(coordinates), std::move(times).value(),
-      std::move(nodal->displacement), std::move(nodal->fields));
+      std::move(nodal->displacement), std::move(nodal->fields), std::move(elements));
   return stream;
 }
 

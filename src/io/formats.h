@@ -14,16 +14,17 @@
 
 namespace dynpm::io {
 
-// A per-vertex scalar of one file (VTK point data): vertex_count values.
-struct PointField {
+// A scalar of one file: VTK point data (vertex_count values) or cell data (one per face).
+struct MeshField {
   std::string name;
   std::vector<float> values;
+  FieldLocation location = FieldLocation::kNode;
 };
 
 struct ParsedMesh {
   Topology topology;
   std::vector<float> positions;  // 3 · vertex_count
-  std::vector<PointField> point_fields;
+  std::vector<MeshField> fields;
   std::vector<uint32_t>
       face_places;  // per face, the line (text) or byte offset (binary) it came from
   bool places_are_lines = true;

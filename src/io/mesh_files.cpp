@@ -52,7 +52,7 @@ class FileSequence final : public FrameSource {
  public:
   FileSequence(std::vector<std::string> paths, std::vector<double> times,
                std::shared_ptr<const Topology> topology, std::vector<float> first_step,
-               std::vector<io::PointField> first_fields, ReadOptions options)
+               std::vector<io::MeshField> first_fields, ReadOptions options)
       : paths_(std::move(paths)),
         times_(std::move(times)),
         topology_(std::move(topology)),
@@ -76,15 +76,18 @@ class FileSequence final : public FrameSource {
     return {};
   }
 
-  // The point fields of the first file (VTK point data), looked up by name in the others.
+  // The fields of the first file (VTK point and cell data), looked up by name and location in
+  // the others.
   std::vector<FieldInfo> fields() const override {
     std::vector<FieldInfo> infos;
-    for (const io::PointField& f : first_fields_) infos.push_back({f.name, FieldLocation::kNode, {}});
+    for (const io::MeshField& f : first_fields_) infos.push_back({f.name, f.location, {}});
     return infos;
   }
   Status read_field(size_t field, size_t t, std::span<float> out) const override {
-    assert(field < first_fields_.size() && t < paths_.size() && out.size() == vertex_count());
+    assert(field < first_fields_.size() && t < paths_.size() &&
+           out.size() == first_fields_[field].values.size());
     const std::string& name = first_fields_[field].name;
+    const FieldLocation location = first_fields_[field].location;
     if (t == 0) {
       std::copy(first_fields_[field].values.begin(), first_fields_[field].values.end(),
                 out.begin());
@@ -92,13 +95,14 @@ class FileSequence final : public FrameSource {
     }
     auto mesh = parse_later_step(t);
     if (!mesh) return mesh.status();
-    for (const io::PointField& f : mesh->point_fields)
-      if (f.name == name) {
+    for (const io::MeshField& f : mesh->fields)
+      if (f.name == name && f.location == location) {
         std::copy(f.values.begin(), f.values.end(), out.begin());
         return {};
       }
-    return Status::error(paths_[t] + ": no point field '" + name + "' (" + paths_[0] +
-                         " has it; every time step must have the same fields)");
+    return Status::error(paths_[t] + ": no " +
+                         (location == FieldLocation::kNode ? "point" : "cell") + " field '" + name +
+                         "' (" + paths_[0] + " has it; every time step must have the same fields)");
   }
 
  private:
@@ -138,7 +142,7 @@ class FileSequence final : public FrameSource {
   std::vector<double> times_;
   std::shared_ptr<const Topology> topology_;
   std::vector<float> first_step_;
-  std::vector<io::PointField> first_fields_;
+  std::vector<io::MeshField> first_fields_;
   ReadOptions options_;
 };
 
@@ -189,6 +193,16 @@ const char* to_string(FileFormat format) {
     case FileFormat::kUnknown: return "unknown";
   }
   return "unknown";
+}
+
+const char* to_string(IntegrationPoint point) {
+  switch (point) {
+    case IntegrationPoint::kMid: return "mid";
+    case IntegrationPoint::kTop: return "top";
+    case IntegrationPoint::kBottom: return "bottom";
+    case IntegrationPoint::kMax: return "max";
+  }
+  return "mid";
 }
 
 FileFormat format_from_extension(const std::string& path) {
@@ -270,8 +284,9 @@ Result<Animation> read_mesh(const std::string& path, const ReadOptions& options)
   animation.topology = std::move(mesh->topology);
   animation.frames.set_vertex_count(animation.topology.vertex_count);
   animation.frames.add_step(std::move(mesh->positions), mesh->time.value_or(0.0));
-  for (io::PointField& f : mesh->point_fields)
-    animation.fields.push_back(ScalarField{std::move(f.name), {std::move(f.values)}, FieldLocation::kNode, {}});
+  for (io::MeshField& f : mesh->fields)
+    animation.fields.push_back(
+        ScalarField{std::move(f.name), {std::move(f.values)}, f.location, {}});
   return animation;
 }
 
@@ -307,7 +322,7 @@ Result<AnimationStream> open_file_sequence(std::span<const std::string> paths,
   quiet.warn = nullptr;
   stream.frames = std::make_unique<FileSequence>(
       std::vector<std::string>(paths.begin(), paths.end()), std::move(times), std::move(topology),
-      std::move(first->positions), std::move(first->point_fields), std::move(quiet));
+      std::move(first->positions), std::move(first->fields), std::move(quiet));
   return stream;
 }
 

@@ -69,7 +69,7 @@ void SolidSurface::add_cell(SolidKind kind, std::span<const uint32_t> corners, i
   }
 }
 
-size_t SolidSurface::append_outer_faces(Topology& topology) const {
+size_t SolidSurface::append_outer_faces(Topology& topology, std::vector<uint32_t>* cells) const {
   std::vector<uint32_t> order(faces_.size());
   std::iota(order.begin(), order.end(), 0u);
   std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
@@ -87,6 +87,7 @@ size_t SolidSurface::append_outer_faces(Topology& topology) const {
     if (!outer[i]) continue;
     const uint32_t cell = faces_[i].cell;
     topology.add_face(faces_[i].face, cell_part_[cell], cell_element_[cell]);
+    if (cells) cells->push_back(cell);
     ++added;
   }
   return added;

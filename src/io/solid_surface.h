@@ -32,8 +32,9 @@ class SolidSurface {
                 int64_t element_id);
   size_t cell_count() const { return cell_part_.size(); }
   // Appends the faces used by exactly one cell to topology (with the cell's part and element
-  // id) in the order the cells were added; returns how many were appended.
-  size_t append_outer_faces(Topology& topology) const;
+  // id) in the order the cells were added; returns how many were appended. cells, when given,
+  // receives the cell (in add_cell order) of each appended face, for element results.
+  size_t append_outer_faces(Topology& topology, std::vector<uint32_t>* cells = nullptr) const;
 
  private:
   struct CellFace {

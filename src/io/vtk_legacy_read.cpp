@@ -518,8 +518,8 @@ Result<ParsedMesh> parse_vtk(std::string_view bytes, const std::string& path,
   if (s.cell_data && s.cell_data != *cell_count)
     return Status::error(path + ": CELL_DATA " + std::to_string(s.cell_data) + " but " +
                          std::to_string(*cell_count) + " cells");
-  vtk::apply_cell_data(s.cell_arrays, *cell_count, sink.cell_of_face, path, options, mesh);
   vtk::apply_point_data(s.point_arrays, path, options, mesh);
+  vtk::apply_cell_data(s.cell_arrays, *cell_count, sink.cell_of_face, path, options, mesh);
   return mesh;
 }
 

@@ -51,12 +51,13 @@ class CellSink {
 
 // Cell data: the first one-component array named part / part_id / PartId / pid / GeometryIds /
 // gmsh:physical (case and '_' ignored) gives the part ids, element_id the element numbers;
-// without them parts are 0 and element numbers cell + 1.
+// without them parts are 0 and element numbers cell + 1. Every other one-component array
+// (but gmsh:geometrical) becomes an element MeshField, one value per face.
 void apply_cell_data(const std::vector<Array>& arrays, uint64_t cell_count,
                      const std::vector<uint64_t>& cell_of_face, const std::string& path,
                      const ReadOptions& options, ParsedMesh& mesh);
 // Point data: node_id gives the node numbers (else 1..n); every other one-component numeric
-// array becomes a PointField.
+// array becomes a node MeshField.
 void apply_point_data(std::vector<Array>& arrays, const std::string& path,
                       const ReadOptions& options, ParsedMesh& mesh);
 

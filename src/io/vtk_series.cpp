@@ -167,13 +167,28 @@ void apply_cell_data(const std::vector<Array>& arrays, uint64_t cell_count,
                      const ReadOptions& options, ParsedMesh& mesh) {
   Topology& topology = mesh.topology;
   bool have_part = false, have_element = false;
+  std::string ignored;
   for (const Array& a : arrays) {
-    if (a.components != 1 || a.values.size() != cell_count) continue;
+    if (a.values.size() != cell_count * a.components) continue;
     const std::string name = loose_name(a.name);
     const bool part = name == "part" || name == "partid" || name == "partids" || name == "pid" ||
                       name == "geometryids" || name == "gmsh:physical";
     const bool element = name == "elementid" || name == "elementids";
-    if ((part && have_part) || (element && have_element) || (!part && !element)) continue;
+    if (a.components != 1) {
+      ignored += (ignored.empty() ? "" : ", ") + quoted_bytes(a.name);
+      continue;
+    }
+    // Any other array is an element field: a face takes its cell's value (the faces of a split
+    // polygon repeat it; skipped cells drop theirs). gmsh's entity numbers are no result.
+    if (!part && !element) {
+      if (name == "gmsh:geometrical") continue;
+      MeshField field{a.name, std::vector<float>(cell_of_face.size()), FieldLocation::kElement};
+      for (size_t f = 0; f < cell_of_face.size(); ++f)
+        field.values[f] = static_cast<float>(a.values[cell_of_face[f]]);
+      mesh.fields.push_back(std::move(field));
+      continue;
+    }
+    if ((part && have_part) || (element && have_element)) continue;
     const double lo = part ? INT32_MIN : -9.007199254740992e15;
     const double hi = part ? INT32_MAX : 9.007199254740992e15;
     if (!all_integral(a.values, lo, hi)) {
@@ -192,6 +207,10 @@ void apply_cell_data(const std::vector<Array>& arrays, uint64_t cell_count,
     }
     (part ? have_part : have_element) = true;
   }
+  if (!ignored.empty() && options.warn)
+    options.warn(
+        path +
+        ": cell data with several components not read (dynpm keeps scalar fields): " + ignored);
 }
 
 void apply_point_data(std::vector<Array>& arrays, const std::string& path,
@@ -212,12 +231,12 @@ void apply_point_data(std::vector<Array>& arrays, const std::string& path,
       ignored += (ignored.empty() ? "" : ", ") + quoted_bytes(a.name);
       continue;
     }
-    PointField field;
+    MeshField field;
     field.name = a.name;
     field.values.resize(n);
     std::transform(a.values.begin(), a.values.end(), field.values.begin(),
                    [](double v) { return static_cast<float>(v); });
-    mesh.point_fields.push_back(std::move(field));
+    mesh.fields.push_back(std::move(field));
     std::vector<double>().swap(a.values);
   }
   if (!ignored.empty() && options.warn)

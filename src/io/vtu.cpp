@@ -523,13 +523,14 @@ Result<ParsedMesh> parse_vtu(std::string_view bytes, const std::string& path,
   vtk::CellSink sink(mesh, layout->n_points, path, options);
   DYNPM_RETURN_IF_ERROR(read_cells(*layout, decode, path, sink));
   sink.finish();
-  // 4. Cell data (parts, element numbers), then point data (node numbers, fields).
-  auto cell_data = read_arrays(decode, layout->cell_arrays, layout->n_cells);
-  if (!cell_data) return cell_data.status();
-  vtk::apply_cell_data(*cell_data, layout->n_cells, sink.cell_of_face, path, options, mesh);
+  // 4. Point data (node numbers, node fields), then cell data (parts, element numbers,
+  //    element fields).
   auto point_data = read_arrays(decode, layout->point_arrays, layout->n_points);
   if (!point_data) return point_data.status();
   vtk::apply_point_data(*point_data, path, options, mesh);
+  auto cell_data = read_arrays(decode, layout->cell_arrays, layout->n_cells);
+  if (!cell_data) return cell_data.status();
+  vtk::apply_cell_data(*cell_data, layout->n_cells, sink.cell_of_face, path, options, mesh);
   return mesh;
 }
 
