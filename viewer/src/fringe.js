@@ -63,6 +63,20 @@ export class Fringe {
   }
 }
 
+// The fringe options of the page's panel (ui: its inputs): scheme, bands (0: continuous),
+// aggregate, range ('all' or 'step'), user min/max (null: automatic).
+export function fringeOptions(ui) {
+  const number = (input) => (input.value.trim() === '' || !Number.isFinite(Number(input.value)) ? null : Number(input.value));
+  return {
+    scheme: ui.scheme.value,
+    bands: ui.continuous.checked ? 0 : Math.min(Math.max(Math.round(Number(ui.bands.value)) || 10, 1), 64),
+    aggregate: ui.aggregate.value,
+    range: ui.range.value,
+    min: number(ui.rangeMin),
+    max: number(ui.rangeMax),
+  };
+}
+
 // An element with a class, a background colour (CSSOM, which the page's CSP allows) and
 // children: strings become Text nodes (Element.append), never markup.
 export function element(tag, { className, background } = {}, ...children) {

@@ -13,7 +13,7 @@ import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 
 import { DpmDecoder, Navigator, ProgressiveMesh, streamDpm, updateIndices } from './dpm.js';
 import { FieldView } from './field_view.js';
-import { element, fmt, Fringe, fringeLegend } from './fringe.js';
+import { element, fmt, Fringe, fringeLegend, fringeOptions } from './fringe.js';
 
 const $ = (id) => document.getElementById(id);
 const ui = {
@@ -278,24 +278,11 @@ function fieldIndex() {
   return state.colour.startsWith('field:') ? Number(state.colour.slice(6)) : -1;
 }
 
-// The fringe options of the panel: scheme, bands (0: continuous), aggregate, range, user min/max.
-function fringeOptions() {
-  const number = (input) => (input.value.trim() === '' || !Number.isFinite(Number(input.value)) ? null : Number(input.value));
-  return {
-    scheme: ui.scheme.value,
-    bands: ui.continuous.checked ? 0 : Math.min(Math.max(Math.round(Number(ui.bands.value)) || 10, 1), 64),
-    aggregate: ui.aggregate.value,
-    range: ui.range.value,
-    min: number(ui.rangeMin),
-    max: number(ui.rangeMax),
-  };
-}
-
 // Displacement or a field, as colours of the visible vertices (or faces); then the legend.
 function updateScalarColours() {
   const { nav } = state;
   const n = nav.vertexCount;
-  const options = fringeOptions();
+  const options = fringeOptions(ui);
   const k = fieldIndex();
   let smooth = true;
   if (k >= 0) {
@@ -368,6 +355,7 @@ function setColour(mode) {
     updateScalarColours();
   }
   drawLegend();
+  updateLabels();
   requestRender();
 }
 
