@@ -7,7 +7,8 @@
 // the loaded splits gives sub() (each item's whole subtree) and after() (what the parent shows
 // right after the merge is undone); then a change of level costs O(items the splits name).
 // A merge is (into, from): split i merges vertex b + i into its parent; the faces it creates
-// merge into their heirs, in creation order. after() is indexed by `from`.
+// merge into their heirs, in creation order — which is the items' numbering. after() is indexed
+// by `from`.
 
 export const AGGREGATES = ['max', 'mean'];
 
@@ -49,45 +50,49 @@ export class ShownValues {
     return this.field.perFace ? mesh.faceCountAt[k] : mesh.head.baseVertexCount + k;
   }
 
-  // Calls visit(into, from) for each merge of split i, in creation order.
-  merges(i, visit) {
+  // The merges in creation order are the items from the base mesh's count on, each into its
+  // parent (its heir): split i creates the items [itemCount(i), itemCount(i + 1)).
+  // Returns [first merged item, into array, offset]: item x merges into into[x − offset].
+  mergeList() {
     const { mesh } = this;
-    if (!this.field.perFace) return visit(mesh.parent[i], mesh.head.baseVertexCount + i);
-    const heir = mesh.faceHeir;
-    for (let g = mesh.faceCountAt[i], end = mesh.faceCountAt[i + 1]; g < end; g++) visit(heir[g], g);
+    const b = mesh.head.baseVertexCount;
+    return this.field.perFace ? [mesh.head.baseFaceCount, mesh.faceHeir, 0] : [b, mesh.parent, b];
   }
 
   // Step t and level k (splits applied, ≤ the loaded ones): the backward pass, then the level.
   set(t, k) {
-    const { mesh, field, sub, after, mean, subCount, afterCount } = this;
+    const { mesh, field, sub, after, mean, subCount, afterCount, raw } = this;
     const L = mesh.splitsLoaded;
     const n = this.itemCount(L);
-    field.valuesAt(t, n, this.raw);
+    field.valuesAt(t, n, raw);
     let lo = Infinity, hi = -Infinity;
     for (let x = 0; x < n; x++) {
-      const v = this.raw[x];
+      const v = raw[x];
       sub[x] = v;
       if (v < lo) lo = v;
       if (v > hi) hi = v;
     }
     this.stepMin = n ? lo : 0;
     this.stepMax = n ? hi : 0;
-    if (mean) subCount.fill(1, 0, n);
-    // Reverse creation order: a split's faces last-first, splits last-first.
-    const reversed = [];
-    for (let i = L - 1; i >= 0; i--) {
-      reversed.length = 0;
-      this.merges(i, (into, from) => reversed.push(into, from));
-      for (let j = reversed.length - 2; j >= 0; j -= 2) {
-        const into = reversed[j], from = reversed[j + 1];
-        after[from] = sub[into];
-        if (mean) {
-          afterCount[from] = subCount[into];
-          sub[into] += sub[from];
-          subCount[into] += subCount[from];
-        } else {
-          sub[into] = largerMagnitude(sub[into], sub[from]);
-        }
+    const [first, into, offset] = this.mergeList();
+    // Reverse creation order: what x merges into holds, then x's subtree merged in.
+    if (mean) {
+      subCount.fill(1, 0, n);
+      for (let x = n - 1; x >= first; x--) {
+        const p = into[x - offset];
+        after[x] = sub[p];
+        afterCount[x] = subCount[p];
+        sub[p] += sub[x];
+        subCount[p] += subCount[x];
+      }
+    } else {
+      for (let x = n - 1; x >= first; x--) {
+        const p = into[x - offset];
+        const a = sub[p], c = sub[x];
+        after[x] = a;
+        // largerMagnitude(a, c), inline: this loop is the step change's cost.
+        const ma = a < 0 ? -a : a, mc = c < 0 ? -c : c;
+        if (mc > ma || (mc === ma && c > a)) sub[p] = c;
       }
     }
     this.step = t;
@@ -95,44 +100,49 @@ export class ShownValues {
     this.jumpTo(k);
   }
 
-  // The level directly: every present item its subtree, then each applied merge in order.
+  // The level directly: every present item its subtree, then each applied merge in order (the
+  // last merge into an item before the level wins).
   jumpTo(k) {
     const n = this.itemCount(k);
-    this.shown.set(this.sub.subarray(0, n));
-    if (this.mean) this.shownCount.set(this.subCount.subarray(0, n));
-    for (let i = 0; i < k; i++) this.merges(i, (into, from) => this.takeAfter(into, from));
+    const { shown, after, mean } = this;
+    shown.set(this.sub.subarray(0, n));
+    if (mean) this.shownCount.set(this.subCount.subarray(0, n));
+    const [first, into, offset] = this.mergeList();
+    for (let x = first; x < n; x++) {
+      const p = into[x - offset];
+      shown[p] = after[x];
+      if (mean) this.shownCount[p] = this.afterCount[x];
+    }
     this.level = k;
-    for (let x = 0; x < n; x++) this.output(x);
+    const values = this.values;
+    if (mean) for (let x = 0; x < n; x++) values[x] = shown[x] / this.shownCount[x];
+    else values.set(shown.subarray(0, n));
   }
 
   // A change of level, O(items the splits name); returns false when the pass must run again
   // (splits loaded since).
   setLevel(k) {
     if (k > this.splits) return false;
-    for (let i = this.level; i < k; i++)
-      this.merges(i, (into, from) => {
-        this.takeAfter(into, from);
-        this.shown[from] = this.sub[from];
-        if (this.mean) this.shownCount[from] = this.subCount[from];
-        this.output(into), this.output(from);
-      });
-    for (let i = this.level - 1; i >= k; i--)
-      this.merges(i, (into, from) => {
-        if (this.mean) {
-          this.shown[into] += this.sub[from];
-          this.shownCount[into] += this.subCount[from];
-        } else {
-          this.shown[into] = largerMagnitude(this.shown[into], this.sub[from]);
-        }
-        this.output(into);
-      });
+    const { shown, sub, after, mean, shownCount, subCount } = this;
+    const [, into, offset] = this.mergeList();
+    const now = this.itemCount(this.level), then = this.itemCount(k);
+    // Refining: each created item its subtree; its parent what it holds right after the split.
+    for (let x = now; x < then; x++) {
+      const p = into[x - offset];
+      shown[p] = after[x];
+      shown[x] = sub[x];
+      if (mean) (shownCount[p] = this.afterCount[x]), (shownCount[x] = subCount[x]);
+      this.output(p), this.output(x);
+    }
+    // Coarsening: each removed item's subtree merged back into its parent.
+    for (let x = now - 1; x >= then; x--) {
+      const p = into[x - offset];
+      if (mean) (shown[p] += sub[x]), (shownCount[p] += subCount[x]);
+      else shown[p] = largerMagnitude(shown[p], sub[x]);
+      this.output(p);
+    }
     this.level = k;
     return true;
-  }
-
-  takeAfter(into, from) {
-    this.shown[into] = this.after[from];
-    if (this.mean) this.shownCount[into] = this.afterCount[from];
   }
 
   output(x) {
