@@ -127,7 +127,7 @@ function createGeometry(mesh) {
   );
   edgeLines.visible = ui.edges.checked;
   scene.add(surface, edgeLines);
-  fieldView = new FieldView(scene, mesh, material, sphere.radius / 60);
+  fieldView = new FieldView(scene, mesh, surface, sphere.radius / 60);
 }
 
 function resetView() {
@@ -286,7 +286,7 @@ function updateScalarColours() {
   const k = fieldIndex();
   let smooth = true;
   if (k >= 0) {
-    smooth = fieldView.update(k, nav, state.t, positions, colours, options);
+    smooth = fieldView.update(k, nav, state.t, positions, options);
     state.fringe = fieldView.fringe;
   } else {
     ProgressiveMesh.displacement(positions, state.base0, n, scratch);
@@ -297,7 +297,7 @@ function updateScalarColours() {
     fieldView.hide();
   }
   surface.visible = smooth;
-  if (smooth) uploadColours();
+  if (k < 0) uploadColours();
   drawLegend();
 }
 

@@ -164,6 +164,9 @@ test('a nodal field: smooth fringe with its unit', async () => {
   assert.equal(f.slotColours, null);
   const { shown, nav } = expected(f);
   assert.deepEqual(f.values, Array.from(shown.values.subarray(0, nav.vertexCount)));
+  // Smooth: each vertex its value's place in the range, interpolated across the faces.
+  for (let v = 0; v < nav.vertexCount; v++)
+    assert.ok(Math.abs(f.uv[2 * v] - Math.min(Math.max((f.values[v] - f.lo) / (f.hi - f.lo), 0), 1)) < 1e-6, `vertex ${v}`);
   assert.match(await page.locator('#legend').textContent(), /stress .*\[MPa\].*node \d+/);
   await page.screenshot({ path: join(dir, 'nodal-fringe.png') });
   await page.locator('#colour').selectOption('part');
