@@ -206,21 +206,22 @@ export class DpmDecoder {
     if ((tag === 'HEAD' || tag === 'END ') && flags & FLAG_ZSTD)
       this.fail(at + 4, `${tag} chunk is compressed`);
     if (tag === 'END ' && raw !== 0) this.fail(at + 12, 'END chunk is not empty');
-    if (optional) return true;
-    if (tag === 'BASE' || tag === 'SPLT' || tag === 'FLDS') {
-      const limit = this.maxRawBytes(tag);
-      if (raw > limit)
-        this.fail(at + 12, `${tag} chunk: raw size ${raw}, HEAD allows ${Math.floor(limit)}`);
-      if (flags & FLAG_ZSTD && raw > stored * MAX_ZSTD_RATIO)
-        this.fail(at + 12, `${tag} chunk: raw size ${raw} from ${stored} compressed bytes`);
-    }
-    return false;
+    if (tag === 'HEAD' || tag === 'END ') return false;
+    // Before any allocation: what the chunk says it holds against what it can hold (FDEF and
+    // optional chunks: 2^31).
+    const limit = this.maxRawBytes(tag);
+    if (raw > limit)
+      this.fail(at + 12, `${tag} chunk: raw size ${raw}, HEAD allows ${Math.floor(limit)}`);
+    if (flags & FLAG_ZSTD && raw > stored * MAX_ZSTD_RATIO)
+      this.fail(at + 12, `${tag} chunk: raw size ${raw} from ${stored} compressed bytes`);
+    return optional;
   }
 
   // The most bytes a BASE, SPLT or FLDS payload can take for HEAD's counts, each value at its longest
   // encoding (at most 2^31). Moved faces have no count in HEAD: every remaining split may move
   // every face, a loose bound but a bound. The same arithmetic as the C++ payload_limit().
   maxRawBytes(tag) {
+    if (tag !== 'BASE' && tag !== 'SPLT' && tag !== 'FLDS') return MAX_CHUNK_BYTES;
     const h = this.mesh.head;
     const steps = h.stepCount;
     const perVertex = 2 * MAX_VARINT + steps * 3 * MAX_VARINT;
