@@ -153,6 +153,22 @@ function plateVtu(step, n = 12) {
 `;
 }
 
+// The VTK reader the field comparison uses, on what extract writes today: faces, part and node ids.
+for (const ascii of [true, false])
+  test(`extract's VTK (${ascii ? 'ASCII' : 'binary'}) as vtk_legacy.mjs reads it: faces, part and node ids`, () => {
+    const n = Math.round(h.baseVertexCount + h.splitCount * 0.37);
+    const path = join(out, `golden_${ascii}.vtk`);
+    execFileSync(cli, ['extract', dpm, '--vertices', String(n), '--step', '2', '-o', path, ...(ascii ? ['--ascii'] : [])]);
+    const vtk = readVtkLegacy(readFileSync(path));
+    const nav = new Navigator(mesh);
+    nav.setVertexCount(n);
+    assert.deepEqual(vtk.polygons, Array.from({ length: nav.faceCount }, (_, f) => nav.face(f)));
+    assert.deepEqual(Array.from(vtk.cellData.part_id.values), Array.from(mesh.partId.subarray(0, nav.faceCount)));
+    assert.deepEqual(Array.from(vtk.pointData.node_id.values), Array.from(mesh.nodeId.subarray(0, nav.vertexCount)));
+    const p = mesh.positionsAt(2, nav.vertexCount, new Float32Array(3 * nav.vertexCount));
+    assert.deepEqual(Array.from(vtk.points, Math.fround), Array.from(p));
+  });
+
 const fieldsDir = join(out, 'golden-fields');
 mkdirSync(fieldsDir, { recursive: true });
 for (const step of [0, 1, 2, 3]) writeFileSync(join(fieldsDir, `plate_${step}.vtu`), plateVtu(step));
@@ -164,7 +180,7 @@ const extracted = (args, name) => {
   execFileSync(cli, ['extract', fieldsDpm, ...args, '-o', path], { stdio: 'pipe' });
   return readVtkLegacy(readFileSync(path));
 };
-const probe = extracted(['--step', '1', '--ascii'], 'probe.vtk');
+const probe = extracted(['--full', '--step', '1', '--ascii'], 'probe.vtk');
 const skipFields =
   fielded.fields.length === 0 ? 'dynpm build writes no FDEF/FLDS yet (branch a18-format)'
   : !fielded.fields.every((f) => (f.perFace ? probe.cellData : probe.pointData)[f.name.replace(/ /g, '_')])
