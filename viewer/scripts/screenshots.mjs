@@ -1,6 +1,6 @@
 // The screenshots of docs/viewer.md "Fields", made reproducibly: `dynpm view` serves the model,
-// headless Chromium (as in the browser tests) shows its last step with an element field and then
-// a nodal field, and the page is saved as PNG.
+// headless Chromium (as in the browser tests) shows its last step with an element field (fully
+// refined, then at 10 % of the vertices) and a nodal field (rainbow), saved as PNG.
 //   node scripts/screenshots.mjs DYNPM MODEL.dpm OUT_DIR [--element NAME] [--node NAME]
 // A model without fields gets test/fields_fixture.mjs's DEMO_FIELDS (a nodal 'stress' and an
 // element 'plastic strain' from the motion) first. Fields are chosen by name, or the first of
@@ -35,8 +35,9 @@ if (mesh.fields.length === 0) {
 }
 const pick = (perFace, name) => (name ? mesh.fields.find((f) => f.name === name) : mesh.fields.find((f) => f.perFace === perFace));
 const shots = [
-  ['viewer-element-fringe.png', pick(true, flag('--element'))],
-  ['viewer-nodal-fringe.png', pick(false, flag('--node'))],
+  ['viewer-element-fringe.png', pick(true, flag('--element')), 'viridis', 1],
+  ['viewer-element-fringe-10pct.png', pick(true, flag('--element')), 'viridis', 0.1],
+  ['viewer-nodal-fringe.png', pick(false, flag('--node')), 'rainbow', 1],
 ];
 
 const { server, url } = await startServer(cli, served);
@@ -55,12 +56,15 @@ try {
     t.value = t.max;
     t.dispatchEvent(new Event('input'));
   });
-  for (const [name, field] of shots) {
+  const h = mesh.head;
+  for (const [name, field, scheme, ratio] of shots) {
     if (!field) {
       console.log(`${name}: the model has no such field`);
       continue;
     }
+    await page.evaluate((n) => window.dpmViewer.setVertexCount(n), Math.round(h.baseVertexCount + ratio * h.splitCount));
     await page.locator('#colour').selectOption({ label: field.name });
+    await page.locator('#scheme').selectOption(scheme);
     await page.waitForTimeout(300);
     await page.screenshot({ path: join(out, name) });
     console.log(`${join(out, name)}: ${field.name} (${field.perFace ? 'element' : 'node'})`);
