@@ -70,7 +70,17 @@ function jsVerdict(bytes) {
       parts: parts.size,
       lossless: mesh.lossless,
     },
+    fieldList: fieldList(mesh, nav),
   };
+}
+
+// As dpm_verdicts prints it: NAME:LOCATION:COUNT per field (bytes of the name other than
+// A-Z a-z 0-9 _ . - as %XX), COUNT the values per step present.
+function fieldList(mesh, nav) {
+  const escaped = (name) => Array.from(new TextEncoder().encode(name), (c) =>
+    /[A-Za-z0-9_.-]/.test(String.fromCharCode(c)) ? String.fromCharCode(c) : `%${c.toString(16).toUpperCase().padStart(2, '0')}`).join('');
+  return mesh.fields.map((f) =>
+    `${escaped(f.name)}:${f.perFace ? 'element' : 'node'}:${f.perFace ? nav.faceCount : nav.vertexCount}`).join(',');
 }
 
 // `dynpm info --json FILE`.
@@ -98,9 +108,9 @@ function toolVerdicts(paths) {
     const counts = {};
     for (const pair of rest) {
       const [key, value] = pair.split('=');
-      counts[key] = key === 'complete' || key === 'lossless' ? value === '1' : Number(value);
+      counts[key] = key === 'complete' || key === 'lossless' ? value === '1' : key === 'field_list' ? value : Number(value);
     }
-    return { counts: Object.fromEntries(COUNTS.map((key) => [key, counts[key]])) };
+    return { counts: Object.fromEntries(COUNTS.map((key) => [key, counts[key]])), fieldList: counts.field_list };
   });
 }
 
@@ -196,6 +206,7 @@ function mutants(name, bytes) {
 // ---------------------------------------------------------------------------------------------
 
 function same(cpp, js) {
+  if (cpp.counts && cpp.fieldList !== undefined && cpp.fieldList !== js.fieldList) return false;
   if (cpp.counts) return JSON.stringify(js.counts) === JSON.stringify(cpp.counts);
   return !Number.isNaN(cpp.byte) && js.byte === cpp.byte;
 }

@@ -143,6 +143,7 @@ function parseValues(r, f, first, end, base, parent, offset) {
   const top = (f.max - f.min) / (f.quantStep || 1) + 2;
   for (let t = 0; t < f.q.length; t++) {
     const cur = f.q[t];
+    const asFloat = f.lossless ? new Float32Array(cur.buffer) : null;
     const prev = t > 0 ? f.q[t - 1] : null;
     for (let v = first; v < end; v++) {
       let p = 0;
@@ -155,6 +156,9 @@ function parseValues(r, f, first, end, base, parent, offset) {
       if (checked && (x < -2 || x > top))
         r.fail(`${f.name}: item ${v} step ${t}: a value far outside [min, max]`);
       cur[v] = x;  // lossless: Int32Array wraps modulo 2^32, as the residual arithmetic requires
+      // A lossless value is a finite f32 within [min, max].
+      if (!checked && !(asFloat[v] >= f.min && asFloat[v] <= f.max))
+        r.fail(`${f.name}: item ${v} step ${t}: a value outside [min, max]`);
     }
   }
 }
