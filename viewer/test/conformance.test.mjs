@@ -77,10 +77,10 @@ function jsVerdict(bytes) {
 // As dpm_verdicts prints it: NAME:LOCATION:COUNT per field (bytes of the name other than
 // A-Z a-z 0-9 _ . - as %XX), COUNT the values per step present.
 function fieldList(mesh, nav) {
-  const escaped = (name) => Array.from(new TextEncoder().encode(name), (c) =>
+  const escaped = (bytes) => Array.from(bytes, (c) =>
     /[A-Za-z0-9_.-]/.test(String.fromCharCode(c)) ? String.fromCharCode(c) : `%${c.toString(16).toUpperCase().padStart(2, '0')}`).join('');
   return mesh.fields.map((f) =>
-    `${escaped(f.name)}:${f.perFace ? 'element' : 'node'}:${f.perFace ? nav.faceCount : nav.vertexCount}`).join(',');
+    `${escaped(f.nameBytes)}:${f.perFace ? 'element' : 'node'}:${f.perFace ? nav.faceCount : nav.vertexCount}`).join(',');
 }
 
 // `dynpm info --json FILE`.

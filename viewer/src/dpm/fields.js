@@ -51,10 +51,12 @@ export function parseFieldDefs(r, mesh) {
   const fields = [];
   for (let k = 0; k < count; k++) {
     const where = `field ${k}`;
-    const name = r.string();
-    if (name.length === 0 || byteLength(name) > MAX_NAME_BYTES) r.fail(`${where}: name of ${byteLength(name)} bytes`);
-    const unit = r.string();
-    if (byteLength(unit) > MAX_NAME_BYTES) r.fail(`${where}: unit of ${byteLength(unit)} bytes`);
+    const nameBytes = textBytes(r);
+    if (nameBytes.length === 0 || nameBytes.length > MAX_NAME_BYTES) r.fail(`${where}: name of ${nameBytes.length} bytes`);
+    const unitBytes = textBytes(r);
+    if (unitBytes.length > MAX_NAME_BYTES) r.fail(`${where}: unit of ${unitBytes.length} bytes`);
+    // Shown as text (bytes that are not UTF-8 as U+FFFD); the bytes as the file has them.
+    const name = new TextDecoder().decode(nameBytes), unit = new TextDecoder().decode(unitBytes);
     const location = r.u8();
     if (location !== FIELD_NODE && location !== FIELD_ELEMENT) r.fail(`${where}: location ${location}`);
     const flags = r.u8();
@@ -73,7 +75,7 @@ export function parseFieldDefs(r, mesh) {
       r.fail(`${where}: quant_step ${quantStep} is not valid`);
     if (!(maxError >= 0 && maxError < Infinity)) r.fail(`${where}: max_error ${maxError}`);
     if (!(baseError >= 0 && baseError <= 1)) r.fail(`${where}: base_error ${baseError} not in [0, 1]`);
-    fields.push({ name, unit, location, lossless, min, max, quantStep, maxError, baseError });
+    fields.push({ name, nameBytes, unit, location, lossless, min, max, quantStep, maxError, baseError });
   }
   if (r.remaining() !== 0) r.fail(`${r.remaining()} bytes left over at the end of FDEF`);
   mesh.fields = fields.map((d) => new DpmField(d, h.stepCount,
@@ -81,8 +83,12 @@ export function parseFieldDefs(r, mesh) {
   if (mesh.fields.some((f) => f.perFace)) mesh.faceHeir = new Int32Array(h.faceCount).fill(-1);
 }
 
-function byteLength(s) {
-  return new TextEncoder().encode(s).length;
+// A u16-length text's bytes.
+function textBytes(r) {
+  const n = r.u16();
+  r.need(n);
+  r.pos += n;
+  return r.bytes.slice(r.pos - n, r.pos);
 }
 
 // The most bytes the FLDS after BASE (n = 0) or after a SPLT of splits [s, s + n) can hold, each
