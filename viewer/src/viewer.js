@@ -1,6 +1,6 @@
 // The page of `dynpm view`: streams a .dpm (src/dpm.js), shows the base mesh as soon as BASE has
 // arrived and refines as SPLT chunks follow; time and resolution sliders, element edges, colour
-// by part or displacement, stats. docs/viewer.md has the design and the measured numbers.
+// by part, displacement or a result field (field_view.js), stats. docs/viewer.md has the design and the measured numbers.
 //
 // GPU buffers are sized for the full mesh once. Time changes rewrite only the position (and
 // colour) prefix of the visible vertices; resolution changes rewrite only the index entries of
@@ -12,6 +12,8 @@ import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 
 import { DpmDecoder, Navigator, ProgressiveMesh, streamDpm, updateIndices } from './dpm.js';
+import { FieldView } from './field_view.js';
+import { element, fmt, Fringe, fringeLegend, fringeOptions } from './fringe.js';
 
 const $ = (id) => document.getElementById(id);
 const ui = {
@@ -25,6 +27,14 @@ const ui = {
   edges: $('edges'),
   colour: $('colour'),
   legend: $('legend'),
+  fringeControls: $('fringe-controls'),
+  scheme: $('scheme'),
+  bands: $('bands'),
+  continuous: $('continuous'),
+  aggregate: $('aggregate'),
+  range: $('range'),
+  rangeMin: $('range-min'),
+  rangeMax: $('range-max'),
   reset: $('reset'),
   loadingBar: $('loading-bar'),
   stats: $('stats'),
@@ -76,6 +86,7 @@ let colours = null;  // Float32Array(3V)
 let triIndex = null;  // Uint32Array(6F)
 let edgeIndex = null;  // Uint32Array(8F)
 let scratch = null;  // Float32Array(V): per-vertex scalar for colours
+let fieldView = null;  // result fields (field_view.js)
 
 function createGeometry(mesh) {
   const { vertexCount: V, faceCount: F } = mesh.head;
@@ -116,6 +127,7 @@ function createGeometry(mesh) {
   );
   edgeLines.visible = ui.edges.checked;
   scene.add(surface, edgeLines);
+  fieldView = new FieldView(scene, mesh, surface, sphere.radius / 60);
 }
 
 function resetView() {
@@ -261,82 +273,59 @@ function updatePartColours() {
   }
 }
 
-// A perceptual blue → green → yellow ramp (viridis-like), 5 stops.
-const RAMP = [
-  [0.267, 0.005, 0.329],
-  [0.229, 0.322, 0.546],
-  [0.128, 0.567, 0.551],
-  [0.369, 0.789, 0.383],
-  [0.993, 0.906, 0.144],
-];
-
-function rampCss() {
-  return RAMP.map(([r, g, b]) => `rgb(${r * 255},${g * 255},${b * 255})`).join(',');
+// The field shown ('field:k'), or −1.
+function fieldIndex() {
+  return state.colour.startsWith('field:') ? Number(state.colour.slice(6)) : -1;
 }
 
+// Displacement or a field, as colours of the visible vertices (or faces); then the legend.
 function updateScalarColours() {
-  const { mesh, nav } = state;
+  const { nav } = state;
   const n = nav.vertexCount;
-  if (state.colour === 'displacement') ProgressiveMesh.displacement(positions, state.base0, n, scratch);
-  else mesh.fieldAt(Number(state.colour.slice(6)), state.t, n, scratch);
-  const [lo, hi] = scalarRange();
-  const scale = hi > lo ? (RAMP.length - 1) / (hi - lo) : 0;
-  for (let v = 0; v < n; v++) {
-    let x = (scratch[v] - lo) * scale;
-    x = x < 0 ? 0 : x > RAMP.length - 1 ? RAMP.length - 1 : x;
-    const i = Math.min(Math.floor(x), RAMP.length - 2);
-    const a = x - i;
-    const c0 = RAMP[i], c1 = RAMP[i + 1];
-    colours[3 * v] = c0[0] + (c1[0] - c0[0]) * a;
-    colours[3 * v + 1] = c0[1] + (c1[1] - c0[1]) * a;
-    colours[3 * v + 2] = c0[2] + (c1[2] - c0[2]) * a;
+  const options = fringeOptions(ui);
+  const k = fieldIndex();
+  let smooth = true;
+  if (k >= 0) {
+    smooth = fieldView.update(k, nav, state.t, positions, options);
+    state.fringe = fieldView.fringe;
+  } else {
+    ProgressiveMesh.displacement(positions, state.base0, n, scratch);
+    let [lo, hi] = scalarRange();
+    if (options.range === 'step') [lo, hi] = [0, scratch.subarray(0, n).reduce((a, x) => Math.max(a, x), 0)];
+    const fringe = (state.fringe = new Fringe({ lo: options.min ?? lo, hi: options.max ?? hi, ...options }));
+    for (let v = 0; v < n; v++) fringe.colour(scratch[v], colours, 3 * v);
+    fieldView.hide();
   }
-  uploadColours();
+  surface.visible = smooth;
+  if (k < 0) uploadColours();
+  drawLegend();
 }
 
-// The legend's range covers every step of the loaded vertices, so it stays put while time
-// changes; recomputed as vertices arrive.
+// The displacement's range over every step of the loaded vertices, so that it stays put while
+// time changes; recomputed as vertices arrive.
 function scalarRange() {
   const key = state.colour;
   let range = state.ranges.get(key);
   if (range) return range;
   const { mesh } = state;
   const n = mesh.vertexCountLoaded;
-  const m = mesh.head.stepCount;
-  let lo = Infinity, hi = -Infinity;
-  if (key === 'displacement') {
-    const p = new Float32Array(3 * n);
-    const d = new Float32Array(n);
-    lo = 0;
-    for (let t = 0; t < m; t++) {
-      ProgressiveMesh.displacement(mesh.positionsAt(t, n, p), state.base0, n, d);
-      for (let v = 0; v < n; v++) if (d[v] > hi) hi = d[v];
-    }
-  } else {
-    for (const values of mesh.fields[Number(key.slice(6))])
-      for (let v = 0; v < n; v++) {
-        if (values[v] < lo) lo = values[v];
-        if (values[v] > hi) hi = values[v];
-      }
+  const p = new Float32Array(3 * n);
+  const d = new Float32Array(n);
+  let hi = 0;
+  for (let t = 0; t < mesh.head.stepCount; t++) {
+    ProgressiveMesh.displacement(mesh.positionsAt(t, n, p), state.base0, n, d);
+    for (let v = 0; v < n; v++) if (d[v] > hi) hi = d[v];
   }
-  range = [lo, Math.max(hi, lo)];
+  range = [0, hi];
   state.ranges.set(key, range);
-  drawLegend();
   return range;
 }
 
 // Names in the legend come from the file: they go in as text nodes, never as markup
 // (Element.append turns strings into Text; the page has no innerHTML at all).
-function element(tag, { className, background } = {}, ...children) {
-  const e = document.createElement(tag);
-  if (className) e.className = className;
-  if (background) e.style.background = background;  // CSSOM, which the page's CSP allows
-  e.append(...children);
-  return e;
-}
-
 function drawLegend() {
   const { mesh } = state;
+  ui.fringeControls.hidden = state.colour === 'part';
   if (state.colour === 'part') {
     const ids = [...new Set(mesh.partId.subarray(0, state.nav.faceCount))].sort((a, b) => a - b);
     const shown = ids.slice(0, 12).flatMap((id) => [
@@ -346,34 +335,33 @@ function drawLegend() {
     ui.legend.replaceChildren('part ids: ', ...shown, ids.length > 12 ? ' …' : '');
     return;
   }
-  const [lo, hi] = state.ranges.get(state.colour) ?? [0, 0];
-  const name =
-    state.colour === 'displacement' ? 'displacement' : mesh.head.fieldNames[Number(state.colour.slice(6))];
-  ui.legend.replaceChildren(
-    element('div', {}, name),
-    element('div', { className: 'bar', background: `linear-gradient(to right,${rampCss()})` }),
-    element('div', { className: 'ends' },
-      element('span', {}, fmt(lo)), element('span', {}, fmt((lo + hi) / 2)), element('span', {}, fmt(hi))),
-  );
+  if (!state.fringe) return;
+  const k = fieldIndex();
+  const field = k >= 0 ? mesh.fields[k] : null;
+  const title = field ? `${field.name} (${field.perFace ? 'element' : 'node'}, step ${fieldView.shown.step})` : 'displacement';
+  const peak = field ? fieldView.peak : null;
+  ui.legend.replaceChildren(...fringeLegend(state.fringe, { title, unit: field?.unit ?? '', peak }));
+  Object.assign(ui.legend.dataset, { bands: String(state.fringe.bands), min: String(state.fringe.lo), max: String(state.fringe.hi) });
 }
 
 function setColour(mode) {
   state.colour = mode;
   ui.colour.value = mode;
-  if (mode === 'part') updatePartColours();
-  else updateScalarColours();
+  if (mode === 'part') {
+    fieldView.hide();
+    surface.visible = true;
+    updatePartColours();
+  } else {
+    updateScalarColours();
+  }
   drawLegend();
+  updateLabels();
   requestRender();
 }
 
 // ---------------------------------------------------------------------------------------------
 // Labels
 
-function fmt(x, digits = 4) {
-  if (x === 0) return '0';
-  const a = Math.abs(x);
-  return a >= 1e5 || a < 1e-3 ? x.toExponential(2) : String(Number(x.toPrecision(digits)));
-}
 const int = (n) => n.toLocaleString('en-US');
 function bytes(n) {
   return n < 1 << 20 ? `${(n / 1024).toFixed(1)} KiB` : `${(n / (1 << 20)).toFixed(1)} MiB`;
@@ -391,6 +379,7 @@ function updateLabels() {
   ui.resolutionLabel.textContent =
     `${int(n)} of ${int(h.vertexCount)} vertices (${((100 * n) / h.vertexCount).toFixed(1)}%), ` +
     `error ${fmt(nav.error)} (${fmt((100 * nav.error) / diag, 3)}% of the diagonal)` +
+    (fieldIndex() >= 0 ? `, field error ${fmt(100 * nav.fieldError(fieldIndex()), 3)}% of its range` : '') +
     (mesh.splitsLoaded < h.splitCount ? `, ${int(mesh.vertexCountLoaded)} loaded` : '');
   const loaded = state.totalBytes
     ? `${bytes(state.bytesLoaded)} / ${bytes(state.totalBytes)}`
@@ -417,13 +406,14 @@ function onHead(mesh) {
   ui.time.max = String(h.stepCount - 1);
   ui.resolution.min = String(h.baseVertexCount);
   ui.resolution.max = String(h.vertexCount);
-  for (let f = 0; f < h.fieldCount; f++) ui.colour.add(new Option(h.fieldNames[f], `field:${f}`));
   ui.note.textContent = h.note;
   createGeometry(mesh);
   resize();
 }
 
 function onBase(mesh) {
+  // Option(text, value): the field's name from FDEF is text.
+  for (let f = 0; f < mesh.fields.length; f++) ui.colour.add(new Option(mesh.fields[f].name, `field:${f}`));
   state.nav = new Navigator(mesh);
   extendBase0();
   updateLevel();
@@ -502,6 +492,10 @@ ui.edges.addEventListener('change', () => {
 ui.colour.addEventListener('change', () => {
   if (state.nav) setColour(ui.colour.value);
 });
+for (const input of [ui.scheme, ui.bands, ui.continuous, ui.aggregate, ui.range, ui.rangeMin, ui.rangeMax])
+  input.addEventListener(input.tagName === 'SELECT' || input.type === 'checkbox' ? 'change' : 'input', () => {
+    if (state.nav && state.colour !== 'part') setColour(state.colour);
+  });
 ui.reset.addEventListener('click', () => geometry && resetView());
 window.addEventListener('keydown', (e) => {
   if (e.target instanceof HTMLInputElement && e.target.type !== 'range') return;
@@ -535,6 +529,7 @@ window.dpmViewer = {
     bytesLoaded: state.bytesLoaded,
     error: ui.error.hidden ? null : ui.error.textContent,
   }),
+  fringe: () => (fieldView?.shown ? fieldView.describe(state.nav) : null),
   snapshot(size = 64) {
     renderer.render(scene, camera);
     const gl = renderer.getContext();

@@ -5,7 +5,7 @@ import assert from 'node:assert/strict';
 import { test } from 'node:test';
 import { crc32 } from 'node:zlib';
 
-import { DpmDecoder, Navigator, readDpm, updateIndices } from '../src/dpm.js';
+import { DpmDecoder, Navigator, readDpm, ShownValues, updateIndices } from '../src/dpm.js';
 
 class Bytes {
   constructor() {
@@ -79,20 +79,57 @@ const Q = [
 ];
 const QUANT = 0.25;
 const BMIN = [-1, -2, -3];
+// Two fields: 'stress' per node (quantized, step 0.5: vertex v at step t is 10t + v) and 'peeq'
+// per element (lossless). Face 2, created by split 0, has face 1 as its heir.
+const STRESS = [0, 1].map((t) => [0, 1, 2, 3, 4, 5].map((v) => 10 * t + v));
+const PEEQ = [[1, -4, 3], [1.5, -4, 4]];
+const f32Bits = (x) => new Int32Array(Float32Array.of(x).buffer)[0];
 
-function makeFile(baseFrame = null) {
+// FLDS after BASE (n = 0) or after split 0 (n = 1), FORMAT.md "Fields" residuals.
+function fieldValues(n) {
+  const out = new Bytes();
+  out.u32(0), out.u32(n);
+  if (n) out.varint(2 - 1 - 1);  // face 2's heir: face 1
+  const q = STRESS.map((row) => row.map((x) => x / 0.5));
+  if (n) out.f32(0);  // stress: the field error after split 0
+  for (let t = 0; t < 2; t++) {
+    if (!n) for (let v = 0; v < 5; v++) out.svarint(t ? q[t][v] - q[t - 1][v] : q[0][v] - (v ? q[0][v - 1] : 0));
+    else out.svarint(t ? q[1][5] - q[0][5] - (q[1][1] - q[0][1]) : q[0][5] - q[0][1]);
+  }
+  const p = PEEQ.map((row) => row.map(f32Bits));
+  if (n) out.f32(0);
+  for (let t = 0; t < 2; t++) {
+    if (!n) for (let f = 0; f < 2; f++) out.svarint(t ? p[t][f] - p[t - 1][f] : p[0][f] - (f ? p[0][f - 1] : 0));
+    else out.svarint(t ? p[1][2] - p[0][2] - (p[1][1] - p[0][1]) : p[0][2] - p[0][1]);
+  }
+  return out.bytes;
+}
+
+function fieldDefs() {
+  const out = new Bytes();
+  out.u32(2);
+  out.string('stress'), out.string('MPa'), out.u8(0), out.u8(0), out.u16(0);
+  out.f64(0), out.f64(15), out.f64(0.5), out.f64(0.25), out.f32(0.3);
+  out.string('peeq'), out.string(''), out.u8(1), out.u8(1), out.u16(0);
+  out.f64(-4), out.f64(4), out.f64(0), out.f64(0), out.f32(0.75);
+  return out.bytes;
+}
+
+function makeFile(baseFrame = null, { fields = true, extra = null } = {}) {
   const out = new Bytes();
   [0x89, 0x44, 0x50, 0x4d, 0x0d, 0x0a, 0x1a, 0x0a].forEach((x) => out.u8(x));
   out.u32(1);
   const head = new Bytes();
-  [6, 3, 5, 2, 1, 2, 1, 0].forEach((x) => head.u32(x));
+  [6, 3, 5, 2, 1, 2, 0, 0].forEach((x) => head.u32(x));
   BMIN.forEach((x) => head.f64(x));
   [2, 1, 0].forEach((x) => head.f64(x));
   head.f64(QUANT), head.f64(QUANT * 0.866), head.f64(0.5);
   head.f64(0), head.f64(0.001);
   head.u32(1), head.u32(1);
-  head.string('stress'), head.string('dpm.test.mjs');
+  head.string('dpm.test.mjs');
   chunk(out, 'HEAD', head.bytes);
+  if (extra) chunk(out, extra, Uint8Array.of(1, 2, 3));  // an optional chunk of a later version
+  if (fields) chunk(out, 'FDEF', fieldDefs());
 
   const base = new Bytes();
   // Original indices must be < V (the C++ reader checks them): an input order 1, 0, 3, 2, 4, 5.
@@ -109,8 +146,8 @@ function makeFile(baseFrame = null) {
     for (let v = 0; v < 5; v++)
       for (let c = 0; c < 3; c++)
         base.svarint(t === 0 ? Q[0][v][c] - (v ? Q[0][v - 1][c] : 0) : Q[t][v][c] - Q[t - 1][v][c]);
-  for (let t = 0; t < 2; t++) for (let v = 0; v < 5; v++) base.f32(10 * t + v);
   chunk(out, 'BASE', base.bytes, baseFrame);
+  if (fields) chunk(out, 'FLDS', fieldValues(0), baseFrame);
 
   const split = new Bytes();
   split.u32(0), split.u32(1);
@@ -124,8 +161,8 @@ function makeFile(baseFrame = null) {
   split.svarint(9), split.svarint(3 - 501), split.svarint(2 - 1);
   for (let c = 0; c < 3; c++) split.svarint(Q[0][5][c] - Q[0][1][c]);
   for (let c = 0; c < 3; c++) split.svarint(Q[1][5][c] - Q[0][5][c] - (Q[1][1][c] - Q[0][1][c]));
-  split.f32(5), split.f32(15);
   chunk(out, 'SPLT', split.bytes);
+  if (fields) chunk(out, 'FLDS', fieldValues(1));
   chunk(out, 'END ', new Uint8Array(0));
   return out.bytes;
 }
@@ -137,14 +174,17 @@ test('decodes HEAD, BASE, the split and its attributes', () => {
   const { mesh, complete } = readDpm(FILE);
   assert.equal(complete, true);
   assert.equal(mesh.head.vertexCount, 6);
-  assert.deepEqual(mesh.head.fieldNames, ['stress']);
+  assert.deepEqual(mesh.fields.map((f) => [f.name, f.unit, f.location]), [['stress', 'MPa', 0], ['peeq', '', 1]]);
   assert.equal(mesh.head.note, 'dpm.test.mjs');
   assert.deepEqual(Array.from(mesh.nodeId), [100, 101, 102, 103, 104, 105]);
   assert.deepEqual(Array.from(mesh.vertexOriginal), [1, 0, 3, 2, 4, 5]);
   assert.deepEqual(Array.from(mesh.partId), [7, 8, 9]);
   assert.deepEqual(Array.from(mesh.elementId), [500, 501, 3]);
   assert.deepEqual(Array.from(mesh.faceOriginal), [0, 1, 2]);
-  assert.deepEqual(Array.from(mesh.fields[0][1]), [10, 11, 12, 13, 14, 15]);
+  assert.deepEqual(Array.from(mesh.fields[0].valuesAt(1, 6)), STRESS[1]);
+  assert.deepEqual(Array.from(mesh.fields[1].valuesAt(0, 3)), PEEQ[0]);
+  assert.deepEqual(Array.from(mesh.fields[1].valuesAt(1, 3)), PEEQ[1]);
+  assert.deepEqual(Array.from(mesh.faceHeir), [-1, -1, 1]);
   for (let t = 0; t < 2; t++)
     for (let v = 0; v < 6; v++)
       assert.deepEqual(
@@ -206,13 +246,13 @@ test('every prefix is a coarser file; byte-at-a-time streaming gives the same me
 
 test('damage is reported with its byte, not decoded', () => {
   const bad = FILE.slice();
-  bad[HEAD_END + 30] ^= 1;  // inside BASE's payload
-  assert.throws(() => readDpm(bad, 'x.dpm'), /x\.dpm: byte \d+: BASE chunk: wrong checksum/);
+  bad[HEAD_END + 30] ^= 1;  // inside FDEF's payload
+  assert.throws(() => readDpm(bad, 'x.dpm'), /x\.dpm: byte \d+: FDEF chunk: wrong checksum/);
   const magic = FILE.slice();
   magic[1] = 0x45;
   assert.throws(() => readDpm(magic), /wrong magic/);
   const tag = FILE.slice();
-  tag[HEAD_END] = 0x58;  // "XASE"
+  tag[HEAD_END] = 0x78;  // "xDEF": not a tag a later version may add (A–Z, 0–9, space)
   assert.throws(() => readDpm(tag), /unknown chunk tag/);
 });
 
@@ -230,4 +270,74 @@ test('a zstd chunk is decoded only when its one frame declares the chunk\'s raw 
   assert.throws(() => readDpm(second), /BASE chunk: bytes after the zstd frame/);
   const noSize = makeFile((p) => zstdFrame(p).map((x, i) => (i === 4 ? 0x00 : x)));
   assert.throws(() => readDpm(noSize), /BASE chunk: the zstd frame does not declare its size/);
+});
+
+// ---------------------------------------------------------------------------------------------
+// Fields
+
+test('an unknown optional chunk is skipped; one before HEAD or with a bad checksum is not', () => {
+  const { mesh } = readDpm(makeFile(null, { extra: 'NOTE' }));
+  assert.equal(mesh.complete, true);
+  assert.equal(mesh.fields.length, 2);
+  const damaged = makeFile(null, { extra: 'NOTE' });
+  damaged[HEAD_END + 24] ^= 1;
+  assert.throws(() => readDpm(damaged), /NOTE chunk: wrong checksum/);
+  const withoutFields = readDpm(makeFile(null, { fields: false })).mesh;
+  assert.equal(withoutFields.fields.length, 0);
+  assert.equal(withoutFields.vertexCountLoaded, 6);
+});
+
+test('a HEAD that lists fields is from an older dynpm', () => {
+  const old = FILE.slice();
+  old[12 + 24 + 24] = 1;  // field_count
+  const view = new DataView(old.buffer);
+  view.setUint32(12 + 16, crc32(old.subarray(36, HEAD_END)), true);
+  assert.throws(() => readDpm(old, 'x.dpm'), /x\.dpm: byte 36: .*written by an older dynpm: build it again/);
+});
+
+test('a SPLT whose FLDS has not arrived is not applied', () => {
+  const ends = [];  // chunk ends
+  for (let at = 12; at < FILE.length; ) {
+    at += 24 + new DataView(FILE.buffer).getUint32(at + 8, true);
+    ends.push(at);
+  }
+  // HEAD, FDEF, BASE, FLDS, SPLT, FLDS, END
+  const loaded = (n) => readDpm(FILE.subarray(0, n)).mesh;
+  assert.equal(loaded(ends[2]).hasBase, false, 'BASE without its FLDS');
+  assert.equal(loaded(ends[3]).vertexCountLoaded, 5);
+  assert.equal(loaded(ends[4]).vertexCountLoaded, 5, 'SPLT without its FLDS');
+  assert.equal(loaded(ends[5] - 1).vertexCountLoaded, 5);
+  assert.equal(loaded(ends[5]).vertexCountLoaded, 6);
+});
+
+test('shown values: max |value| and mean of what each vertex and face stands for', () => {
+  const { mesh } = readDpm(FILE);
+  const [stress, peeq] = mesh.fields;
+  const shown = (field, aggregate, t, k) => {
+    const s = new ShownValues(mesh, field, aggregate);
+    s.set(t, k);
+    return Array.from(s.values.subarray(0, s.itemCount(k)));
+  };
+  // Coarse: vertex 1 stands for 1 and 5; face 1 for faces 1 and 2.
+  assert.deepEqual(shown(stress, 'max', 1, 0), [10, 15, 12, 13, 14]);
+  assert.deepEqual(shown(stress, 'mean', 1, 0), [10, 13, 12, 13, 14]);
+  assert.deepEqual(shown(peeq, 'max', 0, 0), [1, -4]);
+  assert.deepEqual(shown(peeq, 'max', 1, 0), [1.5, 4]);
+  assert.deepEqual(shown(peeq, 'mean', 0, 0), [1, -0.5]);
+  assert.deepEqual(shown(stress, 'max', 1, 1), STRESS[1]);
+  assert.deepEqual(shown(peeq, 'mean', 1, 1), PEEQ[1]);
+  // Refining and coarsening in place give what the direct pass gives.
+  for (const field of mesh.fields)
+    for (const aggregate of ['max', 'mean']) {
+      const s = new ShownValues(mesh, field, aggregate);
+      s.set(1, 0);
+      s.setLevel(1);
+      assert.deepEqual(Array.from(s.values.subarray(0, s.itemCount(1))), shown(field, aggregate, 1, 1));
+      s.setLevel(0);
+      assert.deepEqual(Array.from(s.values.subarray(0, s.itemCount(0))), shown(field, aggregate, 1, 0));
+    }
+  const nav = new Navigator(mesh);
+  assert.equal(nav.fieldError(0), Math.fround(0.3));
+  nav.setLevel(1);
+  assert.equal(nav.fieldError(1), 0);
 });

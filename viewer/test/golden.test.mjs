@@ -6,11 +6,12 @@
 // .dpm, the shipped sample's), DYNPM_TEST_OUT (a scratch folder).
 import assert from 'node:assert/strict';
 import { execFileSync } from 'node:child_process';
-import { mkdirSync, readFileSync } from 'node:fs';
+import { mkdirSync, readFileSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { test } from 'node:test';
 
-import { Navigator, readDpm } from '../src/dpm.js';
+import { Navigator, readDpm, ShownValues } from '../src/dpm.js';
+import { readVtkLegacy } from './vtk_legacy.mjs';
 
 const { DYNPM_CLI: cli, DYNPM_DPM: dpm, DYNPM_TEST_OUT: out } = process.env;
 if (!cli || !dpm || !out) throw new Error('golden.test.mjs needs DYNPM_CLI, DYNPM_DPM, DYNPM_TEST_OUT');
@@ -116,3 +117,96 @@ test('every prefix that ends on a chunk boundary is a coarser, valid mesh', () =
   }
   assert.equal(last, h.vertexCount);
 });
+
+// ---------------------------------------------------------------------------------------------
+// Fields: a plate with a point field and a cell field in VTU (as meshio writes them), built by
+// `dynpm build`; `dynpm extract … -o x.vtk` writes the values the level shows (FORMAT.md "Shown
+// values", max |value| by default) as POINT_DATA and CELL_DATA SCALARS named as the fields,
+// float32. dpm.js's ShownValues must give the same, value for value.
+
+function plateVtu(step, n = 12) {
+  const points = [], nodal = [], cells = [], cellValues = [];
+  for (let j = 0; j < n; j++)
+    for (let i = 0; i < n; i++) {
+      points.push(i, j, 0.3 * step * Math.sin(i / 3) * Math.cos(j / 4));
+      nodal.push(Math.fround(step * (i - 4) * (j - 7) * 0.1));
+    }
+  for (let j = 0; j + 1 < n; j++)
+    for (let i = 0; i + 1 < n; i++) {
+      const a = j * n + i;
+      cells.push(a, a + 1, a + n + 1, a + n);
+      cellValues.push(Math.fround(Math.max(0, step - Math.hypot(i - 6, j - 3)) * 0.01));
+    }
+  const c = cells.length / 4;
+  return `<?xml version="1.0"?>
+<VTKFile type="UnstructuredGrid" version="0.1" byte_order="LittleEndian">
+<UnstructuredGrid><Piece NumberOfPoints="${n * n}" NumberOfCells="${c}">
+<PointData><DataArray type="Float32" Name="stress" format="ascii">${nodal.join(' ')}</DataArray></PointData>
+<CellData><DataArray type="Float32" Name="peeq" format="ascii">${cellValues.join(' ')}</DataArray></CellData>
+<Points><DataArray type="Float32" NumberOfComponents="3" format="ascii">${points.join(' ')}</DataArray></Points>
+<Cells>
+<DataArray type="Int32" Name="connectivity" format="ascii">${cells.join(' ')}</DataArray>
+<DataArray type="Int32" Name="offsets" format="ascii">${Array.from({ length: c }, (_, k) => 4 * (k + 1)).join(' ')}</DataArray>
+<DataArray type="UInt8" Name="types" format="ascii">${Array(c).fill(9).join(' ')}</DataArray>
+</Cells>
+</Piece></UnstructuredGrid></VTKFile>
+`;
+}
+
+// The VTK reader the field comparison uses, on what extract writes today: faces, part and node ids.
+for (const ascii of [true, false])
+  test(`extract's VTK (${ascii ? 'ASCII' : 'binary'}) as vtk_legacy.mjs reads it: faces, part and node ids`, () => {
+    const n = Math.round(h.baseVertexCount + h.splitCount * 0.37);
+    const path = join(out, `golden_${ascii}.vtk`);
+    execFileSync(cli, ['extract', dpm, '--vertices', String(n), '--step', '2', '-o', path, ...(ascii ? ['--ascii'] : [])]);
+    const vtk = readVtkLegacy(readFileSync(path));
+    const nav = new Navigator(mesh);
+    nav.setVertexCount(n);
+    assert.deepEqual(vtk.polygons, Array.from({ length: nav.faceCount }, (_, f) => nav.face(f)));
+    assert.deepEqual(Array.from(vtk.cellData.part_id.values), Array.from(mesh.partId.subarray(0, nav.faceCount)));
+    assert.deepEqual(Array.from(vtk.pointData.node_id.values), Array.from(mesh.nodeId.subarray(0, nav.vertexCount)));
+    const p = mesh.positionsAt(2, nav.vertexCount, new Float32Array(3 * nav.vertexCount));
+    assert.deepEqual(Array.from(vtk.points, Math.fround), Array.from(p));
+  });
+
+const fieldsDir = join(out, 'golden-fields');
+mkdirSync(fieldsDir, { recursive: true });
+for (const step of [0, 1, 2, 3]) writeFileSync(join(fieldsDir, `plate_${step}.vtu`), plateVtu(step));
+const fieldsDpm = join(fieldsDir, 'plate.dpm');
+execFileSync(cli, ['build', join(fieldsDir, 'plate_*.vtu'), '-o', fieldsDpm], { stdio: 'pipe' });
+const fielded = readDpm(readFileSync(fieldsDpm), fieldsDpm).mesh;
+const extracted = (args, name) => {
+  const path = join(fieldsDir, name);
+  execFileSync(cli, ['extract', fieldsDpm, ...args, '-o', path], { stdio: 'pipe' });
+  return readVtkLegacy(readFileSync(path));
+};
+const probe = extracted(['--full', '--step', '1', '--ascii'], 'probe.vtk');
+const skipFields =
+  fielded.fields.length === 0 ? 'dynpm build writes no FDEF/FLDS yet (branch a18-format)'
+  : !fielded.fields.every((f) => (f.perFace ? probe.cellData : probe.pointData)[f.name.replace(/ /g, '_')])
+    ? 'dynpm extract does not write the fields as POINT_DATA/CELL_DATA yet (the integrator\'s extract)'
+    : false;
+
+for (const ascii of [true, false])
+  for (const ratio of [0, 0.3, 1])
+    for (const t of [0, 3]) {
+      const n = Math.round(fielded.head.baseVertexCount + ratio * fielded.head.splitCount);
+      test(`fields at ${n} vertices, step ${t}${ascii ? '' : ', binary'}: the values dynpm extract writes`,
+        { skip: skipFields }, () => {
+          const vtk = extracted(['--vertices', String(n), '--step', String(t), ...(ascii ? ['--ascii'] : [])],
+            `fields_${n}_${t}_${ascii}.vtk`);
+          const nav = new Navigator(fielded);
+          nav.setVertexCount(n);
+          assert.equal(vtk.polygons.length, nav.faceCount);
+          for (const field of fielded.fields) {
+            const shown = new ShownValues(fielded, field, 'max');
+            shown.set(t, nav.level);
+            const array = (field.perFace ? vtk.cellData : vtk.pointData)[field.name.replace(/ /g, '_')];
+            assert.equal(array.type, 'float', field.name);
+            const count = field.perFace ? nav.faceCount : nav.vertexCount;
+            assert.equal(array.values.length, count);
+            for (let x = 0; x < count; x++)
+              assert.equal(array.values[x], shown.values[x], `${field.name} item ${x}`);
+          }
+        });
+    }

@@ -10,6 +10,7 @@
 import { decompress } from 'fzstd';
 
 import { crc32, DpmError, Reader } from './bytes.js';
+import { maxFieldValueBytes, parseFieldDefs, parseFieldValues } from './fields.js';
 import {
   applySplit,
   checkSplit,
@@ -23,7 +24,17 @@ export const MAGIC = Uint8Array.of(0x89, 0x44, 0x50, 0x4d, 0x0d, 0x0a, 0x1a, 0x0
 const VERSION = 1;
 const CHUNK_HEADER_BYTES = 24;
 const FLAG_ZSTD = 1;
-const TAGS = ['HEAD', 'BASE', 'SPLT', 'END '];
+const TAGS = ['HEAD', 'FDEF', 'BASE', 'FLDS', 'SPLT', 'END '];
+// What may come next in each state (FORMAT.md "Layout"); known chunks keep this order.
+const NEXT = {
+  HEAD: ['HEAD'],
+  FDEF: ['FDEF', 'BASE'],  // right after HEAD
+  BASE: ['BASE'],
+  FLDS: ['FLDS'],
+  SPLT: ['SPLT', 'END '],
+};
+// The tag of an optional chunk a reader may skip: four characters from A–Z, 0–9 and space.
+const OPTIONAL_TAG = /^[A-Z0-9 ]{4}$/;
 // A chunk's bounds (FORMAT.md "Chunk"): stored and raw at most 2^31 bytes; zstd's densest block,
 // RLE, holds 128 KiB in 4 bytes, so no frame decompresses to more than 32768 times its size.
 const MAX_CHUNK_BYTES = 2 ** 31;
@@ -77,9 +88,12 @@ export class DpmDecoder {
     this.end = 0;     // end of the received bytes in buffer
     this.offset = 0;  // file offset of buffer[0]
     this.bytesReceived = 0;
-    this.state = 'magic';  // magic → HEAD → BASE → SPLT… → END → done
+    // magic → HEAD → FDEF? → BASE → FLDS? → (SPLT → FLDS?)… → END → done
+    this.state = 'magic';
     this.mesh = null;
     this.replay = null;  // the faces at the last decoded split (4 slots each), for the checks
+    // The splits of a SPLT whose FLDS has not arrived: not applied yet (FORMAT.md "Prefixes").
+    this.pending = null;
   }
 
   get complete() {
@@ -123,12 +137,16 @@ export class DpmDecoder {
       const raw = h.getUint32(12, true);
       const crc = h.getUint32(16, true);
       const reserved = h.getUint32(20, true);
-      this.checkChunkHeader(at, tag, flags, stored, raw, reserved);
+      const skipped = this.checkChunkHeader(at, tag, flags, stored, raw, reserved);
       if (available < CHUNK_HEADER_BYTES + stored) return;  // wait for the rest of the chunk
       const payloadStart = this.start + CHUNK_HEADER_BYTES;
       const payloadAt = at + CHUNK_HEADER_BYTES;
       const storedBytes = this.buffer.subarray(payloadStart, payloadStart + stored);
       if (crc32(storedBytes) !== crc) this.fail(at, `${tag} chunk: wrong checksum`);
+      if (skipped) {
+        this.start = payloadStart + stored;  // an optional chunk this reader does not know
+        continue;
+      }
       let payload = storedBytes;
       if (flags & FLAG_ZSTD) {
         const frame = zstdFrameProblem(storedBytes, raw);
@@ -173,10 +191,12 @@ export class DpmDecoder {
 
   // What the 24 bytes of a chunk's header say, checked before its payload has arrived, in the
   // order the C++ reader checks them (Decoder::check_chunk_header).
+  // Returns true for an unknown optional chunk, to be skipped once its checksum is checked.
   checkChunkHeader(at, tag, flags, stored, raw, reserved) {
-    const expected = this.state === 'SPLT' ? ['SPLT', 'END '] : [this.state];
-    if (!TAGS.includes(tag)) this.fail(at, `unknown chunk tag '${tag}'`);
-    if (!expected.includes(tag))
+    const expected = NEXT[this.state];
+    const optional = !TAGS.includes(tag) && OPTIONAL_TAG.test(tag) && this.state !== 'HEAD';
+    if (!TAGS.includes(tag) && !optional) this.fail(at, `unknown chunk tag '${tag}'`);
+    if (!optional && !expected.includes(tag))
       this.fail(at, `${tag} chunk where ${expected.join(' or ')} belongs`);
     if (flags & ~FLAG_ZSTD) this.fail(at + 4, `${tag} chunk: unknown flags ${flags}`);
     if (reserved !== 0) this.fail(at + 20, `${tag} chunk: reserved field is ${reserved}, not 0`);
@@ -186,25 +206,31 @@ export class DpmDecoder {
     if ((tag === 'HEAD' || tag === 'END ') && flags & FLAG_ZSTD)
       this.fail(at + 4, `${tag} chunk is compressed`);
     if (tag === 'END ' && raw !== 0) this.fail(at + 12, 'END chunk is not empty');
-    if (tag === 'BASE' || tag === 'SPLT') {
-      const limit = this.maxRawBytes(tag);
-      if (raw > limit)
-        this.fail(at + 12, `${tag} chunk: raw size ${raw}, HEAD allows ${Math.floor(limit)}`);
-      if (flags & FLAG_ZSTD && raw > stored * MAX_ZSTD_RATIO)
-        this.fail(at + 12, `${tag} chunk: raw size ${raw} from ${stored} compressed bytes`);
-    }
+    if (tag === 'HEAD' || tag === 'END ') return false;
+    // Before any allocation: what the chunk says it holds against what it can hold (FDEF and
+    // optional chunks: 2^31).
+    const limit = this.maxRawBytes(tag);
+    if (raw > limit)
+      this.fail(at + 12, `${tag} chunk: raw size ${raw}, HEAD allows ${Math.floor(limit)}`);
+    if (flags & FLAG_ZSTD && raw > stored * MAX_ZSTD_RATIO)
+      this.fail(at + 12, `${tag} chunk: raw size ${raw} from ${stored} compressed bytes`);
+    return optional;
   }
 
-  // The most bytes a BASE or SPLT payload can take for HEAD's counts, each value at its longest
+  // The most bytes a BASE, SPLT or FLDS payload can take for HEAD's counts, each value at its longest
   // encoding (at most 2^31). Moved faces have no count in HEAD: every remaining split may move
   // every face, a loose bound but a bound. The same arithmetic as the C++ payload_limit().
   maxRawBytes(tag) {
+    if (tag !== 'BASE' && tag !== 'SPLT' && tag !== 'FLDS') return MAX_CHUNK_BYTES;
     const h = this.mesh.head;
-    const steps = h.stepCount, fields = h.fieldCount;
-    const perVertex = 2 * MAX_VARINT + steps * (3 * MAX_VARINT + 4 * fields);
+    const steps = h.stepCount;
+    const perVertex = 2 * MAX_VARINT + steps * 3 * MAX_VARINT;
     const perFaceAttributes = 3 * MAX_VARINT;
     let limit;
-    if (tag === 'BASE') {
+    if (tag === 'FLDS') {
+      const { s, n } = this.pending ?? { s: 0, n: 0 };
+      limit = maxFieldValueBytes(this.mesh, s, n);
+    } else if (tag === 'BASE') {
       limit = h.baseVertexCount * perVertex +
         h.baseFaceCount * (1 + 4 * MAX_VARINT + perFaceAttributes);
     } else {
@@ -217,20 +243,29 @@ export class DpmDecoder {
   }
 
   parseChunk(at, tag, r) {
+    const { mesh } = this;
+    const withFields = mesh?.fields.length > 0;
     if (tag === 'HEAD') {
       this.mesh = new ProgressiveMesh(parseHead(r));
-      this.state = 'BASE';
+      this.state = 'FDEF';
       this.callbacks.onHead?.(this.mesh);
+    } else if (tag === 'FDEF') {
+      parseFieldDefs(r, mesh);
+      this.state = 'BASE';
     } else if (tag === 'BASE') {
-      parseBase(r, this.mesh);
-      this.replay = new Int32Array(4 * this.mesh.head.faceCount).fill(-1);
-      this.replay.set(this.mesh.baseCorners);
-      this.state = 'SPLT';
-      this.callbacks.onBase?.(this.mesh);
+      parseBase(r, mesh);
+      this.replay = new Int32Array(4 * mesh.head.faceCount).fill(-1);
+      this.replay.set(mesh.baseCorners);
+      this.pending = { s: 0, n: 0 };
+      if (withFields) this.state = 'FLDS';
+      else this.commit();
     } else if (tag === 'SPLT') {
-      const first = this.mesh.splitsLoaded;
-      const count = parseSplits(r, this.mesh, this.replay);
-      this.callbacks.onSplits?.(this.mesh, first, count);
+      this.pending = { s: mesh.splitsLoaded, n: parseSplits(r, mesh, this.replay) };
+      if (withFields) this.state = 'FLDS';
+      else this.commit();
+    } else if (tag === 'FLDS') {
+      parseFieldValues(r, mesh, this.pending.s, this.pending.n);
+      this.commit();
     } else {
       const { splitsLoaded, head } = this.mesh;
       if (splitsLoaded !== head.splitCount)
@@ -239,6 +274,22 @@ export class DpmDecoder {
       this.state = 'done';
       this.callbacks.onEnd?.(this.mesh);
     }
+  }
+
+  // The base mesh, or the splits of the last SPLT, with their field values when the file has
+  // fields: now they are levels a navigator may reach.
+  commit() {
+    const { mesh } = this;
+    const { s, n } = this.pending;
+    this.pending = null;
+    this.state = 'SPLT';
+    if (!mesh.hasBase) {
+      mesh.hasBase = true;
+      this.callbacks.onBase?.(mesh);
+      return;
+    }
+    mesh.splitsLoaded = s + n;
+    this.callbacks.onSplits?.(mesh, s, n);
   }
 }
 
@@ -287,13 +338,10 @@ function parseHead(r) {
   if (r.remaining() < 4 * keyCount) r.fail(`${keyCount} key steps do not fit in HEAD`);
   h.keySteps = [];
   for (let i = 0; i < keyCount; i++) h.keySteps.push(r.u32());
-  if (r.remaining() < 2 * h.fieldCount) r.fail(`${h.fieldCount} field names do not fit in HEAD`);
-  h.fieldNames = [];
-  for (let i = 0; i < h.fieldCount; i++) h.fieldNames.push(r.string());
+  // Fields have chunks of their own (FORMAT.md "HEAD payload").
+  if (h.fieldCount !== 0)
+    r.fail(`the header lists ${h.fieldCount} fields (written by an older dynpm: build it again)`);
   h.note = r.string();
-  if (h.fieldCount * h.stepCount > 2 ** 24) r.fail('too many fields × steps');
-  // Field values come with vertices: a model without base vertices has none.
-  if (h.fieldCount > 0 && h.baseVertexCount === 0) r.fail('fields on a model without vertices');
   if (r.remaining() !== 0) r.fail(`${r.remaining()} bytes left over at the end of HEAD`);
   return h;
 }
@@ -323,10 +371,8 @@ function parseBase(r, mesh) {
   mesh.baseCorners = corners;
   parseFaceIds(r, mesh, 0, nf);
   parsePositions(r, mesh, 0, b);
-  parseFields(r, mesh, 0, b);
   if (r.remaining() !== 0) r.fail(`${r.remaining()} bytes left over at the end of BASE`);
   mesh.faceCountAt[0] = nf;
-  mesh.hasBase = true;
 }
 
 // Original indices must name an input vertex (face); part ids are int32 (the C++ reader's
@@ -355,8 +401,6 @@ function parseFaceIds(r, mesh, first, count) {
     mesh.faceOriginal[f] = original;
   }
 }
-
-// Residuals per FORMAT.md "Positions": base vertices against the previous vertex (step 0) and
 
 // Residuals per FORMAT.md "Positions": base vertices against the previous vertex (step 0) and
 // their own previous step; split vertices against their parent, in both step and time.
@@ -404,14 +448,6 @@ function parsePositions(r, mesh, first, count) {
       const z = r.svarint() + pz;
       if (checked && (z < -2 || z > topZ)) outside(v, t);
       cur[i + 2] = z;
-    }
-  }
-}
-
-function parseFields(r, mesh, first, count) {
-  for (const steps of mesh.fields) {
-    for (const values of steps) {
-      for (let v = first; v < first + count; v++) values[v] = r.f32();
     }
   }
 }
@@ -475,7 +511,6 @@ function parseSplits(r, mesh, replay) {
   parseVertexIds(r, mesh, b + s, n);
   parseFaceIds(r, mesh, faceCountAt[s], newFaces);
   parsePositions(r, mesh, b + s, n);
-  parseFields(r, mesh, b + s, n);
   if (r.remaining() !== 0) r.fail(`${r.remaining()} bytes left over at the end of SPLT`);
   // Replay the splits on the faces: a record that does not fit is an error here, so that the
   // navigator can apply them unchecked.
@@ -493,8 +528,8 @@ function parseSplits(r, mesh, replay) {
     }
     if (problem) r.failChunk(problem);
   }
-  // Only now: a chunk that fails half-way leaves the loaded levels as they were.
-  mesh.splitsLoaded = s + n;
+  // The loaded levels grow only at commit(): a chunk that fails half-way, or whose FLDS does
+  // not arrive, leaves them as they were.
   return n;
 }
 

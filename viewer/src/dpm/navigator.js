@@ -45,6 +45,10 @@ export class Navigator {
   get error() {
     return this.mesh.levelError(this.level);
   }
+  // Field f's error at this level, a fraction of its range (FORMAT.md "Field errors").
+  fieldError(f) {
+    return this.mesh.fields[f].levelError(this.level);
+  }
 
   touch(f) {
     if (this.dirtyMark[f]) return;

@@ -21,17 +21,15 @@ const MAX_ARRAY_ELEMENTS = 2 ** 31 - 1;
 export class ProgressiveMesh {
   constructor(head) {
     this.head = head;
-    const { vertexCount: V, faceCount: F, stepCount: m, fieldCount } = head;
-    if (3 * V * 1 > MAX_ARRAY_ELEMENTS || 4 * F > MAX_ARRAY_ELEMENTS || m * fieldCount > 65536)
+    const { vertexCount: V, faceCount: F, stepCount: m } = head;
+    if (3 * V * 1 > MAX_ARRAY_ELEMENTS || 4 * F > MAX_ARRAY_ELEMENTS)
       throw new DpmError(`HEAD: ${V} vertices, ${F} faces, ${m} steps: more than a browser holds`);
     this.q = [];  // per step: Int32Array(3V), quantized (or f32 bit patterns when lossless)
     for (let t = 0; t < m; t++) this.q.push(new Int32Array(3 * V));
-    this.fields = [];  // per field, per step: Float32Array(V)
-    for (let f = 0; f < fieldCount; f++) {
-      const steps = [];
-      for (let t = 0; t < m; t++) steps.push(new Float32Array(V));
-      this.fields.push(steps);
-    }
+    this.fields = [];  // result fields (DpmField, fields.js), from FDEF
+    // per face a split re-creates: the face that stands for it while the split is undone
+    // (Int32Array(F), −1 for base faces; only when a field is per element)
+    this.faceHeir = null;
     this.vertexOriginal = new Float64Array(V);  // per vertex: its position in the input's order
     this.nodeId = new Float64Array(V);  // per vertex: the FE node id
     // Faces as the base mesh has them; splits re-create the others (Navigator).
@@ -140,15 +138,6 @@ export class ProgressiveMesh {
       const dz = positions[i + 2] - base[i + 2];
       out[v] = Math.sqrt(dx * dx + dy * dy + dz * dz);
     }
-    return out;
-  }
-
-  // Field f's values of vertices [0, n) at fractional step t.
-  fieldAt(f, t, n, out) {
-    const { t0, t1, a } = this.stepsAround(t);
-    const v0 = this.fields[f][t0];
-    const v1 = this.fields[f][t1];
-    for (let v = 0; v < n; v++) out[v] = v0[v] + (v1[v] - v0[v]) * a;
     return out;
   }
 }

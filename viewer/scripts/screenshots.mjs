@@ -1,0 +1,75 @@
+// The screenshots of docs/viewer.md "Fields", made reproducibly: `dynpm view` serves the model,
+// headless Chromium (as in the browser tests) shows its last step with an element field (fully
+// refined, then at 10 % of the vertices) and a nodal field (rainbow), saved as PNG.
+//   node scripts/screenshots.mjs DYNPM MODEL.dpm OUT_DIR [--element NAME] [--node NAME]
+// A model without fields gets test/fields_fixture.mjs's DEMO_FIELDS (a nodal 'stress' and an
+// element 'plastic strain' from the motion) first. Fields are chosen by name, or the first of
+// each location.
+import { mkdirSync, readFileSync, writeFileSync } from 'node:fs';
+import { join } from 'node:path';
+
+import { chromium } from 'playwright-core';
+
+import { readDpm } from '../src/dpm.js';
+import { CHROMIUM_ARGS, startServer } from '../test/chromium.mjs';
+import { DEMO_FIELDS, withFields } from '../test/fields_fixture.mjs';
+
+const [cli, model, out] = process.argv.slice(2);
+if (!cli || !model || !out) {
+  console.error('usage: node scripts/screenshots.mjs DYNPM MODEL.dpm OUT_DIR [--element NAME] [--node NAME]');
+  process.exit(2);
+}
+const flag = (name) => {
+  const i = process.argv.indexOf(name);
+  return i > 0 ? process.argv[i + 1] : null;
+};
+mkdirSync(out, { recursive: true });
+let bytes = new Uint8Array(readFileSync(model));
+let { mesh } = readDpm(bytes, model);
+let served = model;
+if (mesh.fields.length === 0) {
+  bytes = withFields(bytes, DEMO_FIELDS);
+  ({ mesh } = readDpm(bytes, model));
+  served = join(out, 'with-fields.dpm');
+  writeFileSync(served, bytes);
+}
+const pick = (perFace, name) => (name ? mesh.fields.find((f) => f.name === name) : mesh.fields.find((f) => f.perFace === perFace));
+const shots = [
+  ['viewer-element-fringe.png', pick(true, flag('--element')), 'viridis', 1],
+  ['viewer-element-fringe-10pct.png', pick(true, flag('--element')), 'viridis', 0.1],
+  ['viewer-nodal-fringe.png', pick(false, flag('--node')), 'rainbow', 1],
+];
+
+const { server, url } = await startServer(cli, served);
+server.removeAllListeners('exit');
+const browser = await chromium.launch({
+  executablePath: process.env.DYNPM_CHROMIUM ?? '/usr/bin/chromium',
+  headless: true,
+  args: CHROMIUM_ARGS,
+});
+try {
+  const page = await browser.newPage({ viewport: { width: 1280, height: 760 } });
+  await page.goto(url);
+  await page.waitForFunction(() => window.dpmViewer?.state().complete, null, { timeout: 60000 });
+  await page.evaluate(() => {
+    const t = document.getElementById('time');
+    t.value = t.max;
+    t.dispatchEvent(new Event('input'));
+  });
+  const h = mesh.head;
+  for (const [name, field, scheme, ratio] of shots) {
+    if (!field) {
+      console.log(`${name}: the model has no such field`);
+      continue;
+    }
+    await page.evaluate((n) => window.dpmViewer.setVertexCount(n), Math.round(h.baseVertexCount + ratio * h.splitCount));
+    await page.locator('#colour').selectOption({ label: field.name });
+    await page.locator('#scheme').selectOption(scheme);
+    await page.waitForTimeout(300);
+    await page.screenshot({ path: join(out, name) });
+    console.log(`${join(out, name)}: ${field.name} (${field.perFace ? 'element' : 'node'})`);
+  }
+} finally {
+  await browser.close();
+  server.kill('SIGTERM');
+}

@@ -1,0 +1,170 @@
+// Result fields of a .dpm (docs/FORMAT.md "Fields: FDEF and FLDS"): the FDEF chunk (names, units,
+// node or element, range, quantization) and the FLDS chunks (heirs of the faces a SPLT creates,
+// field errors per split, values per step), with the checks the C++ reader makes
+// (src/progressive/dpm_read.cpp). Values are kept as the file's quantized integers, one
+// Int32Array per step (f32 bit patterns when lossless), as the positions are.
+
+export const FIELD_NODE = 0;
+export const FIELD_ELEMENT = 1;
+const FIELD_FLAG_LOSSLESS = 1;
+// The fewest bytes of one field in FDEF: two string lengths, location, flags, reserved, min,
+// max, quant_step, max_error, base_error (a name has at least one byte).
+const MIN_FIELD_DEF_BYTES = 2 + 1 + 2 + 1 + 1 + 2 + 4 * 8 + 4;
+const MAX_NAME_BYTES = 255;
+
+// One field (C++: ProgressiveField). q[t]: per item (vertex of a node field, face of an element
+// field) its quantized value at step t; error[i]: the field error right after split i.
+export class DpmField {
+  constructor(def, stepCount, itemCount, splitCount) {
+    Object.assign(this, def);
+    this.q = [];
+    for (let t = 0; t < stepCount; t++) this.q.push(new Int32Array(itemCount));
+    this.error = new Float32Array(splitCount);
+  }
+  get perFace() {
+    return this.location === FIELD_ELEMENT;
+  }
+  // The field error of the level with k splits applied, a fraction of max − min.
+  levelError(k) {
+    return k === 0 ? this.baseError : this.error[k - 1];
+  }
+  // Values of items [0, n) at whole step t, as the f32 the file means, into out.
+  valuesAt(t, n, out = new Float32Array(n)) {
+    const q = this.q[t];
+    if (this.lossless) {
+      out.set(new Float32Array(q.buffer, q.byteOffset, n));
+      return out;
+    }
+    const { min, quantStep } = this;
+    for (let i = 0; i < n; i++) out[i] = min + q[i] * quantStep;  // f64, rounded by the store
+    return out;
+  }
+}
+
+// FDEF: the field definitions; mesh.fields is set (with room for every item at every step),
+// and mesh.faceHeir when a field is per element.
+export function parseFieldDefs(r, mesh) {
+  const h = mesh.head;
+  const count = r.u32();
+  if (count === 0) r.fail('FDEF lists no fields');
+  if (r.remaining() < count * MIN_FIELD_DEF_BYTES) r.fail(`${count} fields do not fit in FDEF`);
+  const fields = [];
+  for (let k = 0; k < count; k++) {
+    const where = `field ${k}`;
+    const nameBytes = textBytes(r);
+    if (nameBytes.length === 0 || nameBytes.length > MAX_NAME_BYTES) r.fail(`${where}: name of ${nameBytes.length} bytes`);
+    const unitBytes = textBytes(r);
+    if (unitBytes.length > MAX_NAME_BYTES) r.fail(`${where}: unit of ${unitBytes.length} bytes`);
+    // Shown as text (bytes that are not UTF-8 as U+FFFD); the bytes as the file has them.
+    const name = new TextDecoder().decode(nameBytes), unit = new TextDecoder().decode(unitBytes);
+    const location = r.u8();
+    if (location !== FIELD_NODE && location !== FIELD_ELEMENT) r.fail(`${where}: location ${location}`);
+    const flags = r.u8();
+    if (flags & ~FIELD_FLAG_LOSSLESS) r.fail(`${where}: unknown flags ${flags}`);
+    const reserved = r.u16();
+    if (reserved !== 0) r.fail(`${where}: reserved field is ${reserved}, not 0`);
+    const min = r.f64(), max = r.f64(), quantStep = r.f64(), maxError = r.f64();
+    const baseError = r.f32();
+    const lossless = (flags & FIELD_FLAG_LOSSLESS) !== 0;
+    if (!(Number.isFinite(min) && Number.isFinite(max) && min <= max))
+      r.fail(`${where}: range [${min}, ${max}] is not finite numbers min ≤ max`);
+    // As for positions (FORMAT.md "Quantization"): a grid float32 holds at the range's ends.
+    const c = Math.max(Math.abs(min), Math.abs(max));
+    if (lossless ? quantStep !== 0 || maxError !== 0
+      : !(quantStep > 0 && quantStep < Infinity && quantStep >= 4 * c * 2 ** -23))
+      r.fail(`${where}: quant_step ${quantStep} is not valid`);
+    if (!(maxError >= 0 && maxError < Infinity)) r.fail(`${where}: max_error ${maxError}`);
+    if (!(baseError >= 0 && baseError <= 1)) r.fail(`${where}: base_error ${baseError} not in [0, 1]`);
+    fields.push({ name, nameBytes, unit, location, lossless, min, max, quantStep, maxError, baseError });
+  }
+  if (r.remaining() !== 0) r.fail(`${r.remaining()} bytes left over at the end of FDEF`);
+  mesh.fields = fields.map((d) => new DpmField(d, h.stepCount,
+    d.location === FIELD_ELEMENT ? h.faceCount : h.vertexCount, h.splitCount));
+  if (mesh.fields.some((f) => f.perFace)) mesh.faceHeir = new Int32Array(h.faceCount).fill(-1);
+}
+
+// A u16-length text's bytes.
+function textBytes(r) {
+  const n = r.u16();
+  r.need(n);
+  r.pos += n;
+  return r.bytes.slice(r.pos - n, r.pos);
+}
+
+// The most bytes the FLDS after BASE (n = 0) or after a SPLT of splits [s, s + n) can hold, each
+// value at its longest encoding (10 bytes a varint).
+export function maxFieldValueBytes(mesh, s, n) {
+  const h = mesh.head;
+  const created = n ? mesh.faceCountAt[s + n] - mesh.faceCountAt[s] : 0;
+  const vertices = n || h.baseVertexCount;
+  const faces = n ? created : h.baseFaceCount;
+  let limit = 8 + (mesh.faceHeir ? 10 * created : 0);
+  for (const f of mesh.fields) limit += 4 * n + 10 * h.stepCount * (f.perFace ? faces : vertices);
+  return limit;
+}
+
+// FLDS: the values (and heirs, errors) of the base mesh (n = 0) or of splits [s, s + n), which
+// the SPLT before it has decoded.
+export function parseFieldValues(r, mesh, s, n) {
+  const first = r.u32();
+  const count = r.u32();
+  if (first !== (n ? s : 0) || count !== n)
+    r.fail(`first_split ${first} and count ${count}, the ${n ? 'SPLT' : 'BASE'} before: ${n ? s : 0} and ${n}`);
+  const h = mesh.head;
+  const b = h.baseVertexCount;
+  const { faceCountAt, faceHeir } = mesh;
+  const faces = n ? [faceCountAt[s], faceCountAt[s + n]] : [0, h.baseFaceCount];
+  if (n && faceHeir) {
+    for (let i = s; i < s + n; i++) {
+      const F = faceCountAt[i];
+      for (let g = F; g < faceCountAt[i + 1]; g++) {
+        const d = r.varint();
+        if (d > F - 1) r.fail(`face ${g}: heir ${F - 1 - d} is not a face before split ${i}`);
+        faceHeir[g] = F - 1 - d;
+      }
+    }
+  }
+  for (const f of mesh.fields) {
+    if (n) parseErrors(r, f, s, n);
+    if (f.perFace) parseValues(r, f, faces[0], faces[1], h.baseFaceCount, faceHeir, 0);
+    else parseValues(r, f, n ? b + s : 0, n ? b + s + n : b, b, mesh.parent, b);
+  }
+  if (r.remaining() !== 0) r.fail(`${r.remaining()} bytes left over at the end of FLDS`);
+}
+
+function parseErrors(r, f, s, n) {
+  let last = f.levelError(s);
+  for (let i = s; i < s + n; i++) {
+    const e = r.f32();
+    if (!(e >= 0 && e <= last)) r.fail(`${f.name}: field error ${e} after split ${i} (before: ${last})`);
+    f.error[i] = last = e;
+  }
+}
+
+// Residuals per FORMAT.md "Fields": an item of the base mesh against the previous item (step 0)
+// and its own previous step; a split's vertex (a created face) against its parent (its heir),
+// in both step and time. Items from `base` on have parent[item − offset].
+function parseValues(r, f, first, end, base, parent, offset) {
+  const checked = !f.lossless;
+  const top = (f.max - f.min) / (f.quantStep || 1) + 2;
+  for (let t = 0; t < f.q.length; t++) {
+    const cur = f.q[t];
+    const asFloat = f.lossless ? new Float32Array(cur.buffer) : null;
+    const prev = t > 0 ? f.q[t - 1] : null;
+    for (let v = first; v < end; v++) {
+      let p = 0;
+      if (v < base) p = t > 0 ? prev[v] : v > 0 ? cur[v - 1] : 0;
+      else {
+        const j = parent[v - offset];
+        p = t > 0 ? prev[v] + cur[j] - prev[j] : cur[j];
+      }
+      const x = r.svarint() + p;
+      if (checked && (x < -2 || x > top))
+        r.fail(`${f.name}: item ${v} step ${t}: a value far outside [min, max]`);
+      cur[v] = x;  // lossless: Int32Array wraps modulo 2^32, as the residual arithmetic requires
+      // A lossless value is a finite f32 within [min, max].
+      if (!checked && !(asFloat[v] >= f.min && asFloat[v] <= f.max))
+        r.fail(`${f.name}: item ${v} step ${t}: a value outside [min, max]`);
+    }
+  }
+}
