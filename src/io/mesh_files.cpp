@@ -79,7 +79,8 @@ class FileSequence final : public FrameSource {
   // The point fields of the first file (VTK point data), looked up by name in the others.
   std::vector<FieldInfo> fields() const override {
     std::vector<FieldInfo> infos;
-    for (const io::PointField& f : first_fields_) infos.push_back({f.name, FieldLocation::kNode, {}});
+    for (const io::PointField& f : first_fields_)
+      infos.push_back({f.name, FieldLocation::kNode, {}});
     return infos;
   }
   Status read_field(size_t field, size_t t, std::span<float> out) const override {
@@ -191,6 +192,11 @@ const char* to_string(FileFormat format) {
   return "unknown";
 }
 
+bool can_write(FileFormat format) {
+  return format == FileFormat::kObj || format == FileFormat::kPly || format == FileFormat::kVtk ||
+         format == FileFormat::kVtu;
+}
+
 FileFormat format_from_extension(const std::string& path) {
   const std::string ext = lowercase_extension(path);
   if (ext == ".obj") return FileFormat::kObj;
@@ -271,7 +277,8 @@ Result<Animation> read_mesh(const std::string& path, const ReadOptions& options)
   animation.frames.set_vertex_count(animation.topology.vertex_count);
   animation.frames.add_step(std::move(mesh->positions), mesh->time.value_or(0.0));
   for (io::PointField& f : mesh->point_fields)
-    animation.fields.push_back(ScalarField{std::move(f.name), {std::move(f.values)}, FieldLocation::kNode, {}});
+    animation.fields.push_back(
+        ScalarField{std::move(f.name), {std::move(f.values)}, FieldLocation::kNode, {}});
   return animation;
 }
 
@@ -381,16 +388,22 @@ Status write_mesh(const std::string& path, const Topology& topology,
                   std::span<const NamedValues> point_fields,
                   std::span<const NamedValues> cell_fields) {
   assert(positions.size() == size_t{topology.vertex_count} * 3);
-  (void)cell_fields;  // TODO(issue 18): VTK cell data, PLY face properties, VTU
   std::string bytes;
   switch (format_from_extension(path)) {
     case FileFormat::kObj: bytes = io::write_obj(topology, positions, options); break;
-    case FileFormat::kPly: bytes = io::write_ply(topology, positions, options); break;
-    case FileFormat::kVtk: bytes = io::write_vtk(topology, positions, options, point_fields); break;
+    case FileFormat::kPly:
+      bytes = io::write_ply(topology, positions, options, point_fields, cell_fields);
+      break;
+    case FileFormat::kVtk:
+      bytes = io::write_vtk(topology, positions, options, point_fields, cell_fields);
+      break;
+    case FileFormat::kVtu:
+      bytes = io::write_vtu(topology, positions, options, point_fields, cell_fields);
+      break;
     default:
       return Status::error(path +
                            ": cannot tell the output format from the extension "
-                           "(use .obj, .ply or .vtk)");
+                           "(use .obj, .ply, .vtk or .vtu)");
   }
   return io::write_file_atomically(path, bytes);
 }
