@@ -20,17 +20,21 @@ namespace {
 const VerbSpec kSpec{
     "build",
     "dynpm build INPUT... -o MODEL.dpm [--key-steps all|paper|auto:K|LIST] [--lossless]\n"
-    "                   [--position-error E] [--json]",
+    "                   [--position-error E] [--field-bound F] [--json]",
     "Simplifies the animation to its coarsest legal mesh, recording every half-edge collapse,\n"
     "and writes the base mesh plus the vertex splits that rebuild the input, with every\n"
     "vertex's position at every time step (docs/FORMAT.md). Any resolution can then be shown\n"
     "at any time step ('dynpm extract', 'dynpm view'); fully refined it is the input again.\n"
     "Positions are quantized so that none moves more than --position-error (default 2^-18 of\n"
-    "the bounding-box diagonal); --lossless stores float32 exactly.",
+    "the bounding-box diagonal); --lossless stores float32 exactly. Result fields (plastic "
+    "strain,\n"
+    "stress, … per node or per element) are stored with each value within --field-bound percent\n"
+    "of the field's range (default 0.1 %), float32 exactly with --lossless.",
     {{"--output", "-o", true, "MODEL.dpm", "the progressive mesh file to write"},
      kKeyStepsFlag,
-     {"--lossless", "", false, "", "store positions bit-exactly (larger file)"},
+     {"--lossless", "", false, "", "store positions and fields bit-exactly (larger file)"},
      {"--position-error", "", true, "E", "largest position error, in diagonals (3.8e-6)"},
+     {"--field-bound", "", true, "F", "largest field value error, in % of its range (0.1)"},
      kBoundaryWeightFlag,
      kIgnorePartsFlag,
      {"--json", "", false, "", "print the result as JSON"},
@@ -50,6 +54,13 @@ int run_build(std::span<char* const> arguments) {
     auto r = parse_number("--position-error", *v, kFraction);
     if (!r) return fail(kSpec.name, kExitUsage, r.message());
     options.max_position_error = *r;
+  }
+  if (auto v = args.value("--field-bound")) {
+    // In % of each field's range: 0 would be lossless (--lossless says so), above 100 keeps
+    // nothing.
+    auto r = parse_number("--field-bound", *v, NumberRange{0, 100, true});
+    if (!r) return fail(kSpec.name, kExitUsage, r.message());
+    options.field_bound = *r / 100;
   }
   KeyStepRule key_rule;
   if (Status s = parse_simplify_flags(args, options.simplify, key_rule); !s.ok())

@@ -2,11 +2,33 @@
 // (a dynpm process per file would take minutes on a thousand mutants):
 //   dpm_verdicts FILE...
 // prints one line per file: "error <message>", or "counts" and the counts `dynpm info --json`
-// prints, as name=value pairs. Test-only; reads with read_dpm() as `dynpm info` does.
+// prints, as name=value pairs, then field_list=NAME:LOCATION:COUNT,… (each field's name with
+// bytes other than A-Z a-z 0-9 _ . - as %XX, node or element, its values per step present; empty
+// without fields). Test-only; reads with read_dpm() as `dynpm info` does.
 #include <cstdio>
+#include <string>
 
 #include "dynpm/lod.h"
 #include "dynpm/progressive.h"
+
+namespace {
+
+std::string escaped(const std::string& name) {
+  std::string out;
+  for (unsigned char c : name) {
+    if ((c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_' ||
+        c == '.' || c == '-') {
+      out += char(c);
+    } else {
+      char hex[4];
+      std::snprintf(hex, sizeof hex, "%%%02X", c);
+      out += hex;
+    }
+  }
+  return out;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   using namespace dynpm;
@@ -23,11 +45,16 @@ int main(int argc, char** argv) {
     std::printf(
         "counts complete=%d vertices=%u faces=%u vertices_present=%u faces_present=%zu "
         "quads_present=%zu triangles_present=%zu base_vertices=%u base_faces=%u splits=%u "
-        "steps=%zu key_steps=%zu fields=%zu parts=%zu lossless=%d\n",
+        "steps=%zu key_steps=%zu fields=%zu parts=%zu lossless=%d",
         m.complete, m.full_vertex_count, m.full_face_count, m.vertex_count(), full.faces.size(),
         full.quad_count(), full.triangle_count(), m.base_vertex_count, m.base_face_count,
-        m.split_count(), m.step_count(), m.key_steps.size(), m.fields.size(),
-        full.parts().size(), m.lossless);
+        m.split_count(), m.step_count(), m.key_steps.size(), m.fields.size(), full.parts().size(),
+        m.lossless);
+    std::string list;
+    for (const ProgressiveField& f : m.fields)
+      list += (list.empty() ? "" : ",") + escaped(f.info.name) + ":" + to_string(f.info.location) +
+              ":" + std::to_string(f.values.empty() ? 0 : f.values[0].size());
+    std::printf(" field_list=%s\n", list.c_str());
   }
   return 0;
 }

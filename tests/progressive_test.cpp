@@ -9,6 +9,7 @@
 #include <map>
 #include <random>
 
+#include "dpm_chunks.h"
 #include "dynpm/io.h"
 #include "dynpm/lod.h"
 #include "dynpm/pipeline.h"
@@ -40,6 +41,8 @@ ProgressiveMesh build(const Animation& a, bool lossless,
   return std::move(pm).value();
 }
 
+using test::chunk;
+using test::chunks_of;
 using test::expect_input_back;
 using test::face_sets;
 using test::through_file;
@@ -197,35 +200,6 @@ TEST(Progressive, DamagedFilesAreRefusedWithThePlace) {
       EXPECT_FALSE(p->complete);
     }
   }
-}
-
-// The chunks of a .dpm, by tag and offset (docs/FORMAT.md: 12 bytes of signature and version,
-// then 24-byte chunk headers, each followed by its stored bytes).
-std::vector<std::pair<std::string, size_t>> chunks_of(const std::string& bytes) {
-  std::vector<std::pair<std::string, size_t>> chunks;
-  for (size_t at = 12; at + 24 <= bytes.size();) {
-    uint32_t stored;
-    std::memcpy(&stored, bytes.data() + at + 8, 4);
-    chunks.emplace_back(bytes.substr(at, 4), at);
-    at += 24 + stored;
-  }
-  return chunks;
-}
-
-uint32_t crc32_of(std::string_view bytes) {
-  uint32_t c = 0xffffffffu;
-  for (unsigned char b : bytes) {
-    c ^= b;
-    for (int k = 0; k < 8; ++k) c = (c & 1) ? 0xedb88320u ^ (c >> 1) : c >> 1;
-  }
-  return c ^ 0xffffffffu;
-}
-
-std::string chunk(const std::string& tag, uint32_t flags, uint32_t raw, const std::string& stored) {
-  std::string c = tag;
-  for (uint32_t v : {flags, uint32_t(stored.size()), raw, crc32_of(stored), 0u})
-    c.append(reinterpret_cast<const char*>(&v), 4);
-  return c + stored;
 }
 
 // A zstd frame (RFC 8878) declaring `declared` bytes and holding `held` zero bytes in RLE blocks.

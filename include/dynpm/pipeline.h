@@ -29,6 +29,9 @@ struct BuildOptions {
   bool lossless = false;
   // Bound on a stored position's error, in bounding-box diagonals (docs/FORMAT.md).
   double max_position_error = 1.0 / (1 << 18);
+  // Bound on a stored field value's error, a fraction of the field's range (docs/FORMAT.md,
+  // "Fields"); lossless keeps them float32 exact.
+  double field_bound = 0.001;
   std::string note;
   // Called with (steps read, steps) while positions are gathered. May be empty.
   std::function<void(size_t, size_t)> progress;

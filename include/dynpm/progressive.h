@@ -30,8 +30,8 @@ struct ProgressiveField {
   FieldInfo info;
   double min = 0, max = 0;  // smallest and largest value over every step
   bool lossless = false;
-  double quant_step = 0;    // quantization grid spacing (0: lossless)
-  double max_error = 0;     // bound on a stored value's error, absolute
+  double quant_step = 0;  // quantization grid spacing (0: lossless)
+  double max_error = 0;   // bound on a stored value's error, absolute
   // Field error of a level (the largest spread of the values one present vertex or face stands
   // for, over every step), as a fraction of max − min: the base mesh's, and the level's right
   // after split i. Never increases along the stream.
@@ -118,6 +118,11 @@ void undo_split(const ProgressiveMesh& mesh, uint32_t i, std::span<Face> faces,
 // Positions are quantized here (unless lossless), so that what the file holds and what the
 // navigator shows agree: call before use when the mesh did not come from read_dpm().
 void quantize_positions(ProgressiveMesh& mesh);
+
+// Sets each field's grid from `bound` (a fraction of the field's range; docs/FORMAT.md,
+// "Fields: FDEF and FLDS") and rounds its values to it, or makes it lossless (float32 exact),
+// so that what the file holds and what the navigator shows agree.
+void quantize_fields(ProgressiveMesh& mesh, double bound, bool lossless);
 
 // The file (docs/FORMAT.md). Written to a temporary name and renamed.
 Status write_dpm(const std::string& path, const ProgressiveMesh& mesh);

@@ -71,10 +71,14 @@ void Navigator::field_values(size_t field, size_t t, std::span<float> out,
   // merges what its new vertex (the faces it creates) stands for into the parent (their heirs).
   // Merge order: faces of a split in reverse creation order, as the file's pass.
   auto each_merge = [&](auto&& merge) {
+    uint32_t face_end = static_cast<uint32_t>(values.size());  // faces after split i
     for (uint32_t i = m.split_count(); i-- > level_;) {
       if (per_face) {
-        for (uint32_t g = m.face_count_after(i + 1); g-- > m.face_count_after(i);)
-          merge(m.face_heir[g], g);
+        uint32_t created = 0;
+        for (uint32_t k = m.wing_start[i]; k < m.wing_start[i + 1]; ++k)
+          created += m.wings[k].was_triangle();
+        for (uint32_t g = face_end; g-- > face_end - created;) merge(m.face_heir[g], g);
+        face_end -= created;
       } else {
         merge(m.parent[i], b + i);
       }

@@ -2,8 +2,8 @@
 // vertex splits in the progressive numbering and gather every step's positions in that order.
 #include <algorithm>
 #include <cmath>
-#include <limits>
 
+#include "build_fields.h"
 #include "dynpm/pipeline.h"
 
 namespace dynpm {
@@ -154,7 +154,7 @@ Result<ProgressiveMesh> build_progressive_mesh(const Topology& topology, const F
     pm.element_ids[new_face[f]] = topology.element_ids[f];
   }
 
-  // Every step's positions (and fields), read once each, permuted into the new order.
+  // Every step's positions, read once each, permuted into the new order.
   const size_t steps = frames.step_count();
   std::vector<float> step(size_t{n} * 3);
   pm.positions.resize(steps);
@@ -174,34 +174,6 @@ Result<ProgressiveMesh> build_progressive_mesh(const Topology& topology, const F
     all.extend(step_boxes[t]);
     if (options.progress) options.progress(t + 1, steps);
   }
-  // Result fields, per vertex or per face, permuted like the positions; their range over every
-  // step sets their quantization (docs/FORMAT.md, "Fields").
-  for (size_t f = 0; const FieldInfo& info : frames.fields()) {
-    const bool per_face = info.location == FieldLocation::kElement;
-    const std::vector<uint32_t>& renumber = per_face ? new_face : new_vertex;
-    ProgressiveField field;
-    field.info = info;
-    field.values.resize(steps);
-    std::vector<float> values(renumber.size());
-    field.min = std::numeric_limits<double>::infinity();
-    field.max = -field.min;
-    for (size_t t = 0; t < steps; ++t) {
-      DYNPM_RETURN_IF_ERROR(frames.read_field(f, t, values));
-      field.values[t].resize(values.size());
-      for (size_t i = 0; i < values.size(); ++i) {
-        if (!std::isfinite(values[i]))
-          return Status::error("field '" + info.name + "', step " + std::to_string(t) + ", " +
-                               (per_face ? "face " : "vertex ") + std::to_string(i) +
-                               ": the value is not finite");
-        field.values[t][renumber[i]] = values[i];
-        field.min = std::min<double>(field.min, values[i]);
-        field.max = std::max<double>(field.max, values[i]);
-      }
-    }
-    if (values.empty()) field.min = field.max = 0;
-    pm.fields.push_back(std::move(field));
-    ++f;
-  }
   for (int k = 0; k < 3; ++k) {
     pm.bbox_min[k] = all.empty ? 0.0 : all.min[k];
     pm.bbox_max[k] = all.empty ? 0.0 : all.max[k];
@@ -220,6 +192,9 @@ Result<ProgressiveMesh> build_progressive_mesh(const Topology& topology, const F
   pm.max_error = options.lossless ? 0.0 : options.max_position_error * pm.diagonal();
   pm.note = options.note;
   quantize_positions(pm);
+  // Result fields, per vertex or per face, permuted like the positions (build_fields.cpp).
+  DYNPM_RETURN_IF_ERROR(
+      build_fields(frames, new_vertex, new_face, options.field_bound, options.lossless, pm));
   return pm;
 }
 

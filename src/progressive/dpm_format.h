@@ -41,6 +41,16 @@ inline uint32_t crc32(std::string_view bytes) {
   return c ^ 0xffffffffu;
 }
 
+// Residual arithmetic: plain integers on a grid, modulo 2^32 on float bits (lossless).
+inline int64_t wrap_add(int64_t prediction, int64_t residual, bool lossless) {
+  const uint64_t sum = static_cast<uint64_t>(prediction) + static_cast<uint64_t>(residual);
+  return lossless ? static_cast<int64_t>(static_cast<uint32_t>(sum)) : static_cast<int64_t>(sum);
+}
+inline int64_t wrap_residual(int64_t value, int64_t prediction, bool lossless) {
+  const uint64_t diff = static_cast<uint64_t>(value) - static_cast<uint64_t>(prediction);
+  return lossless ? static_cast<int32_t>(static_cast<uint32_t>(diff)) : static_cast<int64_t>(diff);
+}
+
 // Position q-values (docs/FORMAT.md "Positions"): grid integers, or float bits when lossless.
 struct Grid {
   std::array<double, 3> origin;
@@ -57,13 +67,10 @@ struct Grid {
   }
   // Residual → value, wrapping modulo 2^32 when lossless.
   int64_t add(int64_t prediction, int64_t residual) const {
-    const uint64_t sum = static_cast<uint64_t>(prediction) + static_cast<uint64_t>(residual);
-    return lossless ? static_cast<int64_t>(static_cast<uint32_t>(sum)) : static_cast<int64_t>(sum);
+    return wrap_add(prediction, residual, lossless);
   }
   int64_t residual(int64_t value, int64_t prediction) const {
-    const uint64_t diff = static_cast<uint64_t>(value) - static_cast<uint64_t>(prediction);
-    return lossless ? static_cast<int32_t>(static_cast<uint32_t>(diff))
-                    : static_cast<int64_t>(diff);
+    return wrap_residual(value, prediction, lossless);
   }
 };
 
@@ -81,6 +88,62 @@ inline int64_t predict(const ProgressiveMesh& mesh, const Grid& g, uint32_t v, s
   const uint32_t p = mesh.parent[v - mesh.base_vertex_count];
   if (t == 0) return q(p, 0);
   return g.add(q(v, t - 1), g.residual(q(p, t), q(p, t - 1)));
+}
+
+// A result field's q-values (docs/FORMAT.md "Fields: FDEF and FLDS"): integers on the field's
+// grid from its min, or float bits when lossless.
+struct FieldGrid {
+  double min;
+  double step;
+  bool lossless;
+
+  explicit FieldGrid(const ProgressiveField& f)
+      : min(f.min), step(f.quant_step), lossless(f.lossless) {}
+  int64_t q(float x) const {
+    if (lossless) return std::bit_cast<uint32_t>(x);
+    return std::llround((x - min) / step);
+  }
+  float value(int64_t q) const {
+    if (lossless) return std::bit_cast<float>(static_cast<uint32_t>(q));
+    return static_cast<float>(min + static_cast<double>(q) * step);
+  }
+  int64_t add(int64_t prediction, int64_t residual) const {
+    return wrap_add(prediction, residual, lossless);
+  }
+  int64_t residual(int64_t value, int64_t prediction) const {
+    return wrap_residual(value, prediction, lossless);
+  }
+};
+
+// The item a field value of a split vertex (created face) is predicted from: its parent (its
+// heir); kNoIndex for a base vertex (face).
+inline uint32_t field_parent(const ProgressiveMesh& mesh, const ProgressiveField& f,
+                             uint32_t item) {
+  if (f.info.location == FieldLocation::kElement)
+    return item < mesh.base_face_count ? kNoIndex : mesh.face_heir[item];
+  return item < mesh.base_vertex_count ? kNoIndex : mesh.parent[item - mesh.base_vertex_count];
+}
+
+// The prediction of item `item`'s value of field f at step t from values already known
+// (docs/FORMAT.md, the residual table of "Fields"): as for the positions, with the heir as a
+// created face's parent.
+inline int64_t predict_field(const ProgressiveMesh& mesh, const ProgressiveField& f,
+                             const FieldGrid& g, uint32_t item, size_t t) {
+  auto q = [&](uint32_t u, size_t s) { return g.q(f.values[s][u]); };
+  const uint32_t p = field_parent(mesh, f, item);
+  if (p == kNoIndex) {
+    if (t > 0) return q(item, t - 1);
+    return item > 0 ? q(item - 1, 0) : 0;
+  }
+  if (t == 0) return q(p, 0);
+  return g.add(q(item, t - 1), g.residual(q(p, t), q(p, t - 1)));
+}
+
+// Heirs are in the file only when some field is per element.
+inline bool has_element_field(const ProgressiveMesh& mesh) {
+  for (const ProgressiveField& f : mesh.fields)
+    if (f.info.location == FieldLocation::kElement) return true;
+  return false;
 }
 
 // Attribute deltas continue across chunks (docs/FORMAT.md).

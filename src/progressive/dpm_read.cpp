@@ -11,6 +11,7 @@
 
 #include "bytes.h"
 #include "dpm_format.h"
+#include "dpm_read_fields.h"
 #include "dynpm/progressive.h"
 
 namespace dynpm {
@@ -64,14 +65,27 @@ class Decoder {
                                      " is not supported (this dynpm reads version 1)");
     pos_ = kMagic.size() + 4;
 
-    std::string payload;
+    std::string payload, tag;
     DYNPM_RETURN_IF_ERROR(expect_chunk("HEAD", payload, "the header"));
     DYNPM_RETURN_IF_ERROR(parse_head(payload));
-    DYNPM_RETURN_IF_ERROR(expect_chunk("BASE", payload, "the base mesh"));
+    // The field definitions, when the model has fields, then the base mesh and its values.
+    auto got = next_chunk("BASE", tag, payload, "FDEF");
+    if (!got) return got.status();
+    if (!*got) return fail(chunk_start_, "the file ends before the base mesh is complete");
+    if (tag == "FDEF") {
+      if (auto e = parse_field_definitions(payload, mesh_)) return bad_at(*e);
+      DYNPM_RETURN_IF_ERROR(expect_chunk("BASE", payload, "the base mesh"));
+    }
     DYNPM_RETURN_IF_ERROR(parse_base(payload));
+    const bool fields = !mesh_.fields.empty();
+    if (fields) {
+      pending_faces_ = mesh_.base_face_count;  // the base FLDS: no split, the base faces
+      DYNPM_RETURN_IF_ERROR(expect_chunk("FLDS", payload, "the FLDS of the base mesh"));
+      if (auto e = parse_field_values(payload, mesh_, 0, 0, 0, mesh_.base_face_count))
+        return bad_at(*e);
+    }
     for (;;) {
-      std::string tag;
-      auto got = next_chunk("SPLT", tag, payload);
+      got = next_chunk("SPLT", tag, payload);
       if (!got) return got.status();
       if (!*got) {  // a prefix: keep what has arrived
         mesh_.complete = false;
@@ -84,7 +98,23 @@ class Decoder {
         if (pos_ != bytes_.size()) return fail(pos_, "bytes after the END chunk");
         break;
       }
+      const uint32_t first = mesh_.split_count(), faces_before = face_count_;
       DYNPM_RETURN_IF_ERROR(parse_splits(payload));
+      if (!fields) continue;
+      // A SPLT and its FLDS are one unit: a file that ends before the FLDS is complete holds
+      // the levels before that SPLT.
+      pending_splits_ = mesh_.split_count() - first;
+      pending_faces_ = face_count_ - faces_before;
+      got = next_chunk("FLDS", tag, payload);
+      if (!got) return got.status();
+      if (!*got) {
+        truncate(first, faces_before);
+        mesh_.complete = false;
+        break;
+      }
+      if (auto e =
+              parse_field_values(payload, mesh_, first, pending_splits_, faces_before, face_count_))
+        return bad_at(*e);
     }
     return std::move(mesh_);
   }
@@ -94,17 +124,41 @@ class Decoder {
     return Status::error(name_ + ": byte " + std::to_string(at) + ": " + what);
   }
 
+  // A problem inside a payload, found by dpm_read_fields.cpp.
+  Status bad_at(const PayloadError& e) const {
+    return fail(payload_start_,
+                e.what + " (at byte " + std::to_string(e.offset) + " of the chunk's data)");
+  }
+
+  static bool is_known(std::string_view tag) {
+    return tag == "HEAD" || tag == "FDEF" || tag == "BASE" || tag == "FLDS" || tag == "SPLT" ||
+           tag == "END ";
+  }
+  // An optional chunk a reader may skip has four characters from A–Z, 0–9 and space.
+  static bool is_optional_tag(std::string_view tag) {
+    return std::all_of(tag.begin(), tag.end(), [](char c) {
+      return (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == ' ';
+    });
+  }
+
   // What a chunk's 24 header bytes say, checked before its payload is looked at (the browser's
-  // decoder checks them as they arrive, in this order). `expected`: HEAD, BASE, or SPLT (which
-  // END may end).
-  Status check_chunk_header(std::string_view expected, const std::string& tag, uint32_t flags,
-                            uint32_t stored, uint32_t raw, uint32_t reserved) const {
+  // decoder checks them as they arrive, in this order). `expected`: HEAD, BASE, FLDS, or SPLT
+  // (which END may end); `optional`: a chunk that may come instead (FDEF before BASE). An unknown
+  // chunk after HEAD is checked as an optional one, to be skipped.
+  Status check_chunk_header(std::string_view expected, std::string_view optional,
+                            const std::string& tag, uint32_t flags, uint32_t stored, uint32_t raw,
+                            uint32_t reserved) const {
     const size_t at = pos_;
-    if (tag != "HEAD" && tag != "BASE" && tag != "SPLT" && tag != "END ")
-      return fail(at, "unknown chunk tag (not HEAD, BASE, SPLT or END)");
-    if (expected != "SPLT" && tag != expected)
+    const bool unknown = !is_known(tag);
+    if (unknown && !is_optional_tag(tag))
+      return fail(at,
+                  "unknown chunk tag (not HEAD, FDEF, BASE, FLDS, SPLT, END or four of A-Z, "
+                  "0-9 and space)");
+    if (unknown && expected == "HEAD")
+      return fail(at, "expected the HEAD chunk, found '" + tag + "'");
+    if (!unknown && expected != "SPLT" && tag != expected && tag != optional)
       return fail(at, "expected the " + std::string(expected) + " chunk, found '" + tag + "'");
-    if (expected == "SPLT" && tag != "SPLT" && tag != "END ")
+    if (!unknown && expected == "SPLT" && tag != "SPLT" && tag != "END ")
       return fail(at, "unexpected chunk '" + tag + "'");
     if (flags > 1) return fail(at + 4, "unknown chunk flags " + std::to_string(flags));
     if (reserved != 0) return fail(at + 20, "the chunk's reserved field is not 0");
@@ -112,9 +166,9 @@ class Decoder {
       return fail(at + 8, "the chunk's stored size " + std::to_string(stored) + " is above 2^31");
     if (flags == 0 && raw != stored) return fail(at + 12, "an uncompressed chunk's sizes differ");
     if (flags == 1 && (tag == "HEAD" || tag == "END "))
-      return fail(at + 4, "a compressed " + tag + " chunk (only BASE and SPLT may be)");
+      return fail(at + 4, "a compressed " + tag + " chunk (only BASE, SPLT, FDEF and FLDS may be)");
     if (tag == "END " && raw != 0) return fail(at + 12, "the END chunk is not empty");
-    if (tag != "BASE" && tag != "SPLT") return {};
+    if (tag == "HEAD" || tag == "END ") return {};
     // Before any allocation: what the chunk says it holds against what it can hold.
     const double limit = std::min(payload_limit(tag), double(kMaxRawChunk));
     if (raw > limit)
@@ -128,8 +182,18 @@ class Decoder {
     return {};
   }
 
-  // false: the file ends inside this chunk (a prefix).
-  Result<bool> next_chunk(std::string_view expected, std::string& tag, std::string& payload) {
+  // The next chunk that is not an unknown optional one (those are checked and skipped). false:
+  // the file ends inside a chunk (a prefix).
+  Result<bool> next_chunk(std::string_view expected, std::string& tag, std::string& payload,
+                          std::string_view optional = {}) {
+    for (;;) {
+      auto got = one_chunk(expected, optional, tag, payload);
+      if (!got || !*got || is_known(tag)) return got;
+    }
+  }
+
+  Result<bool> one_chunk(std::string_view expected, std::string_view optional, std::string& tag,
+                         std::string& payload) {
     chunk_start_ = pos_;
     if (bytes_.size() - pos_ < kChunkHeaderSize) return false;
     ByteReader h(bytes_.substr(pos_, kChunkHeaderSize));
@@ -140,11 +204,16 @@ class Decoder {
     const uint32_t raw = h.get<uint32_t>();
     const uint32_t crc = h.get<uint32_t>();
     const uint32_t reserved = h.get<uint32_t>();
-    DYNPM_RETURN_IF_ERROR(check_chunk_header(expected, tag, flags, stored, raw, reserved));
+    DYNPM_RETURN_IF_ERROR(
+        check_chunk_header(expected, optional, tag, flags, stored, raw, reserved));
     if (bytes_.size() - pos_ - kChunkHeaderSize < stored) return false;
     const std::string_view body = bytes_.substr(pos_ + kChunkHeaderSize, stored);
     if (crc32(body) != crc)
       return fail(pos_, tag + " chunk checksum mismatch (the file is damaged)");
+    if (!is_known(tag)) {  // an optional chunk this reader does not know: skipped
+      pos_ += kChunkHeaderSize + stored;
+      return true;
+    }
     if (flags == 0) {
       payload.assign(body);
     } else {
@@ -161,16 +230,19 @@ class Decoder {
 
   // The most bytes a BASE or SPLT payload can take for the counts in HEAD, each value at the
   // longest encoding the reader accepts (docs/FORMAT.md). A split's moved faces are bounded only
-  // by the face count, which makes the SPLT bound loose but still a bound.
+  // by the face count, which makes the SPLT bound loose but still a bound. An FLDS: its BASE's or
+  // SPLT's counts; FDEF and optional chunks: 2^31.
   double payload_limit(std::string_view tag) const {
     const ProgressiveMesh& m = mesh_;
+    if (tag == "FLDS")
+      return field_values_limit(m, pending_splits_, face_count_ - pending_faces_, face_count_);
     const double steps = double(m.times.size());
     const double per_vertex = 2 * kMaxVarint + steps * 3 * kMaxVarint;
     const double per_face_attributes = 3 * kMaxVarint;
     if (tag == "BASE")
       return m.base_vertex_count * per_vertex +
              m.base_face_count * (1 + 4 * kMaxVarint + per_face_attributes);
-    if (tag != "SPLT") return 0;
+    if (tag != "SPLT") return double(kMaxRawChunk);
     const double splits = double(m.full_split_count) - double(m.split_count());
     const double per_split = kMaxVarint + 4 + 1 + 4 * (1 + 2 * kMaxVarint) + kMaxVarint +
                              kMaxVarint * m.full_face_count + per_vertex + 4 * per_face_attributes;
@@ -395,6 +467,25 @@ class Decoder {
     return {};
   }
 
+  // Back to the levels before split `splits`, which had `faces` faces: the SPLT whose field values
+  // did not arrive is dropped.
+  void truncate(uint32_t splits, uint32_t faces) {
+    ProgressiveMesh& m = mesh_;
+    const uint32_t vertices = m.base_vertex_count + splits;
+    m.parent.resize(splits);
+    m.error.resize(splits);
+    m.wings.resize(m.wing_start[splits]);
+    m.wing_start.resize(splits + 1);
+    m.moved_faces.resize(m.moved_start[splits]);
+    m.moved_start.resize(splits + 1);
+    m.vertex_original_index.resize(vertices);
+    m.node_ids.resize(vertices);
+    m.face_original_index.resize(faces);
+    m.part_ids.resize(faces);
+    m.element_ids.resize(faces);
+    for (auto& xyz : m.positions) xyz.resize(size_t{vertices} * 3);
+  }
+
   std::string_view bytes_;
   std::string name_;
   size_t pos_ = 0, chunk_start_ = 0, payload_start_ = 0;
@@ -402,6 +493,8 @@ class Decoder {
   Deltas d_;
   std::vector<Face> faces_;  // the decode-time replay
   uint32_t face_count_ = 0;
+  // The last SPLT's split and face counts, for the size of the FLDS that follows it.
+  uint32_t pending_splits_ = 0, pending_faces_ = 0;
 };
 
 }  // namespace

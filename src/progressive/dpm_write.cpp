@@ -62,6 +62,55 @@ void write_face_attributes(ByteWriter& w, const ProgressiveMesh& mesh, uint32_t 
   d.face_index = mesh.face_original_index[f];
 }
 
+std::string field_definitions(const ProgressiveMesh& mesh) {
+  ByteWriter w;
+  w.put<uint32_t>(static_cast<uint32_t>(mesh.fields.size()));
+  for (const ProgressiveField& f : mesh.fields) {
+    w.text(f.info.name);
+    w.text(f.info.unit);
+    w.put<uint8_t>(static_cast<uint8_t>(f.info.location));
+    w.put<uint8_t>(f.lossless ? 1u : 0u);
+    w.put<uint16_t>(0);
+    w.put<double>(f.min);
+    w.put<double>(f.max);
+    w.put<double>(f.quant_step);
+    w.put<double>(f.max_error);
+    w.put<float>(f.base_error);
+  }
+  return std::move(w.bytes);
+}
+
+// The FLDS after BASE (splits [0, 0), the base faces [0, face_end)) or after the SPLT of splits
+// [first, last), whose vertices are b + [first, last) and whose faces are [face_begin, face_end).
+std::string field_values(const ProgressiveMesh& mesh, uint32_t first, uint32_t last,
+                         uint32_t face_begin, uint32_t face_end) {
+  ByteWriter w;
+  w.put<uint32_t>(first);
+  w.put<uint32_t>(last - first);
+  const bool splits = last > first;
+  if (splits && has_element_field(mesh)) {
+    uint32_t g = face_begin;
+    for (uint32_t i = first; i < last; ++i) {
+      const uint32_t before = g;  // F: the faces before split i
+      for (uint32_t k = mesh.wing_start[i]; k < mesh.wing_start[i + 1]; ++k)
+        if (mesh.wings[k].was_triangle()) w.varint(before - 1 - mesh.face_heir[g++]);
+    }
+  }
+  const uint32_t b = mesh.base_vertex_count;
+  for (const ProgressiveField& f : mesh.fields) {
+    if (splits)
+      for (uint32_t i = first; i < last; ++i) w.put<float>(f.error[i]);
+    const bool per_face = f.info.location == FieldLocation::kElement;
+    const uint32_t begin = per_face ? face_begin : splits ? b + first : 0;
+    const uint32_t end = per_face ? face_end : b + last;
+    const FieldGrid g(f);
+    for (size_t t = 0; t < mesh.step_count(); ++t)
+      for (uint32_t item = begin; item < end; ++item)
+        w.svarint(g.residual(g.q(f.values[t][item]), predict_field(mesh, f, g, item, t)));
+  }
+  return std::move(w.bytes);
+}
+
 std::string head_payload(const ProgressiveMesh& mesh) {
   ByteWriter w;
   w.put<uint32_t>(mesh.full_vertex_count);
@@ -92,6 +141,8 @@ std::string encode_dpm(const ProgressiveMesh& mesh) {
   version.put<uint32_t>(kVersion);
   out += version.bytes;
   put_chunk(out, "HEAD", head_payload(mesh), false);
+  const bool fields = !mesh.fields.empty();
+  if (fields) put_chunk(out, "FDEF", field_definitions(mesh), false);
 
   Deltas d;
   {
@@ -105,6 +156,7 @@ std::string encode_dpm(const ProgressiveMesh& mesh) {
     write_positions(w, mesh, 0, mesh.base_vertex_count);
     put_chunk(out, "BASE", w.bytes, true);
   }
+  if (fields) put_chunk(out, "FLDS", field_values(mesh, 0, 0, 0, mesh.base_face_count), true);
 
   uint32_t face_count = mesh.base_face_count;
   uint32_t chunk = kFirstChunkSplits;
@@ -140,6 +192,8 @@ std::string encode_dpm(const ProgressiveMesh& mesh) {
     for (uint32_t f = first_face; f < face_count; ++f) write_face_attributes(w, mesh, f, d);
     write_positions(w, mesh, mesh.base_vertex_count + first, mesh.base_vertex_count + last);
     put_chunk(out, "SPLT", w.bytes, true);
+    if (fields)
+      put_chunk(out, "FLDS", field_values(mesh, first, last, first_face, face_count), true);
   }
   put_chunk(out, "END ", {}, false);
   return out;

@@ -165,4 +165,23 @@ void quantize_positions(ProgressiveMesh& mesh) {
     }
 }
 
+void quantize_fields(ProgressiveMesh& mesh, double bound, bool lossless) {
+  for (ProgressiveField& f : mesh.fields) {
+    f.lossless = lossless;
+    if (lossless) {
+      f.quant_step = f.max_error = 0;
+      continue;
+    }
+    // As for positions: no finer than float32 holds at the largest magnitude (4 ulps there).
+    const double largest = std::max(std::abs(f.min), std::abs(f.max));
+    double step = std::max(2 * bound * (f.max - f.min), 4 * largest * std::ldexp(1.0, -23));
+    if (!(step > 0)) step = 1.0;  // every value is 0
+    f.quant_step = step;
+    f.max_error = step / 2;
+    for (auto& values : f.values)
+      for (float& x : values)
+        x = static_cast<float>(f.min + std::nearbyint((x - f.min) / step) * step);
+  }
+}
+
 }  // namespace dynpm
