@@ -32,10 +32,11 @@ int run_convert(std::span<char* const> arguments) {
   if (auto exit_code = parse_verb_args(arguments, kSpec, args)) return *exit_code;
   if (auto exit_code = require_inputs_and_output(args, kSpec, "OUTPUT")) return *exit_code;
   const auto output = args.value("--output");
-  if (format_from_extension(*output) == FileFormat::kUnknown)
-    return fail(
-        kSpec.name, kExitUsage,
-        *output + ": cannot tell the output format from the extension (use .obj, .ply or .vtk)");
+  if (!can_write(format_from_extension(*output)))
+    return fail(kSpec.name, kExitUsage,
+                *output +
+                    ": cannot tell the output format from the extension (use .obj, .ply, "
+                    ".vtk or .vtu)");
   Phase phase("reading and writing the steps");
   auto stream = open_inputs(args.positional, args);
   if (!stream) return fail(kSpec.name, kExitFailure, stream.message());
@@ -51,6 +52,12 @@ int run_convert(std::span<char* const> arguments) {
   WriteOptions options;
   options.binary = !args.has("--ascii");
   std::vector<float> xyz(size_t{frames.vertex_count()} * 3);
+  // Result fields travel along: per node as point data, per element as cell data.
+  const std::vector<FieldInfo> fields = frames.fields();
+  std::vector<std::vector<float>> values(fields.size());
+  for (size_t f = 0; f < fields.size(); ++f)
+    values[f].resize(fields[f].location == FieldLocation::kElement ? stream->topology.face_count()
+                                                                   : size_t{frames.vertex_count()});
   std::string first, last;
   StagedOutputs staged;
   for (size_t t = 0; t < steps; ++t) {
@@ -59,9 +66,18 @@ int run_convert(std::span<char* const> arguments) {
     if (!path) return fail(kSpec.name, kExitUsage, path.message());
     if (Status s = frames.read_step(t, xyz); !s.ok())
       return fail(kSpec.name, kExitFailure, s.message());
+    std::vector<NamedValues> point_fields, cell_fields;
+    for (size_t f = 0; f < fields.size(); ++f) {
+      if (Status s = frames.read_field(f, t, values[f]); !s.ok())
+        return fail(kSpec.name, kExitFailure, s.message());
+      (fields[f].location == FieldLocation::kElement ? cell_fields : point_fields)
+          .push_back({fields[f].name, values[f]});
+    }
     options.comment =
         "dynpm: step " + std::to_string(t) + ", time " + std::to_string(frames.step_time(t));
-    if (Status s = write_mesh(staged.stage(*path), stream->topology, xyz, options); !s.ok())
+    if (Status s = write_mesh(staged.stage(*path), stream->topology, xyz, options, point_fields,
+                              cell_fields);
+        !s.ok())
       return fail(kSpec.name, kExitFailure, s.message());
     (t == 0 ? first : last) = *path;
   }

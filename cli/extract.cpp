@@ -26,17 +26,60 @@ const VerbSpec kSpec{
     "interpolates between steps. Without --step every step is written: OUTPUT must then hold a\n"
     "{:03d} field. Fully refined (--full), vertices and faces come in the input's order, so\n"
     "the output compares equal to the input (exactly, for a --lossless build); at other levels\n"
-    "they come in progressive order (base first). Coordinates round-trip float32.",
-    {{"--output", "-o", true, "OUTPUT", "mesh file (.obj .ply .vtk) or pattern with {:03d}"},
+    "they come in progressive order (base first). Coordinates round-trip float32.\n"
+    "Result fields are written as point data (node fields) and cell data (element fields) in\n"
+    "VTK and VTU, and as vertex and face properties in PLY: at a coarse level each vertex or\n"
+    "face shows the aggregate of the original ones it stands for (--aggregate).",
+    {{"--output", "-o", true, "OUTPUT", "mesh file (.obj .ply .vtk .vtu) or pattern with {:03d}"},
      {"--vertices", "", true, "N", "resolution as a vertex count"},
      {"--ratio", "", true, "R", "resolution as a fraction of the full vertex count"},
      {"--max-error", "", true, "E", "coarsest level with error ≤ E (absolute, or E%)"},
      {"--full", "", false, "", "the fully refined mesh (the input)"},
      {"--step", "", true, "T", "time step (fractional interpolates); default every step"},
+     {"--aggregate", "", true, "max|mean",
+      "what a coarse vertex or face shows of the ones it stands for: the value of largest\n"
+      "magnitude (max, default: a peak is never hidden) or their mean"},
      {"--ascii", "", false, "", "write PLY and VTK as text"},
      {"--json", "", false, "", "print what was written as JSON"}}};
 
 int fail_usage(const std::string& message) { return fail(kSpec.name, kExitUsage, message); }
+
+// The values every field shows at this level and (fractional) step t, in the output's order:
+// the aggregates of the two neighbouring steps, blended linearly as the positions are.
+struct ShownFields {
+  std::vector<NamedValues> point, cell;
+  std::vector<std::vector<float>> values;  // per field
+
+  void compute(const Navigator& nav, double t, FieldAggregate aggregate,
+               const OriginalOrder* order) {
+    const ProgressiveMesh& m = nav.mesh();
+    const size_t last = m.step_count() - 1;
+    const size_t t0 = std::min(static_cast<size_t>(std::floor(t)), last);
+    const size_t t1 = std::min(t0 + 1, last);
+    const float a = static_cast<float>(t - static_cast<double>(t0));
+    point.clear();
+    cell.clear();
+    values.resize(m.fields.size());
+    std::vector<float> v0, v1;
+    for (size_t f = 0; f < m.fields.size(); ++f) {
+      const bool per_face = m.fields[f].info.location == FieldLocation::kElement;
+      const size_t n = per_face ? nav.face_count() : nav.vertex_count();
+      v0.resize(n);
+      nav.field_values(f, t0, v0, aggregate);
+      if (a != 0.0f && t1 != t0) {
+        v1.resize(n);
+        nav.field_values(f, t1, v1, aggregate);
+        for (size_t i = 0; i < n; ++i) v0[i] += a * (v1[i] - v0[i]);
+      }
+      std::vector<float>& out = values[f];
+      out.resize(n);
+      const std::vector<uint32_t>* to_progressive =
+          order ? &(per_face ? order->face_of_original : order->vertex_of_original) : nullptr;
+      for (size_t i = 0; i < n; ++i) out[i] = v0[to_progressive ? (*to_progressive)[i] : i];
+      (per_face ? cell : point).push_back({m.fields[f].info.name, out});
+    }
+  }
+};
 
 }  // namespace
 
@@ -49,8 +92,15 @@ int run_extract(std::span<char* const> arguments) {
   const int choices =
       args.has("--vertices") + args.has("--ratio") + args.has("--max-error") + args.has("--full");
   if (choices != 1) return fail_usage("give one of --vertices, --ratio, --max-error, --full");
-  if (format_from_extension(*output) == FileFormat::kUnknown)
-    return fail_usage(*output + ": use .obj, .ply or .vtk");
+  if (!can_write(format_from_extension(*output)))
+    return fail_usage(*output + ": use .obj, .ply, .vtk or .vtu");
+  FieldAggregate aggregate = FieldAggregate::kMaxAbs;
+  if (auto v = args.value("--aggregate")) {
+    if (*v == "mean")
+      aggregate = FieldAggregate::kMean;
+    else if (*v != "max")
+      return fail_usage("--aggregate is max or mean, got " + quoted_value(*v));
+  }
   std::optional<double> step;
   if (auto v = args.value("--step")) {
     // The model's last step is known once it is read (below).
@@ -101,11 +151,13 @@ int run_extract(std::span<char* const> arguments) {
   const bool full = mesh->complete && nav.level() == mesh->full_split_count;
   Topology topology;
   std::vector<uint32_t> vertex_order;  // output vertex → navigator vertex
+  std::optional<OriginalOrder> ordered;
   if (full) {
-    auto ordered = original_order(nav);
-    if (!ordered) return fail(kSpec.name, kExitFailure, ordered.message());
+    auto in_input_order = original_order(nav);
+    if (!in_input_order) return fail(kSpec.name, kExitFailure, in_input_order.message());
+    ordered = std::move(*in_input_order);
     topology = std::move(ordered->topology);
-    vertex_order = std::move(ordered->vertex_of_original);
+    vertex_order = ordered->vertex_of_original;
   } else {
     topology = nav.topology();
   }
@@ -115,6 +167,7 @@ int run_extract(std::span<char* const> arguments) {
   std::vector<float> positions(size_t{nav.vertex_count()} * 3), out(positions.size());
   std::vector<std::string> written;
   StagedOutputs staged;
+  ShownFields shown;
   const size_t count = step ? 1 : steps;
   for (size_t k = 0; k < count; ++k) {
     const double t = step ? *step : double(k);
@@ -129,7 +182,9 @@ int run_extract(std::span<char* const> arguments) {
     write.comment = "dynpm extract: " + std::to_string(nav.vertex_count()) + " vertices, step " +
                     std::to_string(t) + ", time " +
                     std::to_string(mesh->times[std::min(size_t(t), steps - 1)]);
-    if (Status s = write_mesh(staged.stage(*path), topology, xyz, write); !s.ok())
+    shown.compute(nav, t, aggregate, ordered ? &*ordered : nullptr);
+    if (Status s = write_mesh(staged.stage(*path), topology, xyz, write, shown.point, shown.cell);
+        !s.ok())
       return fail(kSpec.name, kExitFailure, s.message());
     written.push_back(*path);
   }
@@ -146,6 +201,17 @@ int run_extract(std::span<char* const> arguments) {
     j.value("error", nav.error());
     j.value("error_pct", 100 * of_diagonal(nav.error(), mesh->diagonal()));
     j.value("full", full);
+    j.begin_array("fields");
+    for (size_t f = 0; f < mesh->fields.size(); ++f) {
+      const ProgressiveField& field = mesh->fields[f];
+      j.begin_object();
+      j.value("name", field.info.name);
+      j.value("location", to_string(field.info.location));
+      j.value("unit", field.info.unit);
+      j.value("field_error_pct", 100 * nav.field_error(f));
+      j.end_object();
+    }
+    j.end_array();
     j.begin_array("files");
     for (const std::string& f : written) j.item(f);
     j.end_array();

@@ -260,7 +260,18 @@ int print_dpm_info(const std::string& path, bool json) {
     for (size_t k : m.key_steps) j.item(int64_t(k));
     j.end_array();
     j.begin_array("fields");
-    for (const ProgressiveField& f : m.fields) j.item(f.info.name);
+    for (const ProgressiveField& f : m.fields) {
+      j.begin_object();
+      j.value("name", f.info.name);
+      j.value("location", to_string(f.info.location));
+      j.value("unit", f.info.unit);
+      j.value("min", f.min);
+      j.value("max", f.max);
+      j.value("lossless", f.lossless);
+      j.value("value_error", f.max_error);
+      j.value("base_field_error_pct", 100.0 * f.base_error);
+      j.end_object();
+    }
     j.end_array();
     j.value("parts", uint64_t{full.parts().size()});
     j.value("lossless", m.lossless);
@@ -293,10 +304,17 @@ int print_dpm_info(const std::string& path, bool json) {
       m.base_error, 100 * of_diagonal(m.base_error, m.diagonal()));
   std::printf("steps     %zu, time %g to %g; key steps %zu\n", m.step_count(), m.times.front(),
               m.times.back(), m.key_steps.size());
-  if (!m.fields.empty()) {
-    std::printf("fields   ");
-    for (const ProgressiveField& f : m.fields) std::printf(" %s", printable(f.info.name).c_str());
-    std::printf("\n");
+  // One line a field: where it lives, its range and unit, how exactly it is stored, and how far
+  // the base mesh's shown values may be from the values they stand for.
+  for (const ProgressiveField& f : m.fields) {
+    const std::string unit = f.info.unit.empty() ? "" : " " + printable(f.info.unit);
+    std::printf("field     %s (%s): %.4g … %.4g%s; ", printable(f.info.name).c_str(),
+                to_string(f.info.location), f.min, f.max, unit.c_str());
+    if (f.lossless)
+      std::printf("lossless");
+    else
+      std::printf("within %.3g%s", f.max_error, unit.c_str());
+    std::printf("; base mesh field error %.3g%% of the range\n", 100.0 * f.base_error);
   }
   if (m.lossless)
     std::printf("positions lossless (float32)\n");

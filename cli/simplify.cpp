@@ -26,7 +26,7 @@ const VerbSpec kSpec{
     "2006): a collapsed quad becomes a triangle, a collapsed triangle vanishes, legality by\n"
     "(P1*), (P2), (P3); cost by area-weighted quadrics, the max over the key steps. Boundaries,\n"
     "part boundaries and non-manifold edges (T-joints) only slide along themselves.\n"
-    "OUTPUT is a mesh file (.obj .ply .vtk), or a pattern with {:03d} for an animation.\n"
+    "OUTPUT is a mesh file (.obj .ply .vtk .vtu), or a pattern with {:03d} for an animation.\n"
     "--max-error is in units of the bounding-box diagonal (0.001), or in percent (0.1%).\n"
     "Key steps (paper §3): all; paper = first, last and the strongest deformation in between;\n"
     "auto:K = K steps, each the farthest (largest vertex displacement) from those chosen.",
@@ -85,8 +85,8 @@ int run_simplify(std::span<char* const> arguments) {
   }
   KeyStepRule key_rule;
   if (Status s = parse_simplify_flags(args, options, key_rule); !s.ok()) return usage(s.message());
-  if (format_from_extension(*output) == FileFormat::kUnknown)
-    return usage(*output + ": use .obj, .ply or .vtk");
+  if (!can_write(format_from_extension(*output)))
+    return usage(*output + ": use .obj, .ply, .vtk or .vtu");
 
   auto stream = open_input_to_simplify(args, *output);
   if (!stream) return fail(kSpec.name, kExitFailure, stream.message());

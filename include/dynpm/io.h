@@ -101,6 +101,8 @@ enum class FileFormat {
 };
 
 const char* to_string(FileFormat format);
+// The formats write_mesh() writes: OBJ, PLY, VTK, VTU.
+bool can_write(FileFormat format);
 // By extension (case-insensitive): .obj, .ply, .vtk.
 FileFormat format_from_extension(const std::string& path);
 // By content where the format has a signature ("ply", "# vtk DataFile"), else by extension.

@@ -66,6 +66,7 @@ class Navigator {
 struct OriginalOrder {
   Topology topology;
   std::vector<uint32_t> vertex_of_original;  // input vertex index → progressive vertex
+  std::vector<uint32_t> face_of_original;    // input face index → progressive face
 };
 Result<OriginalOrder> original_order(const Navigator& full);
 

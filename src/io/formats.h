@@ -57,10 +57,19 @@ Result<AnimationStream> open_file_sequence(std::span<const std::string> paths,
 
 std::string write_obj(const Topology& topology, std::span<const float> positions,
                       const WriteOptions& options);
+// Fields per vertex (point data) and per face (cell data), names made safe for the format
+// (spaces become '_', as array names and PLY properties cannot hold them).
 std::string write_ply(const Topology& topology, std::span<const float> positions,
-                      const WriteOptions& options);
+                      const WriteOptions& options, std::span<const NamedValues> point_fields,
+                      std::span<const NamedValues> cell_fields);
 std::string write_vtk(const Topology& topology, std::span<const float> positions,
-                      const WriteOptions& options, std::span<const NamedValues> point_fields);
+                      const WriteOptions& options, std::span<const NamedValues> point_fields,
+                      std::span<const NamedValues> cell_fields);
+std::string write_vtu(const Topology& topology, std::span<const float> positions,
+                      const WriteOptions& options, std::span<const NamedValues> point_fields,
+                      std::span<const NamedValues> cell_fields);
+// A name a VTK array or a PLY property can hold: spaces become '_', "" becomes "field".
+std::string safe_field_name(std::string name);
 
 // Solver results that hold every time step in one file (or one family of files). Each opens
 // the file, reads the mesh at once and streams the steps through the returned FrameSource.

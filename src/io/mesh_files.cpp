@@ -205,6 +205,11 @@ const char* to_string(IntegrationPoint point) {
   return "mid";
 }
 
+bool can_write(FileFormat format) {
+  return format == FileFormat::kObj || format == FileFormat::kPly || format == FileFormat::kVtk ||
+         format == FileFormat::kVtu;
+}
+
 FileFormat format_from_extension(const std::string& path) {
   const std::string ext = lowercase_extension(path);
   if (ext == ".obj") return FileFormat::kObj;
@@ -396,16 +401,22 @@ Status write_mesh(const std::string& path, const Topology& topology,
                   std::span<const NamedValues> point_fields,
                   std::span<const NamedValues> cell_fields) {
   assert(positions.size() == size_t{topology.vertex_count} * 3);
-  (void)cell_fields;  // TODO(issue 18): VTK cell data, PLY face properties, VTU
   std::string bytes;
   switch (format_from_extension(path)) {
     case FileFormat::kObj: bytes = io::write_obj(topology, positions, options); break;
-    case FileFormat::kPly: bytes = io::write_ply(topology, positions, options); break;
-    case FileFormat::kVtk: bytes = io::write_vtk(topology, positions, options, point_fields); break;
+    case FileFormat::kPly:
+      bytes = io::write_ply(topology, positions, options, point_fields, cell_fields);
+      break;
+    case FileFormat::kVtk:
+      bytes = io::write_vtk(topology, positions, options, point_fields, cell_fields);
+      break;
+    case FileFormat::kVtu:
+      bytes = io::write_vtu(topology, positions, options, point_fields, cell_fields);
+      break;
     default:
       return Status::error(path +
                            ": cannot tell the output format from the extension "
-                           "(use .obj, .ply or .vtk)");
+                           "(use .obj, .ply, .vtk or .vtu)");
   }
   return io::write_file_atomically(path, bytes);
 }

@@ -416,7 +416,8 @@ bool fits_int32(std::span<const int64_t> ids) {
 }  // namespace
 
 std::string write_ply(const Topology& topology, std::span<const float> positions,
-                      const WriteOptions& options) {
+                      const WriteOptions& options, std::span<const NamedValues> point_fields,
+                      std::span<const NamedValues> cell_fields) {
   const bool node_int = fits_int32(topology.node_ids);
   const bool element_int = fits_int32(topology.element_ids);
   std::string out = "ply\nformat ";
@@ -425,9 +426,13 @@ std::string write_ply(const Topology& topology, std::span<const float> positions
   out += "element vertex " + std::to_string(topology.vertex_count) + "\n";
   out += "property float x\nproperty float y\nproperty float z\n";
   out += node_int ? "property int node_id\n" : "property double node_id\n";
+  for (const NamedValues& field : point_fields)
+    out += "property float " + safe_field_name(field.name) + "\n";
   out += "element face " + std::to_string(topology.faces.size()) + "\n";
   out += "property list uchar int vertex_indices\nproperty int part_id\n";
   out += element_int ? "property int element_id\n" : "property double element_id\n";
+  for (const NamedValues& field : cell_fields)
+    out += "property float " + safe_field_name(field.name) + "\n";
   out += "end_header\n";
 
   char buffer[32];
@@ -442,9 +447,12 @@ std::string write_ply(const Topology& topology, std::span<const float> positions
     if (options.binary) {
       for (int k = 0; k < 3; ++k) append_le(out, p[k]);
       node_int ? append_le(out, static_cast<int32_t>(id)) : append_le(out, static_cast<double>(id));
+      for (const NamedValues& field : point_fields) append_le(out, field.values[v]);
     } else {
       for (int k = 0; k < 3; ++k) text(p[k], ' ');
-      text(id, '\n');
+      text(id, point_fields.empty() ? '\n' : ' ');
+      for (size_t i = 0; i < point_fields.size(); ++i)
+        text(point_fields[i].values[v], i + 1 == point_fields.size() ? '\n' : ' ');
     }
   }
   for (size_t fi = 0; fi < topology.faces.size(); ++fi) {
@@ -457,11 +465,14 @@ std::string write_ply(const Topology& topology, std::span<const float> positions
       append_le(out, topology.part_ids[fi]);
       element_int ? append_le(out, static_cast<int32_t>(id))
                   : append_le(out, static_cast<double>(id));
+      for (const NamedValues& field : cell_fields) append_le(out, field.values[fi]);
     } else {
       text(degree, ' ');
       for (int i = 0; i < degree; ++i) text(f.v[i], ' ');
       text(topology.part_ids[fi], ' ');
-      text(id, '\n');
+      text(id, cell_fields.empty() ? '\n' : ' ');
+      for (size_t i = 0; i < cell_fields.size(); ++i)
+        text(cell_fields[i].values[fi], i + 1 == cell_fields.size() ? '\n' : ' ');
     }
   }
   return out;

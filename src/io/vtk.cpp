@@ -1,6 +1,7 @@
 // VTK legacy polydata (file version 3.0, readable by ParaView, VisIt and meshio): points,
 // polygons (triangles and quads as they are), the part id, element id and node id of every
-// face and vertex, and per-vertex scalar fields. Binary data is big-endian, as the format says.
+// face and vertex, and scalar fields per vertex (POINT_DATA) and per face (CELL_DATA). Binary data
+// is big-endian, as the format says.
 #include <algorithm>
 #include <bit>
 #include <charconv>
@@ -48,22 +49,30 @@ class VtkOut {
     end_row();
   }
 
+  void floats(const std::string& name, std::span<const float> values) {
+    line("SCALARS " + name + " float 1");
+    line("LOOKUP_TABLE default");
+    for (float v : values) value(v);
+    end_row();
+  }
+
   std::string out;
 
  private:
   bool binary_;
 };
 
-// VTK array names may not hold spaces.
-std::string vtk_name(std::string name) {
-  std::replace(name.begin(), name.end(), ' ', '_');
+}  // namespace
+
+std::string safe_field_name(std::string name) {
+  for (char& c : name)
+    if (c == ' ' || c == '\t' || c == '\n' || c == '\r') c = '_';
   return name.empty() ? "field" : name;
 }
 
-}  // namespace
-
 std::string write_vtk(const Topology& topology, std::span<const float> positions,
-                      const WriteOptions& options, std::span<const NamedValues> point_fields) {
+                      const WriteOptions& options, std::span<const NamedValues> point_fields,
+                      std::span<const NamedValues> cell_fields) {
   VtkOut vtk(options.binary);
   vtk.line("# vtk DataFile Version 3.0");
   std::string title = options.comment.empty() ? "dynpm mesh" : options.comment;
@@ -92,14 +101,12 @@ std::string write_vtk(const Topology& topology, std::span<const float> positions
   for (int32_t part : topology.part_ids) vtk.value(part);
   vtk.end_row();
   vtk.ids("element_id", topology.element_ids);
+  for (const NamedValues& field : cell_fields)
+    vtk.floats(safe_field_name(field.name), field.values);
   vtk.line("POINT_DATA " + std::to_string(topology.vertex_count));
   vtk.ids("node_id", topology.node_ids);
-  for (const NamedValues& field : point_fields) {
-    vtk.line("SCALARS " + vtk_name(field.name) + " float 1");
-    vtk.line("LOOKUP_TABLE default");
-    for (float v : field.values) vtk.value(v);
-    vtk.end_row();
-  }
+  for (const NamedValues& field : point_fields)
+    vtk.floats(safe_field_name(field.name), field.values);
   if (vtk.out.back() != '\n') vtk.out += '\n';
   return std::move(vtk.out);
 }

@@ -160,8 +160,10 @@ Result<OriginalOrder> original_order(const Navigator& full) {
   t.faces.resize(faces.size());
   t.part_ids.resize(faces.size());
   t.element_ids.resize(faces.size());
+  out.face_of_original.resize(faces.size());
   for (uint32_t f = 0; f < faces.size(); ++f) {
     const uint32_t o = m.face_original_index[f];
+    out.face_of_original[o] = f;
     Face face = faces[f];
     for (uint32_t& c : face.v)
       if (c != kNoVertex) c = m.vertex_original_index[c];
