@@ -165,6 +165,14 @@ inline void run_dpm(std::string_view bytes) {
       nav.positions(0.5 * static_cast<double>(mesh.step_count() - 1) + 0.25, xyz);
     }
     check_topology(nav.topology(), "Navigator::topology");
+    // Result fields: the shown values of any file the reader accepts (heirs and parents in range).
+    for (size_t f = 0; f < mesh.fields.size(); ++f) {
+      xyz.assign(std::max(nav.vertex_count(), nav.face_count()), 0.0f);
+      nav.field_values(f, mesh.step_count() - 1, xyz);
+      nav.field_values(f, 0, xyz, FieldAggregate::kMean);
+      if (!(nav.field_error(f) >= 0 && nav.field_error(f) <= 1))
+        fail("a field error outside [0, 1]");
+    }
   }
 }
 
