@@ -8,6 +8,11 @@
 // simplified dragon).
 //
 //   eval_bench [--runs N] [--threads T] [ORIGINAL SIMPLIFIED]
+//   eval_bench --write-plate DIR [--size N] [--steps S]
+//
+// --write-plate writes the input of `dynpm eval` at scale (bench/eval_scale.sh) and stops: an
+// N × N quad plate (default 1000: 1,002,001 vertices) over the bumpy height field, S steps
+// (default 25) of a wave running across it, as DIR/frame_000.ply … (binary PLY).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -69,6 +74,31 @@ Mesh bumpy_grid(uint32_t n) {
   return m;
 }
 
+// Step s of S of the animated plate: the bumpy grid plus a travelling wave whose height grows
+// with s, so that every step differs and the simplified model's error moves over the plate.
+void write_plate(const std::string& dir, uint32_t n, int steps) {
+  Mesh m = bumpy_grid(n);
+  std::vector<float> xyz(m.positions.size());
+  for (int s = 0; s < steps; ++s) {
+    const double phase = 6.283 * s / std::max(1, steps - 1), height = 40.0 * s / std::max(1, steps);
+    for (size_t v = 0; v < xyz.size(); v += 3) {
+      const double x = m.positions[v], y = m.positions[v + 1];
+      xyz[v] = m.positions[v], xyz[v + 1] = m.positions[v + 1];
+      xyz[v + 2] = float(m.positions[v + 2] +
+                         height * std::sin(x / 200.0 - phase) * std::cos(y / 310.0 + 0.5 * phase));
+    }
+    char name[32];
+    std::snprintf(name, sizeof name, "/frame_%03d.ply", s);
+    const dynpm::Status status = dynpm::write_mesh(dir + name, m.topology, xyz);
+    if (!status.ok()) {
+      std::fprintf(stderr, "%s\n", status.message().c_str());
+      std::exit(1);
+    }
+  }
+  std::printf("wrote %s/frame_000.ply … frame_%03d.ply: %u vertices, %zu quads\n", dir.c_str(),
+              steps - 1, m.topology.vertex_count, m.topology.faces.size());
+}
+
 Mesh read(const std::string& path) {
   auto a = dynpm::read_mesh(path);
   if (!a) {
@@ -84,13 +114,25 @@ int main(int argc, char** argv) {
   int runs = 3;
   dynpm::HausdorffOptions options;
   std::vector<std::string> files;
+  std::string plate_dir;
+  int plate_size = 1000, plate_steps = 25;
   for (int i = 1; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--runs") == 0 && i + 1 < argc)
+    if (std::strcmp(argv[i], "--write-plate") == 0 && i + 1 < argc)
+      plate_dir = argv[++i];
+    else if (std::strcmp(argv[i], "--size") == 0 && i + 1 < argc)
+      plate_size = std::max(1, std::atoi(argv[++i]));
+    else if (std::strcmp(argv[i], "--steps") == 0 && i + 1 < argc)
+      plate_steps = std::max(1, std::atoi(argv[++i]));
+    else if (std::strcmp(argv[i], "--runs") == 0 && i + 1 < argc)
       runs = std::max(1, std::atoi(argv[++i]));
     else if (std::strcmp(argv[i], "--threads") == 0 && i + 1 < argc)
       options.threads = unsigned(std::atoi(argv[++i]));
     else
       files.push_back(argv[i]);
+  }
+  if (!plate_dir.empty()) {
+    write_plate(plate_dir, uint32_t(plate_size), plate_steps);
+    return 0;
   }
   if (files.size() != 0 && files.size() != 2) {
     std::fprintf(stderr, "usage: eval_bench [--runs N] [--threads T] [ORIGINAL SIMPLIFIED]\n");

@@ -23,6 +23,7 @@ namespace {
 const VerbSpec kSpec{
     "eval",
     "dynpm eval ORIGINAL... --dpm MODEL.dpm --ratios 1,2,4,11 [--steps 0,12,24]\n"
+    "                  [--field NAME,…] [--aggregate max|mean]\n"
     "                  [--samples N] [--seed S] [--threads T] [--json OUT.json] [--plot OUT.svg]",
     "Measures a progressive mesh against the animation it was built from, as the paper's\n"
     "Table 2 does: for each resolution (--ratios, in % of the full vertex count) and each\n"
@@ -30,11 +31,18 @@ const VerbSpec kSpec{
     "distance (Metro-style, as 'dynpm hausdorff') between the original at step t and the\n"
     "progressive mesh at step t, in % of the bounding-box diagonal over all steps.\n"
     "The column 'max' is the largest over every step of the animation (--max-over chosen: over\n"
-    "the chosen steps only). ORIGINAL is a mesh file or a quoted glob of step files.",
+    "the chosen steps only). With --field, also each field's error (the largest difference\n"
+    "between the original's and the level's value at corresponding surface points, at the same\n"
+    "samples, in % of the field's range over all steps) and its peak ratio (largest |value|\n"
+    "shown / the original's largest at that step). ORIGINAL is a mesh file or a quoted glob of\n"
+    "step files.",
     {{"--dpm", "", true, "MODEL.dpm", "the progressive mesh (from dynpm build)"},
      {"--ratios", "", true, "R,R,…", "resolutions in % of the full vertex count, each in (0, 100]"},
      {"--steps", "", true, "T,T,…", "time steps of the table (default: first, middle, last)"},
      {"--max-over", "", true, "all|chosen", "steps of the 'max' column (default all)"},
+     {"--field", "", true, "NAME,…", "result fields to measure (field error, peak ratio)"},
+     {"--aggregate", "", true, "max|mean",
+      "the value a coarse vertex or face shows (default max: the largest |value|)"},
      kSamplesFlag,
      kSeedFlag,
      kThreadsFlag,
@@ -59,7 +67,8 @@ std::vector<std::string> split_list(const std::string& text) {
 // The table (the paper's Table 2): rows = resolution, columns = steps and the max.
 void print_table(const std::vector<std::string>& files, const FrameSource& frames,
                  const Topology& original, const std::string& dpm_path, const ProgressiveMesh& mesh,
-                 const LevelsTable& table, const std::string& max_label) {
+                 const LevelsTable& table, const std::string& max_label,
+                 const std::vector<std::string>& fields) {
   std::string inputs = files.front();
   if (files.size() > 1) inputs += " … " + files.back();
   std::printf("original      %s (%zu steps, %u vertices, %zu faces)\n", inputs.c_str(),
@@ -77,6 +86,32 @@ void print_table(const std::vector<std::string>& files, const FrameSource& frame
     for (const LevelDistance& c : row.steps) std::printf(" %11.4g", c.hausdorff_pct);
     std::printf("  %.4g (step %zu)\n", row.max.hausdorff_pct, row.max_step);
   }
+  for (size_t f = 0; f < fields.size(); ++f) {
+    std::printf("\nfield %s: field error, %% of its range over all steps (%.4g) / peak ratio\n",
+                fields[f].c_str(), table.field_ranges[f]);
+    std::printf("%10s", "% vertices");
+    for (size_t t : table.steps) std::printf(" %17s", ("step " + std::to_string(t)).c_str());
+    std::printf("  %s (peak ratio: smallest)\n", max_label.c_str());
+    for (const LevelRow& row : table.rows) {
+      std::printf("%10s", (format_number(row.ratio) + " %").c_str());
+      for (const LevelDistance& c : row.steps)
+        std::printf(" %9.4g / %5.3f", c.field_error_pct[f], c.peak_ratio[f]);
+      std::printf("  %.4g / %.3f\n", row.max.field_error_pct[f], row.max.peak_ratio[f]);
+    }
+  }
+}
+
+// Each field's error and peak ratio in one cell: {"NAME": {"field_error_pct", "peak_ratio"}}.
+void fields_json(Json& j, const std::vector<std::string>& fields, const LevelDistance& cell) {
+  if (fields.empty()) return;
+  j.begin_object("fields");
+  for (size_t f = 0; f < fields.size(); ++f) {
+    j.begin_object(fields[f]);
+    j.value("field_error_pct", cell.field_error_pct[f]);
+    j.value("peak_ratio", cell.peak_ratio[f]);
+    j.end_object();
+  }
+  j.end_object();
 }
 
 std::string table_json(const std::vector<std::string>& files, const FrameSource& frames,
@@ -98,6 +133,13 @@ std::string table_json(const std::vector<std::string>& files, const FrameSource&
   for (size_t t : table.steps) j.item(int64_t(t));
   j.end_array();
   j.value("max_over", options.max_over_all_steps ? "all" : "chosen");
+  if (!options.fields.empty()) {
+    j.value("aggregate", options.aggregate == FieldAggregate::kMean ? "mean" : "max");
+    j.begin_object("field_ranges");
+    for (size_t f = 0; f < options.fields.size(); ++f)
+      j.value(options.fields[f], table.field_ranges[f]);
+    j.end_object();
+  }
   j.begin_array("ratios");
   for (const LevelRow& row : table.rows) {
     j.begin_object();
@@ -118,6 +160,7 @@ std::string table_json(const std::vector<std::string>& files, const FrameSource&
       j.value("hausdorff_pct", c.hausdorff_pct);
       j.value("mean_pct", c.mean_pct);
       j.value("rms_pct", c.rms_pct);
+      fields_json(j, options.fields, c);
       j.end_object();
     }
     j.end_array();
@@ -126,6 +169,7 @@ std::string table_json(const std::vector<std::string>& files, const FrameSource&
     j.value("step", uint64_t{row.max_step});
     j.value("mean_pct", row.max.mean_pct);
     j.value("rms_pct", row.max.rms_pct);
+    fields_json(j, options.fields, row.max);
     j.end_object();
     j.end_object();
   }
@@ -161,6 +205,15 @@ int run_eval(std::span<char* const> arguments) {
   if (auto text = args.value("--max-over")) {
     if (*text != "all" && *text != "chosen") return fail_usage("--max-over is 'all' or 'chosen'");
     options.max_over_all_steps = *text == "all";
+  }
+  if (auto text = args.value("--field"))
+    for (const std::string& name : split_list(*text)) {
+      if (name.empty()) return fail_usage("--field needs field names separated by commas");
+      options.fields.push_back(name);
+    }
+  if (auto text = args.value("--aggregate")) {
+    if (*text != "max" && *text != "mean") return fail_usage("--aggregate is 'max' or 'mean'");
+    options.aggregate = *text == "mean" ? FieldAggregate::kMean : FieldAggregate::kMaxAbs;
   }
   if (Status s = parse_sampling_flags(args, options.hausdorff); !s.ok())
     return fail_usage(s.message());
@@ -201,7 +254,7 @@ int run_eval(std::span<char* const> arguments) {
   const std::string max_label = options.max_over_all_steps
                                     ? "max over all " + std::to_string(steps) + " steps"
                                     : "max over these steps";
-  print_table(*files, frames, original, *dpm_path, *mesh, *table, max_label);
+  print_table(*files, frames, original, *dpm_path, *mesh, *table, max_label, options.fields);
   if (json_path) {
     const std::string json =
         table_json(*files, frames, original, *dpm_path, *mesh, *table, options);

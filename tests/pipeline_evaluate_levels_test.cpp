@@ -3,6 +3,7 @@
 // column bounds every chosen step, and each cell is the Hausdorff distance it claims to be.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "dynpm/lod.h"
@@ -169,6 +170,78 @@ TEST(EvaluateLevels, AModelOfAnotherAnimationOrAStepPastTheEndIsAnError) {
   r = evaluate_levels(a.topology, a.frames, mesh, options);
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.message().find("step 3"), std::string::npos) << r.message();
+}
+
+}  // namespace
+}  // namespace dynpm
+
+namespace dynpm {
+namespace {
+
+// The bending sheet with a node field "hot": 0 everywhere but one inner vertex, whose value grows
+// with the step: the peak a coarse level must not hide.
+class HotSpot final : public FrameSource {
+ public:
+  explicit HotSpot(const Frames& frames) : frames_(frames) {}
+  uint32_t vertex_count() const override { return frames_.vertex_count(); }
+  size_t step_count() const override { return frames_.step_count(); }
+  double step_time(size_t t) const override { return frames_.step_time(t); }
+  Status read_step(size_t t, std::span<float> out) const override {
+    return frames_.read_step(t, out);
+  }
+  std::vector<FieldInfo> fields() const override { return {{"hot", FieldLocation::kNode, ""}}; }
+  Status read_field(size_t, size_t t, std::span<float> out) const override {
+    std::fill(out.begin(), out.end(), 0.f);
+    out[kHot] = 5.f + float(t);
+    return {};
+  }
+  static constexpr uint32_t kHot = 6 * 13 + 7;  // vertex (7, 6) of the 12 × 12 sheet
+
+ private:
+  const Frames& frames_;
+};
+
+TEST(EvaluateLevels, WithTheMaxAggregateThePeakIsKeptAtEveryLevelWithTheMeanNot) {
+  const Animation a = bending_sheet(3);
+  const HotSpot frames(a.frames);
+  auto mesh = build_progressive_mesh(a.topology, frames, BuildOptions{});
+  ASSERT_TRUE(mesh.ok()) << mesh.message();
+  LevelsOptions options = options_with({3, 20, 100});
+  options.fields = {"hot"};
+  auto table = evaluate_levels(a.topology, frames, *mesh, options);
+  ASSERT_TRUE(table.ok()) << table.message();
+  EXPECT_EQ(table->field_ranges, std::vector<double>{7});
+  for (const LevelRow& row : table->rows) {
+    for (const LevelDistance& cell : row.steps) {
+      ASSERT_EQ(cell.peak_ratio.size(), 1u);
+      EXPECT_EQ(cell.peak_ratio[0], 1);
+      EXPECT_GE(row.max.field_error_pct[0], cell.field_error_pct[0]);
+    }
+    EXPECT_EQ(row.max.peak_ratio[0], 1);
+  }
+  // The full level is the original (positions within the bound): almost no field error. A
+  // coarse level spreads the peak over a wider area than the original's one vertex.
+  EXPECT_LT(table->rows.back().max.field_error_pct[0], 0.1);
+  EXPECT_GT(table->rows.front().max.field_error_pct[0], 10);
+
+  options.aggregate = FieldAggregate::kMean;
+  auto mean = evaluate_levels(a.topology, frames, *mesh, options);
+  ASSERT_TRUE(mean.ok()) << mean.message();
+  EXPECT_LT(mean->rows.front().max.peak_ratio[0], 0.5);
+  EXPECT_EQ(mean->rows.back().max.peak_ratio[0], 1);
+
+  // The same numbers on two threads.
+  options.hausdorff.threads = 2;
+  auto two = evaluate_levels(a.topology, frames, *mesh, options);
+  ASSERT_TRUE(two.ok()) << two.message();
+  for (size_t i = 0; i < mean->rows.size(); ++i)
+    EXPECT_EQ(two->rows[i].max.field_error_pct, mean->rows[i].max.field_error_pct);
+
+  options.fields = {"cold"};
+  auto missing = evaluate_levels(a.topology, frames, *mesh, options);
+  ASSERT_FALSE(missing.ok());
+  EXPECT_NE(missing.message().find("the original has no field 'cold'"), std::string::npos)
+      << missing.message();
 }
 
 }  // namespace

@@ -56,6 +56,10 @@ class TriangleBvh {
     Point3 point{0, 0, 0};         // closest point on the surface
     uint32_t triangle = kNoIndex;  // index into the triangles given to the constructor
     uint32_t face = kNoIndex;      // that triangle's topology face
+    // The point's barycentric coordinates on that triangle: point ≈ w0·a + w1·b + w2·c, each
+    // ≥ 0, summing to 1 (a degenerate triangle: its nearest corner's weight is 1 where the
+    // plane's solve fails). A field on the surface is interpolated with them.
+    std::array<double, 3> weights{1, 0, 0};
   };
 
   TriangleBvh() = default;
@@ -148,16 +152,72 @@ struct OneSidedDistance {
   uint64_t vertex_samples = 0, edge_samples = 0, face_samples = 0;
 };
 
+// The field error (issue 18): a scalar field on each surface compared at the same samples as
+// the distance. For a sample p on one surface, the field's value at p (a node field
+// interpolated linearly over p's triangle, a quad's centroid carrying the mean of its corners;
+// an element field constant per face) against its value at p's closest point on the other
+// surface, interpolated there likewise from the closest point's barycentric coordinates. An
+// element field has no value at a vertex or on an edge, so its error uses the area samples only.
+struct SurfaceField {
+  FieldLocation location = FieldLocation::kNode;
+  std::span<const float> values;  // one per vertex (node) or per face (element) of the topology
+};
+struct FieldPair {
+  SurfaceField a, b;  // the field on A and on B
+};
+// Largest |value on one surface − value at the closest point of the other|, absolute.
+struct FieldDistance {
+  double a_to_b = 0, b_to_a = 0;
+  double max = 0;          // the two-sided field error: max(a_to_b, b_to_a)
+  Point3 max_at{0, 0, 0};  // the sample where it was found
+};
+
 struct HausdorffResult {
-  OneSidedDistance a_to_b;  // samples on A, distances to B
-  OneSidedDistance b_to_a;  // samples on B, distances to A
-  double hausdorff = 0;     // two-sided: max(a_to_b.max, b_to_a.max)
-  double mean = 0;          // two-sided: (a_to_b.mean + b_to_a.mean) / 2
-  double rms = 0;           // two-sided: sqrt((a_to_b.rms² + b_to_a.rms²) / 2)
-  double diagonal = 0;      // the reference length of the percentages
+  OneSidedDistance a_to_b;            // samples on A, distances to B
+  OneSidedDistance b_to_a;            // samples on B, distances to A
+  double hausdorff = 0;               // two-sided: max(a_to_b.max, b_to_a.max)
+  double mean = 0;                    // two-sided: (a_to_b.mean + b_to_a.mean) / 2
+  double rms = 0;                     // two-sided: sqrt((a_to_b.rms² + b_to_a.rms²) / 2)
+  double diagonal = 0;                // the reference length of the percentages
+  std::vector<FieldDistance> fields;  // one per FieldPair measured
 
   double percent(double distance) const { return diagonal > 0 ? 100.0 * distance / diagonal : 0.0; }
 };
+
+// ---------------------------------------------------------------------------------------------
+// Measuring one mesh many times (eval: every level against the original at every step): the
+// work that depends on the topology only is done once, the work of one step (triangles, BVH)
+// once per step, whatever the number of meshes it is measured against.
+
+// A topology checked, and its sample places listed: the vertices in a face, every edge once.
+struct SurfaceTopology {
+  const Topology* topology = nullptr;  // not owned: must outlive this
+  std::vector<uint32_t> vertices;      // ascending
+  std::vector<Edge> edges;             // grouped by smaller vertex
+};
+// Errors: a mesh without faces, a face with fewer than 3 corners, a corner out of range; the
+// message starts with `name`.
+Result<SurfaceTopology> prepare_topology(const char* name, const Topology& topology);
+
+// One step of a prepared topology: its positions, triangles, their BVH, area and edge length.
+struct Surface {
+  const SurfaceTopology* topology = nullptr;  // not owned: must outlive this
+  std::vector<float> positions;
+  std::vector<SurfaceTriangle> triangles;  // surface_triangles()
+  TriangleBvh bvh;
+  double area = 0, edge_length = 0;  // sums over the triangles and the edges
+};
+// Errors: positions not 3 · vertex_count floats, a non-finite coordinate. The BVH is built on
+// up to `threads` threads (0: all cores).
+Result<Surface> prepare_surface(const char* name, const SurfaceTopology& topology,
+                                std::span<const float> positions, unsigned threads = 0);
+
+// A against B, prepared; the same numbers as hausdorff() below on the same positions. With
+// fields, result.fields holds one FieldDistance per FieldPair. Errors: a field with the wrong
+// number of values or a non-finite value.
+Result<HausdorffResult> hausdorff(const Surface& a, const Surface& b,
+                                  const HausdorffOptions& options,
+                                  std::span<const FieldPair> fields = {});
 
 // A against B at one step each. Errors (not asserts, the inputs may come from files): positions
 // not 3 · vertex_count floats, a corner out of range or a face with fewer than 3 corners, a

@@ -49,8 +49,15 @@ Result<ProgressiveMesh> build_progressive_mesh(const Topology& topology, const F
 //   for each ratio r (ascending): the model at round(r % of the full vertex count) vertices,
 //     at least 1 (the navigator clamps to the levels the model holds) → one row
 //   for each measured step t (every step, or only the chosen ones):
-//     the original at t against each row's level at t: two-sided Hausdorff (dynpm/eval.h)
+//     the original at t: its triangles and closest-point BVH built once, for every row
+//     the original at t against each row's level at t: two-sided Hausdorff (dynpm/eval.h), and
+//       for each field, the field error at the same samples and the peak ratio
 //     a chosen step's distances fill its column; the max column keeps each value's largest
+//
+// Field error: the largest |original value − level's shown value| at corresponding surface
+// points (FieldPair in dynpm/eval.h), in % of the field's range over every step of the original
+// (ProgressiveField::max − min). Peak ratio: max |shown value| over the level / max |original
+// value| at that step (1: the peak is kept; 1 when the original is 0 everywhere).
 //
 // Every distance is in % of one reference length (by default the model's bounding-box diagonal
 // over all steps, which is the original's within the position bound), so that the columns
@@ -66,6 +73,10 @@ struct LevelsOptions {
   bool max_over_all_steps = true;
   // Sampling, seed and threads; reference_diagonal 0 means the model's diagonal.
   HausdorffOptions hausdorff;
+  // Result fields to measure, by name: each must be in the original and in the model, at the
+  // same location. The level shows each with `aggregate` (Navigator::field_values).
+  std::vector<std::string> fields;
+  FieldAggregate aggregate = FieldAggregate::kMaxAbs;
   // Names the model in messages ("rail.dpm was built from another mesh: …").
   std::string model_name = "the model";
   // Called with (steps measured, steps to measure) before each step and once at the end. May be
@@ -77,6 +88,10 @@ struct LevelsOptions {
 struct LevelDistance {
   double hausdorff_pct = 0, mean_pct = 0, rms_pct = 0;  // % of the reference diagonal
   double diagonal = 0;                                  // the reference diagonal itself
+  // One per LevelsOptions::fields: the field error in % of the field's range, the peak ratio.
+  // In LevelRow::max: the largest field error over the measured steps, and the peak ratio
+  // farthest below 1 (the smallest).
+  std::vector<double> field_error_pct, peak_ratio;
 };
 
 // One row of the table: one resolution.
@@ -92,9 +107,10 @@ struct LevelRow {
 };
 
 struct LevelsTable {
-  std::vector<size_t> steps;      // the chosen steps (the columns), ascending
-  double reference_diagonal = 0;  // the length every percentage is of
-  std::vector<LevelRow> rows;     // one per distinct ratio, ascending
+  std::vector<size_t> steps;         // the chosen steps (the columns), ascending
+  double reference_diagonal = 0;     // the length every percentage is of
+  std::vector<double> field_ranges;  // per field: max − min over every step, what % are of
+  std::vector<LevelRow> rows;        // one per distinct ratio, ascending
 };
 
 // An error if `model` was not built from this animation: other vertex, face or step counts. The
@@ -104,8 +120,10 @@ Status check_built_from(const Topology& original, const FrameSource& frames,
 
 // Measures `model` against the original animation (topology and steps). Errors: the model was
 // built from another animation (check_built_from), a step out of range, a step that cannot be
-// read, a distance that cannot be measured ("step 3, 120 vertices: …"). Reads each measured step
-// of the original once; one Hausdorff measurement per row and measured step.
+// read, a distance that cannot be measured ("step 3, 120 vertices: …"), a field missing from the
+// original or the model. Reads each measured step of the original once and builds its
+// closest-point structure once for every row; one measurement (distance and fields) per row and
+// measured step.
 Result<LevelsTable> evaluate_levels(const Topology& original, const FrameSource& frames,
                                     const ProgressiveMesh& model, const LevelsOptions& options);
 

@@ -58,6 +58,27 @@ Point3 closest_point_on_sides(const Point3& p, const Point3& a, const Point3& b,
   return best;
 }
 
+// Barycentric coordinates of q, a point of triangle (a, b, c), from the 2 × 2 normal equations
+// of q − a = v·(b − a) + w·(c − a), clamped to the triangle against rounding. A degenerate
+// triangle (no plane) gives its corner nearest to q.
+std::array<double, 3> barycentric(const Point3& q, const Point3& a, const Point3& b,
+                                  const Point3& c) {
+  const Point3 e0 = sub(b, a), e1 = sub(c, a), e2 = sub(q, a);
+  const double d00 = dot(e0, e0), d01 = dot(e0, e1), d11 = dot(e1, e1);
+  const double denominator = d00 * d11 - d01 * d01;
+  if (!(denominator > 1e-12 * d00 * d11)) {
+    const double da = squared_distance(q, a), db = squared_distance(q, b),
+                 dc = squared_distance(q, c);
+    if (da <= db && da <= dc) return {1, 0, 0};
+    return db <= dc ? std::array<double, 3>{0, 1, 0} : std::array<double, 3>{0, 0, 1};
+  }
+  const double d20 = dot(e2, e0), d21 = dot(e2, e1);
+  const double v = std::max(0.0, (d11 * d20 - d01 * d21) / denominator);
+  const double w = std::max(0.0, (d00 * d21 - d01 * d20) / denominator);
+  const double u = std::max(0.0, 1 - v - w), sum = u + v + w;
+  return {u / sum, v / sum, w / sum};
+}
+
 double squared_distance_to_box(const Point3& p, const TriangleBvh::Node& node) {
   // Branch-free: the gap along an axis is lo − p below the box, p − hi above it, else 0.
   double d2 = 0;
@@ -437,7 +458,9 @@ TriangleBvh::Hit TriangleBvh::hit(const Best& best) const {
   h.squared_distance = best.d2;
   h.point = best.point;
   h.triangle = original_[best.triangle];
-  h.face = triangles_[best.triangle].face;
+  const SurfaceTriangle& t = triangles_[best.triangle];
+  h.face = t.face;
+  h.weights = barycentric(best.point, to_point(t.a), to_point(t.b), to_point(t.c));
   return h;
 }
 

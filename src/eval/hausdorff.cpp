@@ -34,12 +34,14 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <thread>
 
 #include "core/face_geometry.h"
 #include "core/parallel.h"
 #include "dynpm/eval.h"
+#include "field_distance.h"
 
 namespace dynpm {
 namespace {
@@ -69,14 +71,8 @@ uint64_t job_seed(uint64_t seed, uint64_t direction, uint64_t kind, uint64_t job
 // ---------------------------------------------------------------------------------------------
 // The inputs: checked once per topology, positions once per step.
 
-struct PreparedTopology {
-  const Topology* topology = nullptr;
-  std::vector<uint32_t> vertices;  // the vertices in some face, ascending
-  std::vector<Edge> edges;         // every edge once, grouped by smaller vertex
-};
-
-Result<PreparedTopology> prepare(const char* name, const Topology& topology) {
-  PreparedTopology prepared;
+Result<SurfaceTopology> prepare(const char* name, const Topology& topology) {
+  SurfaceTopology prepared;
   prepared.topology = &topology;
   const uint32_t n = topology.vertex_count;
   if (topology.faces.empty()) return Status::error(std::string(name) + ": the mesh has no faces");
@@ -134,12 +130,18 @@ Status check_positions(const char* name, const Topology& topology,
 struct Tally {
   double max = -1;  // -1: no sample yet
   Point3 max_at{0, 0, 0};
+  std::vector<double> field_max;  // per field: largest |difference| (-1: no sample yet)
+  std::vector<Point3> field_max_at;
   double area_sum = 0, area_sum2 = 0;  // over the area samples
   double all_sum = 0, all_sum2 = 0;    // over every sample (for a surface without area)
   uint64_t vertex_samples = 0, edge_samples = 0, face_samples = 0;
 
   void merge(const Tally& t) {  // in job order, so ties keep the earlier sample
     if (t.max > max) max = t.max, max_at = t.max_at;
+    field_max.resize(t.field_max.size(), -1), field_max_at.resize(t.field_max.size());
+    for (size_t k = 0; k < t.field_max.size(); ++k)
+      if (t.field_max[k] > field_max[k])
+        field_max[k] = t.field_max[k], field_max_at[k] = t.field_max_at[k];
     area_sum += t.area_sum, area_sum2 += t.area_sum2;
     all_sum += t.all_sum, all_sum2 += t.all_sum2;
     vertex_samples += t.vertex_samples, edge_samples += t.edge_samples;
@@ -166,14 +168,20 @@ struct Tally {
 
 enum SampleKind : uint32_t { kVertexSamples, kEdgeSamples, kFaceSamples };
 
+// A field seen from one direction: its values where the samples are and where they land.
+struct FieldSides {
+  SurfaceField from;  // per vertex or face of `from`, for vertex and edge samples
+  const CornerValues* from_corners = nullptr;  // per triangle of `from`, for area samples
+  const CornerValues* to_corners = nullptr;    // per triangle of `to`, at the closest points
+};
+
 // One direction: samples on `from`, distances to `to`.
 struct Direction {
-  const PreparedTopology* from = nullptr;
-  std::span<const float> from_positions;
-  std::vector<SurfaceTriangle> from_triangles;
+  const Surface* from = nullptr;
+  const Surface* to = nullptr;
   double face_density = 0;  // area samples per unit area
   double edge_density = 0;  // edge samples per unit length
-  const TriangleBvh* to = nullptr;
+  std::vector<FieldSides> fields;
 };
 
 struct Job {
@@ -227,40 +235,60 @@ void sample_triangle(uint64_t n, Random& random, const Emit& emit) {
 Tally run_job(const Job& job, const Direction& d, uint64_t seed, size_t job_index) {
   Random random(job_seed(seed, job.direction, job.kind, job_index));
   Tally tally;
+  tally.field_max.assign(d.fields.size(), -1);
+  tally.field_max_at.resize(d.fields.size());
   TriangleBvh::Cursor cursor;  // consecutive samples are close: start where the last one ended
-  auto measure = [&](const Point3& p, uint64_t& counter, bool area_sample) {
-    const TriangleBvh::Hit hit = d.to->closest(p, cursor);
+  // `own(k)`: field k's value at p on `from` (NaN: none there, an element field off a face).
+  auto measure = [&](const Point3& p, uint64_t& counter, bool area_sample, const auto& own) {
+    const TriangleBvh::Hit hit = d.to->bvh.closest(p, cursor);
     const double distance = std::sqrt(hit.squared_distance);
     if (distance > tally.max) tally.max = distance, tally.max_at = p;
     tally.all_sum += distance, tally.all_sum2 += distance * distance;
     if (area_sample) tally.area_sum += distance, tally.area_sum2 += distance * distance;
     ++counter;
+    for (size_t k = 0; k < d.fields.size(); ++k) {
+      const double value = own(k);
+      if (std::isnan(value)) continue;
+      const double difference =
+          std::abs(value - interpolate((*d.fields[k].to_corners)[hit.triangle], hit.weights));
+      if (difference > tally.field_max[k])
+        tally.field_max[k] = difference, tally.field_max_at[k] = p;
+    }
   };
+  const std::vector<float>& positions = d.from->positions;
   auto vertex = [&](uint32_t v) {
-    const float* x = &d.from_positions[3 * size_t{v}];
+    const float* x = &positions[3 * size_t{v}];
     return Point3{x[0], x[1], x[2]};
+  };
+  constexpr double kNone = std::numeric_limits<double>::quiet_NaN();
+  auto node_value = [&](size_t k, uint32_t v) {
+    const SurfaceField& f = d.fields[k].from;
+    return f.location == FieldLocation::kNode ? double(f.values[v]) : kNone;
   };
   switch (job.kind) {
     case kVertexSamples:
-      for (size_t i = job.begin; i < job.end; ++i)
-        measure(vertex(d.from->vertices[i]), tally.vertex_samples, false);
+      for (size_t i = job.begin; i < job.end; ++i) {
+        const uint32_t v = d.from->topology->vertices[i];
+        measure(vertex(v), tally.vertex_samples, false, [&](size_t k) { return node_value(k, v); });
+      }
       break;
     case kEdgeSamples:
       for (size_t i = job.begin; i < job.end; ++i) {
-        const Point3 a = vertex(d.from->edges[i].a), b = vertex(d.from->edges[i].b);
+        const Edge& e = d.from->topology->edges[i];
+        const Point3 a = vertex(e.a), b = vertex(e.b);
         const Point3 ab{b[0] - a[0], b[1] - a[1], b[2] - a[2]};
         const double length = std::sqrt(ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2]);
         const uint64_t n = random_round(length * d.edge_density, random);
-        for (uint64_t k = 0; k < n; ++k) {  // one point in each of n equal pieces
-          const double t = (double(k) + random.uniform()) / double(n);
-          measure({a[0] + t * ab[0], a[1] + t * ab[1], a[2] + t * ab[2]}, tally.edge_samples,
-                  false);
+        for (uint64_t j = 0; j < n; ++j) {  // one point in each of n equal pieces
+          const double t = (double(j) + random.uniform()) / double(n);
+          measure({a[0] + t * ab[0], a[1] + t * ab[1], a[2] + t * ab[2]}, tally.edge_samples, false,
+                  [&](size_t k) { return (1 - t) * node_value(k, e.a) + t * node_value(k, e.b); });
         }
       }
       break;
     case kFaceSamples:
       for (size_t i = job.begin; i < job.end; ++i) {
-        const SurfaceTriangle& t = d.from_triangles[i];
+        const SurfaceTriangle& t = d.from->triangles[i];
         const uint64_t n = random_round(triangle_area(t) * d.face_density, random);
         const Point3 a{t.a[0], t.a[1], t.a[2]};
         const Point3 ab{double(t.b[0]) - a[0], double(t.b[1]) - a[1], double(t.b[2]) - a[2]};
@@ -268,7 +296,9 @@ Tally run_job(const Job& job, const Direction& d, uint64_t seed, size_t job_inde
         sample_triangle(n, random, [&](double u, double v) {
           measure({a[0] + u * ab[0] + v * ac[0], a[1] + u * ab[1] + v * ac[1],
                    a[2] + u * ab[2] + v * ac[2]},
-                  tally.face_samples, true);
+                  tally.face_samples, true, [&](size_t k) {
+                    return interpolate((*d.fields[k].from_corners)[i], {1 - u - v, u, v});
+                  });
         });
       }
       break;
@@ -287,55 +317,69 @@ void add_jobs(std::vector<Job>& jobs, uint32_t direction, SampleKind kind, size_
     jobs.push_back({direction, kind, begin, std::min(count, begin + per_job)});
 }
 
-Result<HausdorffResult> evaluate(const PreparedTopology& a, std::span<const float> a_positions,
-                                 const PreparedTopology& b, std::span<const float> b_positions,
-                                 const HausdorffOptions& options) {
+Result<Surface> prepare_step(const char* name, const SurfaceTopology& topology,
+                             std::span<const float> positions, unsigned threads) {
+  DYNPM_RETURN_IF_ERROR(check_positions(name, *topology.topology, positions));
+  Surface s;
+  s.topology = &topology;
+  s.positions.assign(positions.begin(), positions.end());
+  s.triangles = surface_triangles(*topology.topology, positions);
+  s.bvh = TriangleBvh(s.triangles, thread_count(threads));
+  for (const SurfaceTriangle& t : s.triangles) s.area += triangle_area(t);
+  for (const Edge& e : topology.edges) {
+    double l2 = 0;
+    for (int c = 0; c < 3; ++c) {
+      const double x = double(positions[3 * size_t{e.a} + c]) - positions[3 * size_t{e.b} + c];
+      l2 += x * x;
+    }
+    s.edge_length += std::sqrt(l2);
+  }
+  return s;
+}
+
+Result<HausdorffResult> evaluate(const Surface& a, const Surface& b,
+                                 const HausdorffOptions& options,
+                                 std::span<const FieldPair> fields) {
   assert(options.samples_per_face >= 0 && std::isfinite(options.samples_per_face));
-  DYNPM_RETURN_IF_ERROR(check_positions("A", *a.topology, a_positions));
-  DYNPM_RETURN_IF_ERROR(check_positions("B", *b.topology, b_positions));
-  const size_t larger = std::max(a.topology->faces.size(), b.topology->faces.size());
+  const Topology& a_topology = *a.topology->topology;
+  const Topology& b_topology = *b.topology->topology;
+  const size_t larger = std::max(a_topology.faces.size(), b_topology.faces.size());
   const double area_samples = options.face_samples > 0
                                   ? double(options.face_samples)
                                   : std::round(options.samples_per_face * double(larger));
+  const unsigned threads = thread_count(options.threads);
 
+  // Each field's values on both surfaces' triangles, for both directions.
+  std::vector<CornerValues> a_corners, b_corners;
+  for (const FieldPair& f : fields) {
+    DYNPM_RETURN_IF_ERROR(check_field("A", a_topology, f.a));
+    DYNPM_RETURN_IF_ERROR(check_field("B", b_topology, f.b));
+    a_corners.push_back(corner_values(a_topology, f.a));
+    b_corners.push_back(corner_values(b_topology, f.b));
+  }
   std::array<Direction, 2> directions;
-  directions[0].from = &a, directions[0].from_positions = a_positions;
-  directions[1].from = &b, directions[1].from_positions = b_positions;
-  for (Direction& d : directions)
-    d.from_triangles = surface_triangles(*d.from->topology, d.from_positions);
-  const unsigned threads =
-      options.threads > 0 ? options.threads : std::max(1u, std::thread::hardware_concurrency());
-  const TriangleBvh a_bvh(directions[0].from_triangles, threads);
-  const TriangleBvh b_bvh(directions[1].from_triangles, threads);
-  directions[0].to = &b_bvh, directions[1].to = &a_bvh;
+  directions[0].from = &a, directions[0].to = &b;
+  directions[1].from = &b, directions[1].to = &a;
+  for (size_t k = 0; k < fields.size(); ++k) {
+    directions[0].fields.push_back({fields[k].a, &a_corners[k], &b_corners[k]});
+    directions[1].fields.push_back({fields[k].b, &b_corners[k], &a_corners[k]});
+  }
 
   std::vector<Job> jobs;
   for (uint32_t k = 0; k < 2; ++k) {
     Direction& d = directions[k];
-    double area = 0;
-    for (const SurfaceTriangle& t : d.from_triangles) area += triangle_area(t);
-    if (area > 0 && area_samples > 0) {
-      d.face_density = area_samples / area;
+    const SurfaceTopology& from = *d.from->topology;
+    if (d.from->area > 0 && area_samples > 0) {
+      d.face_density = area_samples / d.from->area;
       if (options.sample_edges) d.edge_density = std::sqrt(d.face_density);
     }
-    if (options.sample_vertices) add_jobs(jobs, k, kVertexSamples, d.from->vertices.size(), 1);
-    if (d.edge_density > 0) {
-      double length = 0;
-      for (const Edge& e : d.from->edges) {
-        double l2 = 0;
-        for (int c = 0; c < 3; ++c) {
-          const double x =
-              double(d.from_positions[3 * size_t{e.a} + c]) - d.from_positions[3 * size_t{e.b} + c];
-          l2 += x * x;
-        }
-        length += std::sqrt(l2);
-      }
-      add_jobs(jobs, k, kEdgeSamples, d.from->edges.size(),
-               length * d.edge_density / double(d.from->edges.size()));
-    }
+    if (options.sample_vertices) add_jobs(jobs, k, kVertexSamples, from.vertices.size(), 1);
+    if (d.edge_density > 0)
+      add_jobs(jobs, k, kEdgeSamples, from.edges.size(),
+               d.from->edge_length * d.edge_density / double(from.edges.size()));
     if (d.face_density > 0)
-      add_jobs(jobs, k, kFaceSamples, d.from_triangles.size(),
-               area_samples / double(d.from_triangles.size()));
+      add_jobs(jobs, k, kFaceSamples, d.from->triangles.size(),
+               area_samples / double(d.from->triangles.size()));
   }
 
   std::vector<Tally> tallies(jobs.size());
@@ -354,14 +398,34 @@ Result<HausdorffResult> evaluate(const PreparedTopology& a, std::span<const floa
   r.hausdorff = std::max(r.a_to_b.max, r.b_to_a.max);
   r.mean = 0.5 * (r.a_to_b.mean + r.b_to_a.mean);
   r.rms = std::sqrt(0.5 * (r.a_to_b.rms * r.a_to_b.rms + r.b_to_a.rms * r.b_to_a.rms));
+  for (size_t k = 0; k < fields.size(); ++k) {
+    FieldDistance f;
+    total[0].field_max.resize(fields.size(), -1), total[0].field_max_at.resize(fields.size());
+    total[1].field_max.resize(fields.size(), -1), total[1].field_max_at.resize(fields.size());
+    f.a_to_b = std::max(total[0].field_max[k], 0.0);
+    f.b_to_a = std::max(total[1].field_max[k], 0.0);
+    f.max = std::max(f.a_to_b, f.b_to_a);
+    f.max_at = f.b_to_a > f.a_to_b ? total[1].field_max_at[k] : total[0].field_max_at[k];
+    r.fields.push_back(f);
+  }
   if (options.reference_diagonal > 0) {
     r.diagonal = options.reference_diagonal;
   } else {
     BoundingBox box;
-    box.extend(a_positions);
+    box.extend(a.positions);
     r.diagonal = box.diagonal();
   }
   return r;
+}
+
+Result<HausdorffResult> measure_step(const SurfaceTopology& a, std::span<const float> a_positions,
+                                     const SurfaceTopology& b, std::span<const float> b_positions,
+                                     const HausdorffOptions& options) {
+  auto a_step = prepare_step("A", a, a_positions, options.threads);
+  if (!a_step) return a_step.status();
+  auto b_step = prepare_step("B", b, b_positions, options.threads);
+  if (!b_step) return b_step.status();
+  return evaluate(*a_step, *b_step, options, {});
 }
 
 void summarize(HausdorffSteps& s) {
@@ -390,7 +454,22 @@ Result<HausdorffResult> hausdorff(const Topology& a_topology, std::span<const fl
   if (!a) return a.status();
   auto b = prepare("B", b_topology);
   if (!b) return b.status();
-  return evaluate(*a, a_positions, *b, b_positions, options);
+  return measure_step(*a, a_positions, *b, b_positions, options);
+}
+
+Result<SurfaceTopology> prepare_topology(const char* name, const Topology& topology) {
+  return prepare(name, topology);
+}
+
+Result<Surface> prepare_surface(const char* name, const SurfaceTopology& topology,
+                                std::span<const float> positions, unsigned threads) {
+  return prepare_step(name, topology, positions, threads);
+}
+
+Result<HausdorffResult> hausdorff(const Surface& a, const Surface& b,
+                                  const HausdorffOptions& options,
+                                  std::span<const FieldPair> fields) {
+  return evaluate(a, b, options, fields);
 }
 
 Result<HausdorffSteps> hausdorff_steps(const Topology& a_topology, const FrameSource& a_frames,
@@ -420,7 +499,7 @@ Result<HausdorffSteps> hausdorff_steps(const Topology& a_topology, const FrameSo
       a_box.extend(a_xyz);
     }
     if (t == 0 || b_steps > 1) DYNPM_RETURN_IF_ERROR(b_frames.read_step(t, b_xyz));
-    auto r = evaluate(*a, a_xyz, *b, b_xyz, options.hausdorff);
+    auto r = measure_step(*a, a_xyz, *b, b_xyz, options.hausdorff);
     if (!r) return Status::error("step " + std::to_string(t) + ": " + r.message());
     result.steps.push_back(*r);
     if (options.progress) options.progress(t + 1, steps);

@@ -2,6 +2,7 @@
 // was built from (dynpm/pipeline.h has the loop as pseudocode).
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -45,14 +46,41 @@ Result<LevelsTable> evaluate_levels(const Topology& original, const FrameSource&
     return Status::error("step " + std::to_string(table.steps.back()) + " is past the last step, " +
                          std::to_string(steps - 1));
 
-  // One row per ratio, with the level's faces kept as a Topology. Positions need no level:
-  // vertex v has the same position at every level where it exists, so the finest level's
-  // positions serve every row (a prefix of them).
+  // The fields: their index in the original's source and in the model, and their range.
+  const std::vector<FieldInfo> source_fields = frames.fields();
+  std::vector<size_t> source_index, model_index;
+  for (const std::string& name : options.fields) {
+    auto in_source = std::find_if(source_fields.begin(), source_fields.end(),
+                                  [&](const FieldInfo& f) { return f.name == name; });
+    auto in_model = std::find_if(model.fields.begin(), model.fields.end(),
+                                 [&](const ProgressiveField& f) { return f.info.name == name; });
+    if (in_source == source_fields.end())
+      return Status::error("the original has no field '" + name + "'");
+    if (in_model == model.fields.end())
+      return Status::error(options.model_name + " has no field '" + name + "'");
+    if (in_model->info.location != in_source->location)
+      return Status::error("field '" + name + "' is per " + to_string(in_source->location) +
+                           " in the original but per " + to_string(in_model->info.location) +
+                           " in " + options.model_name);
+    if (in_source->location == FieldLocation::kElement && model.face_heir.empty())
+      return Status::error(options.model_name + " has no face heirs for the element field '" +
+                           name + "'");
+    source_index.push_back(size_t(in_source - source_fields.begin()));
+    model_index.push_back(size_t(in_model - model.fields.begin()));
+    table.field_ranges.push_back(in_model->max - in_model->min);
+  }
+  const size_t field_count = options.fields.size();
+
+  // One row per ratio, with the level's faces kept as a Topology, checked and its edges listed
+  // once for every step. Positions need no level: vertex v has the same position at every level
+  // where it exists, so the finest level's positions serve every row (a prefix of them).
   std::vector<double> ratios = options.ratios;
   std::sort(ratios.begin(), ratios.end());
   ratios.erase(std::unique(ratios.begin(), ratios.end()), ratios.end());
   Navigator nav(model);
   std::vector<Topology> level_faces;
+  level_faces.reserve(ratios.size());  // the prepared topologies point into it
+  std::vector<SurfaceTopology> level_surfaces;
   for (double ratio : ratios) {
     const double wanted = std::round(ratio / 100.0 * model.full_vertex_count);
     nav.set_vertex_count(static_cast<uint32_t>(std::max(1.0, wanted)));
@@ -63,33 +91,79 @@ Result<LevelsTable> evaluate_levels(const Topology& original, const FrameSource&
     row.level = nav.level();
     row.error = nav.error();
     row.steps.resize(table.steps.size());
+    row.max.field_error_pct.assign(field_count, 0);
+    row.max.peak_ratio.assign(field_count, std::numeric_limits<double>::infinity());
     table.rows.push_back(std::move(row));
     level_faces.push_back(nav.topology());
+    auto prepared = prepare_topology("the level", level_faces.back());
+    if (!prepared)
+      return Status::error(std::to_string(nav.vertex_count()) + " vertices: " + prepared.message());
+    level_surfaces.push_back(std::move(prepared).value());
   }
-  nav.set_level(model.split_count());
+  auto original_surface = prepare_topology("the original", original);
+  if (!original_surface) return original_surface.status();
 
   std::vector<size_t> measured;  // the steps of the max column
   if (options.max_over_all_steps)
     for (size_t t = 0; t < steps; ++t) measured.push_back(t);
   else
     measured = table.steps;
+  nav.set_level(model.split_count());
   std::vector<float> original_xyz(size_t{original.vertex_count} * 3);
   std::vector<float> model_xyz(size_t{nav.vertex_count()} * 3);
+  std::vector<std::vector<float>> original_values(field_count), level_values(field_count);
+  std::vector<double> original_peak(field_count);
   for (size_t k = 0; k < measured.size(); ++k) {
     const size_t t = measured[k];
     if (options.progress) options.progress(k, measured.size());
     DYNPM_RETURN_IF_ERROR(frames.read_step(t, original_xyz));
+    nav.set_level(model.split_count());
     nav.positions(double(t), model_xyz);
+    // The original's side of every measurement at this step, built once.
+    auto original_step =
+        prepare_surface("the original", *original_surface, original_xyz, h.threads);
+    if (!original_step)
+      return Status::error("step " + std::to_string(t) + ": " + original_step.message());
+    for (size_t f = 0; f < field_count; ++f) {
+      const bool per_face = source_fields[source_index[f]].location == FieldLocation::kElement;
+      original_values[f].resize(per_face ? original.faces.size() : original.vertex_count);
+      DYNPM_RETURN_IF_ERROR(frames.read_field(source_index[f], t, original_values[f]));
+      original_peak[f] = 0;
+      for (float v : original_values[f])
+        original_peak[f] = std::max<double>(original_peak[f], std::abs(v));
+    }
     const auto column = std::find(table.steps.begin(), table.steps.end(), t);
     for (size_t i = 0; i < table.rows.size(); ++i) {
       LevelRow& row = table.rows[i];
       const std::span<const float> xyz(model_xyz.data(), size_t{row.vertices} * 3);
-      auto r = hausdorff(original, original_xyz, level_faces[i], xyz, h);
-      if (!r)
-        return Status::error("step " + std::to_string(t) + ", " + std::to_string(row.vertices) +
-                             " vertices: " + r.message());
-      const LevelDistance cell{r->percent(r->hausdorff), r->percent(r->mean), r->percent(r->rms),
-                               r->diagonal};
+      const std::string where =
+          "step " + std::to_string(t) + ", " + std::to_string(row.vertices) + " vertices: ";
+      auto level_step = prepare_surface("the level", level_surfaces[i], xyz, h.threads);
+      if (!level_step) return Status::error(where + level_step.message());
+      std::vector<FieldPair> pairs;
+      LevelDistance cell;
+      if (field_count > 0) nav.set_level(row.level);
+      for (size_t f = 0; f < field_count; ++f) {
+        const FieldLocation location = source_fields[source_index[f]].location;
+        level_values[f].resize(location == FieldLocation::kElement ? row.faces : row.vertices);
+        nav.field_values(model_index[f], t, level_values[f], options.aggregate);
+        pairs.push_back({{location, original_values[f]}, {location, level_values[f]}});
+        double shown_peak = 0;
+        for (float v : level_values[f]) shown_peak = std::max<double>(shown_peak, std::abs(v));
+        cell.peak_ratio.push_back(original_peak[f] > 0 ? shown_peak / original_peak[f] : 1.0);
+      }
+      auto r = hausdorff(*original_step, *level_step, h, pairs);
+      if (!r) return Status::error(where + r.message());
+      cell.hausdorff_pct = r->percent(r->hausdorff);
+      cell.mean_pct = r->percent(r->mean);
+      cell.rms_pct = r->percent(r->rms);
+      cell.diagonal = r->diagonal;
+      for (size_t f = 0; f < field_count; ++f) {
+        const double range = table.field_ranges[f];
+        cell.field_error_pct.push_back(range > 0 ? 100 * r->fields[f].max / range : 0.0);
+        row.max.field_error_pct[f] = std::max(row.max.field_error_pct[f], cell.field_error_pct[f]);
+        row.max.peak_ratio[f] = std::min(row.max.peak_ratio[f], cell.peak_ratio[f]);
+      }
       if (column != table.steps.end()) row.steps[size_t(column - table.steps.begin())] = cell;
       if (k == 0 || cell.hausdorff_pct > row.max.hausdorff_pct) {
         row.max.hausdorff_pct = cell.hausdorff_pct;
