@@ -28,8 +28,8 @@ inline const FlagSpec kFieldWeightFlag{"--field-weight", "", true, "W",
                                        "field's whole range costs W diagonals (0.01; 0: "
                                        "geometry only)"};
 inline const FlagSpec kRegularizeFlag{"--regularize", "", true, "W",
-                                      "shape term keeping flat regions well shaped (0.001; 0: "
-                                      "off)"};
+                                      "shape term keeping flat regions well shaped (default 0: "
+                                      "off; 0.001 measured)"};
 inline const FlagSpec kIgnorePartsFlag{"--ignore-parts", "", false, "",
                                        "let collapses cross part boundaries"};
 

@@ -70,7 +70,7 @@ enum class Placement {
 // Defaults of SimplifyOptions::field_weight and ::regularize (docs/simplify.md, where they are
 // measured).
 inline constexpr double kDefaultFieldWeight = 0.01;
-inline constexpr double kDefaultRegularize = 0.001;
+inline constexpr double kDefaultRegularize = 0;
 
 struct SimplifyOptions {
   // Stop conditions: the simplifier stops at the first one reached. With none set, it runs
