@@ -35,9 +35,15 @@ class Args {
   std::vector<std::string> positional;
 
   bool has(const std::string& name) const { return flags_.count(name) != 0; }
-  std::optional<std::string> value(const std::string& name) const;
+  std::optional<std::string> value(const std::string& name) const;  // the last one given
+  // Every value of a repeatable flag (--field A --field B), in the order given.
+  std::vector<std::string> values(const std::string& name) const {
+    auto it = all_values_.find(name);
+    return it == all_values_.end() ? std::vector<std::string>{} : it->second;
+  }
   void set_flag(const std::string& name) { flags_.insert(name); }
   void set_value(const std::string& name, std::string v) {
+    all_values_[name].push_back(v);
     values_[name] = std::move(v);
     flags_.insert(name);
   }
@@ -45,6 +51,7 @@ class Args {
  private:
   std::set<std::string> flags_;
   std::map<std::string, std::string> values_;
+  std::map<std::string, std::vector<std::string>> all_values_;
 };
 
 // Parses arguments after the verb; --help is always accepted and reported as the flag "--help".

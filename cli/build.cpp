@@ -36,6 +36,9 @@ const VerbSpec kSpec{
      {"--position-error", "", true, "E", "largest position error, in diagonals (3.8e-6)"},
      {"--field-bound", "", true, "F", "largest field value error, in % of its range (0.1)"},
      kBoundaryWeightFlag,
+     kFieldFlag,
+     kFieldWeightFlag,
+     kRegularizeFlag,
      kIgnorePartsFlag,
      {"--json", "", false, "", "print the result as JSON"},
      kSplitPolygonsFlag,
@@ -71,6 +74,8 @@ int run_build(std::span<char* const> arguments) {
   if (!stream) return fail(kSpec.name, kExitFailure, stream.message());
   const Topology& input = stream->topology;
   const FrameSource& frames = *stream->frames;
+  if (Status s = check_cost_fields(options.simplify, frames); !s.ok())
+    return fail(kSpec.name, kExitUsage, s.message());
   const auto start = std::chrono::steady_clock::now();
   std::optional<Phase> phase(std::in_place, "choosing the key steps");
   auto key_steps = choose_key_steps(frames, key_rule);

@@ -13,7 +13,31 @@ Status parse_simplify_flags(const Args& args, SimplifyOptions& options, KeyStepR
     if (!r) return r.status();
     options.boundary_weight = *r;
   }
+  for (const char* flag : {"--field-weight", "--regularize"})
+    if (auto v = args.value(flag)) {
+      auto r = parse_number(flag, *v, kBoundaryWeights);
+      if (!r) return r.status();
+      (flag == std::string("--regularize") ? options.regularize : options.field_weight) = *r;
+    }
+  for (const std::string& text : args.values("--field")) {
+    // NAME or NAME:W; a name may itself hold ':', so the weight is after the last one.
+    SimplifyOptions::FieldWeight field{text, std::nullopt};
+    if (const size_t colon = text.rfind(':'); colon != std::string::npos) {
+      auto r = parse_number("--field " + text.substr(0, colon), text.substr(colon + 1),
+                            kBoundaryWeights);
+      if (!r) return r.status();
+      field = {text.substr(0, colon), *r};
+    }
+    if (field.name.empty()) return Status::error("--field needs a field name: --field NAME[:W]");
+    options.field_weights.push_back(field);
+  }
   options.keep_part_boundaries = !args.has("--ignore-parts");
+  return {};
+}
+
+Status check_cost_fields(const SimplifyOptions& options, const FrameSource& frames) {
+  auto fields = cost_fields(options, frames);
+  if (!fields) return Status::error("--field: " + fields.message());
   return {};
 }
 

@@ -20,12 +20,25 @@ inline const FlagSpec kKeyStepsFlag{"--key-steps", "", true, "RULE",
                                     "0,12,24"};
 inline const FlagSpec kBoundaryWeightFlag{"--boundary-weight", "", true, "W",
                                           "weight of boundary/feature constraint planes (1)"};
+inline const FlagSpec kFieldFlag{"--field", "", true, "NAME[:W]",
+                                 "a result field in the cost, at weight W (repeatable; naming "
+                                 "fields leaves the others out)"};
+inline const FlagSpec kFieldWeightFlag{"--field-weight", "", true, "W",
+                                       "weight of every field in the cost: a change of the "
+                                       "field's whole range costs W diagonals (0.01; 0: "
+                                       "geometry only)"};
+inline const FlagSpec kRegularizeFlag{"--regularize", "", true, "W",
+                                      "shape term keeping flat regions well shaped (default 0: "
+                                      "off; 0.001 measured)"};
 inline const FlagSpec kIgnorePartsFlag{"--ignore-parts", "", false, "",
                                        "let collapses cross part boundaries"};
 
-// --key-steps (default all) into `key_steps`; --boundary-weight and --ignore-parts into
-// `options`. The error is the usage message, without the verb.
+// --key-steps (default all) into `key_steps`; --boundary-weight, --field, --field-weight,
+// --regularize and --ignore-parts into `options`. The error is the usage message, without the
+// verb.
 Status parse_simplify_flags(const Args& args, SimplifyOptions& options, KeyStepRule& key_steps);
+// The fields --field names exist in the input (cost_fields()); the error is the usage message.
+Status check_cost_fields(const SimplifyOptions& options, const FrameSource& frames);
 
 // ---- A level of detail (simplify's targets, extract's resolution).
 struct LevelFlags {

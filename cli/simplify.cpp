@@ -29,7 +29,9 @@ const VerbSpec kSpec{
     "OUTPUT is a mesh file (.obj .ply .vtk .vtu), or a pattern with {:03d} for an animation.\n"
     "--max-error is in units of the bounding-box diagonal (0.001), or in percent (0.1%).\n"
     "Key steps (paper §3): all; paper = first, last and the strongest deformation in between;\n"
-    "auto:K = K steps, each the farthest (largest vertex displacement) from those chosen.",
+    "auto:K = K steps, each the farthest (largest vertex displacement) from those chosen.\n"
+    "Result fields count in the cost: by default every field, a change of its whole range\n"
+    "costing 0.01 diagonals (--field-weight); --field NAME[:W] picks fields.",
     {{"--output", "-o", true, "OUTPUT", "output mesh, or pattern with {:03d} for several steps"},
      {"--ratio", "", true, "R", "keep this fraction of the vertices, e.g. 0.05"},
      {"--vertices", "", true, "N", "keep N vertices"},
@@ -38,6 +40,9 @@ const VerbSpec kSpec{
      {"--placement", "", true, "half|optimal", "half-edge (default, the paper) or optimal (QSlim)"},
      kKeyStepsFlag,
      kBoundaryWeightFlag,
+     kFieldFlag,
+     kFieldWeightFlag,
+     kRegularizeFlag,
      kIgnorePartsFlag,
      {"--ascii", "", false, "", "write PLY and VTK as text"},
      {"--json", "", false, "", "print the result as JSON"},
@@ -93,6 +98,7 @@ int run_simplify(std::span<char* const> arguments) {
   std::optional<Phase> phase(std::in_place, "reading the input");
   const Topology& input = stream->topology;
   const FrameSource& frames = *stream->frames;
+  if (Status s = check_cost_fields(options, frames); !s.ok()) return usage(s.message());
   const size_t steps = frames.step_count();
   const bool pattern = has_step_field(*output);
   if (steps > 1 && !pattern)

@@ -6,10 +6,16 @@
 //   quadrics (quadrics.h): Q[t][v] = Σ area · plane² over the faces of v in key step t (a skew
 //     quad's plane is quad_plane(): the mean of its corner normals through its centroid), plus
 //     constraint planes perpendicular to boundary and feature edges
+//     + regularize · (area of v's faces) · |p − p_t(v)|², the shape term (not counted in w)
+//   field term (quadrics.h, FieldTerm::add_field_term()): per vertex, key step t and cost field
+//     f the interval I[t][v][f] = [lo, hi] of the values v stands for (an element field: the
+//     values of v's faces); s_f = weight_f · diagonal / range_f (range over the key steps)
+//     F[t](v0, v1) = Σ_f (s_f · spread(I[t][v0][f] ∪ I[t][v1][f]))²
 //   cost (worst_over_key_steps(), paper method (1*)), with w the total plane weight:
 //     error(v0 → v1) = max over key steps t of
 //                      sqrt(max((Q[t][v0] + Q[t][v1])(p_t(v1)) / (w[t][v0] + w[t][v1]),
-//                               Q[t][v0](p_t(v1)) / w[t][v0]))          / bounding-box diagonal
+//                               Q[t][v0](p_t(v1)) / w[t][v0]) + F[t](v0, v1))
+//                      / bounding-box diagonal
 //     the second term is the cost floor: never less than v0's own RMS distance at its new place
 //     (with optimal placement: (Q[t][v0] + Q[t][v1]) / w at the minimiser, no floor)
 //   legality (legality.h): CollapseRules::allows(), every rule, cheapest first
@@ -28,9 +34,10 @@
 //         if not entry.one_way: push entry.v1 → entry.v0 at its own cost
 //         continue
 //       error = cost(entry.v0, entry.v1)         as rated (the heap keeps it as float)
-//       collapse(entry.v0, entry.v1, error):     Q[t][v1] += Q[t][v0]; re-rate the edges of v1
-//                                                and of rejected vertices around it; drop the
-//                                                stale entries once the heap has doubled
+//       collapse(entry.v0, entry.v1, error):     Q[t][v1] += Q[t][v0], I[t][v1] ∪= I[t][v0];
+//                                                re-rate the edges of v1 and of rejected
+//                                                vertices around it; drop the stale entries
+//                                                once the heap has doubled
 //       rated_again = false
 //
 // The half-edge collapse v0 → v1, its wings and the vertex split that undoes it are drawn and
@@ -46,6 +53,7 @@
 #include <cstdint>
 #include <optional>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "dynpm/core.h"
@@ -58,6 +66,11 @@ enum class Placement {
   kOptimal,   // full-edge collapse to the quadric minimiser (QSlim), the better endpoint when the
               // system is ill-conditioned; needs every step to be a key step
 };
+
+// Defaults of SimplifyOptions::field_weight and ::regularize (docs/simplify.md, where they are
+// measured).
+inline constexpr double kDefaultFieldWeight = 0.01;
+inline constexpr double kDefaultRegularize = 0;
 
 struct SimplifyOptions {
   // Stop conditions: the simplifier stops at the first one reached. With none set, it runs
@@ -80,6 +93,25 @@ struct SimplifyOptions {
   // relative to the area-weighted face planes (each constraint plane weighs
   // boundary_weight · |edge|²). VCG calls this BoundaryQuadricWeight.
   double boundary_weight = 1.0;
+
+  // Result fields in the cost (docs/simplify.md, "Fields in the cost"): per key step, the
+  // spread of each field's values that v1 stands for after the collapse is added to the
+  // geometric mean squared distance, scaled so that a spread of the field's whole range (over
+  // the key steps) costs like a distance of weight × the bounding-box diagonal. Empty
+  // field_weights: every field of the input at field_weight; otherwise only the fields named,
+  // each at its own weight or, without one, at field_weight. field_weight 0 and no field named:
+  // the geometry-only cost, byte for byte.
+  struct FieldWeight {
+    std::string name;
+    std::optional<double> weight;
+  };
+  std::vector<FieldWeight> field_weights;
+  double field_weight = kDefaultFieldWeight;
+  // Shape regularizer: an isotropic quadric per vertex and key step, weighted regularize × the
+  // area of its faces, so that among collapses of (near) equal geometric error the one that
+  // moves v0's faces least wins: flat regions stay well shaped instead of turning into slivers
+  // and fans. Not part of the planes' weight w. 0: off.
+  double regularize = kDefaultRegularize;
 
   // Features: their vertices only slide along them, or stay (docs/simplify.md).
   bool keep_part_boundaries = true;  // edges between faces of different part ids
@@ -122,6 +154,16 @@ struct SimplifyResult {
   bool target_reached = false;  // false: no legal collapse remained first
   std::string stop_reason;
 };
+
+// A field of `frames` the cost uses, with its weight (SimplifyOptions::field_weights).
+struct CostField {
+  size_t field = 0;  // index into frames.fields()
+  double weight = 0;
+};
+// The fields the cost uses, weight 0 left out. Error: a named field the input does not have (the
+// message lists those it has), a negative or non-finite weight.
+Result<std::vector<CostField>> cost_fields(const SimplifyOptions& options,
+                                           const FrameSource& frames);
 
 // Simplifies the animation; the input is not changed. Errors: invalid input (validate()
 // errors), unreadable steps, options that cannot hold (optimal placement without every step as

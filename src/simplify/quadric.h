@@ -26,6 +26,10 @@ struct Quadric {
     w += weight;
   }
 
+  // Adds weight · |p|² (distance to the origin in every direction) without adding to w: the
+  // shape regularizer (quadrics.h), which must not dilute the planes' mean squared distance.
+  void add_isotropic(double weight) { xx += weight, yy += weight, zz += weight; }
+
   Quadric& operator+=(const Quadric& q) {
     xx += q.xx, xy += q.xy, xz += q.xz, yy += q.yy, yz += q.yz, zz += q.zz;
     bx += q.bx, by += q.by, bz += q.bz, c += q.c, w += q.w;

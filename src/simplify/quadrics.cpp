@@ -1,7 +1,9 @@
 #include "quadrics.h"
 
 #include <algorithm>
+#include <cmath>
 #include <optional>
+#include <string>
 
 #include "core/parallel.h"
 
@@ -24,10 +26,76 @@ std::vector<uint8_t> constrained_edges(const Topology& input, const Adjacency& a
   return constrained;
 }
 
-Status KeyStepQuadrics::load_positions(const FrameSource& frames, std::span<const size_t> key_steps,
-                                       uint32_t vertex_count) {
+void FieldTerm::choose(std::span<const CostField> fields, std::span<const FieldInfo> infos,
+                       size_t key_count, uint32_t vertex_count) {
+  fields_.clear();
+  for (const CostField& c : fields) fields_.push_back({c.field, infos[c.field], c.weight});
+  key_count_ = key_count;
+  intervals_.assign(size_t{vertex_count} * key_count * fields_.size() * 2, 0.0f);
+}
+
+Status FieldTerm::load_step(const FrameSource& frames, const Topology& input, size_t k, size_t t) {
+  const uint32_t n = input.vertex_count;
+  for (size_t f = 0; f < fields_.size(); ++f) {
+    Chosen& c = fields_[f];
+    const bool element = c.info.location == FieldLocation::kElement;
+    values_.resize(element ? input.faces.size() : n);
+    DYNPM_RETURN_IF_ERROR(frames.read_field(c.field, t, values_));
+    for (float x : values_)
+      if (!std::isfinite(x))
+        return Status::error("field " + c.info.name + " at step " + std::to_string(t) +
+                             " holds a value that is not a finite number");
+    if (!values_.empty()) {
+      const auto [lo, hi] = std::minmax_element(values_.begin(), values_.end());
+      c.lo = std::min(c.lo, double{*lo}), c.hi = std::max(c.hi, double{*hi});
+    }
+    if (!element) {
+      for (uint32_t v = 0; v < n; ++v)
+        interval(v, k)[2 * f] = interval(v, k)[2 * f + 1] = values_[v];
+      continue;
+    }
+    // An element field at a vertex: the smallest and largest value of its faces, since a
+    // collapse merges the faces around v0 into those around v1 (a vertex without faces: 0).
+    for (uint32_t v = 0; v < n; ++v)
+      interval(v, k)[2 * f] = HUGE_VALF, interval(v, k)[2 * f + 1] = -HUGE_VALF;
+    for (size_t face = 0; face < input.faces.size(); ++face)
+      for (int corner = 0; corner < input.faces[face].degree(); ++corner) {
+        float* i = interval(input.faces[face].v[corner], k) + 2 * f;
+        i[0] = std::min(i[0], values_[face]), i[1] = std::max(i[1], values_[face]);
+      }
+    for (uint32_t v = 0; v < n; ++v)
+      if (interval(v, k)[2 * f] > interval(v, k)[2 * f + 1])
+        interval(v, k)[2 * f] = interval(v, k)[2 * f + 1] = 0;
+  }
+  return {};
+}
+
+void FieldTerm::finish(double diagonal) {
+  scale_.clear();
+  for (const Chosen& c : fields_) {
+    const double range = c.hi - c.lo;
+    scale_.push_back(range > 0 ? c.weight * diagonal / range : 0.0);
+  }
+  std::vector<float>().swap(values_);
+}
+
+void FieldTerm::merge(uint32_t v0, uint32_t v1) {
+  for (size_t k = 0; k < key_count_; ++k) {
+    const float* a = interval(v0, k);
+    float* b = interval(v1, k);
+    for (size_t f = 0; f < fields_.size(); ++f)
+      b[2 * f] = std::min(b[2 * f], a[2 * f]), b[2 * f + 1] = std::max(b[2 * f + 1], a[2 * f + 1]);
+  }
+}
+
+Status KeyStepQuadrics::load_key_steps(const FrameSource& frames, const Topology& input,
+                                       std::span<const size_t> key_steps,
+                                       std::span<const CostField> fields) {
+  const uint32_t vertex_count = input.vertex_count;
   key_count_ = key_steps.size();
   positions_.resize(size_t{vertex_count} * key_count_ * 3);
+  fields_.choose(fields, fields.empty() ? std::vector<FieldInfo>{} : frames.fields(), key_count_,
+                 vertex_count);
   std::vector<float> step(size_t{vertex_count} * 3);
   BoundingBox box;
   for (size_t k = 0; k < key_count_; ++k) {
@@ -35,8 +103,10 @@ Status KeyStepQuadrics::load_positions(const FrameSource& frames, std::span<cons
     box.extend(step);
     for (uint32_t v = 0; v < vertex_count; ++v)
       std::copy_n(&step[size_t{v} * 3], 3, position_data(v, k));
+    DYNPM_RETURN_IF_ERROR(fields_.load_step(frames, input, k, key_steps[k]));
   }
   diagonal_ = box.diagonal() > 0 ? box.diagonal() : 1.0;
+  fields_.finish(diagonal_);
   return {};
 }
 
@@ -66,15 +136,21 @@ void add_constraint_planes(Quadric& q, const Vec3* p, int degree, int at, uint8_
   }
 }
 
+// The shape term: weight · |p − v|², v at the origin. In a flat region, where every plane
+// costs nothing, it makes a collapse cost the (area-weighted RMS) distance from v1 to the
+// vertices it stands for, so compact clusters win over long slivers and fans.
+void add_regularizer(Quadric& q, double weight) { q.add_isotropic(weight); }
+
 }  // namespace
 
 // In coordinates around v; each face's plane is computed once per corner, which is cheaper
 // than storing a plane per face and step.
 Quadric KeyStepQuadrics::vertex_quadric(const Topology& input, const CollapseMesh& mesh, uint32_t v,
                                         size_t k, std::span<const uint8_t> constrained,
-                                        double boundary_weight) const {
+                                        double boundary_weight, double regularize) const {
   const Vec3 origin = position(v, k);
   Quadric q;
+  double area = 0;
   for (uint32_t f : mesh.faces_of(v)) {
     const Face& face = input.faces[f];
     const int d = face.degree();
@@ -85,21 +161,23 @@ Quadric KeyStepQuadrics::vertex_quadric(const Topology& input, const CollapseMes
     if (!plane) continue;
     add_constraint_planes(q, p, d, corner_of(face, v), constrained[f], plane->normal,
                           boundary_weight);
+    if (regularize > 0) area += 0.5 * length(doubled_vector_area(p, d));
   }
+  if (regularize > 0) add_regularizer(q, regularize * area);
   return q;
 }
 
 void KeyStepQuadrics::build(const Topology& input, const CollapseMesh& mesh,
                             std::span<const uint8_t> constrained, double boundary_weight,
-                            unsigned threads) {
+                            double regularize, unsigned threads) {
   const uint32_t n = input.vertex_count;
   quadrics_.assign(size_t{n} * key_count_, LocalQuadric{});
   parallel_for_chunks(size_t{n} * key_count_, threads, [&](size_t begin, size_t end, size_t) {
     for (size_t i = begin; i < end; ++i) {
       const uint32_t v = static_cast<uint32_t>(i / key_count_);
       const size_t k = i % key_count_;
-      quadric(v, k) =
-          LocalQuadric::narrow(vertex_quadric(input, mesh, v, k, constrained, boundary_weight));
+      quadric(v, k) = LocalQuadric::narrow(
+          vertex_quadric(input, mesh, v, k, constrained, boundary_weight, regularize));
     }
   });
 }
@@ -126,7 +204,7 @@ double KeyStepQuadrics::collapse_error(uint32_t v0, uint32_t v1, VertexClass v1_
       }
     }
     placement[k] = p1 + offset;
-    worst[0].offer(q.mean_squared(offset));
+    worst[0].offer(q.mean_squared(offset) + fields_.add_field_term(v0, v1, k));
   })[0];
 }
 
@@ -137,8 +215,9 @@ double KeyStepQuadrics::half_edge_error(uint32_t v0, uint32_t v1) const {
     const double weight = q0.w + double{q1.w};
     if (!(weight > 0)) return;
     const double moved = q0.evaluate(position(v1, k) - position(v0, k));
-    worst[0].offer((moved + double{q1.c}) / weight);
-    if (q0.w > 0) worst[0].offer(moved / q0.w);  // the floor, see half_edge_errors()
+    const double field = fields_.add_field_term(v0, v1, k);
+    worst[0].offer((moved + double{q1.c}) / weight + field);
+    if (q0.w > 0) worst[0].offer(moved / q0.w + field);  // the floor, see half_edge_errors()
   })[0];
 }
 
@@ -149,13 +228,14 @@ std::pair<double, double> KeyStepQuadrics::half_edge_errors(uint32_t a, uint32_t
     if (!(weight > 0)) return;
     const Vec3 d = position(b, k) - position(a, k);
     const double moved_a = qa.evaluate(d), moved_b = qb.evaluate(Vec3{} - d);
-    worst[0].offer((moved_a + qb.c) / weight);
-    worst[1].offer((moved_b + qa.c) / weight);
+    const double field = fields_.add_field_term(a, b, k);  // the same both ways
+    worst[0].offer((moved_a + qb.c) / weight + field);
+    worst[1].offer((moved_b + qa.c) / weight + field);
     // The cost floor: never less than the moved vertex's own mean squared distance. Divided by
     // the merged weight alone, a light vertex (a boundary corner) next to a heavy one (which
     // has absorbed many collapses) would be swallowed at almost no cost, cutting the corner.
-    if (qa.w > 0) worst[0].offer(moved_a / qa.w);
-    if (qb.w > 0) worst[1].offer(moved_b / qb.w);
+    if (qa.w > 0) worst[0].offer(moved_a / qa.w + field);
+    if (qb.w > 0) worst[1].offer(moved_b / qb.w + field);
   });
   return {error[0], error[1]};
 }
@@ -173,6 +253,7 @@ std::span<const float> KeyStepQuadrics::merge(uint32_t v0, uint32_t v1,
     }
     quadric(v1, k) = LocalQuadric::narrow(q);
   }
+  fields_.merge(v0, v1);
   return {position_data(v1, 0), key_count_ * 3};
 }
 

@@ -10,8 +10,16 @@
 //                             core/face_geometry.h), weighted by the face's area
 //      add_constraint_planes() through v's constrained edges in the face, perpendicular to it,
 //                             weighted boundary_weight · |edge|²
+//   3. add_regularizer()      an isotropic quadric weighted regularize × the area of v's faces
+//                             (the shape term, docs/simplify.md), not counted in the weight w
 // The phases alternate per face, not one after the other over all faces: the sums stay in the
 // order that makes every output byte-identical to what it was.
+//
+// The field term (FieldTerm::add_field_term(), issue 18): per vertex, key step and cost field,
+// the interval [lo, hi] of the values the vertex stands for — a node field's own value, or the
+// smallest and largest value of its faces for an element field. A collapse unites v0's and
+// v1's intervals; the shown value of v1 (max |value| or mean of what it stands for) differs from
+// each original value by at most hi − lo, so the spread is what the collapse costs the field.
 #pragma once
 
 #include <array>
@@ -20,12 +28,14 @@
 #include <vector>
 
 #include "collapse_mesh.h"
+#include "dynpm/simplify.h"
 #include "legality.h"
 #include "quadric.h"
 
 namespace dynpm::simplification {
 
-// Paper method (1*): a collapse costs the largest of its errors over the key steps. Each step
+// Paper method (1*): a collapse costs the largest of its errors over the key steps (each the
+// geometric mean squared distance plus the field term). Each step
 // offers its weighted mean squared distance — for every direction rated at once, kDirections of
 // them — to worst[d].offer(); the cost is the root of the largest, in bounding-box diagonals.
 struct Worst {
@@ -47,16 +57,67 @@ std::array<double, kDirections> worst_over_key_steps(size_t key_count, double di
 std::vector<uint8_t> constrained_edges(const Topology& input, const Adjacency& adjacency,
                                        const FeatureEdges& features);
 
+// The field term of the cost: the spread of each cost field's values a vertex stands for, per
+// key step (see the top of this file). Scaled so that a spread of the field's whole range costs
+// like weight × the diagonal, as a squared length next to the quadrics' mean squared distance.
+class FieldTerm {
+ public:
+  // Which fields, before the key steps are read.
+  void choose(std::span<const CostField> fields, std::span<const FieldInfo> infos, size_t key_count,
+              uint32_t vertex_count);
+  // Reads the cost fields at key step k (step t of the source).
+  Status load_step(const FrameSource& frames, const Topology& input, size_t k, size_t t);
+  // After the last key step: each field's scale from its range and the diagonal.
+  void finish(double diagonal);
+
+  bool empty() const { return fields_.empty(); }
+  // Σ over the cost fields of (scale · spread)² of v0's and v1's values together, in key step k.
+  // Symmetric in v0 and v1.
+  double add_field_term(uint32_t v0, uint32_t v1, size_t k) const {
+    double sum = 0;
+    const float* a = interval(v0, k);
+    const float* b = interval(v1, k);
+    for (size_t f = 0; f < fields_.size(); ++f, a += 2, b += 2) {
+      const double spread = double{std::max(a[1], b[1])} - std::min(a[0], b[0]);
+      sum += scale_[f] * scale_[f] * spread * spread;
+    }
+    return sum;
+  }
+  // After the collapse v0 → v1: v1 stands for v0's values too.
+  void merge(uint32_t v0, uint32_t v1);
+
+ private:
+  const float* interval(uint32_t v, size_t k) const {
+    return &intervals_[((size_t{v} * key_count_ + k) * fields_.size()) * 2];
+  }
+  float* interval(uint32_t v, size_t k) {
+    return &intervals_[((size_t{v} * key_count_ + k) * fields_.size()) * 2];
+  }
+
+  struct Chosen {
+    size_t field;
+    FieldInfo info;
+    double weight;
+    double lo = HUGE_VAL, hi = -HUGE_VAL;  // over the key steps
+  };
+  std::vector<Chosen> fields_;
+  std::vector<double> scale_;     // per field: weight · diagonal / range
+  std::vector<float> intervals_;  // #V × #key steps × #fields × (lo, hi)
+  std::vector<float> values_;     // one step of one field, as read
+  size_t key_count_ = 0;
+};
+
 // Positions and quadrics of every vertex in every key step, vertex-major (one vertex's steps
 // together: rating an edge reads two short runs of memory).
 class KeyStepQuadrics {
  public:
-  // Reads the key steps' positions; the diagonal is that of their common bounding box.
-  Status load_positions(const FrameSource& frames, std::span<const size_t> key_steps,
-                        uint32_t vertex_count);
+  // Reads the key steps' positions and, in the same pass, the cost fields' values; the diagonal
+  // is that of the positions' common bounding box.
+  Status load_key_steps(const FrameSource& frames, const Topology& input,
+                        std::span<const size_t> key_steps, std::span<const CostField> fields);
   // The quadrics of the input mesh (phases at the top of this file).
   void build(const Topology& input, const CollapseMesh& mesh, std::span<const uint8_t> constrained,
-             double boundary_weight, unsigned threads);
+             double boundary_weight, double regularize, unsigned threads);
 
   size_t key_count() const { return key_count_; }
   double diagonal() const { return diagonal_; }
@@ -102,12 +163,14 @@ class KeyStepQuadrics {
   }
   LocalQuadric& quadric(uint32_t v, size_t k) { return quadrics_[size_t{v} * key_count_ + k]; }
   Quadric vertex_quadric(const Topology& input, const CollapseMesh& mesh, uint32_t v, size_t k,
-                         std::span<const uint8_t> constrained, double boundary_weight) const;
+                         std::span<const uint8_t> constrained, double boundary_weight,
+                         double regularize) const;
 
   size_t key_count_ = 0;
   std::vector<float> positions_;        // #V × #key steps × xyz
   std::vector<LocalQuadric> quadrics_;  // #V × #key steps, each around its own vertex
   double diagonal_ = 1;
+  FieldTerm fields_;
 };
 
 }  // namespace dynpm::simplification

@@ -128,7 +128,9 @@ Status Simplifier::load_key_steps(const FrameSource& frames) {
         "optimal placement moves vertices in every step, so every step must be a "
         "key step (use --key-steps all or half-edge placement)");
 
-  return quadrics_.load_positions(frames, key_steps_, input_.vertex_count);
+  auto fields = cost_fields(options_, frames);
+  if (!fields) return fields.status();
+  return quadrics_.load_key_steps(frames, input_, key_steps_, *fields);
 }
 
 double Simplifier::cost(uint32_t v0, uint32_t v1, Scratch& s) const {
@@ -272,7 +274,7 @@ Result<SimplifyResult> Simplifier::run(Adjacency adjacency) {
   rules_.classify_vertices(adjacency);
   constrained = constrained_edges(input_, adjacency, rules_.features());
   adjacency = {};
-  quadrics_.build(input_, mesh_, constrained, options_.boundary_weight,
+  quadrics_.build(input_, mesh_, constrained, options_.boundary_weight, options_.regularize,
                   thread_count(options_.threads));
   constrained = {};
 
@@ -343,6 +345,39 @@ Result<SimplifyResult> Simplifier::run(Adjacency adjacency) {
 }  // namespace
 }  // namespace simplification
 
+Result<std::vector<CostField>> cost_fields(const SimplifyOptions& options,
+                                           const FrameSource& frames) {
+  const bool valid_weight = std::isfinite(options.field_weight) && options.field_weight >= 0;
+  if (!valid_weight) return Status::error("the field weight must be a number ≥ 0");
+  std::vector<CostField> chosen;
+  const std::vector<std::string> names = options.field_weights.empty() && options.field_weight == 0
+                                             ? std::vector<std::string>{}
+                                             : frames.field_names();
+  if (options.field_weights.empty()) {
+    for (size_t f = 0; f < names.size(); ++f) chosen.push_back({f, options.field_weight});
+  }
+  for (const SimplifyOptions::FieldWeight& fw : options.field_weights) {
+    const auto it = std::find(names.begin(), names.end(), fw.name);
+    if (it == names.end()) {
+      std::string available;
+      for (const std::string& name : names) {
+        if (!available.empty()) available += ", ";
+        available += name;
+      }
+      return Status::error(
+          "unknown field '" + fw.name + "' (" +
+          (names.empty() ? std::string("the input has no fields") : "the input has " + available) +
+          ")");
+    }
+    const double weight = fw.weight.value_or(options.field_weight);
+    if (!std::isfinite(weight) || weight < 0)
+      return Status::error("field " + fw.name + ": the weight must be a number ≥ 0");
+    chosen.push_back({size_t(it - names.begin()), weight});
+  }
+  std::erase_if(chosen, [](const CostField& c) { return c.weight == 0; });
+  return chosen;
+}
+
 Result<SimplifyResult> simplify(const Topology& topology, const FrameSource& frames,
                                 const SimplifyOptions& options, CollapseListener* listener) {
   std::optional<Adjacency> adjacency;
@@ -356,6 +391,8 @@ Result<SimplifyResult> simplify(const Topology& topology, const FrameSource& fra
                          " vertices, the faces use " + std::to_string(topology.vertex_count));
   if (options.target_ratio && !(*options.target_ratio > 0 && *options.target_ratio <= 1))
     return Status::error("the target ratio must be in (0, 1]");
+  if (!(std::isfinite(options.regularize) && options.regularize >= 0))
+    return Status::error("the regularize weight must be a number ≥ 0");
   simplification::Simplifier simplifier(topology, options, listener);
   DYNPM_RETURN_IF_ERROR(simplifier.load_key_steps(frames));
   if (!adjacency) adjacency = Adjacency::build(topology);

@@ -1,0 +1,254 @@
+// Result fields in the cost and the shape regularizer (docs/simplify.md, "Fields in the cost",
+// "Shape"): weight 0 is the geometry-only cost byte for byte, fields in the cost lower the field
+// error on the CalculiX crash box with stress and plastic strain, an element field's edge
+// survives as a line of vertices, unknown field names are refused naming the others, and the
+// regularizer keeps a flat plate's triangles well shaped.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "dynpm/io.h"
+#include "dynpm/simplify.h"
+#include "fixtures.h"
+#include "third_party.h"
+
+namespace dynpm {
+namespace {
+
+// A FrameSource seen without its fields: what the geometry-only cost sees.
+class WithoutFields final : public FrameSource {
+ public:
+  explicit WithoutFields(const FrameSource& frames) : frames_(frames) {}
+  uint32_t vertex_count() const override { return frames_.vertex_count(); }
+  size_t step_count() const override { return frames_.step_count(); }
+  double step_time(size_t t) const override { return frames_.step_time(t); }
+  Status read_step(size_t t, std::span<float> out) const override {
+    return frames_.read_step(t, out);
+  }
+
+ private:
+  const FrameSource& frames_;
+};
+
+// Frames with one element field.
+class WithElementField final : public FrameSource {
+ public:
+  WithElementField(const Frames& frames, std::vector<float> values)
+      : frames_(frames), values_(std::move(values)) {}
+  uint32_t vertex_count() const override { return frames_.vertex_count(); }
+  size_t step_count() const override { return frames_.step_count(); }
+  double step_time(size_t t) const override { return frames_.step_time(t); }
+  Status read_step(size_t t, std::span<float> out) const override {
+    return frames_.read_step(t, out);
+  }
+  std::vector<FieldInfo> fields() const override { return {{"EPS", FieldLocation::kElement, ""}}; }
+  Status read_field(size_t, size_t, std::span<float> out) const override {
+    std::copy(values_.begin(), values_.end(), out.begin());
+    return {};
+  }
+
+ private:
+  const Frames& frames_;
+  std::vector<float> values_;
+};
+
+// v0 → v1 of every collapse, and each input vertex's ancestor at the end.
+class Trace final : public CollapseListener {
+ public:
+  explicit Trace(uint32_t n) : parent_(n, kNoVertex) {}
+  void on_collapse(const CollapseRecord& r) override {
+    parent_[r.v0] = r.v1;
+    pairs.push_back({r.v0, r.v1});
+  }
+  uint32_t ancestor(uint32_t v) const {
+    while (parent_[v] != kNoVertex) v = parent_[v];
+    return v;
+  }
+  std::vector<std::pair<uint32_t, uint32_t>> pairs;
+
+ private:
+  std::vector<uint32_t> parent_;
+};
+
+std::string crashbox_fields(const test::TempDir& dir) {
+  const std::string gz = test::shared_data() + "/crashbox-fields/crashbox-fields.frd.gz";
+  if (!std::filesystem::exists(gz)) return "";
+  const std::string frd = dir.file("crashbox-fields.frd");
+  EXPECT_EQ(test::run_command("gzip -dc '" + gz + "' > '" + frd + "'").exit_code, 0);
+  return frd;
+}
+
+// The largest difference, over every step and input vertex u, between u's value and the value
+// of largest magnitude among those its ancestor stands for, in parts of the field's range.
+double field_error(const FrameSource& frames, size_t field, const Trace& trace) {
+  const uint32_t n = frames.vertex_count();
+  std::vector<uint32_t> ancestor(n);
+  for (uint32_t v = 0; v < n; ++v) ancestor[v] = trace.ancestor(v);
+  std::vector<std::vector<float>> values(frames.step_count(), std::vector<float>(n));
+  double lo = HUGE_VAL, hi = -HUGE_VAL, worst = 0;
+  for (size_t t = 0; t < values.size(); ++t) {
+    EXPECT_TRUE(frames.read_field(field, t, values[t]).ok());
+    for (float x : values[t]) lo = std::min(lo, double{x}), hi = std::max(hi, double{x});
+  }
+  for (const std::vector<float>& f : values) {
+    std::vector<float> shown(n, 0.0f);
+    for (uint32_t u = 0; u < n; ++u)
+      if (std::fabs(f[u]) > std::fabs(shown[ancestor[u]])) shown[ancestor[u]] = f[u];
+    for (uint32_t u = 0; u < n; ++u)
+      worst = std::max(worst, std::fabs(double{shown[ancestor[u]]} - f[u]));
+  }
+  return worst / (hi - lo);
+}
+
+TEST(SimplifyFields, WeightZeroIsTheGeometryOnlyCostExactly) {
+  test::TempDir dir;
+  const std::string frd = crashbox_fields(dir);
+  if (frd.empty()) GTEST_SKIP() << "../shared/data is not beside the project";
+  auto input = open_input(std::vector<std::string>{frd});
+  ASSERT_TRUE(input) << input.message();
+  ASSERT_GE(input->frames->fields().size(), 2u);
+  const WithoutFields geometry(*input->frames);
+  for (double regularize : {0.0, 0.001}) {
+    SimplifyOptions options;
+    options.target_ratio = 0.25;
+    options.regularize = regularize;
+    options.field_weight = 0;
+    Trace with(input->topology.vertex_count), without(input->topology.vertex_count);
+    auto a = simplify(input->topology, *input->frames, options, &with);
+    options.field_weight = 1;  // no field to weigh
+    auto b = simplify(input->topology, geometry, options, &without);
+    ASSERT_TRUE(a && b);
+    EXPECT_EQ(with.pairs, without.pairs);
+    EXPECT_EQ(a->topology.faces, b->topology.faces);
+    EXPECT_EQ(a->max_error, b->max_error);
+    // With the fields in the cost, other collapses are chosen.
+    Trace fields(input->topology.vertex_count);
+    options.field_weight = kDefaultFieldWeight;
+    ASSERT_TRUE(simplify(input->topology, *input->frames, options, &fields));
+    EXPECT_NE(fields.pairs, without.pairs);
+  }
+}
+
+TEST(SimplifyFields, FieldsInTheCostLowerTheFieldErrorOnTheCrashBox) {
+  test::TempDir dir;
+  const std::string frd = crashbox_fields(dir);
+  if (frd.empty()) GTEST_SKIP() << "../shared/data is not beside the project";
+  auto input = open_input(std::vector<std::string>{frd});
+  ASSERT_TRUE(input) << input.message();
+  const std::vector<std::string> names = input->frames->field_names();
+  for (double ratio : {0.05, 0.25}) {
+    SimplifyOptions options;
+    options.target_ratio = ratio;
+    Trace geometry(input->topology.vertex_count), fields(input->topology.vertex_count);
+    options.field_weight = 0;
+    ASSERT_TRUE(simplify(input->topology, *input->frames, options, &geometry));
+    options.field_weight = kDefaultFieldWeight;
+    ASSERT_TRUE(simplify(input->topology, *input->frames, options, &fields));
+    for (const char* name : {"S_MISES", "PEEQ"}) {
+      const auto it = std::find(names.begin(), names.end(), name);
+      ASSERT_NE(it, names.end()) << name;
+      const size_t f = size_t(it - names.begin());
+      const double before = field_error(*input->frames, f, geometry);
+      const double after = field_error(*input->frames, f, fields);
+      std::printf("ratio %.2f %-8s field error %.1f %% geometry only, %.1f %% with fields\n", ratio,
+                  name, 100 * before, 100 * after);
+      EXPECT_LE(after, 0.75 * before) << name << " at " << ratio;
+    }
+  }
+}
+
+// A flat plate whose left half holds 1 and right half 0, per face: with the field in the cost
+// the line between them stays a line of vertices, and no face of the result spans it.
+TEST(SimplifyFields, AnElementFieldsEdgeSurvives) {
+  const test::Mesh plate = test::quad_grid(20, 20);
+  const Animation a = plate.animation();
+  std::vector<float> eps;
+  for (const Face& face : a.topology.faces)
+    eps.push_back(a.frames.step(0)[size_t{face.v[0]} * 3] < 10 ? 1.0f : 0.0f);
+  const WithElementField frames(a.frames, eps);
+  auto faces_across = [&](double weight) {
+    SimplifyOptions options;
+    options.target_ratio = 0.3;
+    options.field_weight = weight;
+    options.check_every_collapse = true;
+    auto r = simplify(a.topology, frames, options);
+    EXPECT_TRUE(r) << r.message();
+    int across = 0;
+    for (const Face& face : r->topology.faces) {
+      bool left = false, right = false;
+      for (int c = 0; c < face.degree(); ++c) {
+        const float x = a.frames.step(0)[size_t{r->original_vertex[face.v[c]]} * 3];
+        left |= x<10, right |= x> 10;
+      }
+      across += left && right;
+    }
+    return across;
+  };
+  EXPECT_EQ(faces_across(kDefaultFieldWeight), 0);
+  EXPECT_GT(faces_across(0), 0);  // the geometry alone does not see the line
+}
+
+TEST(SimplifyFields, UnknownFieldIsRefusedNamingTheOthers) {
+  test::TempDir dir;
+  const std::string frd = crashbox_fields(dir);
+  if (frd.empty()) GTEST_SKIP() << "../shared/data is not beside the project";
+  auto input = open_input(std::vector<std::string>{frd});
+  ASSERT_TRUE(input);
+  SimplifyOptions options;
+  options.field_weights = {{"PEEQ", 2.0}, {"STRAIN", std::nullopt}};
+  auto chosen = cost_fields(options, *input->frames);
+  ASSERT_FALSE(chosen);
+  EXPECT_NE(chosen.message().find("'STRAIN'"), std::string::npos) << chosen.message();
+  EXPECT_NE(chosen.message().find("S_MISES, PEEQ"), std::string::npos) << chosen.message();
+  EXPECT_FALSE(simplify(input->topology, *input->frames, options));
+  options.field_weights = {{"PEEQ", 2.0}};
+  chosen = cost_fields(options, *input->frames);
+  ASSERT_TRUE(chosen);
+  ASSERT_EQ(chosen->size(), 1u);
+  EXPECT_EQ((*chosen)[0].weight, 2.0);
+
+  const auto usage =
+      test::run_command(std::string(DYNPM_CLI) + " simplify '" + frd + "' -o '" +
+                        dir.file("out_{:03d}.obj") + "' --ratio 0.5 --field STRAIN:2 2>&1");
+  EXPECT_EQ(usage.exit_code, 2) << usage.output;
+  EXPECT_NE(usage.output.find("unknown field 'STRAIN'"), std::string::npos) << usage.output;
+  EXPECT_NE(usage.output.find("PEEQ"), std::string::npos) << usage.output;
+}
+
+// Triangle aspect ratio: longest edge × perimeter / (4√3 · area); 1 for an equilateral one.
+double aspect(const float* a, const float* b, const float* c) {
+  auto d = [](const float* p, const float* q) {
+    return std::hypot(double{p[0]} - q[0], double{p[1]} - q[1], double{p[2]} - q[2]);
+  };
+  const double ab = d(a, b), bc = d(b, c), ca = d(c, a), s = (ab + bc + ca) / 2;
+  const double area = std::sqrt(std::max(0.0, s * (s - ab) * (s - bc) * (s - ca)));
+  return area > 0 ? std::max({ab, bc, ca}) * 2 * s / (4 * std::sqrt(3.0) * area) : HUGE_VAL;
+}
+
+TEST(SimplifyFields, RegularizerKeepsAFlatPlateWellShaped) {
+  const test::Mesh plate = test::quad_grid(40, 40);
+  const Animation a = plate.animation();
+  auto worst_aspects = [&](double regularize) {
+    SimplifyOptions options;
+    options.target_ratio = 0.05;
+    options.regularize = regularize;
+    auto r = simplify(a.topology, a.frames, options);
+    EXPECT_TRUE(r) << r.message();
+    std::vector<double> aspects;
+    for (const Face& face : r->topology.faces) {
+      if (!face.is_triangle()) continue;
+      auto p = [&](int c) { return &a.frames.step(0)[size_t{r->original_vertex[face.v[c]]} * 3]; };
+      aspects.push_back(aspect(p(0), p(1), p(2)));
+    }
+    std::sort(aspects.begin(), aspects.end());
+    return aspects.empty() ? 1.0 : aspects[aspects.size() * 9 / 10];  // the 90th percentile
+  };
+  const double off = worst_aspects(0), on = worst_aspects(0.001);
+  std::printf("flat 40 x 40 plate at 5 %%: 90th-percentile aspect %.2f without, %.2f with\n", off,
+              on);
+  EXPECT_LT(on, 0.5 * off);
+}
+
+}  // namespace
+}  // namespace dynpm
