@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "dynpm/text.h"
+
 namespace dynpm::cli {
 
 std::string format_number(double v, int digits) {
@@ -13,23 +15,6 @@ std::string format_number(double v, int digits) {
 }
 
 namespace {
-
-std::string xml_escape(const std::string& text) {
-  std::string out;
-  for (char c : text) {
-    if (c == '&')
-      out += "&amp;";
-    else if (c == '<')
-      out += "&lt;";
-    else if (c == '>')
-      out += "&gt;";
-    else if (c == '"')
-      out += "&quot;";
-    else
-      out += c;
-  }
-  return out;
-}
 
 // A "nice" tick spacing (1, 2 or 5 × 10^k) giving about `count` intervals over [0, range].
 double nice_step(double range, int count) {
@@ -79,7 +64,7 @@ std::string svg_plot(const LevelsTable& table, const std::string& max_label, uin
       width, height, width, height);
   add("<rect width=\"%g\" height=\"%g\" fill=\"white\"/>\n", width, height);
   s += "<text x=\"" + format_number(left + plot_w / 2) +
-       "\" y=\"24\" text-anchor=\"middle\" font-size=\"14\">" + xml_escape(title) + "</text>\n";
+       "\" y=\"24\" text-anchor=\"middle\" font-size=\"14\">" + xml_escaped(title) + "</text>\n";
   // Grid, ticks and labels.
   for (double d = lx0; d <= lx1 + 1e-9; ++d)
     for (int m : {1, 2, 5}) {
@@ -134,7 +119,7 @@ std::string svg_plot(const LevelsTable& table, const std::string& max_label, uin
         "\n",
         lx, ly, lx + 24, ly, colour, is_max ? " stroke-dasharray=\"6 4\"" : "");
     const std::string label = is_max ? max_label : "step " + std::to_string(steps[k]);
-    add("<text x=\"%.2f\" y=\"%.2f\">%s</text>\n", lx + 30, ly + 4, xml_escape(label).c_str());
+    add("<text x=\"%.2f\" y=\"%.2f\">%s</text>\n", lx + 30, ly + 4, xml_escaped(label).c_str());
   }
   s += "</svg>\n";
   return s;

@@ -148,7 +148,10 @@ TEST(Validate, AnimationWithoutStepsIsAnError) {
 TEST(Validate, FieldSizesMustMatch) {
   auto a = quad_grid(1, 1).animation();
   a.fields.push_back({"plastic strain", {std::vector<float>(3, 0.f)}, FieldLocation::kNode, {}});
-  a.fields.push_back({"stress", {std::vector<float>(4, 0.f), std::vector<float>(4, 0.f)}, FieldLocation::kNode, {}});
+  a.fields.push_back({"stress",
+                      {std::vector<float>(4, 0.f), std::vector<float>(4, 0.f)},
+                      FieldLocation::kNode,
+                      {}});
   const ValidationReport r = validate(a);
   EXPECT_EQ(r.count(ProblemKind::kFieldSize), 2u);
 }

@@ -211,13 +211,15 @@ TEST(EvaluateLevels, WithTheMaxAggregateThePeakIsKeptAtEveryLevelWithTheMeanNot)
   auto table = evaluate_levels(a.topology, frames, *mesh, options);
   ASSERT_TRUE(table.ok()) << table.message();
   EXPECT_EQ(table->field_ranges, std::vector<double>{7});
+  // The file keeps values within max_error (0.1 % of the range by default); the peak is ≥ 5.
+  const double within = mesh->fields[0].max_error / 5 * 1.0001;
   for (const LevelRow& row : table->rows) {
     for (const LevelDistance& cell : row.steps) {
       ASSERT_EQ(cell.peak_ratio.size(), 1u);
-      EXPECT_EQ(cell.peak_ratio[0], 1);
+      EXPECT_NEAR(cell.peak_ratio[0], 1, within);
       EXPECT_GE(row.max.field_error_pct[0], cell.field_error_pct[0]);
     }
-    EXPECT_EQ(row.max.peak_ratio[0], 1);
+    EXPECT_NEAR(row.max.peak_ratio[0], 1, within);
   }
   // The full level is the original (positions within the bound): almost no field error. A
   // coarse level spreads the peak over a wider area than the original's one vertex.
@@ -228,7 +230,7 @@ TEST(EvaluateLevels, WithTheMaxAggregateThePeakIsKeptAtEveryLevelWithTheMeanNot)
   auto mean = evaluate_levels(a.topology, frames, *mesh, options);
   ASSERT_TRUE(mean.ok()) << mean.message();
   EXPECT_LT(mean->rows.front().max.peak_ratio[0], 0.5);
-  EXPECT_EQ(mean->rows.back().max.peak_ratio[0], 1);
+  EXPECT_NEAR(mean->rows.back().max.peak_ratio[0], 1, within);
 
   // The same numbers on two threads.
   options.hausdorff.threads = 2;

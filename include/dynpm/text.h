@@ -22,6 +22,9 @@ NumberError parse_integer(std::string_view token, int64_t lo, int64_t hi, int64_
 // A count: parse_integer within [0, 2^63 - 1].
 NumberError parse_count(std::string_view token, uint64_t& out);
 
+// `text` with & < > " as XML entities, for an attribute value or element text (SVG, VTU).
+std::string xml_escaped(std::string_view text);
+
 // `s` without the spaces and tabs at either end (fixed-column fields, HTTP header values).
 std::string_view trim_blanks(std::string_view s);
 

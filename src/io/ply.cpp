@@ -401,11 +401,8 @@ Result<ParsedMesh> parse_ply(std::string_view bytes, const std::string& path,
 namespace {
 
 template <class T>
-void append_le(std::string& out, T value) {
-  char b[sizeof(T)];
-  std::memcpy(b, &value, sizeof(T));
-  if constexpr (std::endian::native == std::endian::big) std::reverse(b, b + sizeof(T));
-  out.append(b, sizeof(T));
+void append_little(std::string& out, T value) {
+  append_binary(out, value, std::endian::little);
 }
 
 bool fits_int32(std::span<const int64_t> ids) {
@@ -445,9 +442,10 @@ std::string write_ply(const Topology& topology, std::span<const float> positions
     const float* p = &positions[size_t{v} * 3];
     const int64_t id = topology.node_ids[v];
     if (options.binary) {
-      for (int k = 0; k < 3; ++k) append_le(out, p[k]);
-      node_int ? append_le(out, static_cast<int32_t>(id)) : append_le(out, static_cast<double>(id));
-      for (const NamedValues& field : point_fields) append_le(out, field.values[v]);
+      for (int k = 0; k < 3; ++k) append_little(out, p[k]);
+      node_int ? append_little(out, static_cast<int32_t>(id))
+               : append_little(out, static_cast<double>(id));
+      for (const NamedValues& field : point_fields) append_little(out, field.values[v]);
     } else {
       for (int k = 0; k < 3; ++k) text(p[k], ' ');
       text(id, point_fields.empty() ? '\n' : ' ');
@@ -460,12 +458,12 @@ std::string write_ply(const Topology& topology, std::span<const float> positions
     const int degree = f.degree();
     const int64_t id = topology.element_ids[fi];
     if (options.binary) {
-      append_le(out, static_cast<uint8_t>(degree));
-      for (int i = 0; i < degree; ++i) append_le(out, static_cast<int32_t>(f.v[i]));
-      append_le(out, topology.part_ids[fi]);
-      element_int ? append_le(out, static_cast<int32_t>(id))
-                  : append_le(out, static_cast<double>(id));
-      for (const NamedValues& field : cell_fields) append_le(out, field.values[fi]);
+      append_little(out, static_cast<uint8_t>(degree));
+      for (int i = 0; i < degree; ++i) append_little(out, static_cast<int32_t>(f.v[i]));
+      append_little(out, topology.part_ids[fi]);
+      element_int ? append_little(out, static_cast<int32_t>(id))
+                  : append_little(out, static_cast<double>(id));
+      for (const NamedValues& field : cell_fields) append_little(out, field.values[fi]);
     } else {
       text(degree, ' ');
       for (int i = 0; i < degree; ++i) text(f.v[i], ' ');

@@ -4,8 +4,11 @@
 #pragma once
 
 #include <algorithm>
+#include <bit>
+#include <charconv>
 #include <cstdint>
 #include <cstring>
+#include <string>
 #include <string_view>
 #include <utility>
 
@@ -94,6 +97,25 @@ inline NumberError parse_scalar(std::string_view token, ScalarType t, double& ou
   const NumberError e = parse_integer(token, lo, hi, n);
   out = static_cast<double>(n);
   return e;
+}
+
+// Appends v's bytes in the given byte order (PLY and VTU write little-endian, legacy VTK
+// big-endian, as that format says).
+template <class T>
+void append_binary(std::string& out, T v, std::endian order) {
+  char b[sizeof(T)];
+  std::memcpy(b, &v, sizeof(T));
+  if (order != std::endian::native) std::reverse(b, b + sizeof(T));
+  out.append(b, sizeof(T));
+}
+
+// Appends v as the shortest text that reads back as v (to_chars), then `after`.
+template <class T>
+void append_text(std::string& out, T v, char after = ' ') {
+  char b[32];
+  auto [end, ec] = std::to_chars(b, b + sizeof b, v);
+  out.append(b, end);
+  out += after;
 }
 
 // How a token that parse_scalar() refused as not a number is described: "a number" or "a whole

@@ -8,6 +8,7 @@
 #include <cstring>
 
 #include "formats.h"
+#include "scalar_types.h"
 
 namespace dynpm::io {
 namespace {
@@ -18,17 +19,7 @@ class VtkOut {
 
   template <class T>
   void value(T v) {
-    if (binary_) {
-      char b[sizeof(T)];
-      std::memcpy(b, &v, sizeof(T));
-      if constexpr (std::endian::native == std::endian::little) std::reverse(b, b + sizeof(T));
-      out.append(b, sizeof(T));
-    } else {
-      char b[32];
-      auto [end, ec] = std::to_chars(b, b + sizeof b, v);
-      out.append(b, end);
-      out += ' ';
-    }
+    binary_ ? append_binary(out, v, std::endian::big) : append_text(out, v);
   }
   void end_row() {
     if (!binary_) out += '\n';

@@ -8,7 +8,9 @@
 #include <charconv>
 #include <cstring>
 
+#include "dynpm/text.h"
 #include "formats.h"
+#include "scalar_types.h"
 
 namespace dynpm::io {
 namespace {
@@ -39,17 +41,7 @@ class ArrayOut {
 
   template <class T>
   void value(T v) {
-    if (binary_) {
-      char b[sizeof(T)];
-      std::memcpy(b, &v, sizeof(T));
-      if constexpr (std::endian::native == std::endian::big) std::reverse(b, b + sizeof(T));
-      data_.append(b, sizeof(T));
-    } else {
-      char b[32];
-      auto [end, ec] = std::to_chars(b, b + sizeof b, v);
-      data_.append(b, end);
-      data_ += ' ';
-    }
+    binary_ ? append_binary(data_, v, std::endian::little) : append_text(data_, v);
   }
 
   // Appends the DataArray element to `out` and empties this one for the next array.
@@ -58,11 +50,8 @@ class ArrayOut {
     if (components > 1) out += " NumberOfComponents=\"" + std::to_string(components) + "\"";
     out += binary_ ? " format=\"binary\">\n" : " format=\"ascii\">\n";
     if (binary_) {
-      const uint64_t size = data_.size();
-      char header[8];
-      std::memcpy(header, &size, 8);
-      if constexpr (std::endian::native == std::endian::big) std::reverse(header, header + 8);
-      std::string bytes(header, 8);
+      std::string bytes;
+      append_binary(bytes, uint64_t{data_.size()}, std::endian::little);
       bytes += data_;
       append_base64(out, bytes);
     } else {
@@ -76,24 +65,6 @@ class ArrayOut {
   bool binary_;
   std::string data_;
 };
-
-// Escapes the characters XML does not allow in an attribute value.
-std::string xml_attribute(const std::string& text) {
-  std::string out;
-  for (char c : text) {
-    if (c == '&')
-      out += "&amp;";
-    else if (c == '<')
-      out += "&lt;";
-    else if (c == '>')
-      out += "&gt;";
-    else if (c == '"')
-      out += "&quot;";
-    else
-      out += c;
-  }
-  return out;
-}
 
 }  // namespace
 
@@ -131,14 +102,14 @@ std::string write_vtu(const Topology& topology, std::span<const float> positions
   a.flush(out, "Int64", "element_id", 1);
   for (const NamedValues& field : cell_fields) {
     for (float v : field.values) a.value(v);
-    a.flush(out, "Float32", xml_attribute(safe_field_name(field.name)), 1);
+    a.flush(out, "Float32", xml_escaped(safe_field_name(field.name)), 1);
   }
   out += "</CellData>\n<PointData>\n";
   for (int64_t id : topology.node_ids) a.value(id);
   a.flush(out, "Int64", "node_id", 1);
   for (const NamedValues& field : point_fields) {
     for (float v : field.values) a.value(v);
-    a.flush(out, "Float32", xml_attribute(safe_field_name(field.name)), 1);
+    a.flush(out, "Float32", xml_escaped(safe_field_name(field.name)), 1);
   }
   out += "</PointData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
   return out;

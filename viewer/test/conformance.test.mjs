@@ -322,7 +322,9 @@ function fieldDamage(name, bytes) {
 }
 
 test('files with fields: the C++ reader and dpm.js give the same verdict', async (t) => {
-  const base = dpmFiles('fuzz/corpus/dpm').filter((f) => f.bytes.length < 65536);
+  // Files without fields of their own (the corpus also holds one written with fields).
+  const base = dpmFiles('fuzz/corpus/dpm')
+    .filter((f) => f.bytes.length < 65536 && !Buffer.from(f.bytes).includes('FDEF'));
   const fielded = base.map((f) => ({ name: `${f.name} + fields`, bytes: withFields(f.bytes, FIELDS) }));
   if (!CLI || !TOOL) return t.skip('DYNPM_CLI or DYNPM_VERDICTS not set');
   mkdirSync(OUT, { recursive: true });

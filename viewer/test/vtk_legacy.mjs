@@ -28,7 +28,8 @@ export function readVtkLegacy(buffer) {
     }
     for (let i = 0; i < n; i++) {
       while (!tokens.length) tokens = line().split(/\s+/).filter(Boolean).reverse();
-      out[i] = Number(tokens.pop());
+      // A float written as text is its shortest round-trip form: read it back as that float.
+      out[i] = type === 'float' ? Math.fround(Number(tokens.pop())) : Number(tokens.pop());
     }
     return out;
   };
