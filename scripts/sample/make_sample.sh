@@ -64,6 +64,8 @@ tri_pct=$(awk -v t="$triangles" -v n="$ntotal" 'BEGIN{printf "%.1f", 100*t/n}')
 fields=$("$py" "$here/frd_fields.py" "$work/rail.frd")
 echo "fields: $fields"
 eval "$fields"   # field_times= mises_min= mises_max= peeq_min= peeq_max= ... peeq_max_z= other_blocks=
+peeq_note=""
+[[ "$peeq_min" == -* ]] && peeq_note=" (below 0 where the extrapolation to the nodes undershoots)"
 (( field_times == frames - 1 )) || { echo "make_sample.sh: stress output at $field_times of $((frames - 1)) times" >&2; exit 1; }
 tip_force=$(awk '/total force/{getline; getline; f=$2} END{printf "%.2f", f/1000}' "$work/rail.dat")
 peak_force=$(awk '/total force/{getline; getline; if($2>m)m=$2} END{printf "%.2f", m/1000}' "$work/rail.dat")
@@ -126,12 +128,14 @@ Everything here is generated; re-running the script rebuilds it from the inputs 
   ${tip_force} kN). No contact is modelled (none occurs at this stroke).
 - **Frames**: ${frames} = the undeformed state + $((frames - 1)) output times; the largest nodal
   displacement grows monotonically to ${max_disp} mm (final frame).
-- **Result fields** (in \`rail.frd.gz\`, at every output time, per node): von Mises stress
-  and equivalent plastic strain. At the last step (time ${final_time}) von Mises ranges over
-  ${mises_min} … ${mises_max} MPa and PEEQ over ${peeq_min} … ${peeq_max}; the largest
-  values over all times are ${mises_peak} MPa (time ${mises_peak_time}) and ${peeq_peak}
-  (time ${peeq_peak_time}). At the last step the largest PEEQ is at z = ${peeq_max_z} mm
-  (undeformed position), in the hinge between the clamp and the holes.
+- **Result fields** (in \`rail.frd.gz\`, per node, at every output time): von Mises stress
+  and equivalent plastic strain (PEEQ).
+  - last step (time ${final_time}): von Mises ${mises_min} … ${mises_max} MPa;
+    PEEQ ${peeq_min} … ${peeq_max}${peeq_note};
+  - largest over all times: von Mises ${mises_peak} MPa (time ${mises_peak_time});
+    PEEQ ${peeq_peak} (time ${peeq_peak_time});
+  - the last step's largest PEEQ is at z = ${peeq_max_z} mm (undeformed position), in the
+    hinge near the clamp.
 
 ## Files
 - \`frames.tar.xz\` — \`frame_000.obj … ${last}\` and \`times.csv\` (columns
