@@ -194,13 +194,19 @@ namespace dynpm {
 namespace {
 
 // The main job end to end: build from CalculiX's own .frd, then a lossless extraction at full
-// resolution is the same animation as the OBJ sequence of that run; info describes the model.
+// resolution is the same animation as the OBJ sequence of that run; info describes the model
+// and its result fields.
 TEST(Cli, BuildFromFrdExtractFullIsTheInputAndInfoDescribesTheModel) {
   test::TempDir dir;
   const std::string frd = dir.file("rail.frd");
   ASSERT_EQ(
       std::system(("zcat '" + test::source_dir() + "/data/hat-rail/rail.frd.gz' > " + frd).c_str()),
       0);
+  // The sample's stress and plastic strain, listed by info on the .frd itself.
+  auto frd_info = dynpm_cli("info " + frd);
+  ASSERT_EQ(frd_info.exit_code, 0) << frd_info.output;
+  EXPECT_TRUE(contains(frd_info.output, "S_MISES") && contains(frd_info.output, "PEEQ"))
+      << frd_info.output;
   auto build = dynpm_cli("build " + frd + " --lossless -o " + dir.file("rail.dpm"));
   ASSERT_EQ(build.exit_code, 0) << build.output;
   EXPECT_TRUE(contains(build.output, "vertex splits rebuild the input")) << build.output;

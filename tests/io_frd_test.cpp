@@ -42,6 +42,7 @@ struct RealRun {
   std::string frd_gz, obj_folder;
   uint32_t vertices;
   size_t quads, triangles, steps;
+  std::vector<std::string> fields = {};  // in block order (ccx writes ERROR with S)
 };
 
 class FrdRealData : public ::testing::TestWithParam<RealRun> {};
@@ -110,7 +111,18 @@ TEST_P(FrdRealData, AgreesWithTheObjSequenceOfTheSameRun) {
     for (size_t i = 0; i < p.size(); ++i) worst = std::max(worst, double(std::abs(p[i] - q[i])));
     EXPECT_LT(worst, tolerance) << "step " << t;
   }
-  EXPECT_TRUE(frames.field_names().empty());  // these runs wrote DISP only
+  // Fields: zero in the undeformed frame, von Mises >= 0; the steel (yield 200 MPa) flows.
+  ASSERT_EQ(frames.field_names(), run.fields);
+  for (size_t f = 0; f < run.fields.size(); ++f) {
+    float peak = 0;
+    for (size_t t = 0; t < run.steps; ++t)
+      for (float x : field(*r.stream, f, t)) {
+        ASSERT_TRUE(std::isfinite(x) && (t > 0 || x == 0) && (x >= 0 || run.fields[f] != "S_MISES"))
+            << run.fields[f] << " = " << x << " at step " << t;
+        peak = std::max(peak, x);
+      }
+    EXPECT_GE(peak, run.fields[f] == "PEEQ" ? 0.01f : run.fields[f] == "ERROR" ? 0 : 200) << f;
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(
@@ -121,7 +133,8 @@ INSTANTIATE_TEST_SUITE_P(
                               test::shared_data() + "/crashbox-mixed-5k/crashbox-mixed-5k.frd.gz",
                               test::shared_data() + "/crashbox-mixed-5k/obj", 4929, 4827, 16, 41},
                       RealRun{"hat_rail", test::source_dir() + "/data/hat-rail/rail.frd.gz",
-                              test::sample_dir(), 2608, 2435, 123, 31}),
+                              test::sample_dir(), 2608, 2435, 123, 31,
+                              std::vector<std::string>{"S_MISES", "PEEQ", "ERROR"}}),
     [](const auto& run_info) { return std::string(run_info.param.name); });
 
 // Cutting or scribbling over a real file gives an error naming it, never a crash.

@@ -213,11 +213,12 @@ def read_result(r, header):
     return name, time, setname, values
 
 
-def read_frd(path):
+def read_frd(path, names=("DISP",)):
+    """Return nodes, elements and {name: [(index, time, setname, {node: values})]} for the
+    result blocks named in names (index: 1-based among the blocks of that name)."""
     r = Reader(path)
     nodes = elems = None
-    disp_blocks = []        # (block index, time, setname, {node: (ux,uy,uz)})
-    n_disp = 0
+    blocks = {n: [] for n in names}
     saw_end = False
     with r.f:
         while True:
@@ -243,12 +244,12 @@ def read_frd(path):
                 if nodes is None:
                     r.fail("result block before the node block", line)
                 name, time, setname, values = read_result(r, line)
-                if name.upper() == "DISP":
-                    n_disp += 1
-                    for n, v in values.items():
-                        if len(v) < 3:
-                            r.fail("DISP block %d has fewer than 3 components" % n_disp)
-                    disp_blocks.append((n_disp, time, setname, values))
+                name = name.upper()
+                if name in blocks:
+                    k = len(blocks[name]) + 1
+                    if name == "DISP" and any(len(v) < 3 for v in values.values()):
+                        r.fail("DISP block %d has fewer than 3 components" % k)
+                    blocks[name].append((k, time, setname, values))
             elif line.strip() == "9999":
                 saw_end = True
                 break
@@ -261,7 +262,7 @@ def read_frd(path):
     if not saw_end:
         print("frd_to_obj.py: warning: %s has no closing '9999' line (truncated?)" % path,
               file=sys.stderr)
-    return nodes, elems, disp_blocks
+    return nodes, elems, blocks
 
 
 def fmt_num(x):
@@ -270,7 +271,8 @@ def fmt_num(x):
 
 
 def convert(frd_path, outdir, quiet=False):
-    nodes, elems, disp_blocks = read_frd(frd_path)
+    nodes, elems, blocks = read_frd(frd_path)
+    disp_blocks = blocks["DISP"]
     if not disp_blocks:
         raise FrdError("%s: no DISP result blocks (add *NODE FILE with U to the deck)" % frd_path)
     bad = sorted({t for t, _ in elems.values() if t not in SURFACE_TYPES})

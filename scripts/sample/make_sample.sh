@@ -2,7 +2,8 @@
 # Build the dynpm sample data set data/hat-rail/ from scratch with real FE tools:
 #   gmsh (rail.geo -> shell mesh) -> gmsh_to_ccx.py (S4/S3 deck include)
 #   -> CalculiX ccx (rail.inp, static NLGEOM plastic bending collapse)
-#   -> frd_to_obj.py (OBJ sequence) -> check_frames.py -> pack into data/hat-rail/
+#   -> frd_to_obj.py (OBJ sequence) -> check_frames.py, frd_fields.py (stress and plastic
+#   strain at every output time) -> pack into data/hat-rail/
 #
 # usage: bash scripts/sample/make_sample.sh [OUTDIR]   (default: data/hat-rail)
 # env:   NPROC (threads for ccx, default 2), KEEP=1 keeps the work directory,
@@ -60,6 +61,12 @@ echo "check: $summary"
 eval "$summary"   # frames= nodes= quads= triangles= max_disp= final_time=
 ntotal=$((quads + triangles))
 tri_pct=$(awk -v t="$triangles" -v n="$ntotal" 'BEGIN{printf "%.1f", 100*t/n}')
+fields=$("$py" "$here/frd_fields.py" "$work/rail.frd")
+echo "fields: $fields"
+eval "$fields"   # field_times= mises_min= mises_max= peeq_min= peeq_max= ... peeq_max_z= other_blocks=
+peeq_note=""
+[[ "$peeq_min" == -* ]] && peeq_note=" (below 0 where the extrapolation to the nodes undershoots)"
+(( field_times == frames - 1 )) || { echo "make_sample.sh: stress output at $field_times of $((frames - 1)) times" >&2; exit 1; }
 tip_force=$(awk '/total force/{getline; getline; f=$2} END{printf "%.2f", f/1000}' "$work/rail.dat")
 peak_force=$(awk '/total force/{getline; getline; if($2>m)m=$2} END{printf "%.2f", m/1000}' "$work/rail.dat")
 
@@ -71,12 +78,19 @@ tar --sort=name --mtime=@0 --owner=0 --group=0 --numeric-owner --format=gnu \
     | xz -9e -T1 > "$out/frames.tar.xz"
 gzip -9n -c "$work/rail.frd" > "$work/rail.frd.gz"
 frd_note=""
-if (( $(stat -c %s "$work/rail.frd.gz") < 3000000 )); then
+frd_mb=$(awk -v b="$(stat -c %s "$work/rail.frd.gz")" 'BEGIN{printf "%.1f", b/1e6}')
+if (( $(stat -c %s "$work/rail.frd.gz") < 8000000 )); then
     cp "$work/rail.frd.gz" "$out/rail.frd.gz"
-    frd_note="- \`rail.frd.gz\` — CalculiX's own ASCII result file (gzip -9n): node block, ${quads} S4
-  (frd type 9) and ${triangles} S3 (frd type 7) shells, $((frames - 1)) DISP blocks (\`*NODE FILE, OUTPUT=2D\`)."
+    frd_note="- \`rail.frd.gz\` (${frd_mb} MB) — CalculiX's own ASCII result file (gzip -9n): node block,
+  ${quads} S4 (frd type 9) and ${triangles} S3 (frd type 7) shells, then for each of the
+  $((frames - 1)) output times a DISP block (\`*NODE FILE, OUTPUT=2D\`: U), a STRESS block (6
+  components) and a PE block (equivalent plastic strain) (\`*EL FILE, OUTPUT=2D\`: S, PEEQ)${other_blocks:+,
+  and the ${other_blocks} block ccx adds to S (its stress error estimate, in %)}. The element
+  results are extrapolated from the integration points to the shell's own nodes, one value
+  per node (so they need not lie on the hardening curve). dynpm reads STRESS as the node
+  field \`S_MISES\` (von Mises, MPa) and PE as \`PEEQ\`${other_blocks:+, and ${other_blocks} by its name}."
 else
-    frd_note="- (the compressed .frd exceeded 3 MB and is not shipped; re-run the script to get it)"
+    frd_note="- (the compressed .frd, ${frd_mb} MB, exceeded 8 MB and is not shipped; re-run the script to get it)"
 fi
 last=$(printf 'frame_%03d.obj' $((frames - 1)))
 if "$py" "$here/render_png.py" "$work/preview.png" "$work/obj/frame_000.obj" "$work/obj/$last"; then
@@ -90,7 +104,8 @@ cat > "$out/README.md" <<README
 Sample data for dynpm, made for this project by \`bash scripts/sample/make_sample.sh\`
 (gmsh ${gmsh_version}, CalculiX ${ccx_version}, Debian packages \`gmsh\` and \`calculix-ccx\`).
 Everything here is generated; re-running the script rebuilds it from the inputs in
-\`scripts/sample/\` (\`rail.geo\`, \`rail.inp\`, \`gmsh_to_ccx.py\`, \`frd_to_obj.py\`).
+\`scripts/sample/\` (\`rail.geo\`, \`rail.inp\`, \`gmsh_to_ccx.py\`, \`frd_to_obj.py\`,
+\`frd_fields.py\`).
 
 ## The model
 - **Geometry** (\`rail.geo\`, mm): an open top-hat profile swept 350 mm along z — hat top
@@ -113,6 +128,14 @@ Everything here is generated; re-running the script rebuilds it from the inputs 
   ${tip_force} kN). No contact is modelled (none occurs at this stroke).
 - **Frames**: ${frames} = the undeformed state + $((frames - 1)) output times; the largest nodal
   displacement grows monotonically to ${max_disp} mm (final frame).
+- **Result fields** (in \`rail.frd.gz\`, per node, at every output time): von Mises stress
+  and equivalent plastic strain (PEEQ).
+  - last step (time ${final_time}): von Mises ${mises_min} … ${mises_max} MPa;
+    PEEQ ${peeq_min} … ${peeq_max}${peeq_note};
+  - largest over all times: von Mises ${mises_peak} MPa (time ${mises_peak_time});
+    PEEQ ${peeq_peak} (time ${peeq_peak_time});
+  - the last step's largest PEEQ is at z = ${peeq_max_z} mm (undeformed position), in the
+    hinge near the clamp.
 
 ## Files
 - \`frames.tar.xz\` — \`frame_000.obj … ${last}\` and \`times.csv\` (columns
