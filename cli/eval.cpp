@@ -101,7 +101,8 @@ void print_table(const std::vector<std::string>& files, const FrameSource& frame
   }
 }
 
-// Each field's error and peak ratio in one cell: {"NAME": {"field_error_pct", "peak_ratio"}}.
+// Each field's error and peak in one cell: {"NAME": {"field_error_pct", "peak_ratio",
+// "peak_gap_pct"}}.
 void fields_json(Json& j, const std::vector<std::string>& fields, const LevelDistance& cell) {
   if (fields.empty()) return;
   j.begin_object("fields");
@@ -109,6 +110,7 @@ void fields_json(Json& j, const std::vector<std::string>& fields, const LevelDis
     j.begin_object(fields[f]);
     j.value("field_error_pct", cell.field_error_pct[f]);
     j.value("peak_ratio", cell.peak_ratio[f]);
+    j.value("peak_gap_pct", cell.peak_gap_pct[f]);
     j.end_object();
   }
   j.end_object();

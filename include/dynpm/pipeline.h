@@ -90,8 +90,10 @@ struct LevelDistance {
   double diagonal = 0;                                  // the reference diagonal itself
   // One per LevelsOptions::fields: the field error in % of the field's range, the peak ratio.
   // In LevelRow::max: the largest field error over the measured steps, and the peak ratio
-  // farthest below 1 (the smallest).
-  std::vector<double> field_error_pct, peak_ratio;
+  // farthest below 1 (the smallest). peak_gap_pct: how far the largest |value| shown lies below
+  // the original's, in % of the field's range (≤ the stored bound when the peak is kept; the
+  // ratio alone cannot say so for a step whose peak is small); in max, the largest.
+  std::vector<double> field_error_pct, peak_ratio, peak_gap_pct;
 };
 
 // One row of the table: one resolution.

@@ -93,6 +93,7 @@ Result<LevelsTable> evaluate_levels(const Topology& original, const FrameSource&
     row.steps.resize(table.steps.size());
     row.max.field_error_pct.assign(field_count, 0);
     row.max.peak_ratio.assign(field_count, std::numeric_limits<double>::infinity());
+    row.max.peak_gap_pct.assign(field_count, -std::numeric_limits<double>::infinity());
     table.rows.push_back(std::move(row));
     level_faces.push_back(nav.topology());
     auto prepared = prepare_topology("the level", level_faces.back());
@@ -151,6 +152,9 @@ Result<LevelsTable> evaluate_levels(const Topology& original, const FrameSource&
         double shown_peak = 0;
         for (float v : level_values[f]) shown_peak = std::max<double>(shown_peak, std::abs(v));
         cell.peak_ratio.push_back(original_peak[f] > 0 ? shown_peak / original_peak[f] : 1.0);
+        const double range = table.field_ranges[f];
+        cell.peak_gap_pct.push_back(range > 0 ? 100 * (original_peak[f] - shown_peak) / range
+                                              : 0.0);
       }
       auto r = hausdorff(*original_step, *level_step, h, pairs);
       if (!r) return Status::error(where + r.message());
@@ -163,6 +167,7 @@ Result<LevelsTable> evaluate_levels(const Topology& original, const FrameSource&
         cell.field_error_pct.push_back(range > 0 ? 100 * r->fields[f].max / range : 0.0);
         row.max.field_error_pct[f] = std::max(row.max.field_error_pct[f], cell.field_error_pct[f]);
         row.max.peak_ratio[f] = std::min(row.max.peak_ratio[f], cell.peak_ratio[f]);
+        row.max.peak_gap_pct[f] = std::max(row.max.peak_gap_pct[f], cell.peak_gap_pct[f]);
       }
       if (column != table.steps.end()) row.steps[size_t(column - table.steps.begin())] = cell;
       if (k == 0 || cell.hausdorff_pct > row.max.hausdorff_pct) {

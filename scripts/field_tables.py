@@ -1,0 +1,86 @@
+#!/usr/bin/env python3
+"""Result fields through the level of detail, measured (docs/RESULTS.md, issue 18's tables).
+
+For each input and field: `dynpm build` with fields in the cost (the default) and with
+`--field-weight 0` (geometry only), then `dynpm eval --field` of both at 5 % and 25 % of the
+vertices over every step: the field error (% of the field's range), the peak ratio and the
+peak gap (how far the largest |value| shown is below the original's, % of the range; the
+stored bound is 0.1 %), and the two-sided Hausdorff distance (% of the diagonal).
+
+    python3 scripts/field_tables.py --dynpm build/release/cli/dynpm INPUT:FIELD[,FIELD]...
+
+Standard library only. Prints markdown; every number comes from the dynpm runs made here.
+"""
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+
+RATIOS = (5, 25)
+
+
+def run(cmd):
+    r = subprocess.run(cmd, capture_output=True, text=True)
+    if r.returncode != 0:
+        sys.exit("failed: %s\n%s" % (" ".join(cmd), r.stderr))
+    return r.stdout
+
+
+def measure(dynpm, source, fields, weight, work):
+    """eval's JSON of one build: {ratio: row} with every step's cells."""
+    dpm = os.path.join(work, "w%s.dpm" % weight)
+    cmd = [dynpm, "build", source, "-o", dpm]
+    if weight is not None:
+        cmd += ["--field-weight", str(weight)]
+    run(cmd)
+    out = os.path.join(work, "w%s.json" % weight)
+    info = json.loads(run([dynpm, "info", source, "--json"]))
+    steps = ",".join(str(t) for t in range(info["steps"]))
+    run([dynpm, "eval", source, "--dpm", dpm, "--ratios", ",".join(map(str, RATIOS)),
+         "--field", ",".join(fields), "--steps", steps, "--json", out])
+    with open(out) as f:
+        return {row["ratio_pct"]: row for row in json.load(f)["ratios"]}
+
+
+def main():
+    p = argparse.ArgumentParser()
+    p.add_argument("--dynpm", default="build/release/cli/dynpm")
+    p.add_argument("inputs", nargs="+", help="INPUT:FIELD[,FIELD]")
+    a = p.parse_args()
+    for spec in a.inputs:
+        source, fields = spec.rsplit(":", 1)
+        fields = fields.split(",")
+        with tempfile.TemporaryDirectory() as work:
+            with_fields = measure(a.dynpm, source, fields, None, work)
+            geometry = measure(a.dynpm, source, fields, 0, work)
+        name = os.path.basename(source)
+        print("\n#### %s\n" % name)
+        print("| ratio | field | field error, geometry only → with fields (max over steps) | ratio | "
+              "peak ratio (smallest) | peak gap % (largest) | Hausdorff %, geometry only → with fields |")
+        print("|---|---|---|---|---|---|---|")
+        for r in RATIOS:
+            g, w = geometry[r]["max"], with_fields[r]["max"]
+            for f in fields:
+                ge, we = g["fields"][f]["field_error_pct"], w["fields"][f]["field_error_pct"]
+                print("| %d %% | %s | %.3g → %.3g | %.2f | %.4f | %.3f | %.3g → %.3g (%+.0f %%) |" % (
+                    r, f.replace("|", "\\|"), ge, we, we / ge if ge > 0 else 0, w["fields"][f]["peak_ratio"],
+                    w["fields"][f]["peak_gap_pct"], g["hausdorff_pct"], w["hausdorff_pct"],
+                    100 * (w["hausdorff_pct"] / g["hausdorff_pct"] - 1) if g["hausdorff_pct"] > 0 else 0))
+        print("\nEvery step (field error %, geometry only → with fields; peak gap % with fields):\n")
+        steps = [c["step"] for c in with_fields[RATIOS[0]]["steps"]]
+        print("| field | ratio | " + " | ".join("t=%d" % t for t in steps) + " |")
+        print("|---|---|" + "---|" * len(steps))
+        for f in fields:
+            for r in RATIOS:
+                cells = []
+                for cg, cw in zip(geometry[r]["steps"], with_fields[r]["steps"]):
+                    cells.append("%.2g→%.2g (%.2f)" % (cg["fields"][f]["field_error_pct"],
+                                                      cw["fields"][f]["field_error_pct"],
+                                                      cw["fields"][f]["peak_gap_pct"]))
+                print("| %s | %d %% | %s |" % (f.replace("|", "\\|"), r, " | ".join(cells)))
+
+
+if __name__ == "__main__":
+    main()
