@@ -11,7 +11,6 @@ import { mkdirSync, readdirSync, readFileSync, rmSync, writeFileSync } from 'nod
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { test } from 'node:test';
-import { crc32 } from 'node:zlib';
 
 import { decompress } from 'fzstd';
 
@@ -132,17 +131,6 @@ function chunksOf(bytes) {
   return chunks;
 }
 
-function chunk(tag, payload) {
-  const out = new Uint8Array(24 + payload.length);
-  const view = new DataView(out.buffer);
-  for (let i = 0; i < 4; i++) out[i] = tag.charCodeAt(i);
-  view.setUint32(8, payload.length, true);
-  view.setUint32(12, payload.length, true);
-  view.setUint32(16, crc32(payload), true);
-  out.set(payload, 24);
-  return out;
-}
-
 function concat(parts) {
   const out = new Uint8Array(parts.reduce((n, p) => n + p.length, 0));
   let at = 0;
@@ -155,7 +143,7 @@ function mutants(name, bytes) {
   const chunks = chunksOf(bytes);
   const magic = bytes.subarray(0, 12);
   const rebuild = (edit = () => {}) =>
-    concat([magic, ...chunks.map((c, k) => chunk(c.tag, edit(k, c.payload.slice()) ?? c.payload))]);
+    concat([magic, ...chunks.map((c, k) => chunkBytes(c.tag, edit(k, c.payload.slice()) ?? c.payload))]);
   const plain = rebuild();
   const out = [{ name: `${name} stored`, bytes: plain }];
   const add = (what, b) => out.push({ name: `${name} stored, ${what}`, bytes: b });
@@ -197,9 +185,9 @@ function mutants(name, bytes) {
       return p;
     }));
   add('a byte after END', concat([plain, Uint8Array.of(0)]));
-  add('END twice', concat([plain, chunk('END ', new Uint8Array(0))]));
+  add('END twice', concat([plain, chunkBytes('END ', new Uint8Array(0))]));
   const withoutEnd = plain.subarray(0, plain.length - 24);
-  add('END not empty', concat([withoutEnd, chunk('END ', Uint8Array.of(0))]));
+  add('END not empty', concat([withoutEnd, chunkBytes('END ', Uint8Array.of(0))]));
   return out;
 }
 

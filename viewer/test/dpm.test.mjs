@@ -6,45 +6,7 @@ import { test } from 'node:test';
 import { crc32 } from 'node:zlib';
 
 import { DpmDecoder, Navigator, readDpm, ShownValues, updateIndices } from '../src/dpm.js';
-
-class Bytes {
-  constructor() {
-    this.b = [];
-  }
-  u8(v) {
-    this.b.push(v & 0xff);
-  }
-  u16(v) {
-    this.u8(v), this.u8(v >> 8);
-  }
-  u32(v) {
-    for (let i = 0; i < 4; i++) this.u8(v >>> (8 * i));
-  }
-  f32(v) {
-    const d = new DataView(new ArrayBuffer(4));
-    d.setFloat32(0, v, true);
-    for (let i = 0; i < 4; i++) this.u8(d.getUint8(i));
-  }
-  f64(v) {
-    const d = new DataView(new ArrayBuffer(8));
-    d.setFloat64(0, v, true);
-    for (let i = 0; i < 8; i++) this.u8(d.getUint8(i));
-  }
-  varint(v) {
-    while (v >= 0x80) this.u8((v & 0x7f) | 0x80), (v = Math.floor(v / 128));
-    this.u8(v);
-  }
-  svarint(v) {
-    this.varint(v >= 0 ? 2 * v : -2 * v - 1);
-  }
-  string(s) {
-    const e = new TextEncoder().encode(s);
-    this.u16(e.length), e.forEach((x) => this.u8(x));
-  }
-  get bytes() {
-    return Uint8Array.from(this.b);
-  }
-}
+import { Bytes } from './fields_fixture.mjs';
 
 // A chunk; with `frame` (payload → zstd frame bytes) stored compressed.
 function chunk(out, tag, payload, frame = null) {

@@ -7,7 +7,8 @@ import { crc32 } from 'node:zlib';
 
 import { DpmDecoder, Navigator } from '../src/dpm.js';
 
-class Bytes {
+// Little-endian bytes of FORMAT.md's types, for writing test files.
+export class Bytes {
   constructor() {
     this.b = [];
   }
