@@ -86,8 +86,8 @@ case "${1:-}" in
     "$dynpm" build build/sample/rail.frd -o build/demo/rail.dpm
     echo
     echo "== 3. Any resolution at any time step: 10% of the vertices at the last step"
-    echo "\$ dynpm extract build/demo/rail.dpm --ratio 0.1 --step 30 -o build/demo/rail10_step30.obj"
-    "$dynpm" extract build/demo/rail.dpm --ratio 0.1 --step 30 -o build/demo/rail10_step30.obj
+    echo "\$ dynpm extract build/demo/rail.dpm --ratio 0.1 --step 30 -o build/demo/rail10_step30.vtu"
+    "$dynpm" extract build/demo/rail.dpm --ratio 0.1 --step 30 -o build/demo/rail10_step30.vtu
     echo
     echo "Browse it with time and resolution sliders: $dynpm view build/demo/rail.dpm"
     ;;

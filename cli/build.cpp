@@ -8,6 +8,7 @@
 #include "args.h"
 #include "commands.h"
 #include "dynpm/pipeline.h"
+#include "dynpm/text.h"
 #include "inputs.h"
 #include "json.h"
 #include "outputs.h"
@@ -141,6 +142,15 @@ int run_build(std::span<char* const> arguments) {
   else
     std::printf("positions within %.3g (%.2g of the diagonal %.4g)\n", mesh->max_error,
                 of_diagonal(mesh->max_error, mesh->diagonal()), mesh->diagonal());
+  // Fields: each quantized to its bound (docs/FORMAT.md "Fields"), in the cost unless weighed 0.
+  for (const ProgressiveField& f : mesh->fields) {
+    std::printf("field   %s (%s), %.4g … %.4g: ", printable(f.info.name).c_str(),
+                to_string(f.info.location), f.min, f.max);
+    if (f.lossless)
+      std::printf("lossless\n");
+    else
+      std::printf("within %.3g\n", f.max_error);
+  }
   // "0.7x smaller" reads as a gain: a file larger than the floats says so.
   const double ratio = raw / double(bytes.size());
   std::printf("wrote   %s: %zu bytes, %.2f bytes per vertex per step, %.1f× %s than float32\n",
