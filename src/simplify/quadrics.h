@@ -74,6 +74,7 @@ class FieldTerm {
   // Σ over the cost fields of (scale · spread)² of v0's and v1's values together, in key step k.
   // Symmetric in v0 and v1.
   double add_field_term(uint32_t v0, uint32_t v1, size_t k) const {
+    if (fields_.empty()) return 0;
     double sum = 0;
     const float* a = interval(v0, k);
     const float* b = interval(v1, k);
@@ -87,11 +88,12 @@ class FieldTerm {
   void merge(uint32_t v0, uint32_t v1);
 
  private:
+  // data() + offset, not &intervals_[offset]: without cost fields the vector is empty.
   const float* interval(uint32_t v, size_t k) const {
-    return &intervals_[((size_t{v} * key_count_ + k) * fields_.size()) * 2];
+    return intervals_.data() + ((size_t{v} * key_count_ + k) * fields_.size()) * 2;
   }
   float* interval(uint32_t v, size_t k) {
-    return &intervals_[((size_t{v} * key_count_ + k) * fields_.size()) * 2];
+    return intervals_.data() + ((size_t{v} * key_count_ + k) * fields_.size()) * 2;
   }
 
   struct Chosen {
