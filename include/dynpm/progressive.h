@@ -115,6 +115,24 @@ bool apply_split(const ProgressiveMesh& mesh, uint32_t i, std::span<Face> faces,
 void undo_split(const ProgressiveMesh& mesh, uint32_t i, std::span<Face> faces,
                 uint32_t& face_count);
 
+// The merges that undoing split i makes in FORMAT.md's "Shown values" pass: merge(into, from)
+// for its new vertex into its parent (node fields), or for each face it re-creates, the last
+// first, into its heir (element fields). `face_end` is the face count after split i; returns the
+// count before it. Navigator::field_values() and the build's field errors walk the same pass.
+template <class Merge>
+uint32_t merge_undone_split(const ProgressiveMesh& mesh, uint32_t i, bool per_face,
+                            uint32_t face_end, Merge&& merge) {
+  if (!per_face) {
+    merge(mesh.parent[i], mesh.base_vertex_count + i);
+    return face_end;
+  }
+  uint32_t created = 0;
+  for (uint32_t k = mesh.wing_start[i]; k < mesh.wing_start[i + 1]; ++k)
+    created += mesh.wings[k].was_triangle();
+  for (uint32_t g = face_end; g-- > face_end - created;) merge(mesh.face_heir[g], g);
+  return face_end - created;
+}
+
 // Positions are quantized here (unless lossless), so that what the file holds and what the
 // navigator shows agree: call before use when the mesh did not come from read_dpm().
 void quantize_positions(ProgressiveMesh& mesh);

@@ -64,7 +64,6 @@ void Navigator::field_values(size_t field, size_t t, std::span<float> out,
   const ProgressiveField& f = m.fields[field];
   const bool per_face = f.info.location == FieldLocation::kElement;
   const std::vector<float>& values = f.values[t];
-  const uint32_t b = m.base_vertex_count;
   const uint32_t shown = per_face ? face_count_ : vertex_count();
   assert(out.size() >= shown);
   // The pass of FORMAT.md run from the last split present down to this level: each undone split
@@ -72,17 +71,8 @@ void Navigator::field_values(size_t field, size_t t, std::span<float> out,
   // Merge order: faces of a split in reverse creation order, as the file's pass.
   auto each_merge = [&](auto&& merge) {
     uint32_t face_end = static_cast<uint32_t>(values.size());  // faces after split i
-    for (uint32_t i = m.split_count(); i-- > level_;) {
-      if (per_face) {
-        uint32_t created = 0;
-        for (uint32_t k = m.wing_start[i]; k < m.wing_start[i + 1]; ++k)
-          created += m.wings[k].was_triangle();
-        for (uint32_t g = face_end; g-- > face_end - created;) merge(m.face_heir[g], g);
-        face_end -= created;
-      } else {
-        merge(m.parent[i], b + i);
-      }
-    }
+    for (uint32_t i = m.split_count(); i-- > level_;)
+      face_end = merge_undone_split(m, i, per_face, face_end, merge);
   };
   if (aggregate == FieldAggregate::kMaxAbs) {
     std::vector<float> cur(values.begin(), values.end());

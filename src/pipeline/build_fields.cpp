@@ -81,15 +81,7 @@ void measure_field_errors(ProgressiveMesh& pm, ProgressiveField& field) {
     };
     uint32_t face_end = pm.full_face_count;
     for (uint32_t i = splits; i-- > 0;) {
-      if (per_face) {
-        uint32_t created = 0;
-        for (uint32_t k = pm.wing_start[i]; k < pm.wing_start[i + 1]; ++k)
-          created += pm.wings[k].was_triangle();
-        for (uint32_t g = face_end; g-- > face_end - created;) merge(pm.face_heir[g], g);
-        face_end -= created;
-      } else {
-        merge(pm.parent[i], pm.base_vertex_count + i);
-      }
+      face_end = merge_undone_split(pm, i, per_face, face_end, merge);
       level[i] = std::max(level[i], spread);
     }
   }
