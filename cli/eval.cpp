@@ -38,7 +38,9 @@ const VerbSpec kSpec{
     "step files.",
     {{"--dpm", "", true, "MODEL.dpm", "the progressive mesh (from dynpm build)"},
      {"--ratios", "", true, "R,R,…", "resolutions in % of the full vertex count, each in (0, 100]"},
-     {"--steps", "", true, "T,T,…", "time steps of the table (default: first, middle, last)"},
+     {"--steps", "", true, "T,T,…|every:N",
+      "time steps of the table (default: first, middle, last); every:N samples steps\n"
+      "0, N, 2N, … and the last, and makes the max column over those (a long run at scale)"},
      {"--max-over", "", true, "all|chosen", "steps of the 'max' column (default all)"},
      {"--field", "", true, "NAME,…", "result fields to measure (field error, peak ratio)"},
      {"--aggregate", "", true, "max|mean",
@@ -198,12 +200,19 @@ int run_eval(std::span<char* const> arguments) {
     options.ratios.push_back(*r);
   }
   std::vector<uint64_t> step_values;
-  if (auto text = args.value("--steps"))
+  uint64_t every = 0;  // --steps every:N, resolved once the step count is known
+  if (auto text = args.value("--steps"); text && text->starts_with("every:")) {
+    auto n = parse_whole("--steps every:N", text->substr(6), 1, 0xffffffffu);
+    if (!n) return fail_usage(n.message());
+    every = *n;
+    options.max_over_all_steps = false;  // a sample: the max over what was measured
+  } else if (text) {
     for (const std::string& item : split_list(*text)) {
       auto t = parse_whole("--steps", item, 0, 0xffffffffu);
       if (!t) return fail_usage(t.message() + " (step numbers separated by commas)");
       step_values.push_back(*t);
     }
+  }
   if (auto text = args.value("--max-over")) {
     if (*text != "all" && *text != "chosen") return fail_usage("--max-over is 'all' or 'chosen'");
     options.max_over_all_steps = *text == "all";
@@ -240,6 +249,10 @@ int run_eval(std::span<char* const> arguments) {
          *dpm_path + " is a prefix of a file; it holds " + std::to_string(mesh->split_count()) +
              " of " + std::to_string(mesh->full_split_count) + " splits, so the finest level is " +
              std::to_string(mesh->vertex_count()) + " vertices");
+  if (every > 0) {
+    for (uint64_t t = 0; t < steps; t += every) step_values.push_back(t);
+    if (step_values.back() != steps - 1) step_values.push_back(steps - 1);
+  }
   for (uint64_t t : step_values) {
     if (t > steps - 1)
       return fail_usage("--steps needs step numbers in [0, " + std::to_string(steps - 1) +

@@ -156,6 +156,21 @@ TEST(Cli, EvalMeasuresAProgressiveMeshAtSeveralResolutionsAndSteps) {
   EXPECT_TRUE(svg.rfind("<svg", 0) == 0 || svg.rfind("<?xml", 0) == 0) << svg.substr(0, 100);
   EXPECT_TRUE(contains(svg, "</svg>"));
   EXPECT_TRUE(contains(svg, "<polyline"));
+
+  // A sample of the steps for long animations: 0, 10, 20 and the last, the max over those.
+  auto sampled = dynpm_cli("eval '" + sample_glob() + "' --dpm " + dir.file("rail.dpm") +
+                           " --ratios 10 --steps every:10 --json " + dir.file("s.json"));
+  ASSERT_EQ(sampled.exit_code, 0) << sampled.output;
+  EXPECT_TRUE(contains(sampled.output, "max over these steps")) << sampled.output;
+  const std::string sampled_json = read_text(dir.file("s.json"));
+  std::vector<double> measured = json_numbers(sampled_json, "step");
+  ASSERT_EQ(measured.size(), 4u + 1u) << sampled_json;  // the four steps, then the max's step
+  measured.pop_back();
+  EXPECT_EQ(measured, (std::vector<double>{0, 10, 20, 30})) << sampled_json;
+  EXPECT_TRUE(contains(sampled_json, "\"max_over\": \"chosen\"")) << sampled_json;
+  auto zero = dynpm_cli("eval '" + sample_glob() + "' --dpm " + dir.file("rail.dpm") +
+                        " --ratios 10 --steps every:0");
+  EXPECT_EQ(zero.exit_code, 2) << zero.output;
 }
 
 TEST(Cli, EvalRefusesAModelOfAnotherMeshAndBadArguments) {
