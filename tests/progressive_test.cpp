@@ -189,8 +189,15 @@ TEST(Progressive, DamagedFilesAreRefusedWithThePlace) {
   ASSERT_FALSE(wrong.ok());
   EXPECT_NE(wrong.message().find("not a .dpm file"), std::string::npos);
   std::string future = bytes;
-  future[8] = 2;
-  EXPECT_NE(decode_dpm(future, "v2.dpm").message().find("version 2"), std::string::npos);
+  future[8] = 3;
+  EXPECT_NE(
+      decode_dpm(future, "v3.dpm").message().find("v3.dpm: byte 8: version 3 is not supported"),
+      std::string::npos);
+  // Version 1 coded SPLT differently (docs/FORMAT.md): refused with what to do about it.
+  std::string old = bytes;
+  old[8] = 1;
+  EXPECT_EQ(decode_dpm(old, "v1.dpm").message(),
+            "v1.dpm: byte 8: written by an older dynpm (version 1): build it again");
   std::string trailing = bytes + "x";
   EXPECT_FALSE(decode_dpm(trailing, "trailing.dpm").ok());
   // Every single-byte cut of the header region is an error or a prefix, never a crash.
@@ -200,6 +207,45 @@ TEST(Progressive, DamagedFilesAreRefusedWithThePlace) {
       EXPECT_FALSE(p->complete);
     }
   }
+}
+
+// A SPLT is sections (docs/FORMAT.md "SPLT payload"): 2 + m of them, their sizes adding up to the
+// payload, each range-coded one decoded to its last byte.
+TEST(Progressive, SplitSectionsAreReadToTheirLastByte) {
+  const Animation a = load(test::sample_dir() + "/frame_00*.obj");
+  const std::string bytes = encode_dpm(build(a, false));
+  const auto chunks = chunks_of(bytes);
+  ASSERT_EQ(chunks[2].first, "SPLT");
+  const size_t at = chunks[2].second, next = chunks[3].second;
+  std::string payload = bytes.substr(at + 24, next - at - 24);
+  uint32_t count, last_size;
+  std::memcpy(&count, payload.data() + 8, 4);
+  EXPECT_EQ(count, 2 + a.step_count());
+  std::memcpy(&last_size, payload.data() + 12 + 4 * (count - 1), 4);
+  // The SPLT with its payload changed, and what the reader must say about it.
+  const auto refused = [&](std::string changed, const std::string& why) {
+    const std::string file = bytes.substr(0, at) +
+                             chunk("SPLT", 0, uint32_t(changed.size()), changed) +
+                             bytes.substr(next);
+    auto r = decode_dpm(file, "s.dpm");
+    ASSERT_FALSE(r.ok()) << why;
+    EXPECT_NE(r.message().find("s.dpm: byte " + std::to_string(at + 24) + ": " + why),
+              std::string::npos)
+        << r.message();
+  };
+  std::string p = payload;
+  p[8] = char(count + 1);
+  refused(p, "the SPLT does not have 2 + " + std::to_string(a.step_count()) + " sections");
+  refused(payload + "x", "the SPLT's section sizes do not add up to its payload");
+  // The last step's positions with a byte more, and with a byte less.
+  const auto resized = [&](int delta) {
+    std::string q = payload;
+    const uint32_t size = last_size + uint32_t(delta);
+    std::memcpy(q.data() + 12 + 4 * (count - 1), &size, 4);
+    return delta > 0 ? q + std::string(size_t(delta), '\0') : q.substr(0, q.size() - 1);
+  };
+  refused(resized(1), "the positions of step " + std::to_string(count - 3) + " leave bytes unread");
+  refused(resized(-1), "the positions of step " + std::to_string(count - 3) + " are cut short");
 }
 
 // A zstd frame (RFC 8878) declaring `declared` bytes and holding `held` zero bytes in RLE blocks.

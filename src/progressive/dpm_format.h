@@ -16,7 +16,7 @@ inline constexpr std::string_view kMagic{
     "\x89"
     "DPM\r\n\x1a\n",
     8};
-inline constexpr uint32_t kVersion = 1;
+inline constexpr uint32_t kVersion = 2;
 inline constexpr size_t kChunkHeaderSize = 24;
 // Bound on a chunk's stored and decompressed sizes (a corrupt header cannot ask for more).
 inline constexpr uint64_t kMaxRawChunk = uint64_t{1} << 31;
@@ -25,6 +25,9 @@ inline constexpr uint64_t kMaxRawChunk = uint64_t{1} << 31;
 inline constexpr uint64_t kMaxZstdRatio = 32768;
 // The longest varint the reader takes (ByteReader::varint: 64 bits, 7 per byte).
 inline constexpr double kMaxVarint = 10;
+// A bound on the bytes of one range-coded integer (FORMAT.md "Range coding": about 110 bits at
+// most), loose so that it stays a bound whatever the models learned.
+inline constexpr double kMaxCodedInteger = 64;
 
 inline uint32_t crc32(std::string_view bytes) {
   static const std::array<uint32_t, 256> table = [] {
@@ -78,16 +81,13 @@ inline Grid grid_of(const ProgressiveMesh& mesh) {
   return {mesh.bbox_min, mesh.quant_step, mesh.lossless};
 }
 
-// The prediction of vertex v's coordinate c at step t from values already known.
-inline int64_t predict(const ProgressiveMesh& mesh, const Grid& g, uint32_t v, size_t t, int c) {
+// The prediction of base vertex v's coordinate c at step t from values already known (FORMAT.md
+// "Positions", in BASE); split vertices are coded in position_coding.cpp.
+inline int64_t predict_base(const ProgressiveMesh& mesh, const Grid& g, uint32_t v, size_t t,
+                            int c) {
   auto q = [&](uint32_t u, size_t s) { return g.q(mesh.positions[s][size_t{u} * 3 + c], c); };
-  if (v < mesh.base_vertex_count) {
-    if (t > 0) return q(v, t - 1);
-    return v > 0 ? q(v - 1, 0) : 0;
-  }
-  const uint32_t p = mesh.parent[v - mesh.base_vertex_count];
-  if (t == 0) return q(p, 0);
-  return g.add(q(v, t - 1), g.residual(q(p, t), q(p, t - 1)));
+  if (t > 0) return q(v, t - 1);
+  return v > 0 ? q(v - 1, 0) : 0;
 }
 
 // A result field's q-values (docs/FORMAT.md "Fields: FDEF and FLDS"): integers on the field's

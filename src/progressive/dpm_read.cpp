@@ -7,12 +7,16 @@
 #include <cmath>
 #include <cstring>
 #include <memory>
+#include <optional>
+#include <span>
 #include <string>
+#include <vector>
 
 #include "bytes.h"
 #include "dpm_format.h"
 #include "dpm_read_fields.h"
 #include "dynpm/progressive.h"
+#include "position_coding.h"
 
 namespace dynpm {
 namespace {
@@ -60,9 +64,11 @@ class Decoder {
       return fail(0, "not a .dpm file (no DPM signature)");
     uint32_t version;
     std::memcpy(&version, bytes_.data() + kMagic.size(), 4);
+    if (version == 1)
+      return fail(kMagic.size(), "written by an older dynpm (version 1): build it again");
     if (version != kVersion)
       return fail(kMagic.size(), "version " + std::to_string(version) +
-                                     " is not supported (this dynpm reads version 1)");
+                                     " is not supported (this dynpm reads version 2)");
     pos_ = kMagic.size() + 4;
 
     std::string payload, tag;
@@ -229,9 +235,9 @@ class Decoder {
   }
 
   // The most bytes a BASE or SPLT payload can take for the counts in HEAD, each value at the
-  // longest encoding the reader accepts (docs/FORMAT.md). A split's moved faces are bounded only
-  // by the face count, which makes the SPLT bound loose but still a bound. An FLDS: its BASE's or
-  // SPLT's counts; FDEF and optional chunks: 2^31.
+  // longest encoding the reader accepts (docs/FORMAT.md), its section headers included. A split's
+  // moved faces are bounded only by the face count, which makes the SPLT bound loose but still a
+  // bound. An FLDS: its BASE's or SPLT's counts; FDEF and optional chunks: 2^31.
   double payload_limit(std::string_view tag) const {
     const ProgressiveMesh& m = mesh_;
     if (tag == "FLDS")
@@ -244,9 +250,13 @@ class Decoder {
              m.base_face_count * (1 + 4 * kMaxVarint + per_face_attributes);
     if (tag != "SPLT") return double(kMaxRawChunk);
     const double splits = double(m.full_split_count) - double(m.split_count());
-    const double per_split = kMaxVarint + 4 + 1 + 4 * (1 + 2 * kMaxVarint) + kMaxVarint +
-                             kMaxVarint * m.full_face_count + per_vertex + 4 * per_face_attributes;
-    return 8 + splits * per_split;
+    const double per_record =
+        kMaxVarint + 4 + 1 + 4 * (1 + 2 * kMaxVarint) + kMaxVarint + kMaxVarint * m.full_face_count;
+    const double per_attributes = 2 * kMaxVarint + 4 * per_face_attributes;
+    // A range-coded integer takes at most kMaxCodedInteger bytes; a section adds its 5 flushed.
+    const double per_positions = steps * 3 * kMaxCodedInteger;
+    return 12 + 4 * (2 + steps) + 5 * (2 + steps) +
+           splits * (per_record + per_attributes + per_positions);
   }
 
   Status expect_chunk(const char* tag, std::string& payload, const char* what) {
@@ -259,8 +269,8 @@ class Decoder {
   }
 
   Status bad(const ByteReader& r, const std::string& what) const {
-    return fail(payload_start_,
-                what + " (at byte " + std::to_string(r.offset()) + " of the chunk's data)");
+    return fail(payload_start_, what + " (at byte " + std::to_string(section_start_ + r.offset()) +
+                                    " of the chunk's data)");
   }
 
   Status parse_head(std::string_view payload) {
@@ -318,6 +328,7 @@ class Decoder {
     if (!r.ok()) return bad(r, "the header is too short");
     if (r.remaining() != 0) return bad(r, "unexpected bytes after the header");
     m.positions.resize(steps);
+    models_.emplace(steps);
     return {};
   }
 
@@ -348,6 +359,7 @@ class Decoder {
     return r.ok() ? Status{} : bad(r, "face attributes are cut short");
   }
 
+  // The base vertices' positions, [begin, end) (svarints, as in version 1).
   Status read_positions(ByteReader& r, uint32_t begin, uint32_t end) {
     const size_t steps = mesh_.step_count();
     if (!r.can_hold(uint64_t{end - begin} * steps * 3, 1)) return bad(r, "positions are cut short");
@@ -359,7 +371,7 @@ class Decoder {
     for (size_t t = 0; t < steps; ++t)
       for (uint32_t v = begin; v < end; ++v)
         for (int c = 0; c < 3; ++c) {
-          const int64_t q = g.add(predict(mesh_, g, v, t, c), r.svarint());
+          const int64_t q = g.add(predict_base(mesh_, g, v, t, c), r.svarint());
           if (!g.lossless && (q < -2 || double(q) > top[c]))
             return bad(r, "a position is far outside the bounding box");
           mesh_.positions[t][size_t{v} * 3 + c] = g.p(q, c);
@@ -395,15 +407,13 @@ class Decoder {
     return {};
   }
 
-  Status parse_splits(std::string_view payload) {
-    ByteReader r(payload);
+  // The records and attributes sections of the n splits from `first` (docs/FORMAT.md "Split
+  // records", "Split attributes"): for now the bytes version 1 wrote (varints).
+  Status read_records_sections(std::string_view records, std::string_view attributes,
+                               uint32_t first, uint32_t n) {
+    ByteReader r(records);
     ProgressiveMesh& m = mesh_;
-    const uint32_t first = r.get<uint32_t>();
-    const uint32_t n = r.get<uint32_t>();
-    if (!r.ok() || first != m.split_count())
-      return bad(r, "splits out of order (expected split " + std::to_string(m.split_count()) + ")");
-    if (n == 0 || n > m.full_split_count - first || !r.can_hold(n, 7))
-      return bad(r, "the split count is not valid");
+    if (!r.can_hold(n, 7)) return bad(r, "the split records are shorter than their count");
     uint32_t face_count = face_count_;
     for (uint32_t i = first; i < first + n; ++i) {
       const uint32_t v0 = m.base_vertex_count + i;
@@ -448,22 +458,60 @@ class Decoder {
       if (!r.ok()) return bad(r, "split records are cut short");
       face_count += created;
     }
+    if (r.remaining() != 0) return bad(r, "unexpected bytes after the split records");
     if (face_count > m.full_face_count)
       return bad(r, "splits create more faces than the header says");
     if (first + n == m.full_split_count && face_count != m.full_face_count)
       return bad(r, "the splits create fewer faces than the header says");
-    DYNPM_RETURN_IF_ERROR(read_vertex_attributes(r, n));
-    DYNPM_RETURN_IF_ERROR(read_face_attributes(r, face_count - face_count_));
-    DYNPM_RETURN_IF_ERROR(
-        read_positions(r, m.base_vertex_count + first, m.base_vertex_count + first + n));
-    if (r.remaining() != 0) return bad(r, "unexpected bytes after the splits");
+    section_start_ += records.size();  // the attributes follow the records
+    ByteReader a(attributes);
+    DYNPM_RETURN_IF_ERROR(read_vertex_attributes(a, n));
+    DYNPM_RETURN_IF_ERROR(read_face_attributes(a, face_count - face_count_));
+    if (a.remaining() != 0) return bad(a, "unexpected bytes after the split attributes");
+    return {};
+  }
+
+  Status parse_splits(std::string_view payload) {
+    ByteReader r(payload);
+    ProgressiveMesh& m = mesh_;
+    const uint32_t first = r.get<uint32_t>();
+    const uint32_t n = r.get<uint32_t>();
+    if (!r.ok() || first != m.split_count())
+      return bad(r, "splits out of order (expected split " + std::to_string(m.split_count()) + ")");
+    if (n == 0 || n > m.full_split_count - first) return bad(r, "the split count is not valid");
+    // The sections: records, attributes, then the positions of each step (FORMAT.md).
+    const uint32_t sections = r.get<uint32_t>();
+    if (!r.ok() || sections != 2 + m.step_count())
+      return bad(r, "the SPLT does not have 2 + " + std::to_string(m.step_count()) + " sections");
+    std::vector<uint64_t> sizes(sections);
+    uint64_t total = 0;
+    for (uint64_t& size : sizes) total += size = r.get<uint32_t>();
+    if (!r.ok() || total != r.remaining())
+      return bad(r, "the SPLT's section sizes do not add up to its payload");
+    std::vector<std::string_view> section;
+    for (size_t k = 0, at = r.offset(); k < sections; at += sizes[k++])
+      section.push_back(payload.substr(at, sizes[k]));
+    section_start_ = size_t(section[0].data() - payload.data());
+    const Status read = read_records_sections(section[0], section[1], first, n);
+    section_start_ = 0;
+    DYNPM_RETURN_IF_ERROR(read);
     // Replay the splits on the faces: a record that does not fit is an error here, so the
-    // navigator can apply them unchecked.
+    // navigator can apply them unchecked. The faces right after each split give its stencil.
+    uint32_t face_count = face_count_;
+    for (uint32_t i = first; i < first + n; ++i)
+      for (uint32_t k = m.wing_start[i]; k < m.wing_start[i + 1]; ++k)
+        face_count += m.wings[k].was_triangle();
     faces_.resize(face_count);
+    ChunkStencils stencils;
     for (uint32_t i = first; i < first + n; ++i) {
       std::string problem;
       if (!apply_split(m, i, faces_, face_count_, &problem)) return fail(payload_start_, problem);
+      stencils.add(m, i, faces_);
     }
+    for (auto& xyz : m.positions) xyz.resize(size_t{m.base_vertex_count + first + n} * 3);
+    const std::string problem =
+        decode_split_positions(m, first, stencils, *models_, std::span(section).subspan(2));
+    if (!problem.empty()) return fail(payload_start_, problem);
     return {};
   }
 
@@ -489,9 +537,11 @@ class Decoder {
   std::string_view bytes_;
   std::string name_;
   size_t pos_ = 0, chunk_start_ = 0, payload_start_ = 0;
+  size_t section_start_ = 0;  // where the section a ByteReader reads starts in the payload
   ProgressiveMesh mesh_;
   Deltas d_;
-  std::vector<Face> faces_;  // the decode-time replay
+  std::optional<SplitPositionModels> models_;  // sized by HEAD's step count
+  std::vector<Face> faces_;                    // the decode-time replay
   uint32_t face_count_ = 0;
   // The last SPLT's split and face counts, for the size of the FLDS that follows it.
   uint32_t pending_splits_ = 0, pending_faces_ = 0;

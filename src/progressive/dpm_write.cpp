@@ -2,11 +2,14 @@
 // section (the reader is dpm_read.cpp).
 #include <zstd.h>
 
+#include <algorithm>
 #include <string>
+#include <vector>
 
 #include "bytes.h"
 #include "dpm_format.h"
 #include "dynpm/progressive.h"
+#include "position_coding.h"
 
 namespace dynpm {
 namespace {
@@ -38,13 +41,14 @@ void put_chunk(std::string& out, std::string_view tag, std::string_view raw, boo
   out += stored;
 }
 
-void write_positions(ByteWriter& w, const ProgressiveMesh& mesh, uint32_t begin, uint32_t end) {
+// The base vertices' positions (svarints, as in version 1).
+void write_base_positions(ByteWriter& w, const ProgressiveMesh& mesh) {
   const Grid g = grid_of(mesh);
   for (size_t t = 0; t < mesh.step_count(); ++t)
-    for (uint32_t v = begin; v < end; ++v)
+    for (uint32_t v = 0; v < mesh.base_vertex_count; ++v)
       for (int c = 0; c < 3; ++c)
-        w.svarint(
-            g.residual(g.q(mesh.positions[t][size_t{v} * 3 + c], c), predict(mesh, g, v, t, c)));
+        w.svarint(g.residual(g.q(mesh.positions[t][size_t{v} * 3 + c], c),
+                             predict_base(mesh, g, v, t, c)));
 }
 
 void write_vertex_attributes(ByteWriter& w, const ProgressiveMesh& mesh, uint32_t v, Deltas& d) {
@@ -60,6 +64,42 @@ void write_face_attributes(ByteWriter& w, const ProgressiveMesh& mesh, uint32_t 
   w.svarint(int64_t{mesh.face_original_index[f]} - d.face_index);
   d.element_id = mesh.element_ids[f];
   d.face_index = mesh.face_original_index[f];
+}
+
+// The records and attributes sections of splits [first, last) (docs/FORMAT.md "Split records",
+// "Split attributes"): for now the bytes version 1 wrote (varints), not range-coded.
+// `first_face`: the faces before split `first`.
+void write_records_sections(const ProgressiveMesh& mesh, uint32_t first, uint32_t last,
+                            uint32_t first_face, Deltas& d, std::string& records,
+                            std::string& attributes) {
+  ByteWriter w;
+  uint32_t face_count = first_face;
+  for (uint32_t i = first; i < last; ++i) {
+    const uint32_t v0 = mesh.base_vertex_count + i;
+    w.varint(v0 - 1 - mesh.parent[i]);
+    w.put<float>(mesh.error[i]);
+    w.put<uint8_t>(static_cast<uint8_t>(mesh.wing_start[i + 1] - mesh.wing_start[i]));
+    uint32_t created = 0;
+    for (uint32_t k = mesh.wing_start[i]; k < mesh.wing_start[i + 1]; ++k) {
+      const SplitWing& wing = mesh.wings[k];
+      w.put<uint8_t>(wing.flags);
+      w.varint(v0 - 1 - wing.vertex);
+      if (wing.was_triangle())
+        ++created;
+      else
+        w.varint(face_count - 1 - wing.face);
+    }
+    w.varint(mesh.moved_start[i + 1] - mesh.moved_start[i]);
+    for (uint32_t m = mesh.moved_start[i]; m < mesh.moved_start[i + 1]; ++m)
+      w.varint(face_count - 1 - mesh.moved_faces[m]);
+    face_count += created;
+  }
+  records = std::move(w.bytes);
+  ByteWriter a;
+  for (uint32_t i = first; i < last; ++i)
+    write_vertex_attributes(a, mesh, mesh.base_vertex_count + i, d);
+  for (uint32_t f = first_face; f < face_count; ++f) write_face_attributes(a, mesh, f, d);
+  attributes = std::move(a.bytes);
 }
 
 std::string field_definitions(const ProgressiveMesh& mesh) {
@@ -153,45 +193,37 @@ std::string encode_dpm(const ProgressiveMesh& mesh) {
       for (int c = 0; c < face.degree(); ++c) w.varint(face.v[c]);
     }
     for (uint32_t f = 0; f < mesh.base_face_count; ++f) write_face_attributes(w, mesh, f, d);
-    write_positions(w, mesh, 0, mesh.base_vertex_count);
+    write_base_positions(w, mesh);
     put_chunk(out, "BASE", w.bytes, true);
   }
   if (fields) put_chunk(out, "FLDS", field_values(mesh, 0, 0, 0, mesh.base_face_count), true);
 
   uint32_t face_count = mesh.base_face_count;
+  // The faces as the decoder has them, split by split: the stencils of the positions need them.
+  std::vector<Face> faces(mesh.full_face_count);
+  std::copy(mesh.base_faces.begin(), mesh.base_faces.end(), faces.begin());
+  SplitPositionModels models(mesh.step_count());
   uint32_t chunk = kFirstChunkSplits;
   for (uint32_t first = 0; first < mesh.split_count();
        first += chunk, chunk = std::min(chunk * 2, kMaxChunkSplits)) {
     const uint32_t last = std::min(mesh.split_count(), first + chunk);
+    const uint32_t first_face = face_count;
+    std::vector<std::string> sections(2);
+    write_records_sections(mesh, first, last, first_face, d, sections[0], sections[1]);
+    ChunkStencils stencils;
+    for (uint32_t i = first; i < last; ++i) {
+      apply_split(mesh, i, faces, face_count);
+      stencils.add(mesh, i, faces);
+    }
+    for (std::string& s : encode_split_positions(mesh, first, stencils, models))
+      sections.push_back(std::move(s));
     ByteWriter w;
     w.put<uint32_t>(first);
     w.put<uint32_t>(last - first);
-    const uint32_t first_face = face_count;
-    for (uint32_t i = first; i < last; ++i) {
-      const uint32_t v0 = mesh.base_vertex_count + i;
-      w.varint(v0 - 1 - mesh.parent[i]);
-      w.put<float>(mesh.error[i]);
-      w.put<uint8_t>(static_cast<uint8_t>(mesh.wing_start[i + 1] - mesh.wing_start[i]));
-      uint32_t created = 0;
-      for (uint32_t k = mesh.wing_start[i]; k < mesh.wing_start[i + 1]; ++k) {
-        const SplitWing& wing = mesh.wings[k];
-        w.put<uint8_t>(wing.flags);
-        w.varint(v0 - 1 - wing.vertex);
-        if (wing.was_triangle())
-          ++created;
-        else
-          w.varint(face_count - 1 - wing.face);
-      }
-      w.varint(mesh.moved_start[i + 1] - mesh.moved_start[i]);
-      for (uint32_t m = mesh.moved_start[i]; m < mesh.moved_start[i + 1]; ++m)
-        w.varint(face_count - 1 - mesh.moved_faces[m]);
-      face_count += created;
-    }
-    for (uint32_t i = first; i < last; ++i)
-      write_vertex_attributes(w, mesh, mesh.base_vertex_count + i, d);
-    for (uint32_t f = first_face; f < face_count; ++f) write_face_attributes(w, mesh, f, d);
-    write_positions(w, mesh, mesh.base_vertex_count + first, mesh.base_vertex_count + last);
-    put_chunk(out, "SPLT", w.bytes, true);
+    w.put<uint32_t>(static_cast<uint32_t>(sections.size()));
+    for (const std::string& s : sections) w.put<uint32_t>(static_cast<uint32_t>(s.size()));
+    for (const std::string& s : sections) w.bytes += s;
+    put_chunk(out, "SPLT", w.bytes, false);  // range-coded bytes do not compress
     if (fields)
       put_chunk(out, "FLDS", field_values(mesh, first, last, first_face, face_count), true);
   }

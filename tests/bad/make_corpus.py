@@ -156,6 +156,75 @@ def svarint(n):
     return varint(2 * n if n >= 0 else -2 * n - 1)
 
 
+class RangeEncoder:
+    """docs/FORMAT.md "Range coding": the encoder (LZMA's) and a signed integer with fresh models
+    of its own (the only kind the figure needs)."""
+
+    def __init__(self):
+        self.low, self.range, self.cache, self.pending, self.out = 0, 0xFFFFFFFF, 0, 1, bytearray()
+
+    def bit(self, models, i, b):
+        bound = (self.range >> 12) * models[i]
+        if b == 0:
+            self.range = bound
+            models[i] += (4096 - models[i]) >> 5
+        else:
+            self.low += bound
+            self.range -= bound
+            models[i] -= models[i] >> 5
+        while self.range < 1 << 24:
+            self.range <<= 8
+            self.shift_low()
+
+    def direct(self, value, count):
+        for k in range(count - 1, -1, -1):
+            self.range >>= 1
+            if (value >> k) & 1:
+                self.low += self.range
+            while self.range < 1 << 24:
+                self.range <<= 8
+                self.shift_low()
+
+    def shift_low(self):
+        if (self.low & 0xFFFFFFFF) < 0xFF000000 or self.low >> 32:
+            carry, byte = self.low >> 32, self.cache
+            while True:
+                self.out.append((byte + carry) & 0xFF)
+                byte = 0xFF
+                self.pending -= 1
+                if self.pending == 0:
+                    break
+            self.cache = (self.low >> 24) & 0xFF
+        self.pending += 1
+        self.low = (self.low & 0xFFFFFF) << 8
+
+    def signed_fresh(self, v):
+        """v with a signed model that has coded nothing yet."""
+        zero_sign, length, high = [2048, 2048], [2048] * 25, [2048] * 75
+        self.bit(zero_sign, 0, 0 if v == 0 else 1)
+        if v == 0:
+            return
+        self.bit(zero_sign, 1, 1 if v < 0 else 0)
+        n = abs(v)  # (|v| − 1) + 1
+        k = n.bit_length() - 1
+        for i in range(k):
+            self.bit(length, min(i, 24), 1)
+        self.bit(length, min(k, 24), 0)
+        left, node = k, 0
+        for _ in range(2):
+            if left == 0:
+                break
+            b = (n >> (left - 1)) & 1
+            self.bit(high, min(k, 24) * 3 + node, b)
+            node, left = 1 + b, left - 1
+        self.direct(n & ((1 << left) - 1), left)
+
+    def finish(self):
+        for _ in range(5):
+            self.shift_low()
+        return bytes(self.out)
+
+
 def figure_dpm(split_error):
     """A .dpm written from docs/FORMAT.md, chunks uncompressed: FORMAT.md's quad-wing figure as
     viewer/test/dpm.test.mjs builds it (5 base vertices, 2 triangles, one split with a quad wing,
@@ -169,13 +238,19 @@ def figure_dpm(split_error):
     base += bytes([3]) + varint(0) + varint(1) + varint(2) + bytes([3]) + varint(1) + varint(4) + varint(3)
     base += svarint(7) + svarint(500) + svarint(0) + svarint(8) + svarint(1) + svarint(1)
     base += b"".join(svarint(q[v][c] - (q[v - 1][c] if v else 0)) for v in range(5) for c in range(3))
-    split = struct.pack("<II", 0, 1) + varint(5 - 1 - 1) + struct.pack("<f", split_error)
-    split += bytes([2, 2 | 1 << 2]) + varint(5 - 1 - 0) + varint(2 - 1 - 0)  # quad wing, face 0
-    split += bytes([1]) + varint(5 - 1 - 3)  # triangle wing, w = 3
-    split += varint(1) + varint(2 - 1 - 1)  # moved: face 1
-    split += svarint(1) + svarint(1) + svarint(9) + svarint(3) + svarint(1)
-    split += b"".join(svarint(q[5][c] - q[1][c]) for c in range(3))
-    magic = b"\x89DPM\r\n\x1a\n" + struct.pack("<I", 1)
+    records = varint(5 - 1 - 1) + struct.pack("<f", split_error)
+    records += bytes([2, 2 | 1 << 2]) + varint(5 - 1 - 0) + varint(2 - 1 - 0)  # quad wing, face 0
+    records += bytes([1]) + varint(5 - 1 - 3)  # triangle wing, w = 3
+    records += varint(1) + varint(2 - 1 - 1)  # moved: face 1
+    attributes = svarint(1) + svarint(1) + svarint(9) + svarint(3) + svarint(1)
+    # Step 0: the quad wing is (w, v0, v1, x) = (0, 5, 1, 2) after the split: q0 + q1 − q2.
+    coder = RangeEncoder()
+    for c in range(3):
+        coder.signed_fresh(q[5][c] - (q[0][c] + q[1][c] - q[2][c]))
+    sections = [records, attributes, coder.finish()]
+    split = struct.pack("<III", 0, 1, len(sections)) + b"".join(struct.pack("<I", len(x)) for x in sections)
+    split += b"".join(sections)
+    magic = b"\x89DPM\r\n\x1a\n" + struct.pack("<I", 2)
     return magic + b"".join(
         chunk(tag, 0, len(p), p) for tag, p in
         [(b"HEAD", head), (b"BASE", base), (b"SPLT", split), (b"END ", b"")])

@@ -175,12 +175,14 @@ function mutants(name, bytes) {
         rebuild((kk, p) => (kk === k ? ((p[i] = f(p[i])), p) : null)));
     }
   });
-  // The first split's error (after first_split, count and the parent varint).
+  // The first split's error (after first_split, count, the section sizes and the parent varint
+  // that opens the records section).
   const splt = chunks.findIndex((c) => c.tag === 'SPLT');
   for (const e of [NaN, -1, Infinity])
     add(`split 0 error ${e}`, rebuild((k, p) => {
       if (k !== splt) return null;
-      const at = 8 + (p[8] < 0x80 ? 1 : 2);
+      const records = 12 + 4 * new DataView(p.buffer).getUint32(8, true);
+      const at = records + (p[records] < 0x80 ? 1 : 2);
       new DataView(p.buffer).setFloat32(at, e, true);
       return p;
     }));

@@ -6,7 +6,9 @@ import { test } from 'node:test';
 import { crc32 } from 'node:zlib';
 
 import { DpmDecoder, Navigator, readDpm, ShownValues, updateIndices } from '../src/dpm.js';
+import { SignedModel } from '../src/dpm/range_coder.js';
 import { Bytes } from './fields_fixture.mjs';
+import { encodeSigned, RangeEncoder } from './range_encoder.mjs';
 
 // A chunk; with `frame` (payload → zstd frame bytes) stored compressed.
 function chunk(out, tag, payload, frame = null) {
@@ -80,7 +82,7 @@ function fieldDefs() {
 function makeFile(baseFrame = null, { fields = true, extra = null } = {}) {
   const out = new Bytes();
   [0x89, 0x44, 0x50, 0x4d, 0x0d, 0x0a, 0x1a, 0x0a].forEach((x) => out.u8(x));
-  out.u32(1);
+  out.u32(2);
   const head = new Bytes();
   [6, 3, 5, 2, 1, 2, 0, 0].forEach((x) => head.u32(x));
   BMIN.forEach((x) => head.f64(x));
@@ -111,18 +113,41 @@ function makeFile(baseFrame = null, { fields = true, extra = null } = {}) {
   chunk(out, 'BASE', base.bytes, baseFrame);
   if (fields) chunk(out, 'FLDS', fieldValues(0), baseFrame);
 
+  // SPLT: first_split, count, 2 + m sections (records, attributes, positions of each step).
+  const records = new Bytes();
+  records.varint(5 - 1 - 1);  // parent v1 = 1
+  records.f32(0);
+  records.u8(2);
+  records.u8(2 | (1 << 2)), records.varint(5 - 1 - 0), records.varint(2 - 1 - 0);  // quad wing, face 0
+  records.u8(1 | (0 << 2)), records.varint(5 - 1 - 3);  // triangle wing, w = 3
+  records.varint(1), records.varint(2 - 1 - 1);  // moved: face 1
+  const attributes = new Bytes();
+  attributes.svarint(5 - 4), attributes.svarint(105 - 104);
+  attributes.svarint(9), attributes.svarint(3 - 501), attributes.svarint(2 - 1);
+  // Positions: after the split the quad wing is (w, v0, v1, x) = (0, 5, 1, 2), so step 0 guesses
+  // q(0) + q(1) − q(2); step 1 moves q_0(5) by the mean motion of 5's ring {0, 1, 3, 4} (its
+  // wing vertices, its parent, and its neighbours 4 and 3 in the moved face (5, 4, 3)), rounded
+  // half up. Contexts: 0 at step 0, then the bucket of the coordinate's residual at step 0.
+  const ring = [0, 1, 3, 4];
+  const motion = (c) => ring.reduce((a, u) => a + Q[1][u][c] - Q[0][u][c], 0);
+  const guess = (t, c) => (t === 0 ? Q[0][0][c] + Q[0][1][c] - Q[0][2][c]
+    : Q[0][5][c] + Math.floor((2 * motion(c) + 4) / 8));
+  const bucket = (r) => (r === 0 ? 0 : Math.min(Math.floor(Math.log2(Math.abs(r))) + 1, 4));
+  const positions = [0, 1].map((t) => {
+    const e = new RangeEncoder();
+    const models = [0, 1, 2].map(() => [0, 1, 2, 3, 4].map(() => new SignedModel()));
+    for (let c = 0; c < 3; c++) {
+      const r0 = Q[0][5][c] - guess(0, c);
+      if (t === 0) encodeSigned(e, models[c][0], r0);
+      else encodeSigned(e, models[c][bucket(r0)], Q[1][5][c] - guess(1, c));
+    }
+    return e.finish();
+  });
+  const sections = [records.bytes, attributes.bytes, ...positions];
   const split = new Bytes();
-  split.u32(0), split.u32(1);
-  split.varint(5 - 1 - 1);  // parent v1 = 1
-  split.f32(0);
-  split.u8(2);
-  split.u8(2 | (1 << 2)), split.varint(5 - 1 - 0), split.varint(2 - 1 - 0);  // quad wing, face 0
-  split.u8(1 | (0 << 2)), split.varint(5 - 1 - 3);  // triangle wing, w = 3
-  split.varint(1), split.varint(2 - 1 - 1);  // moved: face 1
-  split.svarint(5 - 4), split.svarint(105 - 104);
-  split.svarint(9), split.svarint(3 - 501), split.svarint(2 - 1);
-  for (let c = 0; c < 3; c++) split.svarint(Q[0][5][c] - Q[0][1][c]);
-  for (let c = 0; c < 3; c++) split.svarint(Q[1][5][c] - Q[0][5][c] - (Q[1][1][c] - Q[0][1][c]));
+  split.u32(0), split.u32(1), split.u32(sections.length);
+  sections.forEach((x) => split.u32(x.length));
+  sections.forEach((x) => x.forEach((b) => split.u8(b)));
   chunk(out, 'SPLT', split.bytes);
   if (fields) chunk(out, 'FLDS', fieldValues(1));
   chunk(out, 'END ', new Uint8Array(0));
@@ -302,4 +327,11 @@ test('shown values: max |value| and mean of what each vertex and face stands for
   assert.equal(nav.fieldError(0), Math.fround(0.3));
   nav.setLevel(1);
   assert.equal(nav.fieldError(1), 0);
+});
+
+test('a version-1 file is refused with what to do about it', () => {
+  const old = FILE.slice();
+  old[8] = 1;
+  assert.throws(() => readDpm(old, 'old.dpm'),
+    /^Error: old\.dpm: byte 8: written by an older dynpm \(version 1\): build it again$/);
 });

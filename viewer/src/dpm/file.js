@@ -11,6 +11,7 @@ import { decompress } from 'fzstd';
 
 import { crc32, DpmError, Reader } from './bytes.js';
 import { maxFieldValueBytes, parseFieldDefs, parseFieldValues } from './fields.js';
+import { ChunkStencils, decodeSplitPositions, positionModels } from './positions.js';
 import {
   applySplit,
   checkSplit,
@@ -21,7 +22,7 @@ import {
 } from './progressive_mesh.js';
 
 export const MAGIC = Uint8Array.of(0x89, 0x44, 0x50, 0x4d, 0x0d, 0x0a, 0x1a, 0x0a);
-const VERSION = 1;
+const VERSION = 2;
 const CHUNK_HEADER_BYTES = 24;
 const FLAG_ZSTD = 1;
 const TAGS = ['HEAD', 'FDEF', 'BASE', 'FLDS', 'SPLT', 'END '];
@@ -41,6 +42,8 @@ const MAX_CHUNK_BYTES = 2 ** 31;
 const MAX_ZSTD_RATIO = 32768;
 // The longest varint the reader takes (Reader.varint: 64 bits, 7 per byte).
 const MAX_VARINT = 10;
+// A bound on the bytes of one range-coded integer (C++ kMaxCodedInteger).
+const MAX_CODED_INTEGER = 64;
 
 // What is wrong with a chunk's zstd payload before fzstd sees it, or null. fzstd allocates
 // what the frame header declares (up to 2 GB, or the window when no size is declared), not the
@@ -120,7 +123,8 @@ export class DpmDecoder {
           if (b[i] !== MAGIC[i]) this.fail(0, 'not a .dpm file (wrong magic)');
         if (available < 12) return;
         const version = new DataView(b.buffer, b.byteOffset + 8, 4).getUint32(0, true);
-        if (version !== VERSION) this.fail(8, `version ${version}, this reader knows version 1`);
+        if (version === 1) this.fail(8, 'written by an older dynpm (version 1): build it again');
+        if (version !== VERSION) this.fail(8, `version ${version}, this reader knows version 2`);
         this.start += 12;
         this.state = 'HEAD';
         continue;
@@ -235,9 +239,13 @@ export class DpmDecoder {
         h.baseFaceCount * (1 + 4 * MAX_VARINT + perFaceAttributes);
     } else {
       const splits = h.splitCount - this.mesh.splitsLoaded;
-      const perSplit = MAX_VARINT + 4 + 1 + 4 * (1 + 2 * MAX_VARINT) + MAX_VARINT +
-        MAX_VARINT * h.faceCount + perVertex + 4 * perFaceAttributes;
-      limit = 8 + splits * perSplit;
+      const perRecord = MAX_VARINT + 4 + 1 + 4 * (1 + 2 * MAX_VARINT) + MAX_VARINT +
+        MAX_VARINT * h.faceCount;
+      const perAttributes = 2 * MAX_VARINT + 4 * perFaceAttributes;
+      // A range-coded integer takes at most MAX_CODED_INTEGER bytes; a section adds 5 flushed.
+      const perPositions = steps * 3 * MAX_CODED_INTEGER;
+      limit = 12 + 4 * (2 + steps) + 5 * (2 + steps) +
+        splits * (perRecord + perAttributes + perPositions);
     }
     return Math.min(limit, MAX_CHUNK_BYTES);
   }
@@ -260,7 +268,8 @@ export class DpmDecoder {
       if (withFields) this.state = 'FLDS';
       else this.commit();
     } else if (tag === 'SPLT') {
-      this.pending = { s: mesh.splitsLoaded, n: parseSplits(r, mesh, this.replay) };
+      this.models ??= positionModels(mesh.head.stepCount);
+      this.pending = { s: mesh.splitsLoaded, n: parseSplits(r, mesh, this.replay, this.models) };
       if (withFields) this.state = 'FLDS';
       else this.commit();
     } else if (tag === 'FLDS') {
@@ -370,7 +379,7 @@ function parseBase(r, mesh) {
   mesh.baseDegree = degree;
   mesh.baseCorners = corners;
   parseFaceIds(r, mesh, 0, nf);
-  parsePositions(r, mesh, 0, b);
+  parsePositions(r, mesh, b);
   if (r.remaining() !== 0) r.fail(`${r.remaining()} bytes left over at the end of BASE`);
   mesh.faceCountAt[0] = nf;
 }
@@ -402,65 +411,35 @@ function parseFaceIds(r, mesh, first, count) {
   }
 }
 
-// Residuals per FORMAT.md "Positions": base vertices against the previous vertex (step 0) and
-// their own previous step; split vertices against their parent, in both step and time.
-// Int32Array stores wrap modulo 2^32, as lossless residual arithmetic requires; a quantized
-// position lies in the bounding box, give or take two grid steps.
-function parsePositions(r, mesh, first, count) {
+// The base vertices' positions (FORMAT.md "Positions"), svarint residuals: step 0 against the
+// previous vertex, later steps against the vertex's own previous step. Int32Array stores wrap
+// modulo 2^32, as lossless residual arithmetic requires; a quantized position lies in the
+// bounding box, give or take two grid steps (dpm_read.cpp checks the same).
+function parsePositions(r, mesh, count) {
   const q = mesh.q;
-  const parent = mesh.parent;
-  const { baseVertexCount: b, bboxMin, bboxMax, quantStep } = mesh.head;
-  // Quantized positions lie within two grid steps of the box (dpm_read.cpp checks the same).
+  const { bboxMin, bboxMax, quantStep } = mesh.head;
   const checked = !mesh.lossless;
-  const topX = (bboxMax[0] - bboxMin[0]) / quantStep + 2;
-  const topY = (bboxMax[1] - bboxMin[1]) / quantStep + 2;
-  const topZ = (bboxMax[2] - bboxMin[2]) / quantStep + 2;
-  const outside = (v, t) => r.fail(`vertex ${v} step ${t}: a position far outside the bounding box`);
-  const end = first + count;
+  const top = [0, 1, 2].map((c) => (bboxMax[c] - bboxMin[c]) / quantStep + 2);
   for (let t = 0; t < q.length; t++) {
     const cur = q[t];
     const prev = t > 0 ? q[t - 1] : null;
-    for (let v = first; v < end; v++) {
-      // The prediction (FORMAT.md): a base vertex from the previous base vertex at step 0 and
-      // from itself at the step before later; a split's vertex from its parent at step 0 and from
-      // its own and its parent's motion later. Chosen once per vertex, not per coordinate.
-      const i = 3 * v;
-      let px = 0, py = 0, pz = 0;
-      if (v < b) {
-        if (t > 0) (px = prev[i]), (py = prev[i + 1]), (pz = prev[i + 2]);
-        else if (v > 0) (px = cur[i - 3]), (py = cur[i - 2]), (pz = cur[i - 1]);
-      } else {
-        const j = 3 * parent[v - b];
-        if (t === 0) (px = cur[j]), (py = cur[j + 1]), (pz = cur[j + 2]);
-        else {
-          px = prev[i] + cur[j] - prev[j];
-          py = prev[i + 1] + cur[j + 1] - prev[j + 1];
-          pz = prev[i + 2] + cur[j + 2] - prev[j + 2];
-        }
-      }
-      // Int32Array stores wrap modulo 2^32, as lossless residual arithmetic requires.
-      const x = r.svarint() + px;
-      if (checked && (x < -2 || x > topX)) outside(v, t);
+    for (let i = 0; i < 3 * count; i++) {
+      const x = r.svarint() + (t > 0 ? prev[i] : i >= 3 ? cur[i - 3] : 0);
+      if (checked && (x < -2 || x > top[i % 3]))
+        r.fail(`vertex ${Math.floor(i / 3)} step ${t}: a position far outside the bounding box`);
       cur[i] = x;
-      const y = r.svarint() + py;
-      if (checked && (y < -2 || y > topY)) outside(v, t);
-      cur[i + 1] = y;
-      const z = r.svarint() + pz;
-      if (checked && (z < -2 || z > topZ)) outside(v, t);
-      cur[i + 2] = z;
     }
   }
 }
 
-function parseSplits(r, mesh, replay) {
+// The records and attributes sections of the n splits from s (FORMAT.md "Split records", "Split
+// attributes"): for now the bytes version 1 wrote (varints). C++: read_records_sections().
+function readRecordsSections(records, attributes, mesh, s, n) {
+  const r = records;
   const h = mesh.head;
   const b = h.baseVertexCount;
-  const s = r.u32();
-  const n = r.u32();
-  if (s !== mesh.splitsLoaded) r.fail(`first_split ${s}, expected ${mesh.splitsLoaded}`);
-  if (n === 0 || n > h.splitCount - s) r.fail(`${n} splits from ${s} (${h.splitCount} in all)`);
   // A split takes at least 7 bytes: parent, error, wing count, moved count.
-  if (r.remaining() < n * 7) r.fail(`${n} splits do not fit in the chunk`);
+  if (r.remaining() < n * 7) r.fail(`${n} splits do not fit in the records section`);
   const { parent, error, wingStart, movedStart, faceCountAt } = mesh;
   const { wingFlags, wingVertex, wingFace, movedFaces } = mesh;
   let newFaces = 0;
@@ -505,16 +484,42 @@ function parseSplits(r, mesh, replay) {
     movedStart[i + 1] = movedFaces.length;
     newFaces += created;
   }
+  if (r.remaining() !== 0) r.fail(`${r.remaining()} bytes left over in the records section`);
   if (faceCountAt[s + n] > h.faceCount) r.fail(`splits create more faces than F = ${h.faceCount}`);
   if (s + n === h.splitCount && faceCountAt[s + n] !== h.faceCount)
     r.fail(`all splits give ${faceCountAt[s + n]} faces, HEAD says ${h.faceCount}`);
-  parseVertexIds(r, mesh, b + s, n);
-  parseFaceIds(r, mesh, faceCountAt[s], newFaces);
-  parsePositions(r, mesh, b + s, n);
-  if (r.remaining() !== 0) r.fail(`${r.remaining()} bytes left over at the end of SPLT`);
+  parseVertexIds(attributes, mesh, b + s, n);
+  parseFaceIds(attributes, mesh, faceCountAt[s], newFaces);
+  if (attributes.remaining() !== 0)
+    attributes.fail(`${attributes.remaining()} bytes left over in the attributes section`);
+}
+
+// A Reader over bytes [at, at + size) of the payload r reads, its messages at payload offsets.
+function sectionReader(r, at, size) {
+  return new Reader(r.bytes.subarray(at, at + size), r.at, (pos) => r.where(at + pos));
+}
+
+function parseSplits(r, mesh, replay, models) {
+  const h = mesh.head;
+  const s = r.u32();
+  const n = r.u32();
+  if (s !== mesh.splitsLoaded) r.fail(`first_split ${s}, expected ${mesh.splitsLoaded}`);
+  if (n === 0 || n > h.splitCount - s) r.fail(`${n} splits from ${s} (${h.splitCount} in all)`);
+  // The sections: records, attributes, then the positions of each step (FORMAT.md).
+  const count = r.u32();
+  if (count !== 2 + h.stepCount) r.fail(`${count} sections, not 2 + ${h.stepCount}`);
+  const sizes = [];
+  for (let k = 0; k < count; k++) sizes.push(r.u32());
+  if (sizes.reduce((a, x) => a + x, 0) !== r.remaining())
+    r.fail('the section sizes do not add up to the payload');
+  const starts = [];
+  sizes.reduce((at, size) => (starts.push(at), at + size), r.pos);
+  readRecordsSections(sectionReader(r, starts[0], sizes[0]), sectionReader(r, starts[1], sizes[1]),
+    mesh, s, n);
   // Replay the splits on the faces: a record that does not fit is an error here, so that the
-  // navigator can apply them unchecked.
+  // navigator can apply them unchecked. The faces right after each split give its stencil.
   const touch = () => {};
+  const stencils = new ChunkStencils(n);
   for (let i = s; i < s + n; i++) {
     let problem = checkSplit(mesh, i, replay);
     if (!problem) {
@@ -527,7 +532,11 @@ function parseSplits(r, mesh, replay) {
       }
     }
     if (problem) r.failChunk(problem);
+    stencils.add(mesh, i - s, i, replay);
   }
+  const sections = starts.slice(2).map((at, t) => r.bytes.subarray(at, at + sizes[2 + t]));
+  const problem = decodeSplitPositions(mesh, s, n, stencils, models, sections);
+  if (problem) r.failChunk(problem);
   // The loaded levels grow only at commit(): a chunk that fails half-way, or whose FLDS does
   // not arrive, leaves them as they were.
   return n;

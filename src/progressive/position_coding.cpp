@@ -1,0 +1,154 @@
+// The positions of a SPLT's new vertices: docs/FORMAT.md "Positions" (the SPLT part) is the
+// specification, position_coding.h sums it up.
+#include "position_coding.h"
+
+#include <algorithm>
+#include <bit>
+
+namespace dynpm::progressive {
+namespace {
+
+// ⌊a / b⌋ for b > 0 (C++ division truncates toward zero).
+int64_t floor_div(int64_t a, int64_t b) { return a / b - ((a % b != 0) && (a < 0)); }
+
+// ⌊(2 · sum + count) / (2 · count)⌋: the mean rounded half up.
+int64_t rounded_mean(int64_t sum, int64_t count) { return floor_div(2 * sum + count, 2 * count); }
+
+// The guess of q_t(v0) on coordinate c (FORMAT.md "Positions", in SPLT); q(u, s) gives vertex u's
+// q-value at step s, `before` is v0's residual at step t − 1.
+template <class Q>
+int64_t guess(const ChunkStencils& cs, const SplitStencil& s, const Grid& g, uint32_t v0, size_t t,
+              int64_t before, Q q) {
+  if (g.lossless) {
+    if (t == 0) return q(s.parent, 0);
+    return g.add(q(v0, t - 1), g.residual(q(s.parent, t), q(s.parent, t - 1)));
+  }
+  if (t == 0) {
+    if (s.quads == 0) return q(s.parent, 0);
+    int64_t sum = 0;
+    for (int k = 0; k < s.quads; ++k) sum += q(s.w[k], 0) + q(s.parent, 0) - q(s.x[k], 0);
+    return rounded_mean(sum, s.quads);
+  }
+  int64_t motion = 0;
+  for (uint32_t k = s.ring_begin; k < s.ring_end; ++k)
+    motion += q(cs.ring[k], t) - q(cs.ring[k], t - 1);
+  const int64_t moved = q(v0, t - 1) + rounded_mean(motion, s.ring_end - s.ring_begin);
+  // 3/8 of the last step's miss, rounded half up (at t = 1 that miss is step 0's, not a motion's).
+  return t >= 2 ? moved + floor_div(3 * before + 4, 8) : moved;
+}
+
+// The context of a residual: how large the same vertex's residual was at the step before.
+int bucket(int64_t residual) {
+  const uint64_t m = residual < 0 ? -static_cast<uint64_t>(residual) : residual;
+  return std::min(static_cast<int>(std::bit_width(m)), kPositionContexts - 1);
+}
+
+// Walks the chunk's positions in the file's order; value(t, v, c, guess, model, got) codes or
+// decodes q_t(v) into got. False when value() is.
+template <class Value>
+bool walk(const ProgressiveMesh& mesh, uint32_t first, const ChunkStencils& stencils,
+          SplitPositionModels& models, Value&& value) {
+  const Grid g = grid_of(mesh);
+  const size_t n = stencils.splits.size();
+  std::vector<int64_t> before(n * 3, 0);  // the residuals at t − 1
+  for (size_t t = 0; t < mesh.step_count(); ++t) {
+    auto& m = models.step(t);
+    for (size_t k = 0; k < n; ++k) {
+      const uint32_t v = mesh.base_vertex_count + first + static_cast<uint32_t>(k);
+      for (int c = 0; c < 3; ++c) {
+        const auto q = [&](uint32_t u, size_t s) {
+          return g.q(mesh.positions[s][size_t{u} * 3 + c], c);
+        };
+        int64_t& r = before[k * 3 + c];
+        const int64_t expected = guess(stencils, stencils.splits[k], g, v, t, r, q);
+        int64_t got;
+        if (!value(t, v, c, expected, m[c][t > 0 ? bucket(r) : 0], got)) return false;
+        r = g.residual(got, expected);
+      }
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+void ChunkStencils::add(const ProgressiveMesh& mesh, uint32_t i, std::span<const Face> faces) {
+  SplitStencil s;
+  s.parent = mesh.parent[i];
+  s.ring_begin = static_cast<uint32_t>(ring.size());
+  ring.push_back(s.parent);
+  for (uint32_t k = mesh.wing_start[i]; k < mesh.wing_start[i + 1]; ++k) {
+    const SplitWing& w = mesh.wings[k];
+    ring.push_back(w.vertex);
+    if (w.was_triangle()) continue;
+    s.w[s.quads] = w.vertex;
+    s.x[s.quads] = faces[w.face].v[(w.v0_slot() + 2) % 4];
+    ++s.quads;
+  }
+  const uint32_t v0 = mesh.base_vertex_count + i;
+  for (uint32_t m = mesh.moved_start[i]; m < mesh.moved_start[i + 1]; ++m) {
+    const Face& f = faces[mesh.moved_faces[m]];
+    const int d = f.degree();
+    for (int c = 0; c < d; ++c)
+      if (f.v[c] == v0) {
+        ring.push_back(f.v[(c + 1) % d]);
+        ring.push_back(f.v[(c + d - 1) % d]);
+      }
+  }
+  // A set: each neighbour once (a mean does not depend on the order).
+  std::sort(ring.begin() + s.ring_begin, ring.end());
+  ring.erase(std::unique(ring.begin() + s.ring_begin, ring.end()), ring.end());
+  s.ring_end = static_cast<uint32_t>(ring.size());
+  splits.push_back(s);
+}
+
+std::vector<std::string> encode_split_positions(const ProgressiveMesh& mesh, uint32_t first,
+                                                const ChunkStencils& stencils,
+                                                SplitPositionModels& models) {
+  const Grid g = grid_of(mesh);
+  std::vector<RangeEncoder> coders(mesh.step_count());
+  walk(mesh, first, stencils, models,
+       [&](size_t t, uint32_t v, int c, int64_t guess, SignedModel& m, int64_t& got) {
+         got = g.q(mesh.positions[t][size_t{v} * 3 + c], c);
+         m.encode(coders[t], g.residual(got, guess));
+         return true;
+       });
+  std::vector<std::string> sections;
+  for (RangeEncoder& e : coders) sections.push_back(e.finish());
+  return sections;
+}
+
+std::string decode_split_positions(ProgressiveMesh& mesh, uint32_t first,
+                                   const ChunkStencils& stencils, SplitPositionModels& models,
+                                   std::span<const std::string_view> sections) {
+  const Grid g = grid_of(mesh);
+  // A quantized position lies in the bounding box, give or take two grid steps.
+  std::array<double, 3> top{};
+  for (int c = 0; c < 3; ++c) top[c] = (mesh.bbox_max[c] - mesh.bbox_min[c]) / g.step + 2;
+  std::vector<RangeDecoder> decoders;
+  for (std::string_view s : sections) decoders.emplace_back(s);
+  std::string problem;
+  walk(mesh, first, stencils, models,
+       [&](size_t t, uint32_t v, int c, int64_t guess, SignedModel& m, int64_t& got) {
+         RangeDecoder& d = decoders[t];
+         got = g.add(guess, m.decode(d));
+         if (!d.ok()) {
+           problem = "the positions of step " + std::to_string(t) + " are cut short";
+           return false;
+         }
+         if (!g.lossless && (got < -2 || double(got) > top[c])) {
+           problem = "step " + std::to_string(t) + ": vertex " + std::to_string(v) +
+                     "'s position is far outside the bounding box";
+           return false;
+         }
+         mesh.positions[t][size_t{v} * 3 + c] = g.p(got, c);
+         return true;
+       });
+  if (!problem.empty()) return problem;
+  for (size_t t = 0; t < decoders.size(); ++t)
+    if (!decoders[t].exhausted())
+      return "the positions of step " + std::to_string(t) + " leave bytes unread";
+  return {};
+}
+
+}  // namespace dynpm::progressive

@@ -1,0 +1,64 @@
+// The positions of a SPLT's new vertices (docs/FORMAT.md "Positions"): one range-coded section
+// per time step, predicted from the split's quad wings (a parallelogram) at step 0 and from the
+// vertex's own previous position moved by its neighbours' mean motion later. The browser's
+// decoder is viewer/src/dpm/positions.js; both follow FORMAT.md.
+//
+//   for each SPLT, for t = 0 … m−1, for each new vertex v0 (in split order), for c = x, y, z:
+//     guess  = round(mean over v0's quad wings (w, v0, v1, x) of w + v1 − x)   (v1 if none)  t = 0
+//            = q_{t−1}(v0) + round(mean over v0's ring R of q_t(u) − q_{t−1}(u))          t > 0
+//     (lossless: v1, and q_{t−1}(v0) + v1's motion, modulo 2^32)
+//     residual = q_t(v0) − guess, coded with model[t][c][bucket of v0's residual at t − 1]
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "dpm_format.h"
+#include "dynpm/progressive.h"
+#include "range_coder.h"
+
+namespace dynpm::progressive {
+
+// What predicts split vertex v0, as the faces are right after its split: its parent v1, for
+// each quad wing (w, v0, v1, x) w and x, and its ring (the vertices sharing an edge with it).
+struct SplitStencil {
+  uint32_t parent = 0;
+  int quads = 0;
+  std::array<uint32_t, 4> w{}, x{};
+  uint32_t ring_begin = 0, ring_end = 0;  // in ChunkStencils::ring
+};
+
+struct ChunkStencils {
+  std::vector<SplitStencil> splits;
+  std::vector<uint32_t> ring;
+  // Split i's stencil, from `faces` as they are right after apply_split(i).
+  void add(const ProgressiveMesh& mesh, uint32_t i, std::span<const Face> faces);
+};
+
+inline constexpr int kPositionContexts = 5;
+
+// The adaptive models of the position sections, one set per step, continued from SPLT to SPLT.
+class SplitPositionModels {
+ public:
+  explicit SplitPositionModels(size_t steps) : steps_(steps) {}
+  std::array<std::array<SignedModel, kPositionContexts>, 3>& step(size_t t) { return steps_[t]; }
+
+ private:
+  std::vector<std::array<std::array<SignedModel, kPositionContexts>, 3>> steps_;
+};
+
+// The m position sections of splits [first, first + stencils.splits.size()).
+std::vector<std::string> encode_split_positions(const ProgressiveMesh& mesh, uint32_t first,
+                                                const ChunkStencils& stencils,
+                                                SplitPositionModels& models);
+
+// Decodes them into mesh.positions (sized for the new vertices). Empty, or what is wrong.
+std::string decode_split_positions(ProgressiveMesh& mesh, uint32_t first,
+                                   const ChunkStencils& stencils, SplitPositionModels& models,
+                                   std::span<const std::string_view> sections);
+
+}  // namespace dynpm::progressive
