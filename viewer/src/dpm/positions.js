@@ -52,8 +52,8 @@ export class ChunkStencils {
 
 // The bucket of a residual's magnitude: the next residual's context.
 function bucket(r) {
-  const m = Math.abs(r);
-  return m === 0 ? 0 : Math.min(Math.floor(Math.log2(m)) + 1, CONTEXTS - 1);
+  const m = r < 0 ? -r : r;
+  return m < 2 ? m : m < 4 ? 2 : m < 8 ? 3 : 4;  // min(⌊log₂ m⌋ + 1, 4)
 }
 
 // ⌊(2 · sum + count) / (2 · count)⌋: the mean rounded half up (exact: |sum| < 2^40).
