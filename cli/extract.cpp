@@ -29,7 +29,9 @@ const VerbSpec kSpec{
     "they come in progressive order (base first). Coordinates round-trip float32.\n"
     "Result fields are written as point data (node fields) and cell data (element fields) in\n"
     "VTK and VTU, and as vertex and face properties in PLY: at a coarse level each vertex or\n"
-    "face shows the aggregate of the original ones it stands for (--aggregate).",
+    "face shows the aggregate of the original ones it stands for (--aggregate).\n"
+    "Only what the output needs is decoded: the splits up to its level and the steps up to\n"
+    "--step (with result fields, every split: a coarse face shows the peak of finer ones).",
     {{"--output", "-o", true, "OUTPUT", "mesh file (.obj .ply .vtk .vtu) or pattern with {:03d}"},
      {"--vertices", "", true, "N", "resolution as a vertex count"},
      {"--ratio", "", true, "R", "resolution as a fraction of the full vertex count"},
@@ -120,10 +122,23 @@ int run_extract(std::span<char* const> arguments) {
   if (Status s = check_output_folder(*output); !s.ok())
     return fail(kSpec.name, kExitFailure, s.message());
 
+  // Only what the output needs is decoded: the splits up to its level, the steps up to its step.
+  DpmReadLimits limits;
+  limits.vertices = level->vertices ? std::optional<uint32_t>(static_cast<uint32_t>(
+                                          std::min<double>(*level->vertices, UINT32_MAX)))
+                                    : std::nullopt;
+  limits.ratio = level->ratio;
+  limits.error = level->max_error;
+  if (level->max_error && level->max_error_in_percent) {
+    limits.error = *level->max_error / 100.0;
+    limits.error_of_diagonal = true;
+  }
+  if (step) limits.last_step = static_cast<size_t>(std::ceil(*step));
+  limits.fields = format_from_extension(*output) != FileFormat::kObj;  // OBJ holds no fields
   std::optional<Phase> phase(std::in_place, "reading the model");
-  auto mesh = read_dpm(args.positional[0]);
+  auto mesh = read_dpm(args.positional[0], limits);
   if (!mesh) return fail(kSpec.name, kExitFailure, mesh.message());
-  if (!mesh->complete)
+  if (!mesh->complete && !mesh->limited)
     note(kSpec.name, args.positional[0] + " is a prefix of a file; it holds " +
                          std::to_string(mesh->split_count()) + " of " +
                          std::to_string(mesh->full_split_count) + " splits");

@@ -304,6 +304,24 @@ struct BoundingBox {
 
 // The bytes of a regular file; errors name the file and the cause (missing, a directory, …).
 Result<std::string> read_file(const std::string& path);
+// A regular file's bytes mapped read-only: pages come from disk when touched, so a reader that
+// stops early reads only what it looked at (a .dpm read to a coarse level). A file replaced by
+// rename while mapped stays readable (its old inode); one truncated in place is not supported.
+class MappedFile {
+ public:
+  static Result<MappedFile> open(const std::string& path);
+  MappedFile(MappedFile&& other) noexcept;
+  MappedFile& operator=(MappedFile&& other) noexcept;
+  MappedFile(const MappedFile&) = delete;
+  MappedFile& operator=(const MappedFile&) = delete;
+  ~MappedFile();
+  std::string_view bytes() const { return {static_cast<const char*>(data_), size_}; }
+
+ private:
+  MappedFile() = default;
+  void* data_ = nullptr;
+  size_t size_ = 0;
+};
 // The first up-to-n bytes of a file (for format signatures and header comments).
 Result<std::string> read_file_head(const std::string& path, size_t n);
 // Writes bytes to "<path>.tmp-<pid>-<n>" beside path, flushes, and renames it over path. On any

@@ -14,6 +14,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -94,7 +95,11 @@ struct ProgressiveMesh {
   std::vector<ProgressiveField> fields;
   std::vector<uint32_t> face_heir;
 
-  bool complete = true;  // false: read from a prefix of a file
+  bool complete = true;  // false: read from a prefix of a file, or read with limits
+  // Read with DpmReadLimits: fewer splits than the file holds, or the steps after
+  // `steps_read − 1` not decoded (their positions and field values are empty).
+  bool limited = false;
+  size_t steps_read = 0;
 
   size_t step_count() const { return times.size(); }
   uint32_t split_count() const { return static_cast<uint32_t>(parent.size()); }
@@ -145,10 +150,28 @@ void quantize_fields(ProgressiveMesh& mesh, double bound, bool lossless);
 // The file (docs/FORMAT.md). Written to a temporary name and renamed.
 Status write_dpm(const std::string& path, const ProgressiveMesh& mesh);
 std::string encode_dpm(const ProgressiveMesh& mesh);
-// Reads a whole file or a prefix of one (then complete == false). Errors name the file and
-// byte offset.
-Result<ProgressiveMesh> read_dpm(const std::string& path);
-Result<ProgressiveMesh> decode_dpm(std::string_view bytes, const std::string& name);
+// What a reader needs of a file (docs/FORMAT.md "SPLT payload"): the splits up to one level and
+// the steps up to one step. The rest is not decoded, nor read from disk when it lies after the
+// last split needed. The level is known once HEAD is read: a vertex count, a fraction of the full
+// vertex count, or the coarsest level whose error is at most `error` (absolute). A coarse vertex
+// shows the peak of the values it stands for, which come with the finer splits: when the file has
+// result fields and `fields` is set, every split is read (positions still only of the steps up
+// to last_step); without `fields` the field chunks are checked but not decoded.
+struct DpmReadLimits {
+  bool fields = true;
+  std::optional<uint32_t> vertices;
+  std::optional<double> ratio;
+  std::optional<double> error;
+  bool error_of_diagonal = false;  // `error` is a fraction of the bounding-box diagonal
+  std::optional<size_t> last_step;
+  bool any() const { return vertices || ratio || error || last_step; }
+};
+
+// Reads a whole file or a prefix of one (then complete == false), or only what `limits` asks
+// for (then limited == true). Errors name the file and byte offset.
+Result<ProgressiveMesh> read_dpm(const std::string& path, const DpmReadLimits& limits = {});
+Result<ProgressiveMesh> decode_dpm(std::string_view bytes, const std::string& name,
+                                   const DpmReadLimits& limits = {});
 // The magic bytes, for format detection.
 bool looks_like_dpm(std::string_view head);
 

@@ -3,6 +3,8 @@
 
 #include <fcntl.h>
 #include <signal.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -16,6 +18,7 @@
 #include <memory>
 #include <span>
 #include <unordered_map>
+#include <utility>
 
 namespace dynpm {
 namespace {
@@ -50,6 +53,38 @@ Result<std::string> read_file(const std::string& path) {
   while ((n = std::fread(buffer, 1, sizeof buffer, f->get())) > 0) bytes.append(buffer, n);
   if (std::ferror(f->get())) return Status::error(path + ": read failed: " + std::strerror(errno));
   return bytes;
+}
+
+Result<MappedFile> MappedFile::open(const std::string& path) {
+  auto f = open_for_reading(path);
+  if (!f) return f.status();
+  struct stat st {};
+  if (fstat(fileno(f->get()), &st) != 0)
+    return Status::error(path + ": cannot read its size: " + std::strerror(errno));
+  if (!S_ISREG(st.st_mode)) return Status::error(path + ": is not a regular file");
+  MappedFile m;
+  m.size_ = static_cast<size_t>(st.st_size);
+  if (m.size_ == 0) return m;
+  void* data = mmap(nullptr, m.size_, PROT_READ, MAP_PRIVATE, fileno(f->get()), 0);
+  if (data == MAP_FAILED) return Status::error(path + ": cannot map: " + std::strerror(errno));
+  m.data_ = data;
+  return m;
+}
+
+MappedFile::MappedFile(MappedFile&& other) noexcept
+    : data_(std::exchange(other.data_, nullptr)), size_(std::exchange(other.size_, 0)) {}
+
+MappedFile& MappedFile::operator=(MappedFile&& other) noexcept {
+  if (this != &other) {
+    if (data_) munmap(data_, size_);
+    data_ = std::exchange(other.data_, nullptr);
+    size_ = std::exchange(other.size_, 0);
+  }
+  return *this;
+}
+
+MappedFile::~MappedFile() {
+  if (data_) munmap(data_, size_);
 }
 
 Result<std::string> read_file_head(const std::string& path, size_t n) {

@@ -57,7 +57,8 @@ std::string inflate(std::string_view frame, uint64_t raw, std::string& out) {
 
 class Decoder {
  public:
-  Decoder(std::string_view bytes, const std::string& name) : bytes_(bytes), name_(name) {}
+  Decoder(std::string_view bytes, const std::string& name, const DpmReadLimits& limits)
+      : bytes_(bytes), name_(name), limits_(limits) {}
 
   Result<ProgressiveMesh> run() {
     if (bytes_.size() < kMagic.size() + 4 || !looks_like_dpm(bytes_))
@@ -74,6 +75,7 @@ class Decoder {
     std::string payload, tag;
     DYNPM_RETURN_IF_ERROR(expect_chunk("HEAD", payload, "the header"));
     DYNPM_RETURN_IF_ERROR(parse_head(payload));
+    apply_limits_of_head();
     // The field definitions, when the model has fields, then the base mesh and its values.
     auto got = next_chunk("BASE", tag, payload, "FDEF");
     if (!got) return got.status();
@@ -84,13 +86,18 @@ class Decoder {
     }
     DYNPM_RETURN_IF_ERROR(parse_base(payload));
     const bool fields = !mesh_.fields.empty();
+    decode_fields_ = fields && limits_.fields;
+    if (decode_fields_) wanted_splits_ = UINT32_MAX, error_ = -1;  // their peaks need every split
     if (fields) {
       pending_faces_ = mesh_.base_face_count;  // the base FLDS: no split, the base faces
       DYNPM_RETURN_IF_ERROR(expect_chunk("FLDS", payload, "the FLDS of the base mesh"));
-      if (auto e = parse_field_values(payload, mesh_, 0, 0, 0, mesh_.base_face_count))
-        return bad_at(*e);
+      if (decode_fields_) {
+        if (auto e = parse_field_values(payload, mesh_, 0, 0, 0, mesh_.base_face_count))
+          return bad_at(*e);
+      }
     }
     for (;;) {
+      if (enough_splits()) break;
       got = next_chunk("SPLT", tag, payload);
       if (!got) return got.status();
       if (!*got) {  // a prefix: keep what has arrived
@@ -118,14 +125,66 @@ class Decoder {
         mesh_.complete = false;
         break;
       }
+      if (!decode_fields_) continue;
       if (auto e =
               parse_field_values(payload, mesh_, first, pending_splits_, faces_before, face_count_))
         return bad_at(*e);
+    }
+    drop_steps_not_asked();
+    if (fields && !decode_fields_) {  // checked, not decoded: not in the result
+      mesh_.fields.clear();
+      mesh_.face_heir.clear();
     }
     return std::move(mesh_);
   }
 
  private:
+  // What DpmReadLimits asks of this file, once HEAD has given its counts.
+  void apply_limits_of_head() {
+    const ProgressiveMesh& m = mesh_;
+    if (limits_.vertices || limits_.ratio) {
+      double vertices = limits_.vertices ? double(*limits_.vertices)
+                                         : std::round(*limits_.ratio * m.full_vertex_count);
+      vertices = std::clamp(vertices, double(m.base_vertex_count), double(m.full_vertex_count));
+      wanted_splits_ = static_cast<uint32_t>(vertices) - m.base_vertex_count;
+    }
+    if (limits_.error) error_ = *limits_.error * (limits_.error_of_diagonal ? m.diagonal() : 1.0);
+    steps_ = m.times.size();
+    if (limits_.last_step) steps_ = std::min(steps_, *limits_.last_step + 1);
+    mesh_.steps_read = steps_;
+  }
+
+  // Whether the splits read so far reach the level asked for; if they do, the splits beyond it
+  // are dropped and reading stops (the file after them is never touched).
+  bool enough_splits() {
+    const ProgressiveMesh& m = mesh_;
+    uint32_t k = m.split_count();
+    if (k == m.full_split_count) return false;  // the whole stream: read on to END
+    if (error_ >= 0) {
+      if (m.level_error(k) > error_) return false;
+      while (k > 0 && m.level_error(k - 1) <= error_) --k;  // the coarsest such level
+    } else if (k < wanted_splits_) {
+      return false;
+    } else {
+      k = wanted_splits_;
+    }
+    if (k < m.split_count()) truncate(k, m.face_count_after(k));
+    mesh_.complete = false;
+    mesh_.limited = true;
+    return true;
+  }
+
+  // Positions of the steps not asked for were never decoded; their field values go too.
+  void drop_steps_not_asked() {
+    if (steps_ == mesh_.times.size()) return;
+    for (size_t t = steps_; t < mesh_.times.size(); ++t) {
+      mesh_.positions[t] = {};
+      for (ProgressiveField& f : mesh_.fields) f.values[t] = {};
+    }
+    mesh_.complete = false;
+    mesh_.limited = true;
+  }
+
   Status fail(size_t at, const std::string& what) const {
     return Status::error(name_ + ": byte " + std::to_string(at) + ": " + what);
   }
@@ -359,15 +418,16 @@ class Decoder {
     return r.ok() ? Status{} : bad(r, "face attributes are cut short");
   }
 
-  // The base vertices' positions, [begin, end) (svarints, as in version 1).
+  // The base vertices' positions, [begin, end) (svarints, as in version 1), of the steps asked
+  // for (the later ones follow in the payload and are not decoded).
   Status read_positions(ByteReader& r, uint32_t begin, uint32_t end) {
-    const size_t steps = mesh_.step_count();
+    const size_t steps = steps_;
     if (!r.can_hold(uint64_t{end - begin} * steps * 3, 1)) return bad(r, "positions are cut short");
     const Grid g = grid_of(mesh_);
     // A quantized position lies in the bounding box, give or take two grid steps.
     std::array<double, 3> top{};
     for (int c = 0; c < 3; ++c) top[c] = (mesh_.bbox_max[c] - mesh_.bbox_min[c]) / g.step + 2;
-    for (auto& xyz : mesh_.positions) xyz.resize(size_t{end} * 3);
+    for (size_t t = 0; t < steps; ++t) mesh_.positions[t].resize(size_t{end} * 3);
     for (size_t t = 0; t < steps; ++t)
       for (uint32_t v = begin; v < end; ++v)
         for (int c = 0; c < 3; ++c) {
@@ -401,7 +461,8 @@ class Decoder {
     }
     DYNPM_RETURN_IF_ERROR(read_face_attributes(r, m.base_face_count));
     DYNPM_RETURN_IF_ERROR(read_positions(r, 0, m.base_vertex_count));
-    if (r.remaining() != 0) return bad(r, "unexpected bytes after the base mesh");
+    if (r.remaining() != 0 && steps_ == mesh_.times.size())
+      return bad(r, "unexpected bytes after the base mesh");
     faces_ = m.base_faces;
     face_count_ = m.base_face_count;
     return {};
@@ -508,9 +569,11 @@ class Decoder {
       if (!apply_split(m, i, faces_, face_count_, &problem)) return fail(payload_start_, problem);
       stencils.add(m, i, faces_);
     }
-    for (auto& xyz : m.positions) xyz.resize(size_t{m.base_vertex_count + first + n} * 3);
+    // The positions of the steps asked for; the later steps' sections are not decoded.
+    for (size_t t = 0; t < steps_; ++t)
+      m.positions[t].resize(size_t{m.base_vertex_count + first + n} * 3);
     const std::string problem =
-        decode_split_positions(m, first, stencils, *models_, std::span(section).subspan(2));
+        decode_split_positions(m, first, stencils, *models_, std::span(section).subspan(2, steps_));
     if (!problem.empty()) return fail(payload_start_, problem);
     return {};
   }
@@ -531,11 +594,24 @@ class Decoder {
     m.face_original_index.resize(faces);
     m.part_ids.resize(faces);
     m.element_ids.resize(faces);
-    for (auto& xyz : m.positions) xyz.resize(size_t{vertices} * 3);
+    for (auto& xyz : m.positions)
+      if (!xyz.empty()) xyz.resize(size_t{vertices} * 3);
+    if (!m.face_heir.empty()) m.face_heir.resize(faces);
+    for (ProgressiveField& f : m.fields) {
+      if (f.error.size() > splits) f.error.resize(splits);
+      const size_t items = f.info.location == FieldLocation::kElement ? faces : vertices;
+      for (auto& values : f.values)
+        if (values.size() > items) values.resize(items);
+    }
   }
 
   std::string_view bytes_;
   std::string name_;
+  DpmReadLimits limits_;
+  uint32_t wanted_splits_ = UINT32_MAX;  // the level asked for as a split count
+  double error_ = -1;                    // the level asked for as an absolute error (≥ 0)
+  bool decode_fields_ = false;
+  size_t steps_ = 0;  // the steps whose positions are decoded: 0 … steps_ − 1
   size_t pos_ = 0, chunk_start_ = 0, payload_start_ = 0;
   size_t section_start_ = 0;  // where the section a ByteReader reads starts in the payload
   ProgressiveMesh mesh_;
@@ -551,14 +627,15 @@ class Decoder {
 
 bool looks_like_dpm(std::string_view head) { return head.substr(0, kMagic.size()) == kMagic; }
 
-Result<ProgressiveMesh> decode_dpm(std::string_view bytes, const std::string& name) {
-  return Decoder(bytes, name).run();
+Result<ProgressiveMesh> decode_dpm(std::string_view bytes, const std::string& name,
+                                   const DpmReadLimits& limits) {
+  return Decoder(bytes, name, limits).run();
 }
 
-Result<ProgressiveMesh> read_dpm(const std::string& path) {
-  auto bytes = read_file(path);
-  if (!bytes) return bytes.status();
-  return decode_dpm(*bytes, path);
+Result<ProgressiveMesh> read_dpm(const std::string& path, const DpmReadLimits& limits) {
+  auto file = MappedFile::open(path);  // pages after the last chunk needed are never read
+  if (!file) return file.status();
+  return decode_dpm(file->bytes(), path, limits);
 }
 
 }  // namespace dynpm

@@ -47,11 +47,11 @@ int bucket(int64_t residual) {
 // decodes q_t(v) into got. False when value() is.
 template <class Value>
 bool walk(const ProgressiveMesh& mesh, uint32_t first, const ChunkStencils& stencils,
-          SplitPositionModels& models, Value&& value) {
+          SplitPositionModels& models, size_t steps, Value&& value) {
   const Grid g = grid_of(mesh);
   const size_t n = stencils.splits.size();
   std::vector<int64_t> before(n * 3, 0);  // the residuals at t − 1
-  for (size_t t = 0; t < mesh.step_count(); ++t) {
+  for (size_t t = 0; t < steps; ++t) {
     auto& m = models.step(t);
     for (size_t k = 0; k < n; ++k) {
       const uint32_t v = mesh.base_vertex_count + first + static_cast<uint32_t>(k);
@@ -107,7 +107,7 @@ std::vector<std::string> encode_split_positions(const ProgressiveMesh& mesh, uin
                                                 SplitPositionModels& models) {
   const Grid g = grid_of(mesh);
   std::vector<RangeEncoder> coders(mesh.step_count());
-  walk(mesh, first, stencils, models,
+  walk(mesh, first, stencils, models, mesh.step_count(),
        [&](size_t t, uint32_t v, int c, int64_t guess, SignedModel& m, int64_t& got) {
          got = g.q(mesh.positions[t][size_t{v} * 3 + c], c);
          m.encode(coders[t], g.residual(got, guess));
@@ -128,7 +128,7 @@ std::string decode_split_positions(ProgressiveMesh& mesh, uint32_t first,
   std::vector<RangeDecoder> decoders;
   for (std::string_view s : sections) decoders.emplace_back(s);
   std::string problem;
-  walk(mesh, first, stencils, models,
+  walk(mesh, first, stencils, models, sections.size(),
        [&](size_t t, uint32_t v, int c, int64_t guess, SignedModel& m, int64_t& got) {
          RangeDecoder& d = decoders[t];
          got = g.add(guess, m.decode(d));
