@@ -3,7 +3,8 @@
 #   ./dynpm.sh demo   install what is missing, build (Release), run dynpm on the shipped sample
 #   ./dynpm.sh test   install what is missing, build with -Werror, run every test (CTest)
 # Also: ./dynpm.sh sanitize (every test under AddressSanitizer + UndefinedBehaviorSanitizer),
-#       ./dynpm.sh build (just build), ./dynpm.sh deps (just install).
+#       ./dynpm.sh build (just build), ./dynpm.sh deps (just install),
+#       ./dynpm.sh bench-deps (the peers of bench/peers, docs/peers.md; benchmarks only).
 set -euo pipefail
 cd "$(dirname "$0")"
 
@@ -13,6 +14,8 @@ cd "$(dirname "$0")"
 # tests run in Node.js and Debian's headless Chromium; clang-format checks the C++ formatting).
 BUILD_PACKAGES=(g++ cmake ninja-build xz-utils pkg-config libzstd-dev libnetcdf-dev zlib1g-dev)
 TEST_PACKAGES=(libgtest-dev libgmock-dev clang-format python3-meshio python3-netcdf4 python3-vtk9 libcgal-dev nodejs npm chromium calculix-ccx)
+# The peers bench/peers compares dynpm with (never needed to build or test dynpm).
+BENCH_PACKAGES=(libmeshoptimizer-dev libopenmesh-dev libcgal-dev gltfpack draco)
 
 # Node.js from another source (NodeSource's nodejs bundles npm and conflicts with Debian's npm)
 # counts as installed when its command is on PATH.
@@ -69,6 +72,9 @@ case "${1:-}" in
     install_packages "${BUILD_PACKAGES[@]}"
     build_release
     ;;
+  bench-deps)
+    install_packages "${BENCH_PACKAGES[@]}"
+    ;;
   demo)
     install_packages "${BUILD_PACKAGES[@]}"
     build_release
@@ -113,7 +119,7 @@ case "${1:-}" in
       ctest --test-dir build/sanitize --output-on-failure -j "$(nproc)" -E '^rules_'
     ;;
   *)
-    echo "usage: ./dynpm.sh demo | test | sanitize | build | deps" >&2
+    echo "usage: ./dynpm.sh demo | test | sanitize | build | deps | bench-deps" >&2
     exit 2
     ;;
 esac
