@@ -2,7 +2,7 @@
 // arrived and refines as SPLT chunks follow; time and resolution sliders, element edges, colour
 // by part, displacement or a result field (field_view.js), stats. docs/viewer.md has the design and the measured numbers.
 //
-// GPU buffers are sized for the full mesh once. Time changes rewrite only the position (and
+// GPU buffers are sized for the loaded mesh and grow with it (makeRoom). Time changes rewrite only the position (and
 // colour) prefix of the visible vertices; resolution changes rewrite only the index entries of
 // the faces the splits touched (fixed slots per face, see writeFaceIndices in dpm.js).
 //
@@ -13,6 +13,7 @@ import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 
 import { DpmDecoder, Navigator, ProgressiveMesh, streamDpm, updateIndices } from './dpm.js';
 import { FieldView } from './field_view.js';
+import { decodeInWorker } from './worker_decoder.js';
 import { element, fmt, Fringe, fringeLegend, fringeOptions } from './fringe.js';
 
 const $ = (id) => document.getElementById(id);
@@ -81,29 +82,20 @@ let geometry = null;  // faces (two triangles per face slot)
 let edgeGeometry = null;  // element edges (four segments per face slot)
 let surface = null;
 let edgeLines = null;
-let positions = null;  // Float32Array(3V)
-let colours = null;  // Float32Array(3V)
-let triIndex = null;  // Uint32Array(6F)
-let edgeIndex = null;  // Uint32Array(8F)
-let scratch = null;  // Float32Array(V): per-vertex scalar for colours
-let fieldView = null;  // result fields (field_view.js)
+let positions = null;  // Float32Array(3 × vertex room)
+let colours = null;  // Float32Array(3 × vertex room)
+let triIndex = null;  // Uint32Array(6 × face room)
+let edgeIndex = null;  // Uint32Array(8 × face room)
+let scratch = null;  // Float32Array(vertex room): per-vertex scalar for colours
+let fieldView = null;  // result fields (field_view.js), made when one is first shown
+let fieldMarkerRadius = 1;
+const room = { vertices: 0, faces: 0 };
 
 function createGeometry(mesh) {
-  const { vertexCount: V, faceCount: F } = mesh.head;
-  positions = new Float32Array(3 * V);
-  colours = new Float32Array(3 * V).fill(0.8);
-  triIndex = new Uint32Array(6 * F);
-  edgeIndex = new Uint32Array(8 * F);
-  scratch = new Float32Array(V);
-  const position = new THREE.BufferAttribute(positions, 3).setUsage(THREE.DynamicDrawUsage);
-  const colour = new THREE.BufferAttribute(colours, 3).setUsage(THREE.DynamicDrawUsage);
   geometry = new THREE.BufferGeometry();
-  geometry.setAttribute('position', position);
-  geometry.setAttribute('color', colour);
-  geometry.setIndex(new THREE.BufferAttribute(triIndex, 1).setUsage(THREE.DynamicDrawUsage));
   edgeGeometry = new THREE.BufferGeometry();
-  edgeGeometry.setAttribute('position', position);  // shared: one upload serves both
-  edgeGeometry.setIndex(new THREE.BufferAttribute(edgeIndex, 1).setUsage(THREE.DynamicDrawUsage));
+  const h = mesh.head;
+  makeRoom(Math.min(h.vertexCount, 4 * h.baseVertexCount + 4096), Math.min(h.faceCount, 4 * h.baseFaceCount + 4096));
   // The box holds every vertex at every step: set once, never recomputed from the buffers.
   const { bboxMin: lo, bboxMax: hi } = mesh.head;
   const box = new THREE.Box3(new THREE.Vector3(...lo), new THREE.Vector3(...hi));
@@ -127,7 +119,36 @@ function createGeometry(mesh) {
   );
   edgeLines.visible = ui.edges.checked;
   scene.add(surface, edgeLines);
-  fieldView = new FieldView(scene, mesh, surface, sphere.radius / 60);
+  fieldMarkerRadius = sphere.radius / 60;
+}
+
+// Buffers for `vertices` and `faces`, at least: sized for the loaded mesh and grown (by 4×, up
+// to the whole mesh) as it refines, so that the first picture uploads the base mesh's size, not
+// the whole mesh's. Growing copies what is in and uploads the buffers again.
+function makeRoom(vertices, faces) {
+  if (vertices <= room.vertices && faces <= room.faces) return;
+  const h = state.mesh.head;
+  const V = vertices <= room.vertices ? room.vertices : Math.min(h.vertexCount, Math.max(vertices, 4 * room.vertices));
+  const F = faces <= room.faces ? room.faces : Math.min(h.faceCount, Math.max(faces, 4 * room.faces));
+  const grown = (old, Type, n) => {
+    const a = new Type(n);
+    if (old) a.set(old.subarray(0, Math.min(old.length, n)));
+    return a;
+  };
+  positions = grown(positions, Float32Array, 3 * V);
+  colours = grown(colours, Float32Array, 3 * V);
+  triIndex = grown(triIndex, Uint32Array, 6 * F);
+  edgeIndex = grown(edgeIndex, Uint32Array, 8 * F);
+  scratch = grown(scratch, Float32Array, V);
+  Object.assign(room, { vertices: V, faces: F });
+  geometry.dispose();  // frees the GPU buffers; the next render uploads the new arrays
+  edgeGeometry.dispose();
+  const position = new THREE.BufferAttribute(positions, 3).setUsage(THREE.DynamicDrawUsage);
+  geometry.setAttribute('position', position);
+  geometry.setAttribute('color', new THREE.BufferAttribute(colours, 3).setUsage(THREE.DynamicDrawUsage));
+  geometry.setIndex(new THREE.BufferAttribute(triIndex, 1).setUsage(THREE.DynamicDrawUsage));
+  edgeGeometry.setAttribute('position', position);  // shared: one upload serves both
+  edgeGeometry.setIndex(new THREE.BufferAttribute(edgeIndex, 1).setUsage(THREE.DynamicDrawUsage));
 }
 
 function resetView() {
@@ -208,6 +229,7 @@ function updateTime({ render = true } = {}) {
 // level (part colours, counts).
 function updateLevel() {
   const { nav } = state;
+  makeRoom(nav.vertexCount, nav.faceCount);
   const changed = updateIndices(nav, triIndex, edgeIndex);
   const F = nav.faceCount;
   geometry.setDrawRange(0, 6 * F);
@@ -286,6 +308,8 @@ function updateScalarColours() {
   const k = fieldIndex();
   let smooth = true;
   if (k >= 0) {
+    // Made on first use: its per-face buffers cost nothing to a model shown without fields.
+    fieldView ??= new FieldView(scene, state.mesh, surface, fieldMarkerRadius);
     smooth = fieldView.update(k, nav, state.t, positions, options);
     state.fringe = fieldView.fringe;
   } else {
@@ -294,7 +318,7 @@ function updateScalarColours() {
     if (options.range === 'step') [lo, hi] = [0, scratch.subarray(0, n).reduce((a, x) => Math.max(a, x), 0)];
     const fringe = (state.fringe = new Fringe({ lo: options.min ?? lo, hi: options.max ?? hi, ...options }));
     for (let v = 0; v < n; v++) fringe.colour(scratch[v], colours, 3 * v);
-    fieldView.hide();
+    fieldView?.hide();
   }
   surface.visible = smooth;
   if (k < 0) uploadColours();
@@ -348,7 +372,7 @@ function setColour(mode) {
   state.colour = mode;
   ui.colour.value = mode;
   if (mode === 'part') {
-    fieldView.hide();
+    fieldView?.hide();
     surface.visible = true;
     updatePartColours();
   } else {
@@ -401,6 +425,7 @@ function showError(e) {
 // Loading
 
 function onHead(mesh) {
+  timing.head = performance.now();
   state.mesh = mesh;
   const h = mesh.head;
   ui.time.max = String(h.stepCount - 1);
@@ -408,10 +433,10 @@ function onHead(mesh) {
   ui.resolution.max = String(h.vertexCount);
   ui.note.textContent = h.note;
   createGeometry(mesh);
-  resize();
 }
 
 function onBase(mesh) {
+  timing.base = performance.now();
   // Option(text, value): the field's name from FDEF is text.
   for (let f = 0; f < mesh.fields.length; f++) ui.colour.add(new Option(mesh.fields[f].name, `field:${f}`));
   state.nav = new Navigator(mesh);
@@ -419,6 +444,7 @@ function onBase(mesh) {
   updateLevel();
   resetView();
   drawLegend();
+  timing.baseDone = performance.now();
 }
 
 function onSplits(mesh) {
@@ -436,7 +462,18 @@ function extendBase0() {
   mesh.positionsAt(0, n, state.base0);
 }
 
+// The decoder on this thread (?worker=0): the page is busy while a chunk decodes.
+async function decodeHere(file, onProgress) {
+  const response = await fetch(file);
+  if (!response.ok) throw new Error(`${file}: HTTP ${response.status}`);
+  state.totalBytes = Number(response.headers.get('Content-Length')) || 0;
+  const decoder = new DpmDecoder({ name: state.name, onHead, onBase, onSplits });
+  await streamDpm(response.body, decoder, onProgress);
+  return decoder;
+}
+
 async function load() {
+  resize();  // before the file: sizing the canvas costs a software renderer much
   let file = 'model.dpm';
   try {
     const config = await fetch('dpm.json');
@@ -458,14 +495,25 @@ async function load() {
   }
   ui.title.textContent = state.name;
   document.title = `${state.name} — dynpm view`;
-  const response = await fetch(file);
-  if (!response.ok) throw new Error(`${file}: HTTP ${response.status}`);
-  state.totalBytes = Number(response.headers.get('Content-Length')) || 0;
-  const decoder = new DpmDecoder({ name: state.name, onHead, onBase, onSplits });
-  await streamDpm(response.body, decoder, (received) => {
+  const onProgress = (received) => {
     state.bytesLoaded = received;
     if (state.totalBytes) ui.loadingBar.style.width = `${(100 * received) / state.totalBytes}%`;
-  });
+  };
+  // The decode runs in a worker (worker_decoder.js); ?worker=0 keeps it on this thread, as
+  // before, for comparison.
+  state.worker = params.get('worker') !== '0';
+  const decoder = state.worker
+    ? await decodeInWorker({
+      url: new URL(file, location.href).href,
+      name: state.name,
+      onHead,
+      onBase,
+      onSplits,
+      onStart: (total, shared) => Object.assign(state, { totalBytes: total, sharedMemory: shared }),
+      onFirstBytes: (at) => (timing.firstByte = at),
+      onProgress,
+    })
+    : await decodeHere(file, onProgress);
   if (!decoder.mesh?.hasBase) throw new Error(`${state.name}: ends before the base mesh`);
   if (!decoder.complete) showError(`${state.name}: the file ends early (no END chunk): showing the ${int(decoder.mesh.vertexCountLoaded)} vertices it holds`);
   state.ranges.clear();
@@ -514,11 +562,17 @@ function togglePlay() {
 // For the browser tests (viewer/test/browser.test.mjs) and the frame-time measurement: read the
 // state, and the picture as a small grey-level image (read back right after a render, so no
 // preserveDrawingBuffer is needed).
+// Page times (performance.now()) of the model's first bytes (worker path; else its fetch's
+// responseStart), of HEAD and BASE reaching the page, and of the base mesh made (bench/load.mjs).
+const timing = { firstByte: undefined, head: undefined, base: undefined, baseDone: undefined };
 const done = load().catch(showError);
 window.dpmViewer = {
   done,
+  timing,
   state: () => ({
     hasBase: Boolean(state.nav),
+    worker: Boolean(state.worker),
+    sharedMemory: Boolean(state.sharedMemory),
     complete: Boolean(state.mesh?.complete),
     vertices: state.nav?.vertexCount ?? 0,
     faces: state.nav?.faceCount ?? 0,
