@@ -253,12 +253,34 @@ function setTime(t) {
   updateTime();
 }
 
-function setVertexCount(n) {
+// Splits applied or undone per task when the slider (or the arriving file) moves the level far:
+// the rest follows in the next frames, so that no task of the page takes long (the navigator
+// does some millions of splits a second; the redraw after it is linear in the level).
+const SPLITS_PER_STEP = 65536;
+
+// The level with n vertices (n ≥ what is loaded: follow the file as it arrives); `now`: in one
+// go (the tests' and benchmarks' entry), else in steps of SPLITS_PER_STEP, one a frame.
+function setVertexCount(n, now = false) {
+  state.follow = n >= state.mesh.vertexCountLoaded;
+  state.targetVertices = n;
+  ui.resolution.value = String(n);
+  stepLevel(now);
+}
+
+function stepLevel(now = false) {
   const { nav, mesh } = state;
-  nav.setVertexCount(n);
-  state.follow = nav.level === mesh.splitsLoaded;
-  ui.resolution.value = String(nav.vertexCount);
+  const n = Math.max(mesh.head.baseVertexCount, Math.min(state.follow ? Infinity : state.targetVertices, mesh.vertexCountLoaded));
+  const from = nav.vertexCount;
+  nav.setVertexCount(now ? n : Math.max(from - SPLITS_PER_STEP, Math.min(n, from + SPLITS_PER_STEP)));
+  if (state.follow) ui.resolution.value = String(nav.vertexCount);
   updateLevel();
+  if (nav.vertexCount !== n && !state.levelPending) {
+    state.levelPending = true;
+    requestAnimationFrame(() => {
+      state.levelPending = false;
+      stepLevel();
+    });
+  }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -450,7 +472,7 @@ function onBase(mesh) {
 function onSplits(mesh) {
   extendBase0();
   state.ranges.clear();  // more vertices: the legend's range may grow
-  if (state.follow) setVertexCount(mesh.vertexCountLoaded);
+  if (state.follow) stepLevel();
   else updateLabels();
   if (state.colour !== 'part') updateScalarColours();
 }
@@ -607,7 +629,7 @@ window.dpmViewer = {
   // (the refine measurement of docs/viewer.md).
   setVertexCount(n) {
     const start = performance.now();
-    setVertexCount(n);
+    setVertexCount(n, true);
     const js = performance.now() - start;
     renderer.render(scene, camera);
     renderer.getContext().finish();
