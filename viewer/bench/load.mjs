@@ -40,7 +40,7 @@ function rendererMiB() {
   let kib = 0;
   const parent = (pid) => Number(readFileSync(`/proc/${pid}/stat`, 'utf8').replace(/^.*\) /, '').split(' ')[1]);
   const ours = (pid) => {
-    for (let p = Number(pid); p > 1; p = parent(p)) if (p === browser.process().pid) return true;
+    for (let p = Number(pid); p > 1; p = parent(p)) if (p === process.pid) return true;
     return false;
   };
   for (const pid of readdirSync('/proc').filter((d) => /^\d+$/.test(d))) {
@@ -75,12 +75,12 @@ try {
   const heap = await cdp.send('Runtime.getHeapUsage');
   const after = rendererMiB();
   const size = statSync(file).size / 2 ** 20;
-  const longest = r.longTasks.reduce((a, [, d]) => Math.max(a, d), 0);
   const during = r.longTasks.filter(([s]) => s >= r.firstByte && s <= r.complete);
+  const longest = during.reduce((a, [, d]) => Math.max(a, d), 0);
   console.log(`${file}: ${r.state.vertices} vertices, ${size.toFixed(1)} MiB, decoder in a worker: ${r.worker}`);
   console.log(`first picture ${(r.firstPicture - r.firstByte).toFixed(0)} ms after the first bytes; ` +
     `fully loaded after ${(r.complete - r.firstByte).toFixed(0)} ms`);
-  const t = r.timing;
+  const t = r.timing ?? {};  // the page before the worker had no timing
   const since = (x) => (x === undefined ? '?' : (x - r.firstByte).toFixed(0));
   console.log(`after the first bytes: HEAD on the page ${since(t.head)} ms, BASE ${since(t.base)} ms, ` +
     `base mesh made ${since(t.baseDone)} ms`);

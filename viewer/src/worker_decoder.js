@@ -33,8 +33,12 @@ export function decodeInWorker({ url, name, onHead, onBase, onSplits, onStart, o
     const finish = (error) => {
       worker.terminate();
       if (error) {
-        clearTimeout(timer);
-        reject(error);
+        // The levels before the damage are shown, as the decoder on the page shows them.
+        try {
+          showSplits();
+        } finally {
+          reject(error);
+        }
       } else {
         showSplits();
         resolve({ mesh, complete });
