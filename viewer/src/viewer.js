@@ -2,18 +2,20 @@
 // arrived and refines as SPLT chunks follow; time and resolution sliders, element edges, colour
 // by part, displacement or a result field (field_view.js), stats. docs/viewer.md has the design and the measured numbers.
 //
-// GPU buffers are sized for the loaded mesh and grow with it (makeRoom). Time changes rewrite only the position (and
-// colour) prefix of the visible vertices; resolution changes rewrite only the index entries of
-// the faces the splits touched (fixed slots per face, see writeFaceIndices in dpm.js).
+// GPU buffers grow with the loaded mesh (draw_buffers.js). Time changes rewrite only the position
+// (and colour) prefix of the visible vertices; resolution changes rewrite only the index entries
+// of the faces the splits touched (fixed slots per face, see writeFaceIndices in dpm.js).
 //
 // The bare imports ('three', …) are rewritten to vendor/ paths when the page is embedded
 // (viewer/embed/): the page has no import map, an inline script its CSP would refuse.
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 
-import { DpmDecoder, Navigator, ProgressiveMesh, streamDpm, updateIndices } from './dpm.js';
+import { Navigator, ProgressiveMesh, updateIndices } from './dpm.js';
+import { growDrawBuffers } from './draw_buffers.js';
 import { FieldView } from './field_view.js';
-import { decodeInWorker } from './worker_decoder.js';
+import { greySnapshot } from './snapshot.js';
+import { decodeInWorker, decodeOnPage } from './worker_decoder.js';
 import { element, fmt, Fringe, fringeLegend, fringeOptions } from './fringe.js';
 
 const $ = (id) => document.getElementById(id);
@@ -80,16 +82,14 @@ controls.addEventListener('change', () => requestRender());
 
 let geometry = null;  // faces (two triangles per face slot)
 let edgeGeometry = null;  // element edges (four segments per face slot)
-let surface = null;
-let edgeLines = null;
+let surface = null, edgeLines = null;
 let positions = null;  // Float32Array(3 × vertex room)
 let colours = null;  // Float32Array(3 × vertex room)
 let triIndex = null;  // Uint32Array(6 × face room)
 let edgeIndex = null;  // Uint32Array(8 × face room)
 let scratch = null;  // Float32Array(vertex room): per-vertex scalar for colours
-let fieldView = null;  // result fields (field_view.js), made when one is first shown
-let fieldMarkerRadius = 1;
-const room = { vertices: 0, faces: 0 };
+let fieldView = null, fieldMarkerRadius = 1;  // result fields (field_view.js), made when shown
+const room = { vertices: 0, faces: 0 };  // what the draw buffers hold
 
 function createGeometry(mesh) {
   geometry = new THREE.BufferGeometry();
@@ -122,33 +122,9 @@ function createGeometry(mesh) {
   fieldMarkerRadius = sphere.radius / 60;
 }
 
-// Buffers for `vertices` and `faces`, at least: sized for the loaded mesh and grown (by 4×, up
-// to the whole mesh) as it refines, so that the first picture uploads the base mesh's size, not
-// the whole mesh's. Growing copies what is in and uploads the buffers again.
 function makeRoom(vertices, faces) {
-  if (vertices <= room.vertices && faces <= room.faces) return;
-  const h = state.mesh.head;
-  const V = vertices <= room.vertices ? room.vertices : Math.min(h.vertexCount, Math.max(vertices, 4 * room.vertices));
-  const F = faces <= room.faces ? room.faces : Math.min(h.faceCount, Math.max(faces, 4 * room.faces));
-  const grown = (old, Type, n) => {
-    const a = new Type(n);
-    if (old) a.set(old.subarray(0, Math.min(old.length, n)));
-    return a;
-  };
-  positions = grown(positions, Float32Array, 3 * V);
-  colours = grown(colours, Float32Array, 3 * V);
-  triIndex = grown(triIndex, Uint32Array, 6 * F);
-  edgeIndex = grown(edgeIndex, Uint32Array, 8 * F);
-  scratch = grown(scratch, Float32Array, V);
-  Object.assign(room, { vertices: V, faces: F });
-  geometry.dispose();  // frees the GPU buffers; the next render uploads the new arrays
-  edgeGeometry.dispose();
-  const position = new THREE.BufferAttribute(positions, 3).setUsage(THREE.DynamicDrawUsage);
-  geometry.setAttribute('position', position);
-  geometry.setAttribute('color', new THREE.BufferAttribute(colours, 3).setUsage(THREE.DynamicDrawUsage));
-  geometry.setIndex(new THREE.BufferAttribute(triIndex, 1).setUsage(THREE.DynamicDrawUsage));
-  edgeGeometry.setAttribute('position', position);  // shared: one upload serves both
-  edgeGeometry.setIndex(new THREE.BufferAttribute(edgeIndex, 1).setUsage(THREE.DynamicDrawUsage));
+  const grown = growDrawBuffers({ positions, colours, triIndex, edgeIndex, scratch }, room, vertices, faces, state.mesh.head, geometry, edgeGeometry);
+  if (grown) ({ positions, colours, triIndex, edgeIndex, scratch } = grown);
 }
 
 function resetView() {
@@ -254,8 +230,7 @@ function setTime(t) {
 }
 
 // Splits applied or undone per task when the slider (or the arriving file) moves the level far:
-// the rest follows in the next frames, so that no task of the page takes long (the navigator
-// does some millions of splits a second; the redraw after it is linear in the level).
+// the rest follows in the next frames, so that no task of the page takes long.
 const SPLITS_PER_STEP = 65536;
 
 // The level with n vertices (n ≥ what is loaded: follow the file as it arrives); `now`: in one
@@ -484,16 +459,6 @@ function extendBase0() {
   mesh.positionsAt(0, n, state.base0);
 }
 
-// The decoder on this thread (?worker=0): the page is busy while a chunk decodes.
-async function decodeHere(file, onProgress) {
-  const response = await fetch(file);
-  if (!response.ok) throw new Error(`${file}: HTTP ${response.status}`);
-  state.totalBytes = Number(response.headers.get('Content-Length')) || 0;
-  const decoder = new DpmDecoder({ name: state.name, onHead, onBase, onSplits });
-  await streamDpm(response.body, decoder, onProgress);
-  return decoder;
-}
-
 async function load() {
   resize();  // before the file: sizing the canvas costs a software renderer much
   let file = 'model.dpm';
@@ -521,21 +486,12 @@ async function load() {
     state.bytesLoaded = received;
     if (state.totalBytes) ui.loadingBar.style.width = `${(100 * received) / state.totalBytes}%`;
   };
-  // The decode runs in a worker (worker_decoder.js); ?worker=0 keeps it on this thread, as
-  // before, for comparison.
+  // The decode runs in a worker (worker_decoder.js); ?worker=0 keeps it here, for comparison.
   state.worker = params.get('worker') !== '0';
-  const decoder = state.worker
-    ? await decodeInWorker({
-      url: new URL(file, location.href).href,
-      name: state.name,
-      onHead,
-      onBase,
-      onSplits,
-      onStart: (total, shared) => Object.assign(state, { totalBytes: total, sharedMemory: shared }),
-      onFirstBytes: (at) => (timing.firstByte = at),
-      onProgress,
-    })
-    : await decodeHere(file, onProgress);
+  const onStart = (total, shared = false) => Object.assign(state, { totalBytes: total, sharedMemory: shared });
+  const decode = { url: new URL(file, location.href).href, name: state.name, onHead, onBase, onSplits, onStart, onProgress };
+  const onFirstBytes = (at) => (timing.firstByte = at);
+  const decoder = await (state.worker ? decodeInWorker({ ...decode, onFirstBytes }) : decodeOnPage(decode));
   if (!decoder.mesh?.hasBase) throw new Error(`${state.name}: ends before the base mesh`);
   if (!decoder.complete) showError(`${state.name}: the file ends early (no END chunk): showing the ${int(decoder.mesh.vertexCountLoaded)} vertices it holds`);
   state.ranges.clear();
@@ -581,11 +537,8 @@ function togglePlay() {
   requestRender();
 }
 
-// For the browser tests (viewer/test/browser.test.mjs) and the frame-time measurement: read the
-// state, and the picture as a small grey-level image (read back right after a render, so no
-// preserveDrawingBuffer is needed).
-// Page times (performance.now()) of the model's first bytes (worker path; else its fetch's
-// responseStart), of HEAD and BASE reaching the page, and of the base mesh made (bench/load.mjs).
+// For the browser tests and benchmarks: the state, the picture (snapshot.js), page times of the
+// first bytes (worker; else the fetch's responseStart), HEAD, BASE and the base mesh made.
 const timing = { firstByte: undefined, head: undefined, base: undefined, baseDone: undefined };
 const done = load().catch(showError);
 window.dpmViewer = {
@@ -606,24 +559,7 @@ window.dpmViewer = {
     error: ui.error.hidden ? null : ui.error.textContent,
   }),
   fringe: () => (fieldView?.shown ? fieldView.describe(state.nav) : null),
-  snapshot(size = 64) {
-    renderer.render(scene, camera);
-    const gl = renderer.getContext();
-    const w = gl.drawingBufferWidth, h = gl.drawingBufferHeight;
-    const rgba = new Uint8Array(4 * w * h);
-    gl.readPixels(0, 0, w, h, gl.RGBA, gl.UNSIGNED_BYTE, rgba);
-    const grey = new Float32Array(size * size);
-    const count = new Float32Array(size * size);
-    for (let y = 0; y < h; y++)
-      for (let x = 0; x < w; x++) {
-        const i = 4 * (y * w + x);
-        const cell = Math.floor((y * size) / h) * size + Math.floor((x * size) / w);
-        grey[cell] += 0.299 * rgba[i] + 0.587 * rgba[i + 1] + 0.114 * rgba[i + 2];
-        count[cell]++;
-      }
-    for (let i = 0; i < grey.length; i++) grey[i] /= count[i] || 1;
-    return Array.from(grey);
-  },
+  snapshot: (size = 64) => greySnapshot(renderer, scene, camera, size),
   // Sets the resolution as the slider does and renders; returns the milliseconds taken by the
   // page's JS (navigator, index and position buffers) and in all, with the upload and one frame
   // (the refine measurement of docs/viewer.md).

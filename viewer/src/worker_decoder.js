@@ -4,6 +4,7 @@
 // in is quick; what the page redraws for new splits (onSplits) is paced to at most one call per
 // `pauseMs`, since its cost grows with the mesh, not with the run.
 import { DpmError } from './dpm/bytes.js';
+import { DpmDecoder, streamDpm } from './dpm/file.js';
 import { ProgressiveMesh } from './dpm/progressive_mesh.js';
 import { addFields, applyPieces, sharedMesh } from './mesh_pieces.js';
 
@@ -77,4 +78,15 @@ export function decodeInWorker({ url, name, onHead, onBase, onSplits, onStart, o
     // Shared memory needs a cross-origin isolated page (`dynpm view` serves it so).
     worker.postMessage({ url, name, shared: Boolean(globalThis.crossOriginIsolated), sliceSplits: SLICE_SPLITS });
   });
+}
+
+// The decoder on the page's own thread (?worker=0, for comparison): the page is busy while a
+// chunk decodes. The same callbacks; resolves with the decoder ({ mesh, complete }).
+export async function decodeOnPage({ url, name, onHead, onBase, onSplits, onStart, onProgress }) {
+  const response = await fetch(url);
+  if (!response.ok) throw new Error(`${url}: HTTP ${response.status}`);
+  onStart?.(Number(response.headers.get('Content-Length')) || 0);
+  const decoder = new DpmDecoder({ name, onHead, onBase, onSplits });
+  await streamDpm(response.body, decoder, onProgress);
+  return decoder;
 }
