@@ -347,6 +347,10 @@ void Server::respond(Connection& c, int status, std::string_view reason, std::st
       "X-Content-Type-Options: nosniff\r\n"
       "Referrer-Policy: no-referrer\r\n"
       "Cross-Origin-Resource-Policy: same-origin\r\n"
+      // Cross-origin isolated: the decode worker shares the model's arrays with the page
+      // (SharedArrayBuffer) instead of copying them (docs/viewer.md "Decoding in a worker").
+      "Cross-Origin-Opener-Policy: same-origin\r\n"
+      "Cross-Origin-Embedder-Policy: require-corp\r\n"
       "Cache-Control: no-store\r\n";  // a rebuilt .dpm shows on reload
   c.head += extra_headers;
   if (c.close_after) c.head += "Connection: close\r\n";

@@ -2,17 +2,20 @@
 // arrived and refines as SPLT chunks follow; time and resolution sliders, element edges, colour
 // by part, displacement or a result field (field_view.js), stats. docs/viewer.md has the design and the measured numbers.
 //
-// GPU buffers are sized for the full mesh once. Time changes rewrite only the position (and
-// colour) prefix of the visible vertices; resolution changes rewrite only the index entries of
-// the faces the splits touched (fixed slots per face, see writeFaceIndices in dpm.js).
+// GPU buffers grow with the loaded mesh (draw_buffers.js). Time changes rewrite only the position
+// (and colour) prefix of the visible vertices; resolution changes rewrite only the index entries
+// of the faces the splits touched (fixed slots per face, see writeFaceIndices in dpm.js).
 //
 // The bare imports ('three', …) are rewritten to vendor/ paths when the page is embedded
 // (viewer/embed/): the page has no import map, an inline script its CSP would refuse.
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 
-import { DpmDecoder, Navigator, ProgressiveMesh, streamDpm, updateIndices } from './dpm.js';
+import { Navigator, ProgressiveMesh, updateIndices } from './dpm.js';
+import { growDrawBuffers } from './draw_buffers.js';
 import { FieldView } from './field_view.js';
+import { greySnapshot } from './snapshot.js';
+import { decodeInWorker, decodeOnPage } from './worker_decoder.js';
 import { element, fmt, Fringe, fringeLegend, fringeOptions } from './fringe.js';
 
 const $ = (id) => document.getElementById(id);
@@ -79,31 +82,20 @@ controls.addEventListener('change', () => requestRender());
 
 let geometry = null;  // faces (two triangles per face slot)
 let edgeGeometry = null;  // element edges (four segments per face slot)
-let surface = null;
-let edgeLines = null;
-let positions = null;  // Float32Array(3V)
-let colours = null;  // Float32Array(3V)
-let triIndex = null;  // Uint32Array(6F)
-let edgeIndex = null;  // Uint32Array(8F)
-let scratch = null;  // Float32Array(V): per-vertex scalar for colours
-let fieldView = null;  // result fields (field_view.js)
+let surface = null, edgeLines = null;
+let positions = null;  // Float32Array(3 × vertex room)
+let colours = null;  // Float32Array(3 × vertex room)
+let triIndex = null;  // Uint32Array(6 × face room)
+let edgeIndex = null;  // Uint32Array(8 × face room)
+let scratch = null;  // Float32Array(vertex room): per-vertex scalar for colours
+let fieldView = null, fieldMarkerRadius = 1;  // result fields (field_view.js), made when shown
+const room = { vertices: 0, faces: 0 };  // what the draw buffers hold
 
 function createGeometry(mesh) {
-  const { vertexCount: V, faceCount: F } = mesh.head;
-  positions = new Float32Array(3 * V);
-  colours = new Float32Array(3 * V).fill(0.8);
-  triIndex = new Uint32Array(6 * F);
-  edgeIndex = new Uint32Array(8 * F);
-  scratch = new Float32Array(V);
-  const position = new THREE.BufferAttribute(positions, 3).setUsage(THREE.DynamicDrawUsage);
-  const colour = new THREE.BufferAttribute(colours, 3).setUsage(THREE.DynamicDrawUsage);
   geometry = new THREE.BufferGeometry();
-  geometry.setAttribute('position', position);
-  geometry.setAttribute('color', colour);
-  geometry.setIndex(new THREE.BufferAttribute(triIndex, 1).setUsage(THREE.DynamicDrawUsage));
   edgeGeometry = new THREE.BufferGeometry();
-  edgeGeometry.setAttribute('position', position);  // shared: one upload serves both
-  edgeGeometry.setIndex(new THREE.BufferAttribute(edgeIndex, 1).setUsage(THREE.DynamicDrawUsage));
+  const h = mesh.head;
+  makeRoom(Math.min(h.vertexCount, 4 * h.baseVertexCount + 4096), Math.min(h.faceCount, 4 * h.baseFaceCount + 4096));
   // The box holds every vertex at every step: set once, never recomputed from the buffers.
   const { bboxMin: lo, bboxMax: hi } = mesh.head;
   const box = new THREE.Box3(new THREE.Vector3(...lo), new THREE.Vector3(...hi));
@@ -127,7 +119,12 @@ function createGeometry(mesh) {
   );
   edgeLines.visible = ui.edges.checked;
   scene.add(surface, edgeLines);
-  fieldView = new FieldView(scene, mesh, surface, sphere.radius / 60);
+  fieldMarkerRadius = sphere.radius / 60;
+}
+
+function makeRoom(vertices, faces) {
+  const grown = growDrawBuffers({ positions, colours, triIndex, edgeIndex, scratch }, room, vertices, faces, state.mesh.head, geometry, edgeGeometry);
+  if (grown) ({ positions, colours, triIndex, edgeIndex, scratch } = grown);
 }
 
 function resetView() {
@@ -208,6 +205,7 @@ function updateTime({ render = true } = {}) {
 // level (part colours, counts).
 function updateLevel() {
   const { nav } = state;
+  makeRoom(nav.vertexCount, nav.faceCount);
   const changed = updateIndices(nav, triIndex, edgeIndex);
   const F = nav.faceCount;
   geometry.setDrawRange(0, 6 * F);
@@ -231,12 +229,33 @@ function setTime(t) {
   updateTime();
 }
 
-function setVertexCount(n) {
+// Splits applied or undone per task when the slider (or the arriving file) moves the level far:
+// the rest follows in the next frames, so that no task of the page takes long.
+const SPLITS_PER_STEP = 65536;
+
+// The level with n vertices (n ≥ what is loaded: follow the file as it arrives); `now`: in one
+// go (the tests' and benchmarks' entry), else in steps of SPLITS_PER_STEP, one a frame.
+function setVertexCount(n, now = false) {
+  state.follow = n >= state.mesh.vertexCountLoaded;
+  state.targetVertices = n;
+  ui.resolution.value = String(n);
+  stepLevel(now);
+}
+
+function stepLevel(now = false) {
   const { nav, mesh } = state;
-  nav.setVertexCount(n);
-  state.follow = nav.level === mesh.splitsLoaded;
-  ui.resolution.value = String(nav.vertexCount);
+  const n = Math.max(mesh.head.baseVertexCount, Math.min(state.follow ? Infinity : state.targetVertices, mesh.vertexCountLoaded));
+  const from = nav.vertexCount;
+  nav.setVertexCount(now ? n : Math.max(from - SPLITS_PER_STEP, Math.min(n, from + SPLITS_PER_STEP)));
+  if (state.follow) ui.resolution.value = String(nav.vertexCount);
   updateLevel();
+  if (nav.vertexCount !== n && !state.levelPending) {
+    state.levelPending = true;
+    requestAnimationFrame(() => {
+      state.levelPending = false;
+      stepLevel();
+    });
+  }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -286,6 +305,8 @@ function updateScalarColours() {
   const k = fieldIndex();
   let smooth = true;
   if (k >= 0) {
+    // Made on first use: its per-face buffers cost nothing to a model shown without fields.
+    fieldView ??= new FieldView(scene, state.mesh, surface, fieldMarkerRadius);
     smooth = fieldView.update(k, nav, state.t, positions, options);
     state.fringe = fieldView.fringe;
   } else {
@@ -294,7 +315,7 @@ function updateScalarColours() {
     if (options.range === 'step') [lo, hi] = [0, scratch.subarray(0, n).reduce((a, x) => Math.max(a, x), 0)];
     const fringe = (state.fringe = new Fringe({ lo: options.min ?? lo, hi: options.max ?? hi, ...options }));
     for (let v = 0; v < n; v++) fringe.colour(scratch[v], colours, 3 * v);
-    fieldView.hide();
+    fieldView?.hide();
   }
   surface.visible = smooth;
   if (k < 0) uploadColours();
@@ -348,7 +369,7 @@ function setColour(mode) {
   state.colour = mode;
   ui.colour.value = mode;
   if (mode === 'part') {
-    fieldView.hide();
+    fieldView?.hide();
     surface.visible = true;
     updatePartColours();
   } else {
@@ -401,6 +422,7 @@ function showError(e) {
 // Loading
 
 function onHead(mesh) {
+  timing.head = performance.now();
   state.mesh = mesh;
   const h = mesh.head;
   ui.time.max = String(h.stepCount - 1);
@@ -408,10 +430,10 @@ function onHead(mesh) {
   ui.resolution.max = String(h.vertexCount);
   ui.note.textContent = h.note;
   createGeometry(mesh);
-  resize();
 }
 
 function onBase(mesh) {
+  timing.base = performance.now();
   // Option(text, value): the field's name from FDEF is text.
   for (let f = 0; f < mesh.fields.length; f++) ui.colour.add(new Option(mesh.fields[f].name, `field:${f}`));
   state.nav = new Navigator(mesh);
@@ -419,12 +441,13 @@ function onBase(mesh) {
   updateLevel();
   resetView();
   drawLegend();
+  timing.baseDone = performance.now();
 }
 
 function onSplits(mesh) {
   extendBase0();
   state.ranges.clear();  // more vertices: the legend's range may grow
-  if (state.follow) setVertexCount(mesh.vertexCountLoaded);
+  if (state.follow) stepLevel();
   else updateLabels();
   if (state.colour !== 'part') updateScalarColours();
 }
@@ -437,6 +460,7 @@ function extendBase0() {
 }
 
 async function load() {
+  resize();  // before the file: sizing the canvas costs a software renderer much
   let file = 'model.dpm';
   try {
     const config = await fetch('dpm.json');
@@ -458,14 +482,16 @@ async function load() {
   }
   ui.title.textContent = state.name;
   document.title = `${state.name} — dynpm view`;
-  const response = await fetch(file);
-  if (!response.ok) throw new Error(`${file}: HTTP ${response.status}`);
-  state.totalBytes = Number(response.headers.get('Content-Length')) || 0;
-  const decoder = new DpmDecoder({ name: state.name, onHead, onBase, onSplits });
-  await streamDpm(response.body, decoder, (received) => {
+  const onProgress = (received) => {
     state.bytesLoaded = received;
     if (state.totalBytes) ui.loadingBar.style.width = `${(100 * received) / state.totalBytes}%`;
-  });
+  };
+  // The decode runs in a worker (worker_decoder.js); ?worker=0 keeps it here, for comparison.
+  state.worker = params.get('worker') !== '0';
+  const onStart = (total, shared = false) => Object.assign(state, { totalBytes: total, sharedMemory: shared });
+  const decode = { url: new URL(file, location.href).href, name: state.name, onHead, onBase, onSplits, onStart, onProgress };
+  const onFirstBytes = (at) => (timing.firstByte = at);
+  const decoder = await (state.worker ? decodeInWorker({ ...decode, onFirstBytes }) : decodeOnPage(decode));
   if (!decoder.mesh?.hasBase) throw new Error(`${state.name}: ends before the base mesh`);
   if (!decoder.complete) showError(`${state.name}: the file ends early (no END chunk): showing the ${int(decoder.mesh.vertexCountLoaded)} vertices it holds`);
   state.ranges.clear();
@@ -511,14 +537,17 @@ function togglePlay() {
   requestRender();
 }
 
-// For the browser tests (viewer/test/browser.test.mjs) and the frame-time measurement: read the
-// state, and the picture as a small grey-level image (read back right after a render, so no
-// preserveDrawingBuffer is needed).
+// For the browser tests and benchmarks: the state, the picture (snapshot.js), page times of the
+// first bytes (worker; else the fetch's responseStart), HEAD, BASE and the base mesh made.
+const timing = { firstByte: undefined, head: undefined, base: undefined, baseDone: undefined };
 const done = load().catch(showError);
 window.dpmViewer = {
   done,
+  timing,
   state: () => ({
     hasBase: Boolean(state.nav),
+    worker: Boolean(state.worker),
+    sharedMemory: Boolean(state.sharedMemory),
     complete: Boolean(state.mesh?.complete),
     vertices: state.nav?.vertexCount ?? 0,
     faces: state.nav?.faceCount ?? 0,
@@ -530,30 +559,13 @@ window.dpmViewer = {
     error: ui.error.hidden ? null : ui.error.textContent,
   }),
   fringe: () => (fieldView?.shown ? fieldView.describe(state.nav) : null),
-  snapshot(size = 64) {
-    renderer.render(scene, camera);
-    const gl = renderer.getContext();
-    const w = gl.drawingBufferWidth, h = gl.drawingBufferHeight;
-    const rgba = new Uint8Array(4 * w * h);
-    gl.readPixels(0, 0, w, h, gl.RGBA, gl.UNSIGNED_BYTE, rgba);
-    const grey = new Float32Array(size * size);
-    const count = new Float32Array(size * size);
-    for (let y = 0; y < h; y++)
-      for (let x = 0; x < w; x++) {
-        const i = 4 * (y * w + x);
-        const cell = Math.floor((y * size) / h) * size + Math.floor((x * size) / w);
-        grey[cell] += 0.299 * rgba[i] + 0.587 * rgba[i + 1] + 0.114 * rgba[i + 2];
-        count[cell]++;
-      }
-    for (let i = 0; i < grey.length; i++) grey[i] /= count[i] || 1;
-    return Array.from(grey);
-  },
+  snapshot: (size = 64) => greySnapshot(renderer, scene, camera, size),
   // Sets the resolution as the slider does and renders; returns the milliseconds taken by the
   // page's JS (navigator, index and position buffers) and in all, with the upload and one frame
   // (the refine measurement of docs/viewer.md).
   setVertexCount(n) {
     const start = performance.now();
-    setVertexCount(n);
+    setVertexCount(n, true);
     const js = performance.now() - start;
     renderer.render(scene, camera);
     renderer.getContext().finish();

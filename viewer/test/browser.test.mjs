@@ -157,6 +157,8 @@ test('--export writes a folder that a plain static server can host', async () =>
     const s = await exported.evaluate(() => window.dpmViewer.state());
     assert.equal(s.error, null);
     assert.equal(s.vertices, s.loadedVertices);
+    // A plain server does not make the page cross-origin isolated: the worker copies the mesh.
+    assert.ok(s.worker && !s.sharedMemory, `decoded in a worker, copied: ${JSON.stringify(s)}`);
     const picture = await exported.evaluate(() => window.dpmViewer.snapshot());
     assert.ok(variance(picture) > 20, 'the exported page draws');
     await exported.close();

@@ -1,0 +1,95 @@
+// Loading a model in headless Chromium: time from the first bytes to the first picture of the
+// base mesh and to the fully loaded model, the longest main-thread task meanwhile, and the
+// renderer's memory (RSS of Chromium's renderer processes, which hold the page and its worker)
+// against the file's size.
+//   [THROTTLE=KiB/s] [QUERY=?worker=0] node bench/load.mjs DYNPM_BINARY MODEL.dpm
+// (?worker=0: the decoder on the page's main thread, as before the worker.)
+import { readFileSync, readdirSync, statSync } from 'node:fs';
+
+import { chromium } from 'playwright-core';
+
+import { CHROMIUM_ARGS, startServer } from '../test/chromium.mjs';
+
+const [cli, file] = process.argv.slice(2);
+if (!cli || !file) {
+  console.error('usage: [THROTTLE=KiB/s] node bench/load.mjs DYNPM_BINARY MODEL.dpm');
+  process.exit(2);
+}
+const extra = process.env.THROTTLE ? ['--throttle', process.env.THROTTLE] : [];
+const { server, url } = await startServer(cli, file, extra);
+const browser = await chromium.launch({ executablePath: '/usr/bin/chromium', args: CHROMIUM_ARGS });
+
+// Before the page's own scripts: long tasks, and the first animation frame after the base mesh
+// is there (the frame that draws it: the page renders from requestAnimationFrame).
+const probe = () => {
+  window.loadProbe = { longTasks: [], firstPicture: 0, complete: 0 };
+  new PerformanceObserver((list) => {
+    for (const e of list.getEntries()) window.loadProbe.longTasks.push([e.startTime, e.duration]);
+  }).observe({ type: 'longtask', buffered: true });
+  const tick = () => {
+    const s = window.dpmViewer?.state();
+    if (s?.hasBase && !window.loadProbe.firstPicture) window.loadProbe.firstPicture = performance.now();
+    if (s?.complete && !window.loadProbe.complete) window.loadProbe.complete = performance.now();
+    if (!window.loadProbe.complete) requestAnimationFrame(tick);
+  };
+  requestAnimationFrame(tick);
+};
+
+// RSS in MiB of this browser's renderer processes (the page, its worker, their array buffers).
+function rendererMiB() {
+  let kib = 0;
+  const parent = (pid) => Number(readFileSync(`/proc/${pid}/stat`, 'utf8').replace(/^.*\) /, '').split(' ')[1]);
+  const ours = (pid) => {
+    for (let p = Number(pid); p > 1; p = parent(p)) if (p === process.pid) return true;
+    return false;
+  };
+  for (const pid of readdirSync('/proc').filter((d) => /^\d+$/.test(d))) {
+    try {
+      const cmd = readFileSync(`/proc/${pid}/cmdline`, 'utf8');
+      if (!cmd.includes('--type=renderer') || !ours(pid)) continue;
+      kib += Number(readFileSync(`/proc/${pid}/status`, 'utf8').match(/VmRSS:\s+(\d+)/)[1]);
+    } catch {
+      // The process ended meanwhile.
+    }
+  }
+  return kib / 1024;
+}
+
+try {
+  const page = await browser.newPage({ viewport: { width: 1280, height: 800 } });
+  await page.addInitScript(probe);
+  const cdp = await page.context().newCDPSession(page);
+  let peak = 0;
+  const sampler = setInterval(() => (peak = Math.max(peak, rendererMiB())), 100);
+  await page.goto(url + (process.env.QUERY ?? ''));
+  await page.waitForFunction(() => window.loadProbe?.complete, null, { timeout: 900000, polling: 500 });
+  clearInterval(sampler);
+  const r = await page.evaluate(() => {
+    // The first bytes: the fetch's response start, in the page's or (worker) the page's record.
+    const entry = performance.getEntriesByType('resource').find((e) => e.name.endsWith('.dpm'));
+    const firstByte = window.dpmViewer.timing?.firstByte ?? entry?.responseStart;
+    return { ...window.loadProbe, firstByte, timing: window.dpmViewer.timing, worker: window.dpmViewer.state().worker ?? false, state: window.dpmViewer.state() };
+  });
+  await cdp.send('HeapProfiler.collectGarbage');
+  await new Promise((resolve) => setTimeout(resolve, 1000));
+  const heap = await cdp.send('Runtime.getHeapUsage');
+  const after = rendererMiB();
+  const size = statSync(file).size / 2 ** 20;
+  const during = r.longTasks.filter(([s]) => s >= r.firstByte && s <= r.complete);
+  const longest = during.reduce((a, [, d]) => Math.max(a, d), 0);
+  console.log(`${file}: ${r.state.vertices} vertices, ${size.toFixed(1)} MiB, decoder in a worker: ${r.worker}`);
+  console.log(`first picture ${(r.firstPicture - r.firstByte).toFixed(0)} ms after the first bytes; ` +
+    `fully loaded after ${(r.complete - r.firstByte).toFixed(0)} ms`);
+  const t = r.timing ?? {};  // the page before the worker had no timing
+  const since = (x) => (x === undefined ? '?' : (x - r.firstByte).toFixed(0));
+  console.log(`after the first bytes: HEAD on the page ${since(t.head)} ms, BASE ${since(t.base)} ms, ` +
+    `base mesh made ${since(t.baseDone)} ms`);
+  if (process.env.TASKS) console.log(r.longTasks.map(([s, d]) => `${(s - r.firstByte).toFixed(0)}+${d.toFixed(0)}`).join(" "));
+  console.log(`main-thread tasks > 50 ms while loading: ${during.length}, longest ${longest.toFixed(0)} ms ` +
+    `(sum ${during.reduce((a, [, d]) => a + d, 0).toFixed(0)} ms)`);
+  console.log(`renderer RSS: peak ${peak.toFixed(0)} MiB while loading, ${after.toFixed(0)} MiB loaded ` +
+    `(${(after / size).toFixed(2)}× the file); page JS heap ${(heap.usedSize / 2 ** 20).toFixed(0)} MiB`);
+} finally {
+  await browser.close();
+  server.kill('SIGINT');
+}

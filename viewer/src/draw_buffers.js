@@ -1,0 +1,38 @@
+// The page's draw buffers (viewer.js): positions and colours per vertex, triangle and edge
+// index entries per face (fixed slots, draw_indices.js), a scalar per vertex. Sized for the
+// loaded mesh and grown by 4× (up to the whole mesh) as it refines, so that the first picture
+// uploads the base mesh's size, not the whole mesh's. Growing copies what is in, and the next
+// render uploads the new arrays.
+import * as THREE from 'three';
+
+// Grows `buffers` ({positions, colours, triIndex, edgeIndex, scratch}, null at first) to hold at
+// least `vertices` and `faces` of a mesh of `head`'s size, and sets them on the geometries;
+// `room` ({vertices, faces}) is updated. Returns the new buffers, or null if they had room.
+export function growDrawBuffers(buffers, room, vertices, faces, head, geometry, edgeGeometry) {
+  if (vertices <= room.vertices && faces <= room.faces) return null;
+  const V = vertices <= room.vertices ? room.vertices : Math.min(head.vertexCount, Math.max(vertices, 4 * room.vertices));
+  const F = faces <= room.faces ? room.faces : Math.min(head.faceCount, Math.max(faces, 4 * room.faces));
+  const grown = (old, Type, n) => {
+    const a = new Type(n);
+    if (old) a.set(old.subarray(0, Math.min(old.length, n)));
+    return a;
+  };
+  const b = {
+    positions: grown(buffers.positions, Float32Array, 3 * V),
+    colours: grown(buffers.colours, Float32Array, 3 * V),
+    triIndex: grown(buffers.triIndex, Uint32Array, 6 * F),
+    edgeIndex: grown(buffers.edgeIndex, Uint32Array, 8 * F),
+    scratch: grown(buffers.scratch, Float32Array, V),
+  };
+  Object.assign(room, { vertices: V, faces: F });
+  geometry.dispose();  // frees the GPU buffers; the next render uploads the new arrays
+  edgeGeometry.dispose();
+  const dynamic = (array, size) => new THREE.BufferAttribute(array, size).setUsage(THREE.DynamicDrawUsage);
+  const position = dynamic(b.positions, 3);
+  geometry.setAttribute('position', position);
+  geometry.setAttribute('color', dynamic(b.colours, 3));
+  geometry.setIndex(dynamic(b.triIndex, 1));
+  edgeGeometry.setAttribute('position', position);  // shared: one upload serves both
+  edgeGeometry.setIndex(dynamic(b.edgeIndex, 1));
+  return b;
+}

@@ -1,0 +1,89 @@
+// mesh_pieces.js, the way the decode worker's mesh reaches the page (docs/viewer.md "Decoding in
+// a worker"), on the sample with a node and an element field added (fields_fixture.mjs), fed in
+// pieces as from a network: the page's mesh — copied run by run, or shared — must equal the
+// decoder's in every array the page reads, and navigate to the same faces.
+import assert from 'node:assert/strict';
+import { readFileSync } from 'node:fs';
+import { test } from 'node:test';
+
+import { DpmDecoder, Navigator, ProgressiveMesh } from '../src/dpm.js';
+import { addFields, applyPieces, fieldDefs, growableTails, levelPieces, shareFields, shareMesh, sharedMesh } from '../src/mesh_pieces.js';
+import { DEMO_FIELDS, withFields } from './fields_fixture.mjs';
+
+const { DYNPM_DPM: dpm } = process.env;
+if (!dpm) throw new Error('mesh_pieces.test.mjs needs DYNPM_DPM');
+const file = withFields(new Uint8Array(readFileSync(dpm)), DEMO_FIELDS);
+
+// Decodes `file` in pieces of 5,000 bytes; `mirror` gets the messages the worker would post
+// (structuredClone stands for postMessage: shared buffers stay shared, others are copied).
+function decodeMirrored(shared, slice) {
+  const page = {};
+  const sent = {};
+  const post = (m) => {
+    m = structuredClone(m);
+    if (m.type === 'head') page.mesh = m.shared ? sharedMesh(m.shared) : new ProgressiveMesh(m.head);
+    if (m.type === 'base') addFields(page.mesh, m.fields, m.faceHeir), applyPieces(page.mesh, m.pieces), (page.mesh.hasBase = true);
+    if (m.type === 'splits') applyPieces(page.mesh, m.pieces), (page.mesh.splitsLoaded = m.first + m.count);
+    page.messages = (page.messages ?? 0) + 1;
+  };
+  const decoder = new DpmDecoder({
+    onHead: (mesh) => post({ type: 'head', head: mesh.head, shared: shared ? shareMesh(mesh) : null }),
+    onBase: (mesh) => {
+      if (shared) {
+        const fields = shareFields(mesh);
+        post({ type: 'base', fields, faceHeir: mesh.faceHeir, pieces: [['baseDegree', 0, mesh.baseDegree], ['baseCorners', 0, mesh.baseCorners], ...growableTails(mesh, sent)] });
+      } else {
+        post({ type: 'base', fields: fieldDefs(mesh), pieces: levelPieces(mesh, 0, 0).pieces });
+      }
+    },
+    onSplits: (mesh, s, n) => {
+      if (shared) return post({ type: 'splits', first: s, count: n, pieces: growableTails(mesh, sent) });
+      for (let first = s; first < s + n; first += slice)
+        post({ type: 'splits', first, count: Math.min(slice, s + n - first), pieces: levelPieces(mesh, first, Math.min(slice, s + n - first)).pieces });
+    },
+  });
+  for (let at = 0; at < file.length; at += 5000) decoder.push(file.subarray(at, at + 5000));
+  assert.ok(decoder.complete);
+  return { mesh: decoder.mesh, page: page.mesh, messages: page.messages };
+}
+
+// Every array the page reads, by name, as plain arrays (a Growable up to its length).
+function arrays(mesh) {
+  const out = {};
+  const add = (name, a) => (out[name] = Array.from(a));
+  for (const [key, value] of Object.entries(mesh)) {
+    if (ArrayBuffer.isView(value)) add(key, value);
+    else if (value?.data && 'length' in value) add(key, value.data.subarray(0, value.length));
+  }
+  mesh.q.forEach((a, t) => add(`q${t}`, a));
+  mesh.fields.forEach((f, k) => {
+    f.q.forEach((a, t) => add(`field${k}.q${t}`, a));
+    add(`field${k}.error`, f.error);
+  });
+  return out;
+}
+
+for (const shared of [false, true]) {
+  test(`the page's mesh equals the decoder's (${shared ? 'shared' : 'copied in runs of 300 splits'})`, () => {
+    const { mesh, page, messages } = decodeMirrored(shared, 300);
+    assert.ok(mesh.fields.length === 2 && mesh.head.splitCount > 1000, 'a model with fields and splits');
+    assert.ok(messages > 5, `${messages} messages`);
+    assert.equal(page.splitsLoaded, mesh.splitsLoaded);
+    const a = arrays(mesh), b = arrays(page);
+    assert.deepEqual(Object.keys(b).sort(), Object.keys(a).sort());
+    for (const name of Object.keys(a)) assert.deepEqual(b[name], a[name], name);
+    if (shared) {
+      // One memory: what the page's array holds is what the decoder's holds.
+      const x = mesh.q[0][5];
+      page.q[0][5] = x + 1;
+      assert.equal(mesh.q[0][5], x + 1, 'positions are shared');
+      page.q[0][5] = x;
+    }
+    // The page's mesh navigates: the faces at the full level and half-way are the decoder's.
+    for (const level of [mesh.head.splitCount, mesh.head.splitCount >> 1]) {
+      const x = new Navigator(mesh), y = new Navigator(page);
+      x.setLevel(level), y.setLevel(level);
+      assert.deepEqual(Array.from(y.corners), Array.from(x.corners), `faces at level ${level}`);
+    }
+  });
+}
