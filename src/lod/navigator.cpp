@@ -12,10 +12,42 @@ Navigator::Navigator(const ProgressiveMesh& mesh)
   faces_.resize(mesh.face_count_after(mesh.split_count()));
 }
 
+namespace {
+
+// Consecutive splits touch faces spread over the whole mesh: at 1 M vertices nearly every face a
+// split names is a cache miss. The records say which faces split i will touch long before it
+// runs, so the navigator asks for them this many splits ahead and the misses overlap.
+constexpr uint32_t kPrefetchSplits = 8;
+
+void prefetch_faces(const ProgressiveMesh& m, uint32_t i, const Face* faces) {
+#if defined(__GNUC__)
+  for (uint32_t k = m.moved_start[i]; k < m.moved_start[i + 1]; ++k)
+    __builtin_prefetch(faces + m.moved_faces[k], 1);
+  for (uint32_t k = m.wing_start[i]; k < m.wing_start[i + 1]; ++k)
+    __builtin_prefetch(faces + m.wings[k].face, 1);
+#else
+  (void)m, (void)i, (void)faces;
+#endif
+}
+
+}  // namespace
+
 void Navigator::set_level(uint32_t k) {
-  k = std::min(k, mesh_->split_count());
-  while (level_ < k) dynpm::apply_split(*mesh_, level_++, faces_, face_count_);
-  while (level_ > k) dynpm::undo_split(*mesh_, --level_, faces_, face_count_);
+  const ProgressiveMesh& m = *mesh_;
+  k = std::min(k, m.split_count());
+  for (uint32_t i = level_; i < std::min(k, level_ + kPrefetchSplits); ++i)
+    prefetch_faces(m, i, faces_.data());
+  for (; level_ < k; ++level_) {
+    if (level_ + kPrefetchSplits < k) prefetch_faces(m, level_ + kPrefetchSplits, faces_.data());
+    dynpm::apply_split(m, level_, faces_, face_count_);
+  }
+  for (uint32_t i = level_; i-- > k && i + kPrefetchSplits >= level_;)
+    prefetch_faces(m, i, faces_.data());
+  while (level_ > k) {
+    --level_;
+    if (level_ >= k + kPrefetchSplits) prefetch_faces(m, level_ - kPrefetchSplits, faces_.data());
+    dynpm::undo_split(m, level_, faces_, face_count_);
+  }
 }
 
 void Navigator::set_vertex_count(uint32_t n) {

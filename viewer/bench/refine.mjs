@@ -1,5 +1,5 @@
 // Speed of dpm.js in Node (V8, as in Chromium): decoding a .dpm, full refine and full coarsen
-// with the index buffers the page keeps, and the per-frame work of time scrubbing.
+// with the index buffers the page keeps (timed apart), and the per-frame work of time scrubbing.
 //   node bench/refine.mjs MODEL.dpm [--visible N]
 import { readFileSync } from 'node:fs';
 
@@ -27,24 +27,35 @@ const nav = new Navigator(mesh);
 const tri = new Uint32Array(6 * h.faceCount);
 const edges = new Uint32Array(8 * h.faceCount);
 updateIndices(nav, tri, edges);
-const refine = best(3, () => {
-  nav.setLevel(0);
-  updateIndices(nav, tri, edges);
+// Median of 7 full refines and coarsens: the navigator alone, then the index update after it;
+// in wall time and in this process's CPU time (cpu), which time spent waiting for a core (a
+// loaded machine) does not count.
+const median = (v) => v.sort((a, b) => a - b)[v.length >> 1];
+const timed = (f) => {
+  const c = process.cpuUsage();
   const s = process.hrtime.bigint();
-  nav.setLevel(h.splitCount);
-  updateIndices(nav, tri, edges);
-  return ms(s);
-});
-const coarsen = best(3, () => {
-  nav.setLevel(h.splitCount);
-  updateIndices(nav, tri, edges);
-  const s = process.hrtime.bigint();
-  nav.setLevel(0);
-  updateIndices(nav, tri, edges);
-  return ms(s);
-});
-console.log(`full refine ${h.splitCount} splits + index update: ${refine.toFixed(0)} ms; ` +
-  `full coarsen: ${coarsen.toFixed(0)} ms`);
+  f();
+  const wall = ms(s);
+  const cpu = process.cpuUsage(c);
+  return [wall, (cpu.user + cpu.system) / 1e3];
+};
+const runs = { refine: [], refineIdx: [], coarsen: [], coarsenIdx: [] };
+for (let r = 0; r < 7; r++) {
+  runs.refine.push(timed(() => nav.setLevel(h.splitCount)));
+  runs.refineIdx.push(timed(() => updateIndices(nav, tri, edges)));
+  runs.coarsen.push(timed(() => nav.setLevel(0)));
+  runs.coarsenIdx.push(timed(() => updateIndices(nav, tri, edges)));
+}
+const perS = (t) => (h.splitCount / t / 1e3).toFixed(2);
+const report = (what, unit, nav, idx) => {
+  const [w, c] = [0, 1].map((k) => median(nav.map((x) => x[k])));
+  const [wi, ci] = [0, 1].map((k) => median(idx.map((x) => x[k])));
+  console.log(`full ${what}: ${w.toFixed(0)} ms, ${perS(w)} M ${unit}/s (cpu ${perS(c)}); ` +
+    `with the index update ${perS(w + wi)} M/s (cpu ${perS(c + ci)})`);
+};
+console.log(`${h.splitCount} splits, median of 7:`);
+report('refine', 'splits', runs.refine, runs.refineIdx);
+report('coarsen', 'collapses', runs.coarsen, runs.coarsenIdx);
 
 const visible = visibleArg > 0 ? Number(process.argv[visibleArg + 1]) : Math.min(100000, h.vertexCount);
 nav.setVertexCount(visible);

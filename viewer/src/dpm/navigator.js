@@ -1,7 +1,7 @@
 // The mesh at one level (C++: Navigator, src/lod/navigator.cpp): splits applied or undone in
 // place between levels, touching only the faces their records name.
 import { DpmError } from './bytes.js';
-import { applySplit, undoSplit } from './progressive_mesh.js';
+import { DirtyFaces, applySplits, undoSplits } from './progressive_mesh.js';
 
 // Holds the current faces (4 corner slots, −1 in slot 3 of a triangle) for levels up to what has
 // been loaded. Changes are recorded as a list of touched faces, which the renderer drains
@@ -19,15 +19,9 @@ export class Navigator {
     this.level = 0;  // splits applied
     this.quads = 0;
     for (let f = 0; f < nf; f++) this.quads += mesh.baseDegree[f] === 4 ? 1 : 0;
-    // The touched faces, each once: a mark per face and a list (grown by hand, so that this hot
-    // path sees one array type only).
-    this.dirtyMark = new Uint8Array(F);
-    this.dirtyList = new Uint32Array(1024);
-    this.dirtyCount = 0;
-    this.touchFace = (f) => {
-      if (!this.dirtyMark[f]) this.touch(f);
-    };
-    for (let f = 0; f < nf; f++) this.touch(f);
+    // The touched faces, each once.
+    this.dirty = new DirtyFaces(F);
+    for (let f = 0; f < nf; f++) this.dirty.add(f);
   }
 
   get vertexCount() {
@@ -51,22 +45,12 @@ export class Navigator {
   }
 
   touch(f) {
-    if (this.dirtyMark[f]) return;
-    this.dirtyMark[f] = 1;
-    if (this.dirtyCount === this.dirtyList.length) {
-      const bigger = new Uint32Array(2 * this.dirtyList.length);
-      bigger.set(this.dirtyList);
-      this.dirtyList = bigger;
-    }
-    this.dirtyList[this.dirtyCount++] = f;
+    this.dirty.add(f);
   }
 
   // The faces changed since the last call (may include faces now beyond faceCount).
   takeDirty() {
-    const list = this.dirtyList.subarray(0, this.dirtyCount);
-    for (let i = 0; i < list.length; i++) this.dirtyMark[list[i]] = 0;
-    this.dirtyCount = 0;
-    return list;
+    return this.dirty.take();
   }
 
   // Any level in [0, splitsLoaded]; returns the level reached.
@@ -95,19 +79,13 @@ export class Navigator {
 
   // Applies splits [level, k): split i re-creates v0 = b + i from its parent.
   refine(k = this.level + 1) {
-    const { mesh, corners } = this;
-    let quads = this.quads;
-    for (let i = this.level; i < k; i++) quads += applySplit(mesh, i, corners, this.touchFace);
-    this.quads = quads;
+    this.quads += applySplits(this.mesh, this.level, k, this.corners, this.dirty);
     this.level = k;
   }
 
   // Undoes splits [k, level) from the last: each is the collapse v0 → v1.
   coarsen(k = this.level - 1) {
-    const { mesh, corners } = this;
-    let quads = this.quads;
-    for (let i = this.level - 1; i >= k; i--) quads -= undoSplit(mesh, i, corners, this.touchFace);
-    this.quads = quads;
+    this.quads -= undoSplits(this.mesh, this.level, k, this.corners, this.dirty);
     this.level = k;
   }
 

@@ -188,75 +188,159 @@ export function checkSplit(mesh, i, corners) {
   return null;
 }
 
+// The faces touched since the last take(), each once: a mark per face and a list with room for
+// every face, so that adding one is branch-free (a branch on the mark, a random byte, would be
+// mispredicted half the time in a full refine).
+export class DirtyFaces {
+  constructor(faceCount) {
+    this.mark = new Uint8Array(faceCount);
+    this.list = new Uint32Array(faceCount + 1);  // + 1: add() writes before it counts
+    this.count = 0;
+  }
+  add(f) {
+    this.list[this.count] = f;
+    this.count += 1 - this.mark[f];
+    this.mark[f] = 1;
+  }
+  // The faces touched since the last call (a view, valid until the next change).
+  take() {
+    const list = this.list.subarray(0, this.count);
+    for (let i = 0; i < list.length; i++) this.mark[list[i]] = 0;
+    this.count = 0;
+    return list;
+  }
+}
+
 // Split i re-creates v0 = b + i from its parent v1 (FORMAT.md "Applying a split"); returns the
-// quads it makes (its quad wings). Records are applied unchecked: checkSplit() and
-// touchedFacesValid() ran when they were decoded. The navigator's hot path, every array in a
-// local.
+// quads it makes (its quad wings) and calls touch(f) for each face it changes. Records are
+// applied unchecked: checkSplit() and touchedFacesValid() ran when they were decoded.
 export function applySplit(mesh, i, corners, touch) {
-  const v0 = mesh.head.baseVertexCount + i;
-  const v1 = mesh.parent[i];
-  const movedFaces = mesh.movedFaces.data;
-  // 1. Moved faces: the corner holding v1 takes v0.
-  for (let j = mesh.movedStart[i], end = mesh.movedStart[i + 1]; j < end; j++) {
-    const f = movedFaces[j];
-    const s = slotOf(corners, f, v1);
-    if (s < 0) throw new DpmError(`split ${i}: moved face ${f} is named twice`);
-    corners[4 * f + s] = v0;
-    touch(f);
+  const dirty = dirtyFor(corners);
+  try {
+    return applySplits(mesh, i, i + 1, corners, dirty);
+  } finally {
+    for (const f of dirty.take()) touch(f);
   }
-  const wingFlags = mesh.wingFlags.data;
-  const wingVertex = mesh.wingVertex.data;
-  const wingFace = mesh.wingFace.data;
-  let quads = 0;
-  for (let j = mesh.wingStart[i], end = mesh.wingStart[i + 1]; j < end; j++) {
-    const flags = wingFlags[j];
-    const w = wingVertex[j];
-    const f = wingFace[j];
-    const s = (flags >> WING_SLOT_SHIFT) & 3;
-    const c = 4 * f;
-    if (flags & WING_WAS_TRIANGLE) {
-      // 2. Triangle wing: the face the collapse removed comes back, v0 at slot s.
-      const v1Follows = (flags & WING_V1_FOLLOWS_V0) !== 0;
-      corners[c + s] = v0;
-      corners[c + ((s + 1) % 3)] = v1Follows ? v1 : w;
-      corners[c + ((s + 2) % 3)] = v1Follows ? w : v1;
-      corners[c + 3] = -1;
-    } else {
-      // 3. Quad wing: the triangle becomes the quad again, v0 back into slot s.
-      for (let k = 3; k > s; k--) corners[c + k] = corners[c + k - 1];
-      corners[c + s] = v0;
-      quads++;
-    }
-    touch(f);
-  }
-  return quads;
 }
 
 // The inverse of applySplit(): the collapse v0 → v1. Returns the quads it turns back into
 // triangles.
 export function undoSplit(mesh, i, corners, touch) {
-  const v0 = mesh.head.baseVertexCount + i;
-  const v1 = mesh.parent[i];
+  const dirty = dirtyFor(corners);
+  const quads = undoSplits(mesh, i + 1, i, corners, dirty);
+  for (const f of dirty.take()) touch(f);
+  return quads;
+}
+
+let single = null;  // applySplit()'s and undoSplit()'s touched faces
+function dirtyFor(corners) {
+  if (!single || 4 * single.mark.length < corners.length) single = new DirtyFaces(corners.length >> 2);
+  return single;
+}
+
+// Splits [from, to) in order, the faces they change added to `dirty`; the quads they make. The
+// navigator's hot path: every array in a local, and no branch on a face's contents (at 1 M
+// vertices nearly every face a split names is a cache miss; a mispredicted branch on what one
+// holds would hold back the next one's load until it arrived).
+export function applySplits(mesh, from, to, corners, dirty) {
+  const b = mesh.head.baseVertexCount;
+  const { parent, movedStart, wingStart } = mesh;
+  const movedFaces = mesh.movedFaces.data;
+  const wingFlags = mesh.wingFlags.data;
+  const wingVertex = mesh.wingVertex.data;
+  const wingFace = mesh.wingFace.data;
+  const { mark, list } = dirty;
+  let n = dirty.count;
+  let quads = 0;
+  for (let i = from; i < to; i++) {
+    const v0 = b + i;
+    const v1 = parent[i];
+    // 1. Moved faces: the corner holding v1 takes v0.
+    for (let j = movedStart[i], end = movedStart[i + 1]; j < end; j++) {
+      const f = movedFaces[j];
+      const c = 4 * f;
+      const x0 = corners[c], x1 = corners[c + 1], x2 = corners[c + 2], x3 = corners[c + 3];
+      if (((x0 === v1) | (x1 === v1) | (x2 === v1) | (x3 === v1)) === 0) {
+        dirty.count = n;
+        throw new DpmError(`split ${i}: moved face ${f} is named twice`);
+      }
+      corners[c] = x0 === v1 ? v0 : x0;
+      corners[c + 1] = x1 === v1 ? v0 : x1;
+      corners[c + 2] = x2 === v1 ? v0 : x2;
+      corners[c + 3] = x3 === v1 ? v0 : x3;
+      list[n] = f;
+      n += 1 - mark[f];
+      mark[f] = 1;
+    }
+    for (let j = wingStart[i], end = wingStart[i + 1]; j < end; j++) {
+      const flags = wingFlags[j];
+      const w = wingVertex[j];
+      const f = wingFace[j];
+      const s = (flags >> WING_SLOT_SHIFT) & 3;
+      const c = 4 * f;
+      if (flags & WING_WAS_TRIANGLE) {
+        // 2. Triangle wing: the face the collapse removed comes back, v0 at slot s.
+        const v1Follows = (flags & WING_V1_FOLLOWS_V0) !== 0;
+        corners[c + s] = v0;
+        corners[c + ((s + 1) % 3)] = v1Follows ? v1 : w;
+        corners[c + ((s + 2) % 3)] = v1Follows ? w : v1;
+        corners[c + 3] = -1;
+      } else {
+        // 3. Quad wing: the triangle becomes the quad again, v0 back into slot s.
+        for (let k = 3; k > s; k--) corners[c + k] = corners[c + k - 1];
+        corners[c + s] = v0;
+        quads++;
+      }
+      list[n] = f;
+      n += 1 - mark[f];
+      mark[f] = 1;
+    }
+  }
+  dirty.count = n;
+  return quads;
+}
+
+// Undoes splits [to, from) from the last (from > to): each is the collapse v0 → v1; the quads
+// they turn back into triangles.
+export function undoSplits(mesh, from, to, corners, dirty) {
+  const b = mesh.head.baseVertexCount;
+  const { parent, movedStart, wingStart } = mesh;
+  const movedFaces = mesh.movedFaces.data;
   const wingFlags = mesh.wingFlags.data;
   const wingFace = mesh.wingFace.data;
+  const { mark, list } = dirty;
+  let n = dirty.count;
   let quads = 0;
-  for (let j = mesh.wingStart[i + 1] - 1; j >= mesh.wingStart[i]; j--) {
-    const f = wingFace[j];
-    const flags = wingFlags[j];
-    const c = 4 * f;
-    if (!(flags & WING_WAS_TRIANGLE)) {
-      for (let k = (flags >> WING_SLOT_SHIFT) & 3; k < 3; k++) corners[c + k] = corners[c + k + 1];
-      quads++;
+  for (let i = from - 1; i >= to; i--) {
+    const v0 = b + i;
+    const v1 = parent[i];
+    for (let j = wingStart[i + 1] - 1; j >= wingStart[i]; j--) {
+      const f = wingFace[j];
+      const flags = wingFlags[j];
+      const c = 4 * f;
+      if (!(flags & WING_WAS_TRIANGLE)) {
+        for (let k = (flags >> WING_SLOT_SHIFT) & 3; k < 3; k++) corners[c + k] = corners[c + k + 1];
+        quads++;
+      }
+      corners[c + 3] = -1;  // a re-created triangle is removed: beyond the face count now
+      list[n] = f;
+      n += 1 - mark[f];
+      mark[f] = 1;
     }
-    corners[c + 3] = -1;  // a re-created triangle is removed: beyond the face count now
-    touch(f);
+    for (let j = movedStart[i], end = movedStart[i + 1]; j < end; j++) {
+      const f = movedFaces[j];
+      const c = 4 * f;
+      const x0 = corners[c], x1 = corners[c + 1], x2 = corners[c + 2], x3 = corners[c + 3];
+      corners[c] = x0 === v0 ? v1 : x0;
+      corners[c + 1] = x1 === v0 ? v1 : x1;
+      corners[c + 2] = x2 === v0 ? v1 : x2;
+      corners[c + 3] = x3 === v0 ? v1 : x3;
+      list[n] = f;
+      n += 1 - mark[f];
+      mark[f] = 1;
+    }
   }
-  const movedFaces = mesh.movedFaces.data;
-  for (let j = mesh.movedStart[i], end = mesh.movedStart[i + 1]; j < end; j++) {
-    const f = movedFaces[j];
-    corners[4 * f + slotOf(corners, f, v0)] = v1;
-    touch(f);
-  }
+  dirty.count = n;
   return quads;
 }
 
