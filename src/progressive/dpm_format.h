@@ -44,6 +44,18 @@ inline uint32_t crc32(std::string_view bytes) {
   return c ^ 0xffffffffu;
 }
 
+// The chunk tags this version knows.
+inline bool is_known_tag(std::string_view tag) {
+  return tag == "HEAD" || tag == "FDEF" || tag == "BASE" || tag == "FLDS" || tag == "SPLT" ||
+         tag == "END ";
+}
+// An optional chunk a reader may skip has four characters from A–Z, 0–9 and space.
+inline bool is_optional_tag(std::string_view tag) {
+  for (char c : tag)
+    if (!((c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == ' ')) return false;
+  return true;
+}
+
 // Residual arithmetic: plain integers on a grid, modulo 2^32 on float bits (lossless).
 inline int64_t wrap_add(int64_t prediction, int64_t residual, bool lossless) {
   const uint64_t sum = static_cast<uint64_t>(prediction) + static_cast<uint64_t>(residual);

@@ -17,43 +17,12 @@
 #include "dpm_read_fields.h"
 #include "dynpm/progressive.h"
 #include "position_coding.h"
+#include "zstd_frame.h"
 
 namespace dynpm {
 namespace {
 
 using namespace progressive;
-
-struct DStreamFree {
-  void operator()(ZSTD_DStream* d) const { ZSTD_freeDStream(d); }
-};
-
-// One zstd frame that must hold exactly `raw` bytes, decompressed into `out` as it arrives: the
-// buffer grows with what the frame really produces, so a frame that claims more than it holds
-// costs only what it holds. Empty on success, else what is wrong.
-std::string inflate(std::string_view frame, uint64_t raw, std::string& out) {
-  std::unique_ptr<ZSTD_DStream, DStreamFree> stream(ZSTD_createDStream());
-  if (!stream || ZSTD_isError(ZSTD_initDStream(stream.get()))) return "no memory for zstd";
-  ZSTD_inBuffer in{frame.data(), frame.size(), 0};
-  out.clear();
-  size_t produced = 0;
-  char spill;  // where output beyond `raw` would go: any is an error
-  for (;;) {
-    if (produced == out.size() && out.size() < raw)
-      out.resize(std::min<uint64_t>(raw, std::max<uint64_t>(2 * out.size(), 1 << 20)));
-    const bool full = produced == out.size();
-    ZSTD_outBuffer o{full ? &spill : out.data() + produced, full ? 1 : out.size() - produced, 0};
-    const size_t consumed = in.pos;
-    const size_t left = ZSTD_decompressStream(stream.get(), &o, &in);
-    if (ZSTD_isError(left)) return ZSTD_getErrorName(left);
-    if (full && o.pos > 0) return "it holds more bytes than its header says";
-    produced += o.pos;
-    if (left == 0) break;  // the frame is complete
-    if (o.pos == 0 && in.pos == consumed) return "the frame is cut short";
-  }
-  if (produced != raw) return "it holds fewer bytes than its header says";
-  if (in.pos != in.size) return "bytes after its zstd frame";
-  return {};
-}
 
 class Decoder {
  public:
@@ -195,17 +164,6 @@ class Decoder {
                 e.what + " (at byte " + std::to_string(e.offset) + " of the chunk's data)");
   }
 
-  static bool is_known(std::string_view tag) {
-    return tag == "HEAD" || tag == "FDEF" || tag == "BASE" || tag == "FLDS" || tag == "SPLT" ||
-           tag == "END ";
-  }
-  // An optional chunk a reader may skip has four characters from A–Z, 0–9 and space.
-  static bool is_optional_tag(std::string_view tag) {
-    return std::all_of(tag.begin(), tag.end(), [](char c) {
-      return (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == ' ';
-    });
-  }
-
   // What a chunk's 24 header bytes say, checked before its payload is looked at (the browser's
   // decoder checks them as they arrive, in this order). `expected`: HEAD, BASE, FLDS, or SPLT
   // (which END may end); `optional`: a chunk that may come instead (FDEF before BASE). An unknown
@@ -214,7 +172,7 @@ class Decoder {
                             const std::string& tag, uint32_t flags, uint32_t stored, uint32_t raw,
                             uint32_t reserved) const {
     const size_t at = pos_;
-    const bool unknown = !is_known(tag);
+    const bool unknown = !is_known_tag(tag);
     if (unknown && !is_optional_tag(tag))
       return fail(at,
                   "unknown chunk tag (not HEAD, FDEF, BASE, FLDS, SPLT, END or four of A-Z, "
@@ -253,7 +211,7 @@ class Decoder {
                           std::string_view optional = {}) {
     for (;;) {
       auto got = one_chunk(expected, optional, tag, payload);
-      if (!got || !*got || is_known(tag)) return got;
+      if (!got || !*got || is_known_tag(tag)) return got;
     }
   }
 
@@ -275,7 +233,7 @@ class Decoder {
     const std::string_view body = bytes_.substr(pos_ + kChunkHeaderSize, stored);
     if (crc32(body) != crc)
       return fail(pos_, tag + " chunk checksum mismatch (the file is damaged)");
-    if (!is_known(tag)) {  // an optional chunk this reader does not know: skipped
+    if (!is_known_tag(tag)) {  // an optional chunk this reader does not know: skipped
       pos_ += kChunkHeaderSize + stored;
       return true;
     }
