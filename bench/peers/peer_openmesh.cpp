@@ -16,6 +16,7 @@
 
 #include "driver_common.h"
 #include "obj_io.h"
+#include "openmesh_obj.h"
 
 using namespace peers;
 
@@ -80,17 +81,7 @@ int main(int argc, char** argv) {
 
   std::vector<Vec3> outV;
   std::vector<Tri> outF;
-  outV.reserve(mesh.n_vertices());
-  for (auto v : mesh.vertices()) {
-    const auto& p = mesh.point(v);
-    outV.push_back({p[0], p[1], p[2]});
-  }
-  for (auto f : mesh.faces()) {
-    Tri t{};
-    int k = 0;
-    for (auto v : mesh.fv_range(f)) t[k++] = static_cast<std::uint32_t>(v.idx());
-    outF.push_back(t);
-  }
+  openmesh_arrays(mesh, outV, outF);
   compact(outV, outF);
   if (auto err = write_obj(args.output, outV, outF); !err.empty()) die(kPeer, err);
 

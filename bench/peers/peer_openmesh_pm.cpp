@@ -24,6 +24,7 @@
 
 #include "driver_common.h"
 #include "obj_io.h"
+#include "openmesh_obj.h"
 
 using namespace peers;
 
@@ -170,16 +171,7 @@ int replay(const Options& o) {
 
   std::vector<Vec3> outV;
   std::vector<Tri> outF;
-  for (auto v : mesh.vertices()) {
-    const auto& q = mesh.point(v);
-    outV.push_back({q[0], q[1], q[2]});
-  }
-  for (auto f : mesh.faces()) {
-    Tri t{};
-    int k = 0;
-    for (auto v : mesh.fv_range(f)) t[k++] = static_cast<std::uint32_t>(v.idx());
-    outF.push_back(t);
-  }
+  openmesh_arrays(mesh, outV, outF);
   if (auto err = write_obj(o.output, outV, outF); !err.empty()) die(kPeer, err);
   Json j;
   j.add("peer", kPeer)
