@@ -99,6 +99,7 @@ class Decoder {
               parse_field_values(payload, mesh_, first, pending_splits_, faces_before, face_count_))
         return bad_at(*e);
     }
+    for (size_t t = 0; t < steps_; ++t) q_->move_to_positions(mesh_, t, mesh_.base_vertex_count);
     drop_steps_not_asked();
     if (fields && !decode_fields_) {  // checked, not decoded: not in the result
       mesh_.fields.clear();
@@ -147,8 +148,8 @@ class Decoder {
   void drop_steps_not_asked() {
     if (steps_ == mesh_.times.size()) return;
     for (size_t t = steps_; t < mesh_.times.size(); ++t) {
-      mesh_.positions[t] = {};
-      for (ProgressiveField& f : mesh_.fields) f.values[t] = {};
+      std::vector<float>().swap(mesh_.positions[t]);  // freed: `= {}` keeps the capacity
+      for (ProgressiveField& f : mesh_.fields) std::vector<float>().swap(f.values[t]);
     }
     mesh_.complete = false;
     mesh_.limited = true;
@@ -346,6 +347,7 @@ class Decoder {
     if (r.remaining() != 0) return bad(r, "unexpected bytes after the header");
     m.positions.resize(steps);
     models_.emplace(steps);
+    q_.emplace(grid_of(m), steps);
     return {};
   }
 
@@ -376,8 +378,7 @@ class Decoder {
     return r.ok() ? Status{} : bad(r, "face attributes are cut short");
   }
 
-  // The base vertices' positions, [begin, end) (svarints, as in version 1), of the steps asked
-  // for (the later ones follow in the payload and are not decoded).
+  // The base vertices' positions [begin, end) of the steps asked for (svarints, as version 1).
   Status read_positions(ByteReader& r, uint32_t begin, uint32_t end) {
     const size_t steps = steps_;
     if (!r.can_hold(uint64_t{end - begin} * steps * 3, 1)) return bad(r, "positions are cut short");
@@ -419,6 +420,7 @@ class Decoder {
     }
     DYNPM_RETURN_IF_ERROR(read_face_attributes(r, m.base_face_count));
     DYNPM_RETURN_IF_ERROR(read_positions(r, 0, m.base_vertex_count));
+    q_->take(m, steps_, 0, m.base_vertex_count);
     if (r.remaining() != 0 && steps_ == mesh_.times.size())
       return bad(r, "unexpected bytes after the base mesh");
     faces_ = m.base_faces;
@@ -426,8 +428,7 @@ class Decoder {
     return {};
   }
 
-  // The records and attributes sections of the n splits from `first` (docs/FORMAT.md "Split
-  // records", "Split attributes"): for now the bytes version 1 wrote (varints).
+  // The records and attributes of the n splits from `first`, in version 1's varints (FORMAT.md).
   Status read_records_sections(std::string_view records, std::string_view attributes,
                                uint32_t first, uint32_t n) {
     ByteReader r(records);
@@ -528,16 +529,14 @@ class Decoder {
       stencils.add(m, i, faces_);
     }
     // The positions of the steps asked for; the later steps' sections are not decoded.
-    for (size_t t = 0; t < steps_; ++t)
-      m.positions[t].resize(size_t{m.base_vertex_count + first + n} * 3);
-    const std::string problem =
-        decode_split_positions(m, first, stencils, *models_, std::span(section).subspan(2, steps_));
+    q_->resize(steps_, m.base_vertex_count + first + n);  // positions: at the end (run())
+    const std::string problem = decode_split_positions(m, first, stencils, *models_,
+                                                       std::span(section).subspan(2, steps_), *q_);
     if (!problem.empty()) return fail(payload_start_, problem);
     return {};
   }
 
-  // Back to the levels before split `splits`, which had `faces` faces: the SPLT whose field values
-  // did not arrive is dropped.
+  // Back to the levels before split `splits`, which had `faces` faces (a prefix, or a limit).
   void truncate(uint32_t splits, uint32_t faces) {
     ProgressiveMesh& m = mesh_;
     const uint32_t vertices = m.base_vertex_count + splits;
@@ -552,8 +551,7 @@ class Decoder {
     m.face_original_index.resize(faces);
     m.part_ids.resize(faces);
     m.element_ids.resize(faces);
-    for (auto& xyz : m.positions)
-      if (!xyz.empty()) xyz.resize(size_t{vertices} * 3);
+    q_->resize(steps_, vertices);
     if (!m.face_heir.empty()) m.face_heir.resize(faces);
     for (ProgressiveField& f : m.fields) {
       if (f.error.size() > splits) f.error.resize(splits);
@@ -575,6 +573,7 @@ class Decoder {
   ProgressiveMesh mesh_;
   Deltas d_;
   std::optional<SplitPositionModels> models_;  // sized by HEAD's step count
+  std::optional<GridValues> q_;                // the decoded positions' q-values
   std::vector<Face> faces_;                    // the decode-time replay
   uint32_t face_count_ = 0;
   // The last SPLT's split and face counts, for the size of the FLDS that follows it.

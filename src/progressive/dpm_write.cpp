@@ -203,6 +203,8 @@ std::string encode_dpm(const ProgressiveMesh& mesh) {
   std::vector<Face> faces(mesh.full_face_count);
   std::copy(mesh.base_faces.begin(), mesh.base_faces.end(), faces.begin());
   SplitPositionModels models(mesh.step_count());
+  GridValues q(grid_of(mesh), mesh.step_count());
+  q.take(mesh, mesh.step_count(), 0, mesh.vertex_count());
   uint32_t chunk = kFirstChunkSplits;
   for (uint32_t first = 0; first < mesh.split_count();
        first += chunk, chunk = std::min(chunk * 2, kMaxChunkSplits)) {
@@ -215,7 +217,7 @@ std::string encode_dpm(const ProgressiveMesh& mesh) {
       apply_split(mesh, i, faces, face_count);
       stencils.add(mesh, i, faces);
     }
-    for (std::string& s : encode_split_positions(mesh, first, stencils, models))
+    for (std::string& s : encode_split_positions(mesh, first, stencils, models, q))
       sections.push_back(std::move(s));
     ByteWriter w;
     w.put<uint32_t>(first);

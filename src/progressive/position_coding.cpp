@@ -47,7 +47,7 @@ int bucket(int64_t residual) {
 // decodes q_t(v) into got. False when value() is.
 template <class Value>
 bool walk(const ProgressiveMesh& mesh, uint32_t first, const ChunkStencils& stencils,
-          SplitPositionModels& models, size_t steps, Value&& value) {
+          SplitPositionModels& models, size_t steps, const GridValues& qv, Value&& value) {
   const Grid g = grid_of(mesh);
   const size_t n = stencils.splits.size();
   std::vector<int64_t> before(n * 3, 0);  // the residuals at t − 1
@@ -56,9 +56,7 @@ bool walk(const ProgressiveMesh& mesh, uint32_t first, const ChunkStencils& sten
     for (size_t k = 0; k < n; ++k) {
       const uint32_t v = mesh.base_vertex_count + first + static_cast<uint32_t>(k);
       for (int c = 0; c < 3; ++c) {
-        const auto q = [&](uint32_t u, size_t s) {
-          return g.q(mesh.positions[s][size_t{u} * 3 + c], c);
-        };
+        const auto q = [&](uint32_t u, size_t s) { return qv.at(u, s, c); };
         int64_t& r = before[k * 3 + c];
         const int64_t expected = guess(stencils, stencils.splits[k], g, v, t, r, q);
         int64_t got;
@@ -71,6 +69,24 @@ bool walk(const ProgressiveMesh& mesh, uint32_t first, const ChunkStencils& sten
 }
 
 }  // namespace
+
+void GridValues::take(const ProgressiveMesh& mesh, size_t steps, uint32_t begin, uint32_t end) {
+  const Grid g = grid_of(mesh);
+  resize(steps, std::max<uint32_t>(end, static_cast<uint32_t>(q_.empty() ? 0 : q_[0].size() / 3)));
+  for (size_t t = 0; t < steps; ++t)
+    for (size_t k = size_t{begin} * 3; k < size_t{end} * 3; ++k)
+      q_[t][k] = static_cast<uint32_t>(g.q(mesh.positions[t][k], static_cast<int>(k % 3)));
+}
+
+void GridValues::move_to_positions(ProgressiveMesh& mesh, size_t t, uint32_t begin) {
+  const Grid g = grid_of(mesh);
+  std::vector<float>& xyz = mesh.positions[t];
+  xyz.resize(q_[t].size());
+  for (size_t k = size_t{begin} * 3; k < xyz.size(); ++k)
+    xyz[k] =
+        g.p(at(static_cast<uint32_t>(k / 3), t, static_cast<int>(k % 3)), static_cast<int>(k % 3));
+  std::vector<uint32_t>().swap(q_[t]);  // freed (assigning {} would keep the capacity)
+}
 
 void ChunkStencils::add(const ProgressiveMesh& mesh, uint32_t i, std::span<const Face> faces) {
   SplitStencil s;
@@ -104,12 +120,12 @@ void ChunkStencils::add(const ProgressiveMesh& mesh, uint32_t i, std::span<const
 
 std::vector<std::string> encode_split_positions(const ProgressiveMesh& mesh, uint32_t first,
                                                 const ChunkStencils& stencils,
-                                                SplitPositionModels& models) {
+                                                SplitPositionModels& models, const GridValues& q) {
   const Grid g = grid_of(mesh);
   std::vector<RangeEncoder> coders(mesh.step_count());
-  walk(mesh, first, stencils, models, mesh.step_count(),
+  walk(mesh, first, stencils, models, mesh.step_count(), q,
        [&](size_t t, uint32_t v, int c, int64_t guess, SignedModel& m, int64_t& got) {
-         got = g.q(mesh.positions[t][size_t{v} * 3 + c], c);
+         got = q.at(v, t, c);
          m.encode(coders[t], g.residual(got, guess));
          return true;
        });
@@ -120,7 +136,7 @@ std::vector<std::string> encode_split_positions(const ProgressiveMesh& mesh, uin
 
 std::string decode_split_positions(ProgressiveMesh& mesh, uint32_t first,
                                    const ChunkStencils& stencils, SplitPositionModels& models,
-                                   std::span<const std::string_view> sections) {
+                                   std::span<const std::string_view> sections, GridValues& q) {
   const Grid g = grid_of(mesh);
   // A quantized position lies in the bounding box, give or take two grid steps.
   std::array<double, 3> top{};
@@ -128,7 +144,7 @@ std::string decode_split_positions(ProgressiveMesh& mesh, uint32_t first,
   std::vector<RangeDecoder> decoders;
   for (std::string_view s : sections) decoders.emplace_back(s);
   std::string problem;
-  walk(mesh, first, stencils, models, sections.size(),
+  walk(mesh, first, stencils, models, sections.size(), q,
        [&](size_t t, uint32_t v, int c, int64_t guess, SignedModel& m, int64_t& got) {
          RangeDecoder& d = decoders[t];
          got = g.add(guess, m.decode(d));
@@ -141,7 +157,7 @@ std::string decode_split_positions(ProgressiveMesh& mesh, uint32_t first,
                      "'s position is far outside the bounding box";
            return false;
          }
-         mesh.positions[t][size_t{v} * 3 + c] = g.p(got, c);
+         q.set(v, t, c, got);
          return true;
        });
   if (!problem.empty()) return problem;

@@ -51,14 +51,44 @@ class SplitPositionModels {
   std::vector<std::array<std::array<SignedModel, kPositionContexts>, 3>> steps_;
 };
 
-// The m position sections of splits [first, first + stencils.splits.size()).
+// Every vertex's q-values so far, per step: the predictions read a vertex's ring at every step,
+// and converting floats back to grid integers there cost more than the decoding itself.
+// Quantized q-values fit 32 bits signed, lossless ones are the float32 bits.
+class GridValues {
+ public:
+  GridValues(const Grid& g, size_t steps) : lossless_(g.lossless), q_(steps) {}
+  int64_t at(uint32_t v, size_t t, int c) const {
+    const uint32_t u = q_[t][size_t{v} * 3 + c];
+    return lossless_ ? int64_t{u} : int64_t{static_cast<int32_t>(u)};
+  }
+  void set(uint32_t v, size_t t, int c, int64_t q) {
+    q_[t][size_t{v} * 3 + c] = static_cast<uint32_t>(q);
+  }
+  // Room for `vertices` vertices at steps [0, steps).
+  void resize(size_t steps, uint32_t vertices) {
+    for (size_t t = 0; t < steps; ++t) q_[t].resize(size_t{vertices} * 3);
+  }
+  // Vertices [begin, end) of steps [0, steps) from mesh.positions.
+  void take(const ProgressiveMesh& mesh, size_t steps, uint32_t begin, uint32_t end);
+  // Step t's vertices from `begin` on into mesh.positions (its first `begin` already there), and
+  // this step's values freed: the decoder keeps one copy of the positions at a time.
+  void move_to_positions(ProgressiveMesh& mesh, size_t t, uint32_t begin);
+
+ private:
+  bool lossless_;
+  std::vector<std::vector<uint32_t>> q_;
+};
+
+// The m position sections of splits [first, first + stencils.splits.size()); `q` holds every
+// vertex's q-values (GridValues::take of the whole mesh).
 std::vector<std::string> encode_split_positions(const ProgressiveMesh& mesh, uint32_t first,
                                                 const ChunkStencils& stencils,
-                                                SplitPositionModels& models);
+                                                SplitPositionModels& models, const GridValues& q);
 
-// Decodes them into mesh.positions (sized for the new vertices). Empty, or what is wrong.
+// Decodes the sections given (steps 0 … sections.size() − 1) into `q` (sized for the new
+// vertices), which holds the earlier vertices' values. Empty, or what is wrong.
 std::string decode_split_positions(ProgressiveMesh& mesh, uint32_t first,
                                    const ChunkStencils& stencils, SplitPositionModels& models,
-                                   std::span<const std::string_view> sections);
+                                   std::span<const std::string_view> sections, GridValues& q);
 
 }  // namespace dynpm::progressive
