@@ -42,12 +42,7 @@ int main(int argc, char** argv) {
 
   Timer setup_timer;
   Mesh mesh;
-  std::vector<Mesh::VertexHandle> vh;
-  vh.reserve(in.V.size());
-  for (const Vec3& p : in.V) vh.push_back(mesh.add_vertex(Mesh::Point(p[0], p[1], p[2])));
-  std::size_t rejected = 0;
-  for (const Tri& t : in.F)
-    if (!mesh.add_face(vh[t[0]], vh[t[1]], vh[t[2]]).is_valid()) ++rejected;
+  const std::size_t rejected = add_soup(mesh, in);
   // Isolated vertices (unreferenced in the file) would never be collapsed: drop them.
   // Status flags are reference counted: keep our own request so that the decimater's
   // release in its destructor does not drop the deleted flags before garbage_collection().

@@ -164,7 +164,6 @@ struct DpmReadLimits {
   std::optional<double> error;
   bool error_of_diagonal = false;  // `error` is a fraction of the bounding-box diagonal
   std::optional<size_t> last_step;
-  bool any() const { return vertices || ratio || error || last_step; }
 };
 
 // Reads a whole file or a prefix of one (then complete == false), or only what `limits` asks
