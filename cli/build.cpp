@@ -21,7 +21,8 @@ namespace {
 const VerbSpec kSpec{
     "build",
     "dynpm build INPUT... -o MODEL.dpm [--key-steps all|paper|auto:K|LIST] [--lossless]\n"
-    "                   [--position-error E] [--field-bound F] [--json]",
+    "                   [--position-error E] [--field-bound F] [--json] [--progress FORM]\n"
+    "                   [--quiet] [--no-memory-check]",
     "Simplifies the animation to its coarsest legal mesh, recording every half-edge collapse,\n"
     "and writes the base mesh plus the vertex splits that rebuild the input, with every\n"
     "vertex's position at every time step (docs/FORMAT.md). Any resolution can then be shown\n"
@@ -30,7 +31,10 @@ const VerbSpec kSpec{
     "the bounding-box diagonal); --lossless stores float32 exactly. Result fields (plastic "
     "strain,\n"
     "stress, … per node or per element) are stored with each value within --field-bound percent\n"
-    "of the field's range (default 0.1 %), float32 exactly with --lossless.",
+    "of the field's range (default 0.1 %), float32 exactly with --lossless.\n"
+    "Before the work it prints its memory estimate, and stops when that is more than the memory\n"
+    "it may have (free memory, ulimit -v, the cgroup's limit) unless --no-memory-check. Progress\n"
+    "goes to stderr: a live line on a terminal, a line every 5 s otherwise (docs/build.md).",
     {{"--output", "-o", true, "MODEL.dpm", "the progressive mesh file to write"},
      kKeyStepsFlag,
      {"--lossless", "", false, "", "store positions and fields bit-exactly (larger file)"},
@@ -42,14 +46,65 @@ const VerbSpec kSpec{
      kRegularizeFlag,
      kIgnorePartsFlag,
      {"--json", "", false, "", "print the result as JSON"},
+     {"--no-memory-check", "", false, "",
+      "build even when the memory estimate exceeds the memory available"},
      kSplitPolygonsFlag,
-     kIntegrationPointFlag}};
+     kIntegrationPointFlag,
+     kProgressFlag,
+     kQuietFlag}};
+
+// "1.6 GB", "45 MB".
+std::string memory_text(uint64_t bytes) {
+  char text[32];
+  if (bytes >= (1ull << 30))
+    std::snprintf(text, sizeof text, "%.1f GB", double(bytes) / double(1ull << 30));
+  else
+    std::snprintf(text, sizeof text, "%.0f MB", double(bytes) / double(1ull << 20));
+  return text;
+}
+
+// How many key steps the rule will choose (before reading a step to choose them).
+uint64_t key_step_count(const KeyStepRule& rule, uint64_t steps) {
+  switch (rule.kind) {
+    case KeyStepRule::Kind::kAll: return steps;
+    case KeyStepRule::Kind::kPaper: return std::min<uint64_t>(3, steps);
+    case KeyStepRule::Kind::kAuto: return std::min<uint64_t>(rule.count, steps);
+    case KeyStepRule::Kind::kExplicit: return std::min<uint64_t>(rule.steps.size(), steps);
+  }
+  return steps;
+}
+
+// The estimate before the work, and the refusal when it cannot fit: the message names the
+// memory the process can have (free memory, ulimit -v, the cgroup's limit) and the most key
+// steps that would fit. An error message, or "".
+std::string check_memory(uint32_t vertices, size_t steps, const KeyStepRule& rule, bool refuse) {
+  const uint64_t keys = key_step_count(rule, steps);
+  const uint64_t need = build_memory_estimate(vertices, steps, keys);
+  const uint64_t have = available_memory_bytes();
+  if (!progress_quiet()) {
+    clear_progress_line();
+    std::fprintf(stderr, "dynpm build: needs about %s (have %s)\n", memory_text(need).c_str(),
+                 have ? memory_text(have).c_str() : "unknown");
+  }
+  if (!refuse || have == 0 || need <= have) return "";
+  std::string message = "needs about " + memory_text(need) + ", have " + memory_text(have);
+  uint64_t fits = 0;  // the most key steps that fit
+  for (uint64_t k = keys; k-- > 1;)
+    if (build_memory_estimate(vertices, steps, k) <= have) {
+      fits = k;
+      break;
+    }
+  if (fits > 0) message += "; try --key-steps auto:" + std::to_string(fits);
+  return message + " (--no-memory-check builds anyway)";
+}
 
 }  // namespace
 
 int run_build(std::span<char* const> arguments) {
   Args args;
   if (auto exit_code = parse_verb_args(arguments, kSpec, args)) return *exit_code;
+  if (Status s = configure_progress(args, kSpec.name); !s.ok())
+    return fail(kSpec.name, kExitUsage, s.message());
   if (auto exit_code = require_inputs_and_output(args, kSpec, "MODEL.dpm")) return *exit_code;
   const auto output = args.value("--output");
   BuildOptions options;
@@ -77,9 +132,16 @@ int run_build(std::span<char* const> arguments) {
   const FrameSource& frames = *stream->frames;
   if (Status s = check_cost_fields(options.simplify, frames); !s.ok())
     return fail(kSpec.name, kExitUsage, s.message());
+  if (std::string refused = check_memory(input.vertex_count, frames.step_count(), key_rule,
+                                         !args.has("--no-memory-check"));
+      !refused.empty())
+    return fail(kSpec.name, kExitFailure, refused);
   const auto start = std::chrono::steady_clock::now();
   std::optional<Phase> phase(std::in_place, "choosing the key steps");
-  auto key_steps = choose_key_steps(frames, key_rule);
+  const ProgressCallback report = [](std::string_view what, size_t done, size_t total) {
+    progress(what, done, total);
+  };
+  auto key_steps = choose_key_steps(frames, key_rule, report);
   if (!key_steps) return fail(kSpec.name, kExitFailure, key_steps.message());
   options.simplify.key_steps = key_steps->steps;
   const bool json = args.has("--json");
@@ -88,16 +150,20 @@ int run_build(std::span<char* const> arguments) {
       std::printf("key step  %s\n", reason.c_str());
   options.note = "dynpm build of " + std::filesystem::path(args.positional[0]).filename().string() +
                  (args.positional.size() > 1 ? " …" : "");
-  options.progress = [](size_t done, size_t total) { progress("reading steps", done, total); };
+  options.progress = report;
 
   phase.emplace("simplifying and recording the vertex splits");
   auto mesh = build_progressive_mesh(input, frames, options);
   if (!mesh) return fail(kSpec.name, kExitFailure, mesh.message());
   phase.emplace("encoding the .dpm file");
+  progress("encoding", 0, 1);
   const std::string bytes = encode_dpm(*mesh);
+  progress("encoding", 1, 1);
   phase.emplace("writing the .dpm file");
+  progress("writing", 0, 1);
   if (Status s = write_file_atomically(*output, bytes); !s.ok())
     return fail(kSpec.name, kExitFailure, s.message());
+  progress("writing", 1, 1);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 

@@ -23,13 +23,17 @@ const VerbSpec kSpec{
     {{"--output", "-o", true, "OUTPUT", "output file, or pattern with {:03d} for several steps"},
      {"--ascii", "", false, "", "write PLY and VTK as text instead of binary"},
      kSplitPolygonsFlag,
-     kIntegrationPointFlag}};
+     kIntegrationPointFlag,
+     kProgressFlag,
+     kQuietFlag}};
 
 }  // namespace
 
 int run_convert(std::span<char* const> arguments) {
   Args args;
   if (auto exit_code = parse_verb_args(arguments, kSpec, args)) return *exit_code;
+  if (Status s = configure_progress(args, kSpec.name); !s.ok())
+    return fail(kSpec.name, kExitUsage, s.message());
   if (auto exit_code = require_inputs_and_output(args, kSpec, "OUTPUT")) return *exit_code;
   const auto output = args.value("--output");
   if (!can_write(format_from_extension(*output)))

@@ -51,7 +51,9 @@ const VerbSpec kSpec{
      {"--json", "", true, "OUT.json", "also write the results as JSON"},
      {"--plot", "", true, "OUT.svg", "also write an SVG plot of error against % of vertices"},
      kSplitPolygonsFlag,
-     kIntegrationPointFlag}};
+     kIntegrationPointFlag,
+     kProgressFlag,
+     kQuietFlag}};
 
 int fail_usage(const std::string& message) { return fail(kSpec.name, kExitUsage, message); }
 
@@ -187,6 +189,8 @@ std::string table_json(const std::vector<std::string>& files, const FrameSource&
 int run_eval(std::span<char* const> arguments) {
   Args args;
   if (auto exit_code = parse_verb_args(arguments, kSpec, args)) return *exit_code;
+  if (Status s = configure_progress(args, kSpec.name); !s.ok())
+    return fail(kSpec.name, kExitUsage, s.message());
   const auto dpm_path = args.value("--dpm");
   const auto ratios_text = args.value("--ratios");
   if (args.positional.empty() || !dpm_path || !ratios_text)

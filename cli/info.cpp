@@ -32,7 +32,9 @@ const VerbSpec kSpec{
     {{"--json", "", false, "", "print the result as JSON on stdout"},
      {"--problems", "", true, "N", "list at most N problems of each severity (default 10)"},
      kSplitPolygonsFlag,
-     kIntegrationPointFlag}};
+     kIntegrationPointFlag,
+     kProgressFlag,
+     kQuietFlag}};
 
 // Passes steps through to validate() and extends the bounding box of all steps on the way,
 // so every step is read once.
@@ -331,6 +333,8 @@ int print_dpm_info(const std::string& path, bool json) {
 int run_info(std::span<char* const> arguments) {
   Args args;
   if (auto exit_code = parse_verb_args(arguments, kSpec, args)) return *exit_code;
+  if (Status s = configure_progress(args, kSpec.name); !s.ok())
+    return fail(kSpec.name, kExitUsage, s.message());
   if (args.positional.empty())
     return fail(kSpec.name, kExitUsage, "no input given", help_text(kSpec));
   size_t problems = 10;

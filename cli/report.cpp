@@ -21,6 +21,7 @@ int fail(const std::string& verb, int exit_code, const std::string& message,
 }
 
 void note(const std::string& verb, const std::string& message) {
+  clear_progress_line();
   std::cerr << "dynpm " << verb << ": note: " << message << "\n";
 }
 
@@ -53,13 +54,6 @@ int out_of_memory(const std::string& verb) {
 
 double of_diagonal(double length, double diagonal) {
   return diagonal > 0 && std::isfinite(diagonal) ? length / diagonal : 0.0;
-}
-
-void progress(const std::string& label, size_t done, size_t total) {
-  if (!::isatty(STDERR_FILENO)) return;
-  std::fprintf(stderr, "\r%s %zu/%zu", label.c_str(), done, total);
-  if (done == total) std::fprintf(stderr, "\r%*s\r", static_cast<int>(label.size() + 24), "");
-  std::fflush(stderr);
 }
 
 double peak_rss_mb() {

@@ -6,6 +6,8 @@
 #include <cstddef>
 #include <string>
 
+#include "progress.h"  // progress(), which every verb with long phases calls
+
 namespace dynpm::cli {
 
 // What stops a verb, said one way: "dynpm VERB: message" on stderr, then a blank line and
@@ -41,9 +43,6 @@ int out_of_memory(const std::string& verb);
 // A length as a fraction of the bounding-box diagonal; 0 when the diagonal is 0 (every vertex at
 // one point), so that no report prints "-nan%".
 double of_diagonal(double length, double diagonal);
-
-// Progress on stderr ("label 12/26"), only when stderr is a terminal.
-void progress(const std::string& label, size_t done, size_t total);
 
 // The process's peak resident memory in MB (VmHWM), or 0 where /proc is not there.
 double peak_rss_mb();

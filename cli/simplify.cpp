@@ -47,9 +47,11 @@ const VerbSpec kSpec{
      {"--ascii", "", false, "", "write PLY and VTK as text"},
      {"--json", "", false, "", "print the result as JSON"},
      kSplitPolygonsFlag,
-     kIntegrationPointFlag}};
+     kIntegrationPointFlag,
+     kProgressFlag,
+     kQuietFlag}};
 
-// A progress bar on stderr for long runs (only on a terminal).
+// Progress of the collapses on stderr (progress.h).
 class ProgressListener final : public CollapseListener {
  public:
   explicit ProgressListener(size_t expected) : expected_(std::max<size_t>(expected, 1)) {}
@@ -68,6 +70,8 @@ class ProgressListener final : public CollapseListener {
 int run_simplify(std::span<char* const> arguments) {
   Args args;
   if (auto exit_code = parse_verb_args(arguments, kSpec, args)) return *exit_code;
+  if (Status s = configure_progress(args, kSpec.name); !s.ok())
+    return fail(kSpec.name, kExitUsage, s.message());
   if (auto exit_code = require_inputs_and_output(args, kSpec, "OUTPUT")) return *exit_code;
   const auto output = args.value("--output");
   auto usage = [](const std::string& message) { return fail(kSpec.name, kExitUsage, message); };

@@ -276,12 +276,40 @@ TEST(AtomicOutputs, OutOfMemoryIsAMessageAndLeavesNoOutput) {
   }
   test::TempDir out;
   const std::string model = out.file("model.dpm");
-  const MeasuredRun run =
-      run_measured(dir.path(), {"build", dir.file("frame_*.ply"), "-o", model}, 96);
+  // Past the estimate's refusal (the next test), into the allocation that fails.
+  const MeasuredRun run = run_measured(
+      dir.path(), {"build", dir.file("frame_*.ply"), "--no-memory-check", "-o", model}, 96);
   EXPECT_EQ(run.exit_code, 1) << run.output;
   EXPECT_NE(run.output.find("dynpm build: out of memory while "), std::string::npos) << run.output;
   EXPECT_NE(run.output.find("address-space limit 96 MB"), std::string::npos) << run.output;
   EXPECT_EQ(run.output.find("terminate called"), std::string::npos) << run.output;
+  EXPECT_EQ(joined(folder_entries(out.path())), "[]");
+}
+
+// Under a memory limit the build refuses before the work, from its estimate: exit 1, the memory
+// it needs and has, and no output. The real mixed crash box (4,929 nodes, 41 steps, all of them
+// key steps: about 28 MB by the estimate), run as a user would: bash -c 'ulimit -v N; dynpm build'.
+// dynpm has used about 66 MB of address space once it has read it; 82 MB leave it about 16.
+TEST(AtomicOutputs, ABuildThatCannotFitIsRefusedUpFrontWithItsEstimate) {
+  if (kAddressSanitizer) GTEST_SKIP() << "ASan reserves terabytes of address space: no ulimit -v";
+  test::TempDir dir;
+  const std::string frd = dir.file("crashbox-mixed-5k.frd");
+  ASSERT_EQ(std::system(("zcat '" + test::shared_data() +
+                         "/crashbox-mixed-5k/crashbox-mixed-5k.frd.gz' > " + frd)
+                            .c_str()),
+            0);
+  test::TempDir out;
+  const std::string model = out.file("model.dpm");
+  const std::string build = std::string(DYNPM_CLI) + " build " + frd + " -o " + model;
+  const std::string log = dir.file("log.txt");
+  const std::string command = "bash -c 'ulimit -v 84000; " + build + "' >" + log + " 2>&1";
+  const int status = std::system(command.c_str());
+  std::ifstream in(log);
+  const std::string output(std::istreambuf_iterator<char>(in), {});
+  EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 1) << output;
+  EXPECT_NE(output.find("dynpm build: needs about "), std::string::npos) << output;
+  EXPECT_NE(output.find(", have "), std::string::npos) << output;
+  EXPECT_EQ(output.find("out of memory"), std::string::npos) << output;
   EXPECT_EQ(joined(folder_entries(out.path())), "[]");
 }
 

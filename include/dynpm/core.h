@@ -19,6 +19,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <span>
@@ -354,5 +355,19 @@ void sync_directory_of(const std::string& path);
 // freed, and later step buffers and adjacency arrays stay with the process once freed: about
 // 60 B per vertex more at the simplifier's peak. Process-wide; does nothing on other C libraries.
 void return_freed_arrays_to_the_system();
+
+// The memory this process can still take, in bytes: the least of the free memory
+// (MemAvailable), what the address-space limit (RLIMIT_AS, `ulimit -v`) leaves above the address
+// space already used, and what the cgroup's limit leaves (v2 memory.max − memory.current, v1
+// memory.limit_in_bytes − memory.usage_in_bytes). 0 when none of them can be read.
+uint64_t available_memory_bytes();
+
+// ---------------------------------------------------------------------------------------------
+// Progress
+
+// How a long job tells how far it is: the phase ("collapsing"), the work done and the work in
+// all, in the phase's own items (steps, vertices). A phase ends with done == total. Called on
+// the caller's thread, at most every few thousand items; may be empty (nobody listens).
+using ProgressCallback = std::function<void(std::string_view phase, size_t done, size_t total)>;
 
 }  // namespace dynpm

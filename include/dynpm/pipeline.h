@@ -33,9 +33,16 @@ struct BuildOptions {
   // "Fields"); lossless keeps them float32 exact.
   double field_bound = 0.001;
   std::string note;
-  // Called with (steps read, steps) while positions are gathered. May be empty.
-  std::function<void(size_t, size_t)> progress;
+  // The simplifier's phases (SimplifyOptions::progress), then "recording the splits",
+  // "gathering positions" (steps) and "quantizing" (steps). May be empty. simplify.progress is
+  // ignored: this one is passed down.
+  ProgressCallback progress;
 };
+
+// About how many bytes build_progressive_mesh() and writing its file take at their peak, for
+// `vertices` vertices, `steps` steps and `key_steps` key steps, geometry only (result fields
+// add their own). Fitted to measured peaks (src/pipeline/build_memory.cpp says which).
+uint64_t build_memory_estimate(uint64_t vertices, uint64_t steps, uint64_t key_steps);
 
 // Simplifies the animation to the end and records the progressive mesh, with every step's
 // positions (read once each, through the FrameSource) and the source's scalar fields.

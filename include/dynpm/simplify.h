@@ -121,6 +121,10 @@ struct SimplifyOptions {
   // Test mode: validate() the whole mesh after every collapse and fail at the first problem.
   bool check_every_collapse = false;
   unsigned threads = 0;  // 0: one per hardware thread
+  // Phases "checking the mesh" (faces), "reading key steps" (steps), "quadrics" (vertices) and
+  // "collapsing" (vertices removed, of those to remove; it ends at the collapses made). May be
+  // empty.
+  ProgressCallback progress;
 };
 
 // What one collapse did. Spans stay valid only during the listener call.
@@ -203,8 +207,9 @@ struct KeyStepChoice {
 // Reads the steps it needs through the FrameSource (each step once, whatever the rule).
 // Distances between steps are the largest vertex displacement, measured on at most
 // kMaxProbeVertices vertices spread evenly over the mesh, so that a 5 M-node, 100-step result
-// is compared in bounded memory.
+// is compared in bounded memory. Reports phase "choosing key steps" (steps read).
 inline constexpr uint32_t kMaxProbeVertices = 65536;
-Result<KeyStepChoice> choose_key_steps(const FrameSource& frames, const KeyStepRule& rule);
+Result<KeyStepChoice> choose_key_steps(const FrameSource& frames, const KeyStepRule& rule,
+                                       const ProgressCallback& progress = {});
 
 }  // namespace dynpm

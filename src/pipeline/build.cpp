@@ -65,9 +65,11 @@ Result<ProgressiveMesh> build_progressive_mesh(const Topology& topology, const F
   simplify_options.target_faces.reset();
   simplify_options.target_ratio.reset();
   simplify_options.max_error.reset();
+  simplify_options.progress = options.progress;
   CollapseLog log;
   auto simplified = simplify(topology, frames, simplify_options, &log);
   if (!simplified) return simplified.status();
+  if (options.progress) options.progress("recording the splits", 0, 1);  // ends at the next phase
 
   const uint32_t n = topology.vertex_count;
   const uint32_t splits = static_cast<uint32_t>(log.entries.size());
@@ -160,6 +162,7 @@ Result<ProgressiveMesh> build_progressive_mesh(const Topology& topology, const F
   pm.positions.resize(steps);
   pm.times.resize(steps);
   BoundingBox all;
+  if (options.progress) options.progress("gathering positions", 0, steps);
   for (size_t t = 0; t < steps; ++t) {
     DYNPM_RETURN_IF_ERROR(frames.read_step(t, step));
     pm.times[t] = frames.step_time(t);
@@ -172,7 +175,7 @@ Result<ProgressiveMesh> build_progressive_mesh(const Topology& topology, const F
       std::copy_n(&step[size_t{v} * 3], 3, &out[new_vertex[v] * size_t{3}]);
     step_boxes[t].extend(step);
     all.extend(step_boxes[t]);
-    if (options.progress) options.progress(t + 1, steps);
+    if (options.progress) options.progress("gathering positions", t + 1, steps);
   }
   for (int k = 0; k < 3; ++k) {
     pm.bbox_min[k] = all.empty ? 0.0 : all.min[k];
@@ -191,7 +194,9 @@ Result<ProgressiveMesh> build_progressive_mesh(const Topology& topology, const F
   pm.lossless = options.lossless;
   pm.max_error = options.lossless ? 0.0 : options.max_position_error * pm.diagonal();
   pm.note = options.note;
+  if (options.progress) options.progress("quantizing", 0, steps);
   quantize_positions(pm);
+  if (options.progress) options.progress("quantizing", steps, steps);
   // Result fields, per vertex or per face, permuted like the positions (build_fields.cpp).
   DYNPM_RETURN_IF_ERROR(
       build_fields(frames, new_vertex, new_face, options.field_bound, options.lossless, pm));

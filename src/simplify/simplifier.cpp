@@ -69,6 +69,12 @@ class Simplifier {
   Status collapse(uint32_t v0, uint32_t v1, double error, Scratch& s);
   Status check_mesh(size_t collapse_index) const;
   bool stop_reached(std::string& reason) const;
+  void report(std::string_view phase, size_t done, size_t total) const {
+    if (options_.progress) options_.progress(phase, done, total);
+  }
+  // Progress is told every this many collapses: often enough for a live line, rare enough to
+  // cost nothing next to the collapses.
+  static constexpr size_t kCollapsesPerReport = 4096;
 
   const Topology& input_;
   const SimplifyOptions& options_;
@@ -102,6 +108,7 @@ class Simplifier {
   size_t collapses_ = 0;
   double max_error_done_ = 0;
   uint32_t target_vertices_ = 0;
+  size_t collapse_goal_ = 0;  // vertices to remove to reach the target (progress only)
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -130,7 +137,7 @@ Status Simplifier::load_key_steps(const FrameSource& frames) {
 
   auto fields = cost_fields(options_, frames);
   if (!fields) return fields.status();
-  return quadrics_.load_key_steps(frames, input_, key_steps_, *fields);
+  return quadrics_.load_key_steps(frames, input_, key_steps_, *fields, options_.progress);
 }
 
 double Simplifier::cost(uint32_t v0, uint32_t v1, Scratch& s) const {
@@ -209,6 +216,7 @@ Status Simplifier::collapse(uint32_t v0, uint32_t v1, double error, Scratch& s) 
   if (optimal()) record.v1_new_positions = v1_positions;
   changed_[v0] = changed_[v1] = ++time_;  // their queued entries are now stale
   ++collapses_;
+  if (collapses_ % kCollapsesPerReport == 0) report("collapsing", collapses_, collapse_goal_);
   max_error_done_ = std::max(max_error_done_, error);
   if (listener_) listener_->on_collapse(record);
   if (options_.check_every_collapse) DYNPM_RETURN_IF_ERROR(check_mesh(collapses_));
@@ -271,6 +279,8 @@ bool Simplifier::stop_reached(std::string& reason) const {
 Result<SimplifyResult> Simplifier::run(Adjacency adjacency) {
   std::vector<uint8_t> constrained;
   initial_stats_ = topology_stats(input_, adjacency);
+  const size_t vertices = initial_stats_.referenced_vertices;
+  report("quadrics", 0, vertices);
   rules_.classify_vertices(adjacency);
   constrained = constrained_edges(input_, adjacency, rules_.features());
   adjacency = {};
@@ -290,8 +300,11 @@ Result<SimplifyResult> Simplifier::run(Adjacency adjacency) {
   rate_all_edges();
   ++time_;
   Scratch s(input_.vertex_count);
+  report("quadrics", vertices, vertices);
 
   SimplifyResult result;
+  collapse_goal_ = vertices - std::min<size_t>(target_vertices_, vertices);
+  report("collapsing", 0, collapse_goal_);
   bool rated_again = false;  // every edge was re-rated since the last collapse
   while (true) {
     if (stop_reached(result.stop_reason)) {
@@ -331,6 +344,7 @@ Result<SimplifyResult> Simplifier::run(Adjacency adjacency) {
     rated_again = false;
   }
 
+  report("collapsing", collapses_, collapses_);
   result.topology = mesh_.to_topology(input_, result.original_vertex);
   result.key_steps = key_steps_;
   result.collapses = collapses_;
@@ -381,7 +395,10 @@ Result<std::vector<CostField>> cost_fields(const SimplifyOptions& options,
 Result<SimplifyResult> simplify(const Topology& topology, const FrameSource& frames,
                                 const SimplifyOptions& options, CollapseListener* listener) {
   std::optional<Adjacency> adjacency;
+  const size_t faces = topology.faces.size();
+  if (options.progress) options.progress("checking the mesh", 0, faces);
   const ValidationReport report = validate(topology, adjacency);
+  if (options.progress) options.progress("checking the mesh", faces, faces);
   if (!report.ok()) {
     for (const Problem& p : report.problems)
       if (p.severity == Severity::kError) return Status::error("invalid input mesh: " + p.message);

@@ -1,0 +1,128 @@
+// What `dynpm build` tells on stderr while it works (cli/progress.h): plain lines when stderr is
+// not a terminal, JSON lines with --progress json, nothing with --quiet; and the memory
+// estimate it prints before the work. (Its refusal under a memory limit: bad_input_test.cpp.)
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <iterator>
+#include <regex>
+#include <sstream>
+
+#include "fixtures.h"
+#include "third_party.h"
+
+namespace dynpm {
+namespace {
+
+struct CliRun {
+  int exit_code = -1;
+  std::string out, err;
+};
+
+// dynpm with stdout and stderr into files of `dir` (so stderr is not a terminal).
+CliRun dynpm_run(const test::TempDir& dir, const std::string& arguments) {
+  const std::string out = dir.file("stdout.txt"), err = dir.file("stderr.txt");
+  const int status =
+      std::system((std::string(DYNPM_CLI) + " " + arguments + " >" + out + " 2>" + err).c_str());
+  CliRun run;
+  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  std::ifstream o(out), e(err);
+  run.out.assign(std::istreambuf_iterator<char>(o), {});
+  run.err.assign(std::istreambuf_iterator<char>(e), {});
+  return run;
+}
+
+std::vector<std::string> lines_of(const std::string& text) {
+  std::vector<std::string> lines;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
+// The real crash box (CalculiX, 3,003 nodes, 26 steps), unpacked into `dir`.
+std::string crashbox_frd(const test::TempDir& dir) {
+  const std::string frd = dir.file("crashbox-s.frd");
+  const std::string unzip =
+      "zcat '" + test::shared_data() + "/crashbox-s/crashbox-s.frd.gz' > " + frd;
+  return std::system(unzip.c_str()) == 0 ? frd : "";
+}
+
+// Every phase of a build, in order (auto:K reads every step to choose, then the key steps).
+const std::vector<std::string> kBuildPhases = {
+    "choosing key steps",   "checking the mesh",   "reading key steps", "quadrics", "collapsing",
+    "recording the splits", "gathering positions", "quantizing",        "encoding", "writing"};
+
+TEST(CliProgress, ARedirectedBuildPrintsALineAtTheEndOfEveryPhase) {
+  test::TempDir dir;
+  const std::string frd = crashbox_frd(dir);
+  ASSERT_FALSE(frd.empty());
+  const CliRun run = dynpm_run(dir, "build " + frd + " --key-steps auto:3 -o " + dir.file("m.dpm"));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  // The estimate first, then one closing line per phase, in order.
+  const std::vector<std::string> lines = lines_of(run.err);
+  ASSERT_FALSE(lines.empty());
+  EXPECT_TRUE(
+      std::regex_match(lines[0], std::regex(R"(dynpm build: needs about \d+ MB \(have .*\))")))
+      << lines[0];
+  size_t next = 0;
+  for (const std::string& line : lines)
+    if (next < kBuildPhases.size() &&
+        line.rfind("dynpm build: " + kBuildPhases[next] + " done", 0) == 0)
+      ++next;
+  EXPECT_EQ(next, kBuildPhases.size()) << "phases seen in order: " << next << "\n" << run.err;
+  // Vertices removed of the 3,003: the crash box simplifies to a small base.
+  EXPECT_TRUE(std::regex_search(run.err, std::regex(R"(collapsing done: (\d{4}) in)"))) << run.err;
+  EXPECT_NE(run.err.find("gathering positions done: 26 in"), std::string::npos) << run.err;
+  // stdout keeps its report only.
+  EXPECT_EQ(run.out.find("done"), std::string::npos) << run.out;
+}
+
+TEST(CliProgress, QuietPrintsNothingOnStderr) {
+  test::TempDir dir;
+  const std::string frd = crashbox_frd(dir);
+  ASSERT_FALSE(frd.empty());
+  const CliRun run = dynpm_run(dir, "build " + frd + " --quiet -o " + dir.file("m.dpm"));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_EQ(run.err, "");
+  EXPECT_NE(run.out.find("vertex splits rebuild the input"), std::string::npos) << run.out;
+}
+
+TEST(CliProgress, JsonLinesAreOneObjectEachWithPhaseDoneTotalElapsedAndEta) {
+  test::TempDir dir;
+  const std::string frd = crashbox_frd(dir);
+  ASSERT_FALSE(frd.empty());
+  const CliRun run = dynpm_run(
+      dir, "build " + frd + " --key-steps auto:3 --progress json -o " + dir.file("m.dpm"));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const std::regex object(R"re(\{"phase":"([a-z ]+)","done":(\d+),"total":(\d+),)re"
+                          R"re("elapsed_s":(\d+\.\d+),"eta_s":(\d+\.\d+|null)\})re");
+  std::vector<std::string> phases;
+  for (const std::string& line : lines_of(run.err)) {
+    if (line.rfind("dynpm build: needs about", 0) == 0) continue;  // the estimate, said once
+    std::smatch m;
+    ASSERT_TRUE(std::regex_match(line, m, object)) << line;
+    EXPECT_LE(std::stoull(m[2]), std::stoull(m[3])) << line;
+    if (m[1].str().rfind("after ", 0) == 0) continue;  // a slow stretch between two phases
+    if (phases.empty() || phases.back() != m[1]) phases.push_back(m[1]);
+  }
+  EXPECT_EQ(phases, kBuildPhases);
+  // A python that reads them agrees that each line is JSON.
+  if (const std::string python = test::python_with("json"); !python.empty()) {
+    const test::CommandResult parsed = test::run_command(
+        "grep -v 'needs about' " + dir.file("stderr.txt") + " | " + python +
+        " -c 'import json,sys; [json.loads(l) for l in sys.stdin]; print(\"ok\")'");
+    EXPECT_EQ(parsed.output, "ok\n");
+  }
+}
+
+TEST(CliProgress, AnUnknownFormIsAUsageError) {
+  test::TempDir dir;
+  const CliRun run = dynpm_run(dir, "build x.frd --progress loud -o " + dir.file("m.dpm"));
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.err.find("--progress takes auto, plain, json or none, got 'loud'"),
+            std::string::npos)
+      << run.err;
+}
+
+}  // namespace
+}  // namespace dynpm
