@@ -21,7 +21,7 @@ namespace {
 const VerbSpec kSpec{
     "build",
     "dynpm build INPUT... -o MODEL.dpm [--key-steps all|paper|auto:K|LIST] [--lossless]\n"
-    "                   [--position-error E] [--field-bound F] [--json]",
+    "                   [--position-error E] [--field-bound F] [--threads T] [--json]",
     "Simplifies the animation to its coarsest legal mesh, recording every half-edge collapse,\n"
     "and writes the base mesh plus the vertex splits that rebuild the input, with every\n"
     "vertex's position at every time step (docs/FORMAT.md). Any resolution can then be shown\n"
@@ -41,6 +41,7 @@ const VerbSpec kSpec{
      kFieldWeightFlag,
      kRegularizeFlag,
      kIgnorePartsFlag,
+     kThreadsFlag,
      {"--json", "", false, "", "print the result as JSON"},
      kSplitPolygonsFlag,
      kIntegrationPointFlag}};
@@ -79,7 +80,7 @@ int run_build(std::span<char* const> arguments) {
     return fail(kSpec.name, kExitUsage, s.message());
   const auto start = std::chrono::steady_clock::now();
   std::optional<Phase> phase(std::in_place, "choosing the key steps");
-  auto key_steps = choose_key_steps(frames, key_rule);
+  auto key_steps = choose_key_steps(frames, key_rule, options.simplify.threads);
   if (!key_steps) return fail(kSpec.name, kExitFailure, key_steps.message());
   options.simplify.key_steps = key_steps->steps;
   const bool json = args.has("--json");

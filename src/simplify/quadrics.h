@@ -113,10 +113,11 @@ class FieldTerm {
 // together: rating an edge reads two short runs of memory).
 class KeyStepQuadrics {
  public:
-  // Reads the key steps' positions and, in the same pass, the cost fields' values; the diagonal
-  // is that of the positions' common bounding box.
+  // Reads the key steps' positions (up to `threads` at once) and, in the same pass, the cost
+  // fields' values; the diagonal is that of the positions' common bounding box.
   Status load_key_steps(const FrameSource& frames, const Topology& input,
-                        std::span<const size_t> key_steps, std::span<const CostField> fields);
+                        std::span<const size_t> key_steps, std::span<const CostField> fields,
+                        unsigned threads);
   // The quadrics of the input mesh (phases at the top of this file).
   void build(const Topology& input, const CollapseMesh& mesh, std::span<const uint8_t> constrained,
              double boundary_weight, double regularize, unsigned threads);
