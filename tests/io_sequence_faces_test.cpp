@@ -3,6 +3,8 @@
 // with the file, the place and the face; and several threads read a sequence to the same steps.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstring>
 #include <fstream>
 
 #include "dynpm/io.h"
