@@ -21,8 +21,8 @@ namespace {
 const VerbSpec kSpec{
     "build",
     "dynpm build INPUT... -o MODEL.dpm [--key-steps all|paper|auto:K|LIST] [--lossless]\n"
-    "                   [--position-error E] [--field-bound F] [--json] [--progress FORM]\n"
-    "                   [--quiet] [--no-memory-check]",
+    "                   [--position-error E] [--field-bound F] [--threads T] [--json]\n"
+    "                   [--progress FORM] [--quiet] [--no-memory-check]",
     "Simplifies the animation to its coarsest legal mesh, recording every half-edge collapse,\n"
     "and writes the base mesh plus the vertex splits that rebuild the input, with every\n"
     "vertex's position at every time step (docs/FORMAT.md). Any resolution can then be shown\n"
@@ -45,6 +45,7 @@ const VerbSpec kSpec{
      kFieldWeightFlag,
      kRegularizeFlag,
      kIgnorePartsFlag,
+     kThreadsFlag,
      {"--json", "", false, "", "print the result as JSON"},
      {"--no-memory-check", "", false, "",
       "build even when the memory estimate exceeds the memory available"},
@@ -141,7 +142,7 @@ int run_build(std::span<char* const> arguments) {
   const ProgressCallback report = [](std::string_view what, size_t done, size_t total) {
     progress(what, done, total);
   };
-  auto key_steps = choose_key_steps(frames, key_rule, report);
+  auto key_steps = choose_key_steps(frames, key_rule, options.simplify.threads, report);
   if (!key_steps) return fail(kSpec.name, kExitFailure, key_steps.message());
   options.simplify.key_steps = key_steps->steps;
   const bool json = args.has("--json");

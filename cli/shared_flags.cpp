@@ -32,6 +32,11 @@ Status parse_simplify_flags(const Args& args, SimplifyOptions& options, KeyStepR
     options.field_weights.push_back(field);
   }
   options.keep_part_boundaries = !args.has("--ignore-parts");
+  if (const auto text = args.value("--threads")) {
+    auto r = parse_whole("--threads", *text, 0, kMaxThreads);
+    if (!r) return r.status();
+    options.threads = static_cast<unsigned>(*r);
+  }
   return {};
 }
 

@@ -34,7 +34,8 @@ inline const FlagSpec kIgnorePartsFlag{"--ignore-parts", "", false, "",
                                        "let collapses cross part boundaries"};
 
 // --key-steps (default all) into `key_steps`; --boundary-weight, --field, --field-weight,
-// --regularize and --ignore-parts into `options`. The error is the usage message, without the
+// --regularize, --ignore-parts and --threads (kThreadsFlag, where the verb lists it) into
+// `options`. The error is the usage message, without the
 // verb.
 Status parse_simplify_flags(const Args& args, SimplifyOptions& options, KeyStepRule& key_steps);
 // The fields --field names exist in the input (cost_fields()); the error is the usage message.

@@ -98,6 +98,9 @@ class FrameSource {
   virtual Status read_step(size_t t, std::span<float> out) const = 0;
   // Number of xyz floats step t holds, when a source can know it without reading the step.
   virtual size_t step_float_count(size_t /*t*/) const { return size_t{vertex_count()} * 3; }
+  // True when read_step() and read_field() may run on several threads at once (the source keeps
+  // no state between reads); for_each_step() then decodes several steps at a time.
+  virtual bool parallel_reads() const { return false; }
 
   // Scalar result fields the source can deliver at every step (plastic strain, von Mises
   // stress, thickness, |V| …), per node or per element, read one step at a time like the
@@ -128,6 +131,7 @@ class Frames final : public FrameSource {
   double step_time(size_t t) const override { return times_[t]; }
   Status read_step(size_t t, std::span<float> out) const override;
   size_t step_float_count(size_t t) const override { return steps_[t].size(); }
+  bool parallel_reads() const override { return true; }
 
  private:
   uint32_t vertex_count_ = 0;
@@ -162,6 +166,14 @@ struct AnimationStream {
 
 // Reads every step of a stream into memory.
 Result<Animation> load_all_steps(AnimationStream stream);
+
+// One pass over `steps` of `frames`: use(i, xyz) gets steps[i] on the calling thread, in the
+// order given. Up to `threads` steps (0: one per hardware thread) are read at once, each into
+// its own buffer of 3 · vertex_count floats, when the source allows parallel reads; what use()
+// sees does not depend on `threads`. The first error, of a read or of use() in that order,
+// ends the pass.
+Status for_each_step(const FrameSource& frames, std::span<const size_t> steps, unsigned threads,
+                     const std::function<Status(size_t, std::span<const float>)>& use);
 
 // ---------------------------------------------------------------------------------------------
 // Derived connectivity

@@ -204,12 +204,14 @@ struct KeyStepChoice {
   std::vector<std::string> reasons;  // one line per chosen step, for the user
 };
 
-// Reads the steps it needs through the FrameSource (each step once, whatever the rule).
+// Reads the steps it needs through the FrameSource (each step once, whatever the rule; up to
+// `threads` at once, 0: one per hardware thread, with the same choice on any count).
 // Distances between steps are the largest vertex displacement, measured on at most
 // kMaxProbeVertices vertices spread evenly over the mesh, so that a 5 M-node, 100-step result
 // is compared in bounded memory. Reports phase "choosing key steps" (steps read).
 inline constexpr uint32_t kMaxProbeVertices = 65536;
 Result<KeyStepChoice> choose_key_steps(const FrameSource& frames, const KeyStepRule& rule,
+                                       unsigned threads = 0,
                                        const ProgressCallback& progress = {});
 
 }  // namespace dynpm

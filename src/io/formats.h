@@ -4,6 +4,8 @@
 #pragma once
 
 #include <algorithm>
+#include <cstdint>
+#include <cstring>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -21,6 +23,39 @@ struct MeshField {
   FieldLocation location = FieldLocation::kNode;
 };
 
+// A 64-bit hash of bytes, 8 at a time. Not cryptographic: it only tells a later file of a
+// sequence that repeats the first file's face bytes from one that may not (which is then parsed
+// and compared face by face).
+class ByteHash {
+ public:
+  void add(std::string_view bytes) {
+    size_t i = 0;
+    for (; i + 8 <= bytes.size(); i += 8) {
+      uint64_t word;
+      std::memcpy(&word, bytes.data() + i, 8);
+      mix(word);
+    }
+    uint64_t tail = 0;
+    if (i < bytes.size()) std::memcpy(&tail, bytes.data() + i, bytes.size() - i);
+    mix(tail ^ (uint64_t{bytes.size() - i} << 56));
+    length_ += bytes.size();
+  }
+  uint64_t value() const { return (state_ ^ length_) * 0x9e3779b97f4a7c15ull; }
+
+ private:
+  void mix(uint64_t word) {
+    state_ += word * 0xc2b2ae3d27d4eb4full;
+    state_ = ((state_ << 31) | (state_ >> 33)) * 0x9e3779b97f4a7c15ull;
+  }
+  uint64_t state_ = 0x27d4eb2f165667c5ull;
+  uint64_t length_ = 0;
+};
+
+// How a parser treats the faces. kHashOnly is for the later files of a sequence: the bytes that
+// give the faces (OBJ: the f and g lines; PLY: the face element's records) are hashed into
+// ParsedMesh::faces_hash but not parsed, and topology.faces stays empty.
+enum class FaceParsing { kParse, kHashOnly };
+
 struct ParsedMesh {
   Topology topology;
   std::vector<float> positions;  // 3 · vertex_count
@@ -29,12 +64,15 @@ struct ParsedMesh {
       face_places;  // per face, the line (text) or byte offset (binary) it came from
   bool places_are_lines = true;
   std::optional<double> time;  // from a "time <t>" note in the header comments
+  // The hash of the bytes that give the faces, by OBJ and PLY (either FaceParsing): two files
+  // with the same hash repeat the same face bytes.
+  std::optional<uint64_t> faces_hash;
 };
 
 Result<ParsedMesh> parse_obj(std::string_view text, const std::string& path,
-                             const ReadOptions& options);
+                             const ReadOptions& options, FaceParsing faces = FaceParsing::kParse);
 Result<ParsedMesh> parse_ply(std::string_view bytes, const std::string& path,
-                             const ReadOptions& options);
+                             const ReadOptions& options, FaceParsing faces = FaceParsing::kParse);
 // Legacy VTK (ascii or big-endian binary, file versions 2 to 5.1): POLYDATA or UNSTRUCTURED_GRID.
 Result<ParsedMesh> parse_vtk(std::string_view bytes, const std::string& path,
                              const ReadOptions& options);

@@ -82,6 +82,7 @@ class FrdSource final : public FrameSource {
   uint32_t vertex_count() const override { return uint32_t(node_ids_.size()); }
   size_t step_count() const override { return steps_.size() + 1; }
   double step_time(size_t t) const override { return t == 0 ? 0.0 : steps_[t - 1].time; }
+  bool parallel_reads() const override { return true; }  // each read opens the file anew
   std::vector<FieldInfo> fields() const override {
     std::vector<FieldInfo> infos;
     for (const std::string& name : field_names_) infos.push_back({name, FieldLocation::kNode, {}});

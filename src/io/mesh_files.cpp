@@ -20,7 +20,8 @@ std::string lowercase_extension(const std::string& path) {
   return ext;
 }
 
-Result<io::ParsedMesh> parse_mesh_file(const std::string& path, const ReadOptions& options) {
+Result<io::ParsedMesh> parse_mesh_file(const std::string& path, const ReadOptions& options,
+                                       io::FaceParsing faces = io::FaceParsing::kParse) {
   auto format = detect_format(path);
   if (!format) return format.status();
   if (*format == FileFormat::kFrd || *format == FileFormat::kExodus ||
@@ -30,10 +31,10 @@ Result<io::ParsedMesh> parse_mesh_file(const std::string& path, const ReadOption
   auto bytes = io::read_file(path);
   if (!bytes) return bytes.status();
   if (bytes->empty()) return Status::error(path + ": the file is empty");
-  if (*format == FileFormat::kPly) return io::parse_ply(*bytes, path, options);
+  if (*format == FileFormat::kPly) return io::parse_ply(*bytes, path, options, faces);
   if (*format == FileFormat::kVtk) return io::parse_vtk(*bytes, path, options);
   if (*format == FileFormat::kVtu) return io::parse_vtu(*bytes, path, options);
-  return io::parse_obj(*bytes, path, options);
+  return io::parse_obj(*bytes, path, options, faces);
 }
 
 std::string face_text(const Face& f) {
@@ -47,22 +48,28 @@ std::string face_text(const Face& f) {
 }
 
 // Step t of an animation lives in paths[t]; each read parses that file and checks that it
-// repeats the first file's faces.
+// repeats the first file's faces. OBJ and PLY files are checked cheaply: their face bytes are
+// hashed, not parsed, and only a file whose hash differs from the first file's is parsed whole
+// and compared face by face (the same faces written otherwise pass; others fail, named). Reads
+// keep no state, so several threads may read at once.
 class FileSequence final : public FrameSource {
  public:
   FileSequence(std::vector<std::string> paths, std::vector<double> times,
                std::shared_ptr<const Topology> topology, std::vector<float> first_step,
-               std::vector<io::MeshField> first_fields, ReadOptions options)
+               std::vector<io::MeshField> first_fields, std::optional<uint64_t> first_faces_hash,
+               ReadOptions options)
       : paths_(std::move(paths)),
         times_(std::move(times)),
         topology_(std::move(topology)),
         first_step_(std::move(first_step)),
         first_fields_(std::move(first_fields)),
+        first_faces_hash_(first_faces_hash),
         options_(std::move(options)) {}
 
   uint32_t vertex_count() const override { return topology_->vertex_count; }
   size_t step_count() const override { return paths_.size(); }
   double step_time(size_t t) const override { return times_[t]; }
+  bool parallel_reads() const override { return true; }
 
   Status read_step(size_t t, std::span<float> out) const override {
     assert(t < paths_.size() && out.size() == size_t{vertex_count()} * 3);
@@ -106,8 +113,16 @@ class FileSequence final : public FrameSource {
   }
 
  private:
-  // Step t's file (t > 0), parsed, with the first file's faces.
+  // Step t's file (t > 0), parsed, with the first file's faces: the same face bytes, or else
+  // the same faces face by face.
   Result<io::ParsedMesh> parse_later_step(size_t t) const {
+    if (first_faces_hash_) {
+      auto mesh = parse_mesh_file(paths_[t], options_, io::FaceParsing::kHashOnly);
+      if (!mesh) return mesh;
+      if (mesh->faces_hash == first_faces_hash_ &&
+          mesh->topology.vertex_count == topology_->vertex_count)
+        return mesh;
+    }
     auto mesh = parse_mesh_file(paths_[t], options_);
     if (mesh) DYNPM_RETURN_IF_ERROR(check_same_faces(t, *mesh));
     return mesh;
@@ -143,6 +158,7 @@ class FileSequence final : public FrameSource {
   std::shared_ptr<const Topology> topology_;
   std::vector<float> first_step_;
   std::vector<io::MeshField> first_fields_;
+  std::optional<uint64_t> first_faces_hash_;  // OBJ and PLY
   ReadOptions options_;
 };
 
@@ -327,7 +343,7 @@ Result<AnimationStream> open_file_sequence(std::span<const std::string> paths,
   quiet.warn = nullptr;
   stream.frames = std::make_unique<FileSequence>(
       std::vector<std::string>(paths.begin(), paths.end()), std::move(times), std::move(topology),
-      std::move(first->positions), std::move(first->fields), std::move(quiet));
+      std::move(first->positions), std::move(first->fields), first->faces_hash, std::move(quiet));
   return stream;
 }
 

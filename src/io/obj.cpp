@@ -196,7 +196,8 @@ Status check_forward_corners(std::span<const std::pair<uint32_t, int64_t>> forwa
 }  // namespace
 
 Result<ParsedMesh> parse_obj(std::string_view text, const std::string& path,
-                             const ReadOptions& options) {
+                             const ReadOptions& options, FaceParsing faces) {
+  const bool parse_faces = faces == FaceParsing::kParse;
   ParsedMesh mesh;
   mesh.places_are_lines = true;
   PartNames parts;
@@ -208,9 +209,10 @@ Result<ParsedMesh> parse_obj(std::string_view text, const std::string& path,
   std::vector<uint32_t> corners;
   // (face, line) with indices past the vertices seen so far
   std::vector<std::pair<uint32_t, int64_t>> forward;
+  ByteHash faces_hash;  // of the f and g lines, each as written
 
   mesh.positions.reserve(text.size() / 24);
-  mesh.topology.faces.reserve(text.size() / 48);
+  if (parse_faces) mesh.topology.faces.reserve(text.size() / 48);
 
   // 1. One pass over the lines: v, f and g statements; a time note in a comment before them;
   //    the rest skipped.
@@ -254,6 +256,9 @@ Result<ParsedMesh> parse_obj(std::string_view text, const std::string& path,
       mesh.positions.insert(mesh.positions.end(), xyz, xyz + 3);
     } else if (keyword == "f") {
       seen_data = true;
+      faces_hash.add(
+          std::string_view(line_start, static_cast<size_t>(std::min(eol + 1, end) - line_start)));
+      if (!parse_faces) continue;
       raw.clear();
       for (q = skip_spaces(q, eol); q < eol; q = skip_spaces(q, eol)) {
         int64_t index = 0;
@@ -275,6 +280,9 @@ Result<ParsedMesh> parse_obj(std::string_view text, const std::string& path,
         for (uint32_t f = first_face; f < mesh.topology.faces.size(); ++f)
           forward.emplace_back(f, line);
     } else if (keyword == "g") {
+      faces_hash.add(
+          std::string_view(line_start, static_cast<size_t>(std::min(eol + 1, end) - line_start)));
+      if (!parse_faces) continue;
       q = skip_spaces(q, eol);
       const char* name_end = eol;
       while (name_end > q && is_space(name_end[-1])) --name_end;
@@ -297,12 +305,15 @@ Result<ParsedMesh> parse_obj(std::string_view text, const std::string& path,
   DYNPM_RETURN_IF_ERROR(check_forward_corners(forward, mesh.topology, vertex_count, path));
   // 3. A mesh needs both; vertices are numbered 1, 2, … as OBJ counts them.
   if (vertex_count == 0) return Status::error(path + ": no vertices (no 'v x y z' line)");
-  if (mesh.topology.faces.empty()) return Status::error(path + ": no faces (no 'f' line)");
+  if (parse_faces && mesh.topology.faces.empty())
+    return Status::error(path + ": no faces (no 'f' line)");
   if (split_count && options.warn)
     options.warn(path + ": " + std::to_string(split_count) +
                  " faces with more than 4 corners split into triangle fans");
 
   mesh.topology.vertex_count = vertex_count;
+  mesh.faces_hash = faces_hash.value();
+  if (!parse_faces) return mesh;
   mesh.topology.node_ids.resize(vertex_count);
   for (uint32_t i = 0; i < vertex_count; ++i) mesh.topology.node_ids[i] = int64_t{i} + 1;
   return mesh;

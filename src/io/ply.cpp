@@ -95,6 +95,29 @@ class BodyReader {
     return true;
   }
 
+  // Passes over one record without converting it: a later file's faces, which are only hashed
+  // (FaceParsing::kHashOnly). Ascii: one line; binary: each property by its type.
+  bool skip_record(const Element& element) {
+    if (encoding_ == Encoding::kAscii) {
+      if (pos_ >= body_.size()) return fail("the file ends inside the data (truncated)");
+      const size_t eol = body_.find('\n', pos_);
+      pos_ = eol == std::string_view::npos ? body_.size() : eol + 1;
+      ++line_;
+      return true;
+    }
+    for (const Property& property : element.properties) {
+      double n = 1;
+      if (property.is_list && !read(property.count_type, n)) return false;
+      if (n < 0 || n > 1e6 || n != std::floor(n)) return fail("bad list length " + number_text(n));
+      const size_t bytes = static_cast<size_t>(n) * size_of(property.type);
+      if (bytes > body_.size() - pos_) return fail("the file ends inside the data (truncated)");
+      pos_ += bytes;
+    }
+    return true;
+  }
+
+  size_t position() const { return pos_; }
+  std::string_view bytes_from(size_t begin) const { return body_.substr(begin, pos_ - begin); }
   size_t remaining() const { return body_.size() - pos_; }
   // Where the reader is: a line for ascii, a byte offset for binary.
   uint32_t place() const {
@@ -297,7 +320,6 @@ Result<Roles> prepare_element(const Element& element, Encoding encoding, const B
     if (r.list < 0 || !element.properties[r.list].is_list)
       return Status::error(path + ": the face element lacks a vertex_indices list");
     DYNPM_RETURN_IF_ERROR(check_count(element, encoding, reader, path));
-    mesh.topology.faces.reserve(element.count);
     r.part = find_property(element, "part_id");
     r.elem = find_property(element, "element_id");
     have_faces = true;
@@ -369,7 +391,7 @@ Status read_records(const Element& element, const Roles& roles, bool have_vertic
 }  // namespace
 
 Result<ParsedMesh> parse_ply(std::string_view bytes, const std::string& path,
-                             const ReadOptions& options) {
+                             const ReadOptions& options, FaceParsing faces) {
   // 1. The header: the encoding, the elements with their properties, a time note.
   auto header = parse_header(bytes, path);
   if (!header) return header.status();
@@ -378,20 +400,35 @@ Result<ParsedMesh> parse_ply(std::string_view bytes, const std::string& path,
   ParsedMesh mesh;
   mesh.places_are_lines = header->encoding == Encoding::kAscii;
   mesh.time = header->time;
-  // 2. The elements in file order: the vertex element, the face element, any other one skipped.
+  // 2. The elements in file order: the vertex element, the face element (its records' bytes
+  //    hashed, and parsed unless only hashed), any other one skipped.
+  const bool parse_faces = faces == FaceParsing::kParse;
   bool have_vertices = false, have_faces = false;
   size_t split_count = 0;
   for (const Element& element : header->elements) {
     auto roles =
         prepare_element(element, header->encoding, reader, path, have_vertices, have_faces, mesh);
     if (!roles) return roles.status();
-    DYNPM_RETURN_IF_ERROR(
-        read_records(element, *roles, have_vertices, path, options, reader, mesh, split_count));
+    const size_t begin = reader.position();
+    if (roles->is_face && !parse_faces) {
+      for (uint64_t r = 0; r < element.count; ++r)
+        if (!reader.skip_record(element)) return Status::error(reader.error());
+    } else {
+      if (roles->is_face) mesh.topology.faces.reserve(element.count);
+      DYNPM_RETURN_IF_ERROR(
+          read_records(element, *roles, have_vertices, path, options, reader, mesh, split_count));
+    }
+    if (roles->is_face) {
+      ByteHash hash;
+      hash.add(reader.bytes_from(begin));
+      mesh.faces_hash = hash.value();
+    }
   }
   // 3. A mesh needs both.
   if (!have_vertices || mesh.topology.vertex_count == 0)
     return Status::error(path + ": no vertices");
-  if (!have_faces || mesh.topology.faces.empty()) return Status::error(path + ": no faces");
+  if (!have_faces || (parse_faces && mesh.topology.faces.empty()))
+    return Status::error(path + ": no faces");
   if (split_count && options.warn)
     options.warn(path + ": " + std::to_string(split_count) +
                  " faces with more than 4 corners split into triangle fans");

@@ -2,6 +2,7 @@
 // vertex splits in the progressive numbering and gather every step's positions in that order.
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 
 #include "build_fields.h"
 #include "dynpm/pipeline.h"
@@ -156,27 +157,30 @@ Result<ProgressiveMesh> build_progressive_mesh(const Topology& topology, const F
     pm.element_ids[new_face[f]] = topology.element_ids[f];
   }
 
-  // Every step's positions, read once each, permuted into the new order.
+  // Every step's positions, read once each (several at once where the source allows),
+  // permuted into the new order.
   const size_t steps = frames.step_count();
-  std::vector<float> step(size_t{n} * 3);
+  std::vector<size_t> every(steps);
+  std::iota(every.begin(), every.end(), size_t{0});
   pm.positions.resize(steps);
   pm.times.resize(steps);
   BoundingBox all;
   if (options.progress) options.progress("gathering positions", 0, steps);
-  for (size_t t = 0; t < steps; ++t) {
-    DYNPM_RETURN_IF_ERROR(frames.read_step(t, step));
-    pm.times[t] = frames.step_time(t);
-    for (float c : step)
-      if (!std::isfinite(c))
-        return Status::error("time step " + std::to_string(t) + " has a non-finite coordinate");
-    std::vector<float>& out = pm.positions[t];
-    out.resize(size_t{n} * 3);
-    for (uint32_t v = 0; v < n; ++v)
-      std::copy_n(&step[size_t{v} * 3], 3, &out[new_vertex[v] * size_t{3}]);
-    step_boxes[t].extend(step);
-    all.extend(step_boxes[t]);
-    if (options.progress) options.progress("gathering positions", t + 1, steps);
-  }
+  DYNPM_RETURN_IF_ERROR(for_each_step(
+      frames, every, options.simplify.threads, [&](size_t t, std::span<const float> step) {
+        pm.times[t] = frames.step_time(t);
+        for (float c : step)
+          if (!std::isfinite(c))
+            return Status::error("time step " + std::to_string(t) + " has a non-finite coordinate");
+        std::vector<float>& out = pm.positions[t];
+        out.resize(size_t{n} * 3);
+        for (uint32_t v = 0; v < n; ++v)
+          std::copy_n(&step[size_t{v} * 3], 3, &out[new_vertex[v] * size_t{3}]);
+        step_boxes[t].extend(step);
+        all.extend(step_boxes[t]);
+        if (options.progress) options.progress("gathering positions", t + 1, steps);
+        return Status{};
+      }));
   for (int k = 0; k < 3; ++k) {
     pm.bbox_min[k] = all.empty ? 0.0 : all.min[k];
     pm.bbox_max[k] = all.empty ? 0.0 : all.max[k];

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <numeric>
 
 #include "dynpm/simplify.h"
 #include "dynpm/text.h"
@@ -64,7 +65,7 @@ Result<KeyStepRule> parse_key_step_rule(const std::string& text) {
 }
 
 Result<KeyStepChoice> choose_key_steps(const FrameSource& frames, const KeyStepRule& rule,
-                                       const ProgressCallback& progress) {
+                                       unsigned threads, const ProgressCallback& progress) {
   const size_t steps = frames.step_count();
   if (steps == 0) return Status::error("the animation has no time step");
   KeyStepChoice choice;
@@ -92,14 +93,17 @@ Result<KeyStepChoice> choose_key_steps(const FrameSource& frames, const KeyStepR
   const uint32_t n = frames.vertex_count();
   const uint32_t stride = std::max<uint32_t>(1, (n + kMaxProbeVertices - 1) / kMaxProbeVertices);
   std::vector<std::vector<float>> probes(steps);
-  std::vector<float> xyz(size_t{n} * 3);
+  std::vector<size_t> every(steps);
+  std::iota(every.begin(), every.end(), size_t{0});
   if (progress) progress("choosing key steps", 0, steps);
-  for (size_t t = 0; t < steps; ++t) {
-    DYNPM_RETURN_IF_ERROR(frames.read_step(t, xyz));
-    for (uint32_t v = 0; v < n; v += stride)
-      probes[t].insert(probes[t].end(), &xyz[size_t{v} * 3], &xyz[size_t{v} * 3] + 3);
-    if (progress) progress("choosing key steps", t + 1, steps);
-  }
+  size_t done = 0;
+  DYNPM_RETURN_IF_ERROR(
+      for_each_step(frames, every, threads, [&](size_t t, std::span<const float> xyz) {
+        for (uint32_t v = 0; v < n; v += stride)
+          probes[t].insert(probes[t].end(), &xyz[size_t{v} * 3], &xyz[size_t{v} * 3] + 3);
+        if (progress) progress("choosing key steps", ++done, steps);
+        return Status{};
+      }));
 
   if (rule.kind == Kind::kPaper) {
     choice.steps = {0};

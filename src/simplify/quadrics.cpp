@@ -90,24 +90,25 @@ void FieldTerm::merge(uint32_t v0, uint32_t v1) {
 
 Status KeyStepQuadrics::load_key_steps(const FrameSource& frames, const Topology& input,
                                        std::span<const size_t> key_steps,
-                                       std::span<const CostField> fields,
+                                       std::span<const CostField> fields, unsigned threads,
                                        const ProgressCallback& progress) {
   const uint32_t vertex_count = input.vertex_count;
   key_count_ = key_steps.size();
   positions_.resize(size_t{vertex_count} * key_count_ * 3);
   fields_.choose(fields, fields.empty() ? std::vector<FieldInfo>{} : frames.fields(), key_count_,
                  vertex_count);
-  std::vector<float> step(size_t{vertex_count} * 3);
   BoundingBox box;
   if (progress) progress("reading key steps", 0, key_count_);
-  for (size_t k = 0; k < key_count_; ++k) {
-    DYNPM_RETURN_IF_ERROR(frames.read_step(key_steps[k], step));
-    box.extend(step);
-    for (uint32_t v = 0; v < vertex_count; ++v)
-      std::copy_n(&step[size_t{v} * 3], 3, position_data(v, k));
-    DYNPM_RETURN_IF_ERROR(fields_.load_step(frames, input, k, key_steps[k]));
-    if (progress) progress("reading key steps", k + 1, key_count_);
-  }
+  size_t done = 0;
+  DYNPM_RETURN_IF_ERROR(
+      for_each_step(frames, key_steps, threads, [&](size_t k, std::span<const float> step) {
+        box.extend(step);
+        for (uint32_t v = 0; v < vertex_count; ++v)
+          std::copy_n(&step[size_t{v} * 3], 3, position_data(v, k));
+        DYNPM_RETURN_IF_ERROR(fields_.load_step(frames, input, k, key_steps[k]));
+        if (progress) progress("reading key steps", ++done, key_count_);
+        return Status{};
+      }));
   diagonal_ = box.diagonal() > 0 ? box.diagonal() : 1.0;
   fields_.finish(diagonal_);
   return {};

@@ -113,11 +113,12 @@ class FieldTerm {
 // together: rating an edge reads two short runs of memory).
 class KeyStepQuadrics {
  public:
-  // Reads the key steps' positions and, in the same pass, the cost fields' values; the diagonal
-  // is that of the positions' common bounding box. Reports "reading key steps".
+  // Reads the key steps' positions (up to `threads` at once) and, in the same pass, the cost
+  // fields' values; the diagonal is that of the positions' common bounding box. Reports
+  // "reading key steps".
   Status load_key_steps(const FrameSource& frames, const Topology& input,
                         std::span<const size_t> key_steps, std::span<const CostField> fields,
-                        const ProgressCallback& progress);
+                        unsigned threads, const ProgressCallback& progress);
   // The quadrics of the input mesh (phases at the top of this file).
   void build(const Topology& input, const CollapseMesh& mesh, std::span<const uint8_t> constrained,
              double boundary_weight, double regularize, unsigned threads);
