@@ -2,8 +2,10 @@
 // base mesh and to the fully loaded model, the longest main-thread task meanwhile, and the
 // renderer's memory (RSS of Chromium's renderer processes, which hold the page and its worker)
 // against the file's size.
-//   [THROTTLE=KiB/s] [QUERY=?worker=0] node bench/load.mjs DYNPM_BINARY MODEL.dpm
-// (?worker=0: the decoder on the page's main thread, as before the worker.)
+//   [THROTTLE=KiB/s] [QUERY=?worker=0] [TASKS=1] [FIRST_ONLY=1 [PROFILE=1]] node bench/load.mjs DYNPM_BINARY MODEL.dpm
+// (?worker=0: the decoder on the page's main thread, as before the worker; TASKS: every long
+// task and the page's timings; FIRST_ONLY: stop 2 s after the first picture, with PROFILE the
+// main thread's functions by self time until then, from Chromium's sampling profiler.)
 import { readFileSync, readdirSync, statSync } from 'node:fs';
 
 import { chromium } from 'playwright-core';
@@ -61,34 +63,60 @@ try {
   const cdp = await page.context().newCDPSession(page);
   let peak = 0;
   const sampler = setInterval(() => (peak = Math.max(peak, rendererMiB())), 100);
+  if (process.env.PROFILE) await cdp.send('Profiler.enable'), await cdp.send('Profiler.setSamplingInterval', { interval: 200 }), await cdp.send('Profiler.start');
   await page.goto(url + (process.env.QUERY ?? ''));
-  await page.waitForFunction(() => window.loadProbe?.complete, null, { timeout: 900000, polling: 500 });
-  clearInterval(sampler);
-  const r = await page.evaluate(() => {
-    // The first bytes: the fetch's response start, in the page's or (worker) the page's record.
-    const entry = performance.getEntriesByType('resource').find((e) => e.name.endsWith('.dpm'));
-    const firstByte = window.dpmViewer.timing?.firstByte ?? entry?.responseStart;
-    return { ...window.loadProbe, firstByte, timing: window.dpmViewer.timing, worker: window.dpmViewer.state().worker ?? false, state: window.dpmViewer.state() };
-  });
-  await cdp.send('HeapProfiler.collectGarbage');
-  await new Promise((resolve) => setTimeout(resolve, 1000));
-  const heap = await cdp.send('Runtime.getHeapUsage');
-  const after = rendererMiB();
-  const size = statSync(file).size / 2 ** 20;
-  const during = r.longTasks.filter(([s]) => s >= r.firstByte && s <= r.complete);
-  const longest = during.reduce((a, [, d]) => Math.max(a, d), 0);
-  console.log(`${file}: ${r.state.vertices} vertices, ${size.toFixed(1)} MiB, decoder in a worker: ${r.worker}`);
-  console.log(`first picture ${(r.firstPicture - r.firstByte).toFixed(0)} ms after the first bytes; ` +
-    `fully loaded after ${(r.complete - r.firstByte).toFixed(0)} ms`);
-  const t = r.timing ?? {};  // the page before the worker had no timing
-  const since = (x) => (x === undefined ? '?' : (x - r.firstByte).toFixed(0));
-  console.log(`after the first bytes: HEAD on the page ${since(t.head)} ms, BASE ${since(t.base)} ms, ` +
-    `base mesh made ${since(t.baseDone)} ms`);
-  if (process.env.TASKS) console.log(r.longTasks.map(([s, d]) => `${(s - r.firstByte).toFixed(0)}+${d.toFixed(0)}`).join(" "));
-  console.log(`main-thread tasks > 50 ms while loading: ${during.length}, longest ${longest.toFixed(0)} ms ` +
-    `(sum ${during.reduce((a, [, d]) => a + d, 0).toFixed(0)} ms)`);
-  console.log(`renderer RSS: peak ${peak.toFixed(0)} MiB while loading, ${after.toFixed(0)} MiB loaded ` +
-    `(${(after / size).toFixed(2)}× the file); page JS heap ${(heap.usedSize / 2 ** 20).toFixed(0)} MiB`);
+  if (process.env.FIRST_ONLY) {
+    await page.waitForFunction(() => window.loadProbe?.firstPicture, null, { timeout: 900000, polling: 100 });
+    await new Promise((resolve) => setTimeout(resolve, 2000));
+    clearInterval(sampler);
+    if (process.env.PROFILE) {
+      const { profile } = await cdp.send('Profiler.stop');
+      const self = new Map();
+      const dt = (profile.endTime - profile.startTime) / profile.samples.length / 1000;
+      const byId = new Map(profile.nodes.map((n) => [n.id, n]));
+      for (const id of profile.samples) {
+        const n = byId.get(id);
+        const key = `${n.callFrame.functionName || '(anon)'} ${n.callFrame.url.split('/').pop()}:${n.callFrame.lineNumber + 1}`;
+        self.set(key, (self.get(key) ?? 0) + dt);
+      }
+      console.log([...self].sort((a, b) => b[1] - a[1]).slice(0, 25).map(([k, v]) => `${v.toFixed(0)} ms ${k}`).join('\n'));
+    }
+    console.log(await page.evaluate(() => {
+      const t = window.dpmViewer.timing;
+      const since = (x) => (x - t.firstByte).toFixed(0);
+      return `first picture ${since(window.loadProbe.firstPicture)}; ` + Object.entries(t).map(([k, v]) => `${k} ${since(v)}`).join(', ') +
+        '; tasks ' + window.loadProbe.longTasks.map(([s, d]) => `${since(s)}+${d.toFixed(0)}`).join(' ');
+    }));
+  } else {
+    await page.waitForFunction(() => window.loadProbe?.complete, null, { timeout: 900000, polling: 500 });
+    clearInterval(sampler);
+    const r = await page.evaluate(() => {
+      // The first bytes: the fetch's response start, in the page's or (worker) the page's record.
+      const entry = performance.getEntriesByType('resource').find((e) => e.name.endsWith('.dpm'));
+      const firstByte = window.dpmViewer.timing?.firstByte ?? entry?.responseStart;
+      return { ...window.loadProbe, firstByte, timing: window.dpmViewer.timing, worker: window.dpmViewer.state().worker ?? false, state: window.dpmViewer.state() };
+    });
+    await cdp.send('HeapProfiler.collectGarbage');
+    await new Promise((resolve) => setTimeout(resolve, 1000));
+    const heap = await cdp.send('Runtime.getHeapUsage');
+    const after = rendererMiB();
+    const size = statSync(file).size / 2 ** 20;
+    const during = r.longTasks.filter(([s]) => s >= r.firstByte && s <= r.complete);
+    const longest = during.reduce((a, [, d]) => Math.max(a, d), 0);
+    console.log(`${file}: ${r.state.vertices} vertices, ${size.toFixed(1)} MiB, decoder in a worker: ${r.worker}`);
+    console.log(`first picture ${(r.firstPicture - r.firstByte).toFixed(0)} ms after the first bytes; ` +
+      `fully loaded after ${(r.complete - r.firstByte).toFixed(0)} ms`);
+    const t = r.timing ?? {};  // the page before the worker had no timing
+    const since = (x) => (x === undefined ? '?' : (x - r.firstByte).toFixed(0));
+    console.log(`after the first bytes: HEAD on the page ${since(t.head)} ms, BASE ${since(t.base)} ms, ` +
+      `base mesh made ${since(t.baseDone)} ms`);
+    if (process.env.TASKS) console.log(JSON.stringify(Object.fromEntries(Object.entries(t).map(([k, v]) => [k, since(v)]))));
+    if (process.env.TASKS) console.log(r.longTasks.map(([s, d]) => `${(s - r.firstByte).toFixed(0)}+${d.toFixed(0)}`).join(" "));
+    console.log(`main-thread tasks > 50 ms while loading: ${during.length}, longest ${longest.toFixed(0)} ms ` +
+      `(sum ${during.reduce((a, [, d]) => a + d, 0).toFixed(0)} ms)`);
+    console.log(`renderer RSS: peak ${peak.toFixed(0)} MiB while loading, ${after.toFixed(0)} MiB loaded ` +
+      `(${(after / size).toFixed(2)}× the file); page JS heap ${(heap.usedSize / 2 ** 20).toFixed(0)} MiB`);
+  }
 } finally {
   await browser.close();
   server.kill('SIGINT');

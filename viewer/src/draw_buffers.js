@@ -36,3 +36,16 @@ export function growDrawBuffers(buffers, room, vertices, faces, head, geometry, 
   edgeGeometry.setIndex(dynamic(b.edgeIndex, 1));
   return b;
 }
+
+// Compiles the shaders of `objects` (their materials) at start-up, on a one-triangle geometry
+// that their real geometry replaces later.
+export function compileShaders(renderer, scene, camera, objects) {
+  for (const { geometry } of objects) {
+    geometry.setAttribute('position', new THREE.BufferAttribute(new Float32Array(9), 3));
+    geometry.setAttribute('color', new THREE.BufferAttribute(new Float32Array(9), 3));
+    geometry.setIndex([0, 1, 2]);
+  }
+  scene.add(...objects);
+  renderer.compile(scene, camera);
+  scene.remove(...objects);
+}
