@@ -96,6 +96,7 @@ try {
       const firstByte = window.dpmViewer.timing?.firstByte ?? entry?.responseStart;
       return { ...window.loadProbe, firstByte, timing: window.dpmViewer.timing, worker: window.dpmViewer.state().worker ?? false, state: window.dpmViewer.state() };
     });
+    const use = await page.evaluate(() => window.dpmViewer.memory());
     await cdp.send('HeapProfiler.collectGarbage');
     await new Promise((resolve) => setTimeout(resolve, 1000));
     const heap = await cdp.send('Runtime.getHeapUsage');
@@ -116,6 +117,9 @@ try {
       `(sum ${during.reduce((a, [, d]) => a + d, 0).toFixed(0)} ms)`);
     console.log(`renderer RSS: peak ${peak.toFixed(0)} MiB while loading, ${after.toFixed(0)} MiB loaded ` +
       `(${(after / size).toFixed(2)}× the file); page JS heap ${(heap.usedSize / 2 ** 20).toFixed(0)} MiB`);
+    const total = Object.values(use).reduce((a, x) => a + x, 0);
+    console.log(`the page's arrays: ${(total / 2 ** 20).toFixed(0)} MiB (${(total / 2 ** 20 / size).toFixed(2)}× the file): ` +
+      Object.entries(use).map(([k, v]) => `${k} ${(v / 2 ** 20).toFixed(1)}`).join(', '));
   }
 } finally {
   await browser.close();

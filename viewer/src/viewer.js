@@ -15,6 +15,7 @@ import { BaseLevel } from './base_level.js';
 import { Navigator, ProgressiveMesh, updateIndices } from './dpm.js';
 import { compileShaders, growDrawBuffers } from './draw_buffers.js';
 import { FieldView } from './field_view.js';
+import { memoryUse } from './memory_use.js';
 import { modelFile, wantedVertices } from './model_file.js';
 import { greySnapshot } from './snapshot.js';
 import { decodeInWorker, decodeOnPage } from './worker_decoder.js';
@@ -555,6 +556,7 @@ window.dpmViewer = {
     bytesLoaded: state.bytesLoaded,
     error: ui.error.hidden ? null : ui.error.textContent,
   }),
+  memory: () => memoryUse(state.mesh, state.nav, { positions, colours, triIndex, edgeIndex, scratch }, { base0: state.base0 }),
   fringe: () => (fieldView?.shown ? fieldView.describe(state.nav) : null),
   snapshot: (size = 64) => greySnapshot(renderer, scene, camera, size),
   // Sets the resolution as the slider does and renders; returns the milliseconds taken by the
