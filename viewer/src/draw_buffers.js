@@ -45,7 +45,9 @@ export function compileShaders(renderer, scene, camera, objects) {
     geometry.setAttribute('color', new THREE.BufferAttribute(new Float32Array(9), 3));
     geometry.setIndex([0, 1, 2]);
   }
+  // Drawn once (a degenerate triangle): a program's first use waits for its link, which a
+  // software renderer takes most of a second for, and the canvas's buffers are made.
   scene.add(...objects);
-  renderer.compile(scene, camera);
+  renderer.render(scene, camera);
   scene.remove(...objects);
 }

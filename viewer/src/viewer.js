@@ -176,27 +176,23 @@ function frame(now) {
 // ---------------------------------------------------------------------------------------------
 // Updates
 
-function uploadPositions() {
-  const n = state.nav.vertexCount;
-  const attribute = geometry.attributes.position;
-  attribute.clearUpdateRanges();
-  attribute.addUpdateRange(0, 3 * n);
+// Vertices [first, end) of an attribute go up at the next render. Ranges add up until then
+// (three clears them after uploading), so two updates between frames both arrive.
+function upload(attribute, first = 0, end = state.nav.vertexCount) {
+  if (end <= first) return;  // (needsUpdate without a range would upload the whole buffer)
+  attribute.addUpdateRange(3 * first, 3 * (end - first));
   attribute.needsUpdate = true;
 }
-
-function uploadColours() {
-  const attribute = geometry.attributes.color;
-  attribute.clearUpdateRanges();
-  attribute.addUpdateRange(0, 3 * state.nav.vertexCount);
-  attribute.needsUpdate = true;
-}
+const uploadColours = (first, end) => upload(geometry.attributes.color, first, end);
 
 // Positions (and displacement/field colours) of the visible vertices at state.t.
 function updateTime({ render = true } = {}) {
   const { mesh, nav, t } = state;
   const n = nav.vertexCount;
   mesh.positionsAt(t, n, positions);
-  uploadPositions();
+  // A finer level at the same t: only the new vertices' positions changed.
+  upload(geometry.attributes.position, t === state.shownT ? Math.min(n, state.shownN) : 0, n);
+  Object.assign(state, { shownT: t, shownN: n });
   if (state.colour !== 'part') updateScalarColours();
   updateLabels();
   if (render) requestRender();
@@ -215,7 +211,6 @@ function updateLevel() {
     const [lo, hi] = changed;
     for (const [g, per] of [[geometry, 6], [edgeGeometry, 8]]) {
       const index = g.index;
-      index.clearUpdateRanges();
       index.addUpdateRange(per * lo, per * (hi - lo));
       index.needsUpdate = true;
     }
@@ -277,17 +272,20 @@ function updatePartColours() {
   const F = nav.faceCount;
   const cache = new Map();
   const corners = nav.corners;
+  let lo = Infinity, hi = 0;  // the vertices whose colour changed: only they go up
   for (let f = 0; f < F; f++) {
     const id = mesh.partId[f];
     let c = cache.get(id);
-    if (!c) cache.set(id, (c = partColour(id)));
+    if (!c) cache.set(id, (c = Float32Array.of(...partColour(id))));
     const d = corners[4 * f + 3] < 0 ? 3 : 4;
     for (let k = 0; k < d; k++) {
       const v = 3 * corners[4 * f + k];
-      colours[v] = c.r, colours[v + 1] = c.g, colours[v + 2] = c.b;
+      if (colours[v] === c[0] && colours[v + 1] === c[1] && colours[v + 2] === c[2]) continue;
+      colours[v] = c[0], colours[v + 1] = c[1], colours[v + 2] = c[2];
+      lo = Math.min(lo, v / 3), hi = Math.max(hi, v / 3 + 1);
     }
   }
-  uploadColours();
+  uploadColours(lo, hi);
   if (cache.size !== state.partCount) {
     state.partCount = cache.size;
     drawLegend();
@@ -445,10 +443,10 @@ function onBase(mesh) {
   if (!state.worker) requestAnimationFrame(() => setTimeout(() => onNavigator(new Navigator(mesh))));
 }
 
+// From the next frame on: the base is shown first, whatever arrives meanwhile.
 function onNavigator(nav) {
-  state.nav = nav;
   timing.navigator = performance.now();
-  stepLevel();
+  requestAnimationFrame(() => setTimeout(() => ((state.nav = nav), stepLevel())));
 }
 
 function onSplits(mesh) {
