@@ -60,6 +60,7 @@ const state = {
   base0: null,  // positions at step 0 of the first base0Count vertices (displacement colours)
   base0Count: 0,
   ranges: new Map(),  // colour mode → [min, max] over every step
+  partColours: new Map(),
   lastFrameTime: 0,
   decoder: {},  // want(vertices): the worker fetches more (worker_decoder.js)
 };
@@ -215,7 +216,7 @@ function updateLevel() {
       index.needsUpdate = true;
     }
   }
-  if (state.colour === 'part') updatePartColours();
+  if (state.colour === 'part') updatePartColours(changed?.[2] ?? []);
   updateTime();
 }
 
@@ -265,15 +266,18 @@ function partColour(id) {
   return c;
 }
 
-// A vertex takes the part of a face that holds it (the last in face order): vertices on a part
-// boundary blend over one element row, which the element edges keep readable.
-function updatePartColours() {
+// A vertex takes the part of a face that holds it (the last written: in face order, then the
+// faces a level change touched, `faces`): vertices on a part boundary blend over one element
+// row, which the element edges keep readable.
+function updatePartColours(faces = null) {
   const { nav, mesh } = state;
-  const F = nav.faceCount;
-  const cache = new Map();
+  const F = faces ? faces.length : nav.faceCount;
+  const cache = state.partColours;  // id → colour, of every part seen
   const corners = nav.corners;
   let lo = Infinity, hi = 0;  // the vertices whose colour changed: only they go up
-  for (let f = 0; f < F; f++) {
+  for (let i = 0; i < F; i++) {
+    const f = faces ? faces[i] : i;
+    if (f >= nav.faceCount) continue;
     const id = mesh.partId[f];
     let c = cache.get(id);
     if (!c) cache.set(id, (c = Float32Array.of(...partColour(id))));

@@ -47,7 +47,9 @@ test('the base mesh is drawn before the file is in, from range requests', async 
   assert.ok(first.bytesLoaded < size, `base shown after ${first.bytesLoaded} of ${size} bytes`);
   const grey = await page.evaluate(() => window.dpmViewer.snapshot(32));
   assert.ok(new Set(grey).size > 1, 'the base mesh is on the canvas');
-  await page.waitForFunction(() => window.dpmViewer.state().complete, null, { timeout: 60000 });
+  // Complete, and the level has followed the file to its end.
+  const followed = () => ((s) => s.complete && s.vertices === s.loadedVertices)(window.dpmViewer.state());
+  await page.waitForFunction(followed, null, { timeout: 60000 });
   const last = await state(page);
   assert.equal(last.bytesLoaded, size);
   assert.equal(last.loadedVertices, last.vertices);
@@ -74,7 +76,8 @@ test('?vertices=N fetches only the chunks up to N vertices; the slider fetches t
   // The slider's far end asks for every vertex.
   const box = await page.locator('#resolution').boundingBox();
   await page.mouse.click(box.x + box.width - 2, box.y + box.height / 2);
-  await page.waitForFunction(() => window.dpmViewer.state().complete, null, { timeout: 60000 });
+  const followed = () => ((s) => s.complete && s.vertices === s.loadedVertices)(window.dpmViewer.state());
+  await page.waitForFunction(followed, null, { timeout: 60000 });
   s = await state(page);
   assert.equal(s.bytesLoaded, size);
   assert.equal(s.loadedVertices, total);
