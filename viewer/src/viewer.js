@@ -204,7 +204,7 @@ function updateTime({ render = true } = {}) {
 function updateLevel() {
   const { nav } = state;
   makeRoom(nav.vertexCount, nav.faceCount);
-  const changed = updateIndices(nav, triIndex, edgeIndex);
+  const touched = {}, changed = updateIndices(nav, triIndex, edgeIndex, touched);
   const F = nav.faceCount;
   geometry.setDrawRange(0, 6 * F);
   edgeGeometry.setDrawRange(0, 8 * F);
@@ -216,7 +216,7 @@ function updateLevel() {
       index.needsUpdate = true;
     }
   }
-  if (state.colour === 'part') updatePartColours(changed?.[2] ?? []);
+  if (state.colour === 'part') updatePartColours(touched.faces);
   updateTime();
 }
 
