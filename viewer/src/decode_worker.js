@@ -1,20 +1,25 @@
 // The page's decoder, off its main thread (docs/viewer.md "Decoding in a worker"): fetches the
-// .dpm, feeds DpmDecoder as bytes arrive, and posts what each chunk made loadable — the base
-// mesh, then splits. With `shared` the mesh's arrays are shared with the page and only the
-// growing lists travel; else runs of at most `sliceSplits` splits go as copies of the ranges
-// the page's mesh needs, their buffers transferred (mesh_pieces.js). The page
-// (worker_decoder.js) starts it with { url, name, shared, sliceSplits } and hears: start,
-// first-bytes, progress, head, base, splits, end, done or error. It ends itself once the
-// stream has: what the page does not share goes with it.
+// .dpm (by ranges, range_fetch.js), feeds DpmDecoder as bytes arrive, and posts what each chunk
+// made loadable — the base mesh, then splits. With `shared` the mesh's arrays are shared with
+// the page and only the growing lists travel; else runs of at most `sliceSplits` splits go as
+// copies of the ranges the page's mesh needs, their buffers transferred (mesh_pieces.js). The
+// page (worker_decoder.js) starts it with { url, name, shared, sliceSplits, vertices } and may
+// later send { type: 'want', vertices } (fetch until that many vertices are loaded; Infinity:
+// the whole file); it hears: start, first-bytes, progress, head, base, navigator, splits, paused, end,
+// done or error. It ends itself once the stream has: what the page does not share goes with it.
 import { DpmDecoder } from './dpm/file.js';
+import { Navigator } from './dpm/navigator.js';
+import { navigatorParts } from './moved_navigator.js';
+import { fetchByRanges } from './range_fetch.js';
 import { fieldDefs, growableTails, levelPieces, shareFields, shareMesh } from './mesh_pieces.js';
 
 const post = (message, transfer = []) => self.postMessage(message, transfer);
 
-async function decode({ url, name, shared, sliceSplits }) {
-  const response = await fetch(url);
-  if (!response.ok) throw new Error(`${name}: HTTP ${response.status}`);
-  const reader = response.body.getReader();
+// The page's wish: vertices it wants loaded; a promise's resolve while waiting for more.
+const want = { vertices: Infinity, wake: null };
+
+async function decode({ url, name, shared, sliceSplits, vertices = Infinity }) {
+  want.vertices = vertices;
   const sent = {};  // shared: the length of each growing list the page has
   const decoder = new DpmDecoder({
     name,
@@ -24,10 +29,13 @@ async function decode({ url, name, shared, sliceSplits }) {
         const fields = shareFields(mesh);
         const pieces = [['baseDegree', 0, mesh.baseDegree], ['baseCorners', 0, mesh.baseCorners]];
         post({ type: 'base', fields, faceHeir: mesh.faceHeir, pieces: [...pieces, ...growableTails(mesh, sent)] });
-        return;
+      } else {
+        const { pieces, transfer } = levelPieces(mesh, 0, 0);
+        post({ type: 'base', fields: fieldDefs(mesh), pieces }, transfer);
       }
-      const { pieces, transfer } = levelPieces(mesh, 0, 0);
-      post({ type: 'base', fields: fieldDefs(mesh), pieces }, transfer);
+      // After the base mesh has gone: the page draws it meanwhile (moved_navigator.js).
+      const { parts, transfer } = navigatorParts(new Navigator(mesh));
+      post({ type: 'navigator', parts }, transfer);
     },
     onSplits: (mesh, s, n) => {
       if (shared) return post({ type: 'splits', first: s, count: n, pieces: growableTails(mesh, sent) });
@@ -39,19 +47,33 @@ async function decode({ url, name, shared, sliceSplits }) {
     },
     onEnd: () => post({ type: 'end' }),
   });
-  post({ type: 'start', total: Number(response.headers.get('Content-Length')) || 0, shared });
-  for (;;) {
-    const { done, value } = await reader.read();
-    if (done) break;
+  // More is wanted until the base mesh, the FLDS of a SPLT, the wanted vertices or END are in.
+  const wanted = () => {
+    const mesh = decoder.mesh;
+    if (!mesh?.hasBase || decoder.state !== 'SPLT') return true;
+    const all = mesh.head.splitCount;
+    return mesh.splitsLoaded === all || mesh.splitsLoaded < Math.min(all, want.vertices - mesh.head.baseVertexCount);
+  };
+  const more = () => {
+    post({ type: 'paused', bytes: decoder.bytesReceived });
+    return new Promise((resolve) => (want.wake = resolve));
+  };
+  const onResponse = ({ total, ranges }) => {
     // When the first bytes arrived, in the page's clock (the worker's has another origin).
-    if (decoder.bytesReceived === 0) post({ type: 'first-bytes', at: performance.timeOrigin + performance.now() });
-    decoder.push(value);
-    post({ type: 'progress', bytes: decoder.bytesReceived });
-  }
+    post({ type: 'first-bytes', at: performance.timeOrigin + performance.now() });
+    post({ type: 'start', total, shared, ranges });
+  };
+  const onBytes = () => post({ type: 'progress', bytes: decoder.bytesReceived });
+  await fetchByRanges(url, name, decoder, { wanted, more, onResponse, onBytes });
   post({ type: 'done', complete: decoder.complete, chunkStart: decoder.chunkStart, state: decoder.state });
 }
 
 self.onmessage = (e) => {
+  if (e.data.type === 'want') {
+    want.vertices = Math.max(want.vertices, e.data.vertices);
+    want.wake?.();
+    return;
+  }
   decode(e.data)
     .catch((error) => post({ type: 'error', message: String(error.message ?? error) }))
     .finally(() => self.close());

@@ -36,3 +36,18 @@ export function growDrawBuffers(buffers, room, vertices, faces, head, geometry, 
   edgeGeometry.setIndex(dynamic(b.edgeIndex, 1));
   return b;
 }
+
+// Compiles the shaders of `objects` (their materials) at start-up, on a one-triangle geometry
+// that their real geometry replaces later.
+export function compileShaders(renderer, scene, camera, objects) {
+  for (const { geometry } of objects) {
+    geometry.setAttribute('position', new THREE.BufferAttribute(new Float32Array(9), 3));
+    geometry.setAttribute('color', new THREE.BufferAttribute(new Float32Array(9), 3));
+    geometry.setIndex([0, 1, 2]);
+  }
+  // Drawn once (a degenerate triangle): a program's first use waits for its link, which a
+  // software renderer takes most of a second for, and the canvas's buffers are made.
+  scene.add(...objects);
+  renderer.render(scene, camera);
+  scene.remove(...objects);
+}

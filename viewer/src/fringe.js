@@ -87,6 +87,13 @@ export function element(tag, { className, background } = {}, ...children) {
   return e;
 }
 
+// 1,234,567; not toLocaleString, whose first call takes 0.1 s (locale data) in the first
+// picture's task.
+export const int = (n) => String(n).replace(/\B(?=(\d{3})+$)/g, ',');
+export function bytes(n) {
+  return n < 1 << 20 ? `${(n / 1024).toFixed(1)} KiB` : `${(n / (1 << 20)).toFixed(1)} MiB`;
+}
+
 export function fmt(x, digits = 4) {
   if (x === 0) return '0';
   const a = Math.abs(x);

@@ -11,12 +11,15 @@
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 
+import { BaseLevel } from './base_level.js';
 import { Navigator, ProgressiveMesh, updateIndices } from './dpm.js';
-import { growDrawBuffers } from './draw_buffers.js';
+import { compileShaders, growDrawBuffers } from './draw_buffers.js';
 import { FieldView } from './field_view.js';
+import { memoryUse } from './memory_use.js';
+import { modelFile, wantedVertices } from './model_file.js';
 import { greySnapshot } from './snapshot.js';
 import { decodeInWorker, decodeOnPage } from './worker_decoder.js';
-import { element, fmt, Fringe, fringeLegend, fringeOptions } from './fringe.js';
+import { bytes, element, fmt, Fringe, fringeLegend, fringeOptions, int } from './fringe.js';
 
 const $ = (id) => document.getElementById(id);
 const ui = {
@@ -54,9 +57,12 @@ const state = {
   playing: false,
   follow: true,  // keep the resolution at the finest level loaded while the file arrives
   colour: 'part',
-  base0: null,  // positions at step 0 of every loaded vertex (displacement colours)
+  base0: null,  // positions at step 0 of the first base0Count vertices (displacement colours)
+  base0Count: 0,
   ranges: new Map(),  // colour mode → [min, max] over every step
+  partColours: new Map(),
   lastFrameTime: 0,
+  decoder: {},  // want(vertices): the worker fetches more (worker_decoder.js)
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -82,7 +88,15 @@ controls.addEventListener('change', () => requestRender());
 
 let geometry = null;  // faces (two triangles per face slot)
 let edgeGeometry = null;  // element edges (four segments per face slot)
-let surface = null, edgeLines = null;
+// flatShading: normals from screen-space derivatives, so a time change needs no normal pass.
+// Made, and their shaders compiled (load()), before the file arrives: a software renderer
+// takes seconds to compile them, which would delay the first picture.
+const surface = new THREE.Mesh(new THREE.BufferGeometry(), new THREE.MeshLambertMaterial({
+  vertexColors: true, flatShading: true, side: THREE.DoubleSide,
+  polygonOffset: true, polygonOffsetFactor: 1, polygonOffsetUnits: 1,  // faces behind their edges
+}));
+const edgeLines = new THREE.LineSegments(new THREE.BufferGeometry(),
+  new THREE.LineBasicMaterial({ color: 0x1b2330, transparent: true, opacity: 0.55 }));
 let positions = null;  // Float32Array(3 × vertex room)
 let colours = null;  // Float32Array(3 × vertex room)
 let triIndex = null;  // Uint32Array(6 × face room)
@@ -103,20 +117,8 @@ function createGeometry(mesh) {
   geometry.boundingSphere = sphere;
   edgeGeometry.boundingSphere = sphere;
   geometry.boundingBox = box;
-  // flatShading: normals from screen-space derivatives, so a time change needs no normal pass.
-  const material = new THREE.MeshLambertMaterial({
-    vertexColors: true,
-    flatShading: true,
-    side: THREE.DoubleSide,
-    polygonOffset: true,  // faces behind their edges
-    polygonOffsetFactor: 1,
-    polygonOffsetUnits: 1,
-  });
-  surface = new THREE.Mesh(geometry, material);
-  edgeLines = new THREE.LineSegments(
-    edgeGeometry,
-    new THREE.LineBasicMaterial({ color: 0x1b2330, transparent: true, opacity: 0.55 }),
-  );
+  surface.geometry = geometry;
+  edgeLines.geometry = edgeGeometry;
   edgeLines.visible = ui.edges.checked;
   scene.add(surface, edgeLines);
   fieldMarkerRadius = sphere.radius / 60;
@@ -175,27 +177,23 @@ function frame(now) {
 // ---------------------------------------------------------------------------------------------
 // Updates
 
-function uploadPositions() {
-  const n = state.nav.vertexCount;
-  const attribute = geometry.attributes.position;
-  attribute.clearUpdateRanges();
-  attribute.addUpdateRange(0, 3 * n);
+// Vertices [first, end) of an attribute go up at the next render. Ranges add up until then
+// (three clears them after uploading), so two updates between frames both arrive.
+function upload(attribute, first = 0, end = state.nav.vertexCount) {
+  if (end <= first) return;  // (needsUpdate without a range would upload the whole buffer)
+  attribute.addUpdateRange(3 * first, 3 * (end - first));
   attribute.needsUpdate = true;
 }
-
-function uploadColours() {
-  const attribute = geometry.attributes.color;
-  attribute.clearUpdateRanges();
-  attribute.addUpdateRange(0, 3 * state.nav.vertexCount);
-  attribute.needsUpdate = true;
-}
+const uploadColours = (first, end) => upload(geometry.attributes.color, first, end);
 
 // Positions (and displacement/field colours) of the visible vertices at state.t.
 function updateTime({ render = true } = {}) {
   const { mesh, nav, t } = state;
   const n = nav.vertexCount;
   mesh.positionsAt(t, n, positions);
-  uploadPositions();
+  // A finer level at the same t: only the new vertices' positions changed.
+  upload(geometry.attributes.position, t === state.shownT ? Math.min(n, state.shownN) : 0, n);
+  Object.assign(state, { shownT: t, shownN: n });
   if (state.colour !== 'part') updateScalarColours();
   updateLabels();
   if (render) requestRender();
@@ -206,7 +204,7 @@ function updateTime({ render = true } = {}) {
 function updateLevel() {
   const { nav } = state;
   makeRoom(nav.vertexCount, nav.faceCount);
-  const changed = updateIndices(nav, triIndex, edgeIndex);
+  const touched = {}, changed = updateIndices(nav, triIndex, edgeIndex, touched);
   const F = nav.faceCount;
   geometry.setDrawRange(0, 6 * F);
   edgeGeometry.setDrawRange(0, 8 * F);
@@ -214,12 +212,11 @@ function updateLevel() {
     const [lo, hi] = changed;
     for (const [g, per] of [[geometry, 6], [edgeGeometry, 8]]) {
       const index = g.index;
-      index.clearUpdateRanges();
       index.addUpdateRange(per * lo, per * (hi - lo));
       index.needsUpdate = true;
     }
   }
-  if (state.colour === 'part') updatePartColours();
+  if (state.colour === 'part') updatePartColours(touched.faces);
   updateTime();
 }
 
@@ -237,6 +234,7 @@ const SPLITS_PER_STEP = 65536;
 // go (the tests' and benchmarks' entry), else in steps of SPLITS_PER_STEP, one a frame.
 function setVertexCount(n, now = false) {
   state.follow = n >= state.mesh.vertexCountLoaded;
+  if (n > state.mesh.vertexCountLoaded) state.decoder.want?.(n);  // fetched by ranges: more
   state.targetVertices = n;
   ui.resolution.value = String(n);
   stepLevel(now);
@@ -268,24 +266,30 @@ function partColour(id) {
   return c;
 }
 
-// A vertex takes the part of a face that holds it (the last in face order): vertices on a part
-// boundary blend over one element row, which the element edges keep readable.
-function updatePartColours() {
+// A vertex takes the part of a face that holds it (the last written: in face order, then the
+// faces a level change touched, `faces`): vertices on a part boundary blend over one element
+// row, which the element edges keep readable.
+function updatePartColours(faces = null) {
   const { nav, mesh } = state;
-  const F = nav.faceCount;
-  const cache = new Map();
+  const F = faces ? faces.length : nav.faceCount;
+  const cache = state.partColours;  // id → colour, of every part seen
   const corners = nav.corners;
-  for (let f = 0; f < F; f++) {
+  let lo = Infinity, hi = 0;  // the vertices whose colour changed: only they go up
+  for (let i = 0; i < F; i++) {
+    const f = faces ? faces[i] : i;
+    if (f >= nav.faceCount) continue;
     const id = mesh.partId[f];
     let c = cache.get(id);
-    if (!c) cache.set(id, (c = partColour(id)));
+    if (!c) cache.set(id, (c = Float32Array.of(...partColour(id))));
     const d = corners[4 * f + 3] < 0 ? 3 : 4;
     for (let k = 0; k < d; k++) {
       const v = 3 * corners[4 * f + k];
-      colours[v] = c.r, colours[v + 1] = c.g, colours[v + 2] = c.b;
+      if (colours[v] === c[0] && colours[v + 1] === c[1] && colours[v + 2] === c[2]) continue;
+      colours[v] = c[0], colours[v + 1] = c[1], colours[v + 2] = c[2];
+      lo = Math.min(lo, v / 3), hi = Math.max(hi, v / 3 + 1);
     }
   }
-  uploadColours();
+  uploadColours(lo, hi);
   if (cache.size !== state.partCount) {
     state.partCount = cache.size;
     drawLegend();
@@ -310,6 +314,7 @@ function updateScalarColours() {
     smooth = fieldView.update(k, nav, state.t, positions, options);
     state.fringe = fieldView.fringe;
   } else {
+    extendBase0();
     ProgressiveMesh.displacement(positions, state.base0, n, scratch);
     let [lo, hi] = scalarRange();
     if (options.range === 'step') [lo, hi] = [0, scratch.subarray(0, n).reduce((a, x) => Math.max(a, x), 0)];
@@ -330,6 +335,7 @@ function scalarRange() {
   if (range) return range;
   const { mesh } = state;
   const n = mesh.vertexCountLoaded;
+  extendBase0();
   const p = new Float32Array(3 * n);
   const d = new Float32Array(n);
   let hi = 0;
@@ -383,11 +389,6 @@ function setColour(mode) {
 // ---------------------------------------------------------------------------------------------
 // Labels
 
-const int = (n) => n.toLocaleString('en-US');
-function bytes(n) {
-  return n < 1 << 20 ? `${(n / 1024).toFixed(1)} KiB` : `${(n / (1 << 20)).toFixed(1)} MiB`;
-}
-
 function updateLabels() {
   const { mesh, nav, t } = state;
   const h = mesh.head;
@@ -436,50 +437,45 @@ function onBase(mesh) {
   timing.base = performance.now();
   // Option(text, value): the field's name from FDEF is text.
   for (let f = 0; f < mesh.fields.length; f++) ui.colour.add(new Option(mesh.fields[f].name, `field:${f}`));
-  state.nav = new Navigator(mesh);
-  extendBase0();
+  // Drawn at once from BASE; the Navigator (arrays for every face of the whole mesh) comes
+  // from the worker, or is made here after the frame that shows the base (?worker=0).
+  state.nav = new BaseLevel(mesh);
   updateLevel();
   resetView();
   drawLegend();
   timing.baseDone = performance.now();
+  if (!state.worker) requestAnimationFrame(() => setTimeout(() => onNavigator(new Navigator(mesh))));
+}
+
+// From the next frame on: the base is shown first, whatever arrives meanwhile.
+function onNavigator(nav) {
+  timing.navigator = performance.now();
+  requestAnimationFrame(() => setTimeout(() => ((state.nav = nav), stepLevel())));
 }
 
 function onSplits(mesh) {
-  extendBase0();
   state.ranges.clear();  // more vertices: the legend's range may grow
+  if (!(state.nav instanceof Navigator)) return;  // stepLevel() follows once it is made
   if (state.follow) stepLevel();
   else updateLabels();
   if (state.colour !== 'part') updateScalarColours();
 }
 
+// Made when displacement is first shown, not for every model.
 function extendBase0() {
   const { mesh } = state;
   const n = mesh.vertexCountLoaded;
+  if (n <= state.base0Count) return;
   if (!state.base0) state.base0 = new Float32Array(3 * mesh.head.vertexCount);
   mesh.positionsAt(0, n, state.base0);
+  state.base0Count = n;
 }
 
 async function load() {
   resize();  // before the file: sizing the canvas costs a software renderer much
-  let file = 'model.dpm';
-  try {
-    const config = await fetch('dpm.json');
-    if (config.ok) {
-      const c = await config.json();
-      file = c.file ?? file;
-      state.name = c.name ?? file;
-    }
-  } catch {
-    // No dpm.json (a folder served by hand): the default name.
-  }
-  // ?file= names a file of this server only: a link must not make the page fetch from (or
-  // announce itself to) another origin. The CSP's connect-src 'self' refuses it as well.
-  const query = params.get('file');
-  if (query) {
-    if (new URL(query, location.href).origin !== location.origin)
-      throw new Error(`?file=${query}: not on this server (${location.origin})`);
-    file = state.name = query;
-  }
+  compileShaders(renderer, scene, camera, [surface, edgeLines]);
+  const { file, name } = await modelFile(params);
+  state.name = name;
   ui.title.textContent = state.name;
   document.title = `${state.name} — dynpm view`;
   const onProgress = (received) => {
@@ -488,10 +484,12 @@ async function load() {
   };
   // The decode runs in a worker (worker_decoder.js); ?worker=0 keeps it here, for comparison.
   state.worker = params.get('worker') !== '0';
-  const onStart = (total, shared = false) => Object.assign(state, { totalBytes: total, sharedMemory: shared });
+  const onStart = (total, shared = false, rangeRequests = false) => Object.assign(state, { totalBytes: total, sharedMemory: shared, rangeRequests });
   const decode = { url: new URL(file, location.href).href, name: state.name, onHead, onBase, onSplits, onStart, onProgress };
   const onFirstBytes = (at) => (timing.firstByte = at);
-  const decoder = await (state.worker ? decodeInWorker({ ...decode, onFirstBytes }) : decodeOnPage(decode));
+  // Fetched by ranges up to ?vertices=N (model_file.js); the slider asks for more.
+  const worker = { ...decode, onNavigator, onFirstBytes, vertices: wantedVertices(params), control: state.decoder, onPaused: () => state.nav && updateLabels() };
+  const decoder = await (state.worker ? decodeInWorker(worker) : decodeOnPage(decode));
   if (!decoder.mesh?.hasBase) throw new Error(`${state.name}: ends before the base mesh`);
   if (!decoder.complete) showError(`${state.name}: the file ends early (no END chunk): showing the ${int(decoder.mesh.vertexCountLoaded)} vertices it holds`);
   state.ranges.clear();
@@ -546,6 +544,8 @@ window.dpmViewer = {
   timing,
   state: () => ({
     hasBase: Boolean(state.nav),
+    navigator: state.nav instanceof Navigator,
+    rangeRequests: Boolean(state.rangeRequests),
     worker: Boolean(state.worker),
     sharedMemory: Boolean(state.sharedMemory),
     complete: Boolean(state.mesh?.complete),
@@ -558,6 +558,7 @@ window.dpmViewer = {
     bytesLoaded: state.bytesLoaded,
     error: ui.error.hidden ? null : ui.error.textContent,
   }),
+  memory: () => memoryUse(state.mesh, state.nav, { positions, colours, triIndex, edgeIndex, scratch }, { base0: state.base0 }),
   fringe: () => (fieldView?.shown ? fieldView.describe(state.nav) : null),
   snapshot: (size = 64) => greySnapshot(renderer, scene, camera, size),
   // Sets the resolution as the slider does and renders; returns the milliseconds taken by the

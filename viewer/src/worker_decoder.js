@@ -7,15 +7,19 @@ import { DpmError } from './dpm/bytes.js';
 import { DpmDecoder, streamDpm } from './dpm/file.js';
 import { ProgressiveMesh } from './dpm/progressive_mesh.js';
 import { addFields, applyPieces, sharedMesh } from './mesh_pieces.js';
+import { movedNavigator } from './moved_navigator.js';
 
 // Splits per message: a run of this many costs the page a few milliseconds to copy in.
 const SLICE_SPLITS = 32768;
 
 // Resolves with { mesh, complete } when the stream has ended (mesh null if HEAD never came);
-// rejects with the decoder's error. onStart(totalBytes, shared), onFirstBytes(pageTime),
-// onProgress(bytes).
-export function decodeInWorker({ url, name, onHead, onBase, onSplits, onStart, onFirstBytes, onProgress, pauseMs = 100 }) {
+// rejects with the decoder's error. onStart(totalBytes, shared, ranges), onFirstBytes(pageTime),
+// onProgress(bytes), onPaused(bytes): the worker stopped fetching at `vertices` (by ranges;
+// Infinity: the whole file) until `control.want(vertices)` asks for more. onNavigator(nav):
+// the worker's Navigator at the base mesh, moved here (moved_navigator.js).
+export function decodeInWorker({ url, name, onHead, onBase, onNavigator, onSplits, onStart, onFirstBytes, onProgress, onPaused, vertices = Infinity, control = {}, pauseMs = 100 }) {
   const worker = new Worker(new URL('./decode_worker.js', import.meta.url), { type: 'module' });
+  control.want = (n) => worker.postMessage({ type: 'want', vertices: n });
   let mesh = null;
   let complete = false;
   let timer = 0;
@@ -48,7 +52,7 @@ export function decodeInWorker({ url, name, onHead, onBase, onSplits, onStart, o
     worker.onerror = (e) => finish(new Error(`${name}: the decode worker failed: ${e.message ?? 'could not start'}`));
     worker.onmessage = ({ data: m }) => {
       try {
-        if (m.type === 'start') onStart?.(m.total, m.shared);
+        if (m.type === 'start') onStart?.(m.total, m.shared, m.ranges);
         else if (m.type === 'first-bytes') onFirstBytes?.(m.at - performance.timeOrigin);
         else if (m.type === 'progress') onProgress?.(m.bytes);
         else if (m.type === 'head') {
@@ -59,10 +63,15 @@ export function decodeInWorker({ url, name, onHead, onBase, onSplits, onStart, o
           applyPieces(mesh, m.pieces);
           mesh.hasBase = true;
           onBase?.(mesh);
+        } else if (m.type === 'navigator') {
+          onNavigator?.(movedNavigator(m.parts, mesh));
         } else if (m.type === 'splits') {
           applyPieces(mesh, m.pieces);
           mesh.splitsLoaded = m.first + m.count;
           if (!timer) timer = setTimeout(showSplits, Math.max(0, lastSplits + pauseMs - performance.now()));
+        } else if (m.type === 'paused') {
+          showSplits();
+          onPaused?.(m.bytes);
         } else if (m.type === 'end') {
           showSplits();  // the last splits are shown before the mesh says it is complete
           mesh.complete = complete = true;
@@ -76,7 +85,7 @@ export function decodeInWorker({ url, name, onHead, onBase, onSplits, onStart, o
       }
     };
     // Shared memory needs a cross-origin isolated page (`dynpm view` serves it so).
-    worker.postMessage({ url, name, shared: Boolean(globalThis.crossOriginIsolated), sliceSplits: SLICE_SPLITS });
+    worker.postMessage({ url, name, shared: Boolean(globalThis.crossOriginIsolated), sliceSplits: SLICE_SPLITS, vertices });
   });
 }
 

@@ -160,6 +160,39 @@ test('ranges: inside the file 206, past the end 416', async () => {
   }
 });
 
+test('ranges as the viewer asks them: open or past the end, HEAD, consecutive pieces; bad ones whole', async () => {
+  const { port } = await start(dpm);
+  const n = model.length;
+  const open = await get(port, '/model.dpm', `Range: bytes=${n - 10}-\r\n`);
+  assert.equal(open.status, 206);
+  assert.match(open.head, new RegExp(`content-range: bytes ${n - 10}-${n - 1}/${n}`, 'i'));
+  assert.ok(open.body.equals(model.subarray(n - 10)));
+  // A last byte past the end is the end (the viewer asks for a chunk and the header after it).
+  const past = await get(port, '/model.dpm', `Range: bytes=${n - 5}-${n + 1000}\r\n`);
+  assert.equal(past.status, 206);
+  assert.match(past.head, /content-length: 5\r?$/im);
+  assert.ok(past.body.equals(model.subarray(n - 5)));
+  const head = await raw(port, `HEAD /model.dpm HTTP/1.1\r\nHost: 127.0.0.1:${port}\r\nRange: bytes=0-99\r\nConnection: close\r\n\r\n`);
+  assert.equal(head.status, 206);
+  assert.match(head.head, /content-length: 100\r?$/im);
+  assert.equal(head.body.length, 0);
+  // The file in consecutive pieces of 7,919 bytes is the file.
+  const pieces = [];
+  for (let at = 0; at < n; at += 7919) {
+    const r = await get(port, '/model.dpm', `Range: bytes=${at}-${Math.min(n, at + 7919) - 1}\r\n`);
+    assert.equal(r.status, 206, `bytes ${at}-`);
+    pieces.push(r.body);
+  }
+  assert.ok(Buffer.concat(pieces).equals(model));
+  // What a server may ignore (RFC 9110) is served whole: several ranges, last < first, not
+  // numbers, another unit.
+  for (const range of ['bytes=0-1,4-5', 'bytes=9-3', 'bytes=a-b', 'bytes=--1', 'items=0-1', 'bytes 0-1']) {
+    const r = await get(port, '/model.dpm', `Range: ${range}\r\n`);
+    assert.equal(r.status, 200, range);
+    assert.ok(r.body.equals(model), range);
+  }
+});
+
 // Reads a response body piece by piece; `during` runs after the first piece.
 async function fetchWhile(url, during) {
   const r = await fetch(url);

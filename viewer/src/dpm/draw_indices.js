@@ -22,8 +22,9 @@ export function writeFaceIndices(nav, f, tri, edges) {
 }
 
 // Rewrites the index entries of the faces changed since the last call; returns the range of
-// faces [lo, hi) that changed, for partial buffer uploads.
-export function updateIndices(nav, tri, edges) {
+// faces [lo, hi) that changed, for partial buffer uploads, or null. touched.faces: the changed
+// faces (a view, valid until the navigator's next change; may hold faces ≥ faceCount).
+export function updateIndices(nav, tri, edges, touched = {}) {
   const dirty = nav.takeDirty();
   const F = nav.faceCount;
   let lo = Infinity, hi = 0;
@@ -34,5 +35,6 @@ export function updateIndices(nav, tri, edges) {
     if (f < lo) lo = f;
     if (f + 1 > hi) hi = f + 1;
   }
+  touched.faces = dirty;
   return lo < hi ? [lo, hi] : null;
 }

@@ -262,13 +262,17 @@ export class DpmDecoder {
       this.state = 'BASE';
     } else if (tag === 'BASE') {
       parseBase(r, mesh);
-      this.replay = new Int32Array(4 * mesh.head.faceCount).fill(-1);
-      this.replay.set(mesh.baseCorners);
       this.pending = { s: 0, n: 0 };
       if (withFields) this.state = 'FLDS';
       else this.commit();
     } else if (tag === 'SPLT') {
       this.models ??= positionModels(mesh.head.stepCount);
+      // Made at the first SPLT, not at BASE: 16 bytes a face of the whole mesh, which would
+      // delay the base mesh's picture.
+      if (!this.replay) {
+        this.replay = new Int32Array(4 * mesh.head.faceCount).fill(-1);
+        this.replay.set(mesh.baseCorners);
+      }
       this.pending = { s: mesh.splitsLoaded, n: parseSplits(r, mesh, this.replay, this.models) };
       if (withFields) this.state = 'FLDS';
       else this.commit();

@@ -1,0 +1,31 @@
+// Which file the page shows, and its name: `dpm.json` (written by `dynpm view` and --export),
+// else model.dpm; `?file=` overrides both, but only with a file of the page's own origin.
+export async function modelFile(params) {
+  let file = 'model.dpm';
+  let name = file;
+  try {
+    const config = await fetch('dpm.json');
+    if (config.ok) {
+      const c = await config.json();
+      file = c.file ?? file;
+      name = c.name ?? file;
+    }
+  } catch {
+    // No dpm.json (a folder served by hand): the default name.
+  }
+  // ?file= names a file of this server only: a link must not make the page fetch from (or
+  // announce itself to) another origin. The CSP's connect-src 'self' refuses it as well.
+  const query = params.get('file');
+  if (query) {
+    if (new URL(query, location.href).origin !== location.origin)
+      throw new Error(`?file=${query}: not on this server (${location.origin})`);
+    file = name = query;
+  }
+  return { file, name };
+}
+
+// ?vertices=N: the page fetches (by ranges) only the levels up to N vertices at first.
+export function wantedVertices(params) {
+  const n = Number(params.get('vertices') ?? Infinity);
+  return n >= 0 ? n : Infinity;
+}

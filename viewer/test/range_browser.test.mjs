@@ -1,0 +1,87 @@
+// Fetching by HTTP ranges (docs/viewer.md "Fetching by ranges"), in headless Chromium on
+// `dynpm view` (throttled, so that the order of what arrives is seen): the base mesh is drawn
+// before the whole file is in; a page that asks for a coarse level (?vertices=N) stops after the
+// chunks that hold it, having fetched only part of the file; the slider asks for the rest,
+// which then arrives whole. The plain GET (a server without ranges) is browser.test.mjs's
+// --export case.
+import assert from 'node:assert/strict';
+import { statSync } from 'node:fs';
+import { after, before, test } from 'node:test';
+
+import { chromium } from 'playwright-core';
+
+import { CHROMIUM_ARGS, startServer } from './chromium.mjs';
+
+const { DYNPM_CLI: cli, DYNPM_DPM: dpm } = process.env;
+if (!cli || !dpm) throw new Error('range_browser.test.mjs needs DYNPM_CLI, DYNPM_DPM');
+const CHROMIUM = process.env.DYNPM_CHROMIUM ?? '/usr/bin/chromium';
+const size = statSync(dpm).size;
+
+let server, url, browser;
+before(async () => {
+  ({ server, url } = await startServer(cli, dpm, ['--throttle', '60']));
+  browser = await chromium.launch({ executablePath: CHROMIUM, headless: true, args: CHROMIUM_ARGS });
+});
+after(async () => {
+  await browser?.close();
+  server?.kill('SIGINT');
+});
+
+async function open(query) {
+  const page = await browser.newPage({ viewport: { width: 640, height: 400 } });
+  const errors = [];
+  page.on('pageerror', (e) => errors.push(String(e)));
+  const ranges = [];
+  page.on('request', (r) => r.url().endsWith('.dpm') && ranges.push(r.headers().range ?? 'none'));
+  await page.goto(url + query);
+  return { page, errors, ranges };
+}
+
+const state = (page) => page.evaluate(() => window.dpmViewer.state());
+
+test('the base mesh is drawn before the file is in, from range requests', async () => {
+  const { page, errors, ranges } = await open('');
+  await page.waitForFunction(() => window.dpmViewer?.state().hasBase, null, { timeout: 20000 });
+  const first = await state(page);
+  assert.ok(first.rangeRequests, 'the server answered 206');
+  assert.ok(first.bytesLoaded < size, `base shown after ${first.bytesLoaded} of ${size} bytes`);
+  const grey = await page.evaluate(() => window.dpmViewer.snapshot(32));
+  assert.ok(new Set(grey).size > 1, 'the base mesh is on the canvas');
+  // Complete, and the level has followed the file to its end.
+  const followed = () => ((s) => s.complete && s.vertices === s.loadedVertices)(window.dpmViewer.state());
+  await page.waitForFunction(followed, null, { timeout: 60000 });
+  const last = await state(page);
+  assert.equal(last.bytesLoaded, size);
+  assert.equal(last.loadedVertices, last.vertices);
+  assert.ok(ranges.length > 2 && ranges.every((r) => /^bytes=\d+-\d+$/.test(r)), ranges.join(' '));
+  assert.equal(ranges[0], 'bytes=0-65535');
+  assert.deepEqual(errors, []);
+  await page.close();
+});
+
+test('?vertices=N fetches only the chunks up to N vertices; the slider fetches the rest', async () => {
+  const { page, errors } = await open('?vertices=1');
+  await page.waitForFunction(() => window.dpmViewer?.state().navigator, null, { timeout: 20000 });
+  // Paused: nothing more arrives.
+  let s = await state(page);
+  for (let before = -1; before !== s.bytesLoaded; ) {
+    before = s.bytesLoaded;
+    await new Promise((resolve) => setTimeout(resolve, 1500));
+    s = await state(page);
+  }
+  const total = await page.evaluate(() => Number(document.getElementById('resolution').max));
+  assert.ok(s.bytesLoaded < size, `${s.bytesLoaded} of ${size} bytes fetched for the base level`);
+  assert.ok(s.loadedVertices < total, `${s.loadedVertices} of ${total} vertices`);
+  assert.equal(s.complete, false);
+  // The slider's far end asks for every vertex.
+  const box = await page.locator('#resolution').boundingBox();
+  await page.mouse.click(box.x + box.width - 2, box.y + box.height / 2);
+  const followed = () => ((s) => s.complete && s.vertices === s.loadedVertices)(window.dpmViewer.state());
+  await page.waitForFunction(followed, null, { timeout: 60000 });
+  s = await state(page);
+  assert.equal(s.bytesLoaded, size);
+  assert.equal(s.loadedVertices, total);
+  assert.equal(s.vertices, total, 'following the file to the full mesh');
+  assert.deepEqual(errors, []);
+  await page.close();
+});
