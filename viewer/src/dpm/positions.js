@@ -79,8 +79,7 @@ export class ChunkStencils {
 
 // The bucket of a residual's magnitude: the next residual's context.
 function bucket(r) {
-  const m = r < 0 ? -r : r;
-  return m > 7 ? 4 : 32 - Math.clz32(m);  // min(⌊log₂ m⌋ + 1, 4)
+  return 32 - Math.clz32(Math.min(Math.abs(r), 8));  // min(⌊log₂ |r|⌋ + 1, 4), without a branch
 }
 
 // ⌊(2 · sum + count) / (2 · count)⌋: the mean rounded half up (exact: |sum| < 2^40).
@@ -93,14 +92,16 @@ export function decodeSplitPositions(mesh, s, n, stencils, models, sections) {
   const { baseVertexCount: b, bboxMin, bboxMax, quantStep } = mesh.head;
   // Quantized positions lie within two grid steps of the box (position_coding.cpp checks it too).
   const top = [0, 1, 2].map((c) => (bboxMax[c] - bboxMin[c]) / quantStep + 2);
-  const before = new Float64Array(3 * n);  // the residuals at t − 1
+  let before = new Float64Array(3 * n);  // the residuals at t − 1
+  let now = new Float64Array(3 * n);  // and at t
   for (let t = 0; t < q.length; t++) {
     const d = new RangeDecoder(sections[t]);
     if (!d.ok()) return `the positions of step ${t} are cut short`;  // or do not start as coded
     const step = { d, m: models[t], cur: q[t], prev: t > 0 ? q[t - 1] : null, t, first: b + s, n };
     const problem = mesh.lossless ? losslessStep(step, stencils, before)
-      : t === 0 ? firstStep(step, stencils, before, top) : laterStep(step, stencils, before, top);
+      : t === 0 ? firstStep(step, stencils, before, top) : laterStep(step, stencils, before, now, top);
     if (problem) return problem;
+    if (!mesh.lossless && t > 0) [before, now] = [now, before];
     if (!d.exhausted()) return `the positions of step ${t} leave bytes unread`;
   }
   return null;
@@ -141,11 +142,24 @@ function firstStep({ d, m, cur, first, n }, stencils, before, top) {
 
 // Step t > 0: its own position moved by its ring's mean motion, plus (t ≥ 2) 3/8 of the last
 // step's miss, rounded half up (at t = 1 the miss is step 0's, not a motion's); the context is
-// the bucket of the coordinate's last residual.
-function laterStep({ d, m, cur, prev, t, first, n }, stencils, before, top) {
+// the bucket of the coordinate's last residual. The residuals of `before` become those of `now`.
+function laterStep({ d, m, cur, prev, t, first, n }, stencils, before, now, top) {
+  // 1. The residuals first, in a loop that does nothing else: their contexts are the last step's
+  //    residuals, not positions. cut: the first one decoded past the end or too large.
+  let cut = 3 * n;
+  for (let e = 0, c = 0; e < 3 * n; e++) {
+    now[e] = decodeSigned(d, m, c * COORDINATE_MODELS + bucket(before[e]) * SIGNED_MODEL_SIZE);
+    if (d.overrun !== 0 || d.tooLarge) {
+      cut = e;
+      break;
+    }
+    c = c === 2 ? 0 : c + 1;
+  }
+  // 2. The positions, each coordinate checked in the order it was decoded.
   const { ringStart } = stencils;
   const ring = stencils.ring.data;
   const [top0, top1, top2] = top;
+  const later = t >= 2 ? 1 : 0;
   for (let k = 0; k < n; k++) {
     const v = 3 * (first + k);
     let mx = 0, my = 0, mz = 0;
@@ -158,30 +172,18 @@ function laterStep({ d, m, cur, prev, t, first, n }, stencils, before, top) {
     }
     const count = r1 - r0;
     const e = 3 * k;
-    const bx = before[e], by = before[e + 1], bz = before[e + 2];
-    let gx = prev[v] + roundedMean(mx, count);
-    let gy = prev[v + 1] + roundedMean(my, count);
-    let gz = prev[v + 2] + roundedMean(mz, count);
-    if (t >= 2) {
-      gx += Math.floor((3 * bx + 4) / 8);
-      gy += Math.floor((3 * by + 4) / 8);
-      gz += Math.floor((3 * bz + 4) / 8);
+    const x = prev[v] + roundedMean(mx, count) + later * Math.floor((3 * before[e] + 4) * 0.125) + now[e];
+    const y = prev[v + 1] + roundedMean(my, count) + later * Math.floor((3 * before[e + 1] + 4) * 0.125) + now[e + 1];
+    const z = prev[v + 2] + roundedMean(mz, count) + later * Math.floor((3 * before[e + 2] + 4) * 0.125) + now[e + 2];
+    if (e + 3 > cut || !(x >= -2 && x <= top0 && y >= -2 && y <= top1 && z >= -2 && z <= top2)) {
+      const xyz = [x, y, z];
+      for (let c = 0; c < 3; c++) {
+        if (e + c >= cut) return `the positions of step ${t} are cut short`;
+        if (!(xyz[c] >= -2 && xyz[c] <= top[c]))
+          return `step ${t}: vertex ${first + k}'s position is far outside the bounding box`;
+      }
     }
-    // Coordinate by coordinate, each checked before the next is decoded (as the C++ decoder).
-    const rx = decodeSigned(d, m, bucket(bx) * SIGNED_MODEL_SIZE);
-    const x = gx + rx;
-    if (d.overrun !== 0 || d.tooLarge || !(x >= -2 && x <= top0))
-      return positionProblem(d, t, first + k, x, top0);
-    const ry = decodeSigned(d, m, COORDINATE_MODELS + bucket(by) * SIGNED_MODEL_SIZE);
-    const y = gy + ry;
-    if (d.overrun !== 0 || d.tooLarge || !(y >= -2 && y <= top1))
-      return positionProblem(d, t, first + k, y, top1);
-    const rz = decodeSigned(d, m, 2 * COORDINATE_MODELS + bucket(bz) * SIGNED_MODEL_SIZE);
-    const z = gz + rz;
-    if (d.overrun !== 0 || d.tooLarge || !(z >= -2 && z <= top2))
-      return positionProblem(d, t, first + k, z, top2);
     cur[v] = x, cur[v + 1] = y, cur[v + 2] = z;
-    before[e] = rx, before[e + 1] = ry, before[e + 2] = rz;
   }
   return null;
 }
