@@ -246,14 +246,6 @@ function dirtyFor(corners) {
   return single;
 }
 
-// −1 when a === b, else 0 (int32s), in arithmetic: a ternary on a face's corner compiles to a
-// branch, mispredicted after a cache miss, which holds back the next faces' loads until the
-// miss is served.
-function sameMask(a, b) {
-  const e = a ^ b;
-  return ~((e | -e) >> 31);
-}
-
 // Splits [from, to) in order, the faces they change added to `dirty`; the quads they make. The
 // navigator's hot path: every array in a local, and no branch on a face's contents (at 1 M
 // vertices nearly every face a split names is a cache miss; a mispredicted branch on what one
@@ -271,21 +263,19 @@ export function applySplits(mesh, from, to, corners, dirty) {
   for (let i = from; i < to; i++) {
     const v0 = b + i;
     const v1 = parent[i];
-    const step = v0 - v1;
-    // 1. Moved faces: the corner holding v1 takes v0 (v1 + step).
+    // 1. Moved faces: the corner holding v1 takes v0.
     for (let j = movedStart[i], end = movedStart[i + 1]; j < end; j++) {
       const f = movedFaces[j];
       const c = 4 * f;
       const x0 = corners[c], x1 = corners[c + 1], x2 = corners[c + 2], x3 = corners[c + 3];
-      const m0 = sameMask(x0, v1), m1 = sameMask(x1, v1), m2 = sameMask(x2, v1), m3 = sameMask(x3, v1);
-      if ((m0 | m1 | m2 | m3) === 0) {
+      if (((x0 === v1) | (x1 === v1) | (x2 === v1) | (x3 === v1)) === 0) {
         dirty.count = n;
         throw new DpmError(`split ${i}: moved face ${f} is named twice`);
       }
-      corners[c] = x0 + (step & m0);
-      corners[c + 1] = x1 + (step & m1);
-      corners[c + 2] = x2 + (step & m2);
-      corners[c + 3] = x3 + (step & m3);
+      corners[c] = x0 === v1 ? v0 : x0;
+      corners[c + 1] = x1 === v1 ? v0 : x1;
+      corners[c + 2] = x2 === v1 ? v0 : x2;
+      corners[c + 3] = x3 === v1 ? v0 : x3;
       list[n] = f;
       n += 1 - mark[f];
       mark[f] = 1;
@@ -345,15 +335,14 @@ export function undoSplits(mesh, from, to, corners, dirty) {
       n += 1 - mark[f];
       mark[f] = 1;
     }
-    const step = v0 - v1;
     for (let j = movedStart[i], end = movedStart[i + 1]; j < end; j++) {
       const f = movedFaces[j];
       const c = 4 * f;
       const x0 = corners[c], x1 = corners[c + 1], x2 = corners[c + 2], x3 = corners[c + 3];
-      corners[c] = x0 - (step & sameMask(x0, v0));
-      corners[c + 1] = x1 - (step & sameMask(x1, v0));
-      corners[c + 2] = x2 - (step & sameMask(x2, v0));
-      corners[c + 3] = x3 - (step & sameMask(x3, v0));
+      corners[c] = x0 === v0 ? v1 : x0;
+      corners[c + 1] = x1 === v0 ? v1 : x1;
+      corners[c + 2] = x2 === v0 ? v1 : x2;
+      corners[c + 3] = x3 === v0 ? v1 : x3;
       list[n] = f;
       n += 1 - mark[f];
       mark[f] = 1;
