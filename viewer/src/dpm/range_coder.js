@@ -91,10 +91,13 @@ export class RangeDecoder {
     const bytes = this.bytes;
     const end = bytes.length;
     let code = this.code, range = this.range, pos = this.pos;
-    // n = u + 1; k, the position of its leading 1, in unary: bit j with the model of slot
-    // min(j, SLOTS − 1).
+    // n = u + 1; k, the position of its leading 1, in unary (bit j with the model of slot
+    // min(j, SLOTS − 1)), then the two bits below the leading 1 with the slot's models: the
+    // first's, then the one the first bit picks. One loop, one modelled bit a turn.
     let k = 0;
     let n = 1;
+    let highs = -1;  // modelled bits still to read below the leading 1; −1 while in unary
+    let top = 0;
     let model = at + UNSIGNED_LENGTH;
     for (;;) {
       const p = models[model];
@@ -109,33 +112,24 @@ export class RangeDecoder {
         code = (code << 8) | (pos < end ? bytes[pos] : 0);
         pos++;
       }
-      if (b === 0) break;
-      if (++k === MAX_MAGNITUDE_BITS) break;
-      model += (k < SLOTS) | 0;
-    }
-    // The two bits below the leading 1 with the slot's models: the first's, then the one the
-    // first bit picks.
-    const tooLarge = k === MAX_MAGNITUDE_BITS;  // 2^53 − 1 and beyond: JS numbers cannot hold it
-    const highs = tooLarge ? 0 : k < 2 ? k : 2;
-    const top = at + UNSIGNED_HIGH + 3 * (k < SLOTS - 1 ? k : SLOTS - 1);
-    model = top;
-    for (let j = 0; j < highs; j++) {
-      const p = models[model];
-      const bound = Math.imul(range >>> PROB_BITS, p);
-      const b = (code >>> 0 >= bound >>> 0) | 0;
-      const mask = -b;
-      code = (code - (bound & mask)) | 0;
-      range = (bound + ((range - bound - bound) & mask)) | 0;
-      models[model] = p + (((PROB_ONE - p) >> ADAPT_SHIFT) & ~mask) - ((p >> ADAPT_SHIFT) & mask);
-      while (range >>> 24 === 0) {
-        range <<= 8;
-        code = (code << 8) | (pos < end ? bytes[pos] : 0);
-        pos++;
+      if (highs < 0) {
+        if (b === 1) {
+          if (++k === MAX_MAGNITUDE_BITS) break;
+          model += (k < SLOTS) | 0;
+          continue;
+        }
+        highs = k < 2 ? k : 2;
+        top = at + UNSIGNED_HIGH + 3 * (k < SLOTS - 1 ? k : SLOTS - 1);
+        model = top;
+      } else {
+        n = (n << 1) | b;
+        model = top + 1 + b;
+        highs--;
       }
-      n = (n << 1) | b;
-      model = top + 1 + b;
+      if (highs === 0) break;
     }
-    let left = tooLarge ? 0 : k - highs;
+    const tooLarge = k === MAX_MAGNITUDE_BITS;  // 2^53 − 1 and beyond: JS numbers cannot hold it
+    let left = tooLarge ? 0 : k - (k < 2 ? k : 2);
     // The rest as direct bits (up to 28 in int32 here; longer ones through direct()).
     for (; left > 0 && k <= 30; left--) {
       const r = range >>> 1;  // ≥ 2^23: one byte shifts it back above 2^24
