@@ -60,7 +60,8 @@ export class RangeEncoder {
 // direct).
 export function encodeUnsigned(e, model, u) {
   const n = u + 1;
-  const k = Math.floor(Math.log2(n));
+  let k = 0;  // the position of n's leading 1 (not Math.log2: it rounds 2^52 − 1 up to 52)
+  while (2 ** (k + 1) <= n) k++;
   for (let i = 0; i < k; i++) e.bit(model.length, Math.min(i, 24), 1);
   e.bit(model.length, Math.min(k, 24), 0);
   let left = k;

@@ -205,9 +205,14 @@ export class DirtyFaces {
   // The faces touched since the last call (a view, valid until the next change).
   take() {
     const list = this.list.subarray(0, this.count);
-    for (let i = 0; i < list.length; i++) this.mark[list[i]] = 0;
-    this.count = 0;
+    this.clear();
     return list;
+  }
+  // Forgets the touched faces (list[0, count) stays as it was until the next add()).
+  clear() {
+    const { list, mark } = this;
+    for (let i = 0; i < this.count; i++) mark[list[i]] = 0;
+    this.count = 0;
   }
 }
 
@@ -219,7 +224,10 @@ export function applySplit(mesh, i, corners, touch) {
   try {
     return applySplits(mesh, i, i + 1, corners, dirty);
   } finally {
-    for (const f of dirty.take()) touch(f);
+    // Not take(): the decoder's replay calls this for every split, and a view is an allocation.
+    const { list, count } = dirty;
+    dirty.clear();
+    for (let k = 0; k < count; k++) touch(list[k]);
   }
 }
 
