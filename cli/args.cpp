@@ -1,5 +1,6 @@
 #include "args.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -7,6 +8,7 @@
 
 #include "commands.h"
 #include "dynpm/text.h"
+#include "progress.h"
 #include "report.h"
 
 namespace dynpm::cli {
@@ -69,6 +71,12 @@ std::optional<int> parse_verb_args(std::span<char* const> arguments, const VerbS
     return kExitOk;
   }
   args = std::move(parsed).value();
+  // A verb with --progress reads it (and --quiet) here, once for all verbs.
+  const bool has_progress = std::any_of(spec.flags.begin(), spec.flags.end(),
+                                        [](const FlagSpec& f) { return f.name == "--progress"; });
+  if (has_progress)
+    if (Status s = configure_progress(args, spec.name); !s.ok())
+      return fail(spec.name, kExitUsage, s.message());
   return std::nullopt;
 }
 

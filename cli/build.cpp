@@ -104,8 +104,6 @@ std::string check_memory(uint32_t vertices, size_t steps, const KeyStepRule& rul
 int run_build(std::span<char* const> arguments) {
   Args args;
   if (auto exit_code = parse_verb_args(arguments, kSpec, args)) return *exit_code;
-  if (Status s = configure_progress(args, kSpec.name); !s.ok())
-    return fail(kSpec.name, kExitUsage, s.message());
   if (auto exit_code = require_inputs_and_output(args, kSpec, "MODEL.dpm")) return *exit_code;
   const auto output = args.value("--output");
   BuildOptions options;

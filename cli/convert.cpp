@@ -32,8 +32,6 @@ const VerbSpec kSpec{
 int run_convert(std::span<char* const> arguments) {
   Args args;
   if (auto exit_code = parse_verb_args(arguments, kSpec, args)) return *exit_code;
-  if (Status s = configure_progress(args, kSpec.name); !s.ok())
-    return fail(kSpec.name, kExitUsage, s.message());
   if (auto exit_code = require_inputs_and_output(args, kSpec, "OUTPUT")) return *exit_code;
   const auto output = args.value("--output");
   if (!can_write(format_from_extension(*output)))

@@ -189,8 +189,6 @@ std::string table_json(const std::vector<std::string>& files, const FrameSource&
 int run_eval(std::span<char* const> arguments) {
   Args args;
   if (auto exit_code = parse_verb_args(arguments, kSpec, args)) return *exit_code;
-  if (Status s = configure_progress(args, kSpec.name); !s.ok())
-    return fail(kSpec.name, kExitUsage, s.message());
   const auto dpm_path = args.value("--dpm");
   const auto ratios_text = args.value("--ratios");
   if (args.positional.empty() || !dpm_path || !ratios_text)

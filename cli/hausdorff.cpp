@@ -170,8 +170,6 @@ void print_json(const std::vector<std::string>& a, const std::vector<std::string
 int run_hausdorff(std::span<char* const> arguments) {
   Args args;
   if (auto exit_code = parse_verb_args(arguments, kSpec, args)) return *exit_code;
-  if (Status s = configure_progress(args, kSpec.name); !s.ok())
-    return fail(kSpec.name, kExitUsage, s.message());
   if (args.positional.size() != 2)
     return fail(kSpec.name, kExitUsage, "needs two inputs, A and B (quote a glob of step files)",
                 help_text(kSpec));

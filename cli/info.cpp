@@ -333,8 +333,6 @@ int print_dpm_info(const std::string& path, bool json) {
 int run_info(std::span<char* const> arguments) {
   Args args;
   if (auto exit_code = parse_verb_args(arguments, kSpec, args)) return *exit_code;
-  if (Status s = configure_progress(args, kSpec.name); !s.ok())
-    return fail(kSpec.name, kExitUsage, s.message());
   if (args.positional.empty())
     return fail(kSpec.name, kExitUsage, "no input given", help_text(kSpec));
   size_t problems = 10;

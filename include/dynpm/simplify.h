@@ -211,7 +211,6 @@ struct KeyStepChoice {
 // is compared in bounded memory. Reports phase "choosing key steps" (steps read).
 inline constexpr uint32_t kMaxProbeVertices = 65536;
 Result<KeyStepChoice> choose_key_steps(const FrameSource& frames, const KeyStepRule& rule,
-                                       unsigned threads = 0,
-                                       const ProgressCallback& progress = {});
+                                       unsigned threads = 0, const ProgressCallback& progress = {});
 
 }  // namespace dynpm

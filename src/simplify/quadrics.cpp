@@ -105,9 +105,9 @@ Status KeyStepQuadrics::load_key_steps(const FrameSource& frames, const Topology
         box.extend(step);
         for (uint32_t v = 0; v < vertex_count; ++v)
           std::copy_n(&step[size_t{v} * 3], 3, position_data(v, k));
-        DYNPM_RETURN_IF_ERROR(fields_.load_step(frames, input, k, key_steps[k]));
-        if (progress) progress("reading key steps", ++done, key_count_);
-        return Status{};
+        Status loaded = fields_.load_step(frames, input, k, key_steps[k]);
+        if (loaded.ok() && progress) progress("reading key steps", ++done, key_count_);
+        return loaded;
       }));
   diagonal_ = box.diagonal() > 0 ? box.diagonal() : 1.0;
   fields_.finish(diagonal_);
