@@ -192,6 +192,7 @@ Result<ProgressiveMesh> build_progressive_mesh(const Topology& topology, const F
   pm.max_error = options.lossless ? 0.0 : options.max_position_error * pm.diagonal();
   pm.note = options.note;
   quantize_positions(pm);
+  prepare_split_records(pm);  // errors on the file's grid, moved faces ascending (as read back)
   // Result fields, per vertex or per face, permuted like the positions (build_fields.cpp).
   DYNPM_RETURN_IF_ERROR(
       build_fields(frames, new_vertex, new_face, options.field_bound, options.lossless, pm));
