@@ -336,8 +336,9 @@ function decodeAttributes(d, st, mesh, i) {
 // Decodes splits [first, first + count) from the two sections (Uint8Arrays) into mesh's arrays
 // (parent, error, wingStart, wingFace, wingVertex, wingFlags, movedStart, movedFaces,
 // faceCountAt, vertexOriginal, nodeId, faceOriginal, partId, elementId), applying each split to
-// models.corners with the reader's checks. Returns what is wrong, or null.
-export function decodeSplitRecords(records, attributes, first, count, mesh, models) {
+// models.corners with the reader's checks, then calling afterSplit(i) (the reader takes the
+// positions' stencils there). Returns what is wrong, or null.
+export function decodeSplitRecords(records, attributes, first, count, mesh, models, afterSplit) {
   const rd = new RangeDecoder(records);
   const ad = new RangeDecoder(attributes);
   for (let i = first; i < first + count; i++) {
@@ -349,6 +350,7 @@ export function decodeSplitRecords(records, attributes, first, count, mesh, mode
     problem = decodeAttributes(ad, models, mesh, i);
     if (!ad.ok()) return 'the split attributes section is cut short or damaged';
     if (problem) return problem;
+    afterSplit?.(i);
   }
   if (first + count === mesh.head.splitCount && models.faceCount !== mesh.head.faceCount)
     return 'the splits create fewer faces than the header says';
