@@ -130,12 +130,12 @@ export class RecordModels {
 function degree(corners, f) {
   return corners[4 * f + 3] < 0 ? 3 : 4;
 }
-function slotOf(corners, f, v) {
+export function slotOf(corners, f, v) {
   for (let k = 0; k < 4; k++) if (corners[4 * f + k] === v) return k;
   return -1;
 }
 
-function neighbours(st, v) {
+export function neighbours(st, v) {
   const out = [];
   const c = st.corners;
   for (const f of st.vertexFaces[v]) {
@@ -147,7 +147,7 @@ function neighbours(st, v) {
 }
 
 // 0: no face of v1 on the edge v1–w; 1: one runs v1 → w (v1 not after v0); 2: w → v1.
-function orientationGuess(st, v1, w) {
+export function orientationGuess(st, v1, w) {
   const c = st.corners;
   for (const f of st.vertexFaces[v1]) {
     const n = degree(c, f), a = slotOf(c, f, v1);
@@ -259,7 +259,7 @@ function decodeRecord(d, st, mesh, i) {
 }
 
 // Applies split i to st.corners with the file reader's checks, and updates each vertex's faces.
-function apply(st, mesh, i) {
+export function applyToModels(st, mesh, i) {
   if (mesh.faceCountAt[i + 1] > mesh.head.faceCount)
     return `split ${i}: the splits create more faces than the header says`;
   let problem = checkSplit(mesh, i, st.corners);
@@ -345,7 +345,7 @@ export function decodeSplitRecords(records, attributes, first, count, mesh, mode
     let problem = decodeRecord(rd, models, mesh, i);
     if (!rd.ok()) return 'the split records section is cut short or damaged';
     if (problem) return problem;
-    problem = apply(models, mesh, i);
+    problem = applyToModels(models, mesh, i);
     if (problem) return problem;
     problem = decodeAttributes(ad, models, mesh, i);
     if (!ad.ok()) return 'the split attributes section is cut short or damaged';
