@@ -189,15 +189,19 @@ TEST(Progressive, DamagedFilesAreRefusedWithThePlace) {
   ASSERT_FALSE(wrong.ok());
   EXPECT_NE(wrong.message().find("not a .dpm file"), std::string::npos);
   std::string future = bytes;
-  future[8] = 3;
+  future[8] = 4;
   EXPECT_NE(
-      decode_dpm(future, "v3.dpm").message().find("v3.dpm: byte 8: version 3 is not supported"),
+      decode_dpm(future, "v4.dpm").message().find("v4.dpm: byte 8: version 4 is not supported"),
       std::string::npos);
-  // Version 1 coded SPLT differently (docs/FORMAT.md): refused with what to do about it.
-  std::string old = bytes;
-  old[8] = 1;
-  EXPECT_EQ(decode_dpm(old, "v1.dpm").message(),
-            "v1.dpm: byte 8: written by an older dynpm (version 1): build it again");
+  // Versions 1 and 2 coded SPLT differently (docs/FORMAT.md): refused with what to do about it.
+  for (char version : {1, 2}) {
+    std::string old = bytes;
+    old[8] = version;
+    const std::string name = "v" + std::to_string(version) + ".dpm";
+    EXPECT_EQ(decode_dpm(old, name).message(), name +
+                                                   ": byte 8: written by an older dynpm (version " +
+                                                   std::to_string(version) + "): build it again");
+  }
   std::string trailing = bytes + "x";
   EXPECT_FALSE(decode_dpm(trailing, "trailing.dpm").ok());
   // Every single-byte cut of the header region is an error or a prefix, never a crash.

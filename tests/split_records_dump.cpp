@@ -4,8 +4,8 @@
 // decoder's test (viewer/test/split_records.test.mjs).
 #include <zstd.h>
 
-#include <ctime>
 #include <cstdio>
+#include <ctime>
 #include <fstream>
 #include <string>
 
@@ -237,13 +237,12 @@ int main(int argc, char** argv) {
   const std::clock_t start = std::clock();  // CPU time: the machine may be shared
   RecordModels decode_models(back);
   for (const Chunk& c : chunks)
-    if (auto e =
-            decode_split_records(c.records, c.attributes, c.first, c.count, back, decode_models, {})) {
+    if (auto e = decode_split_records(c.records, c.attributes, c.first, c.count, back,
+                                      decode_models, {})) {
       std::fprintf(stderr, "decode: %s\n", e->what.c_str());
       return 1;
     }
-  const double new_s =
-      double(std::clock() - start) / CLOCKS_PER_SEC;
+  const double new_s = double(std::clock() - start) / CLOCKS_PER_SEC;
   std::printf("decode: v1 records %.2f M splits/s, v2 records+attributes %.2f M splits/s\n",
               pm.split_count() / old_s / 1e6, pm.split_count() / new_s / 1e6);
   if (back.parent != pm.parent || back.moved_faces != pm.moved_faces ||
