@@ -156,11 +156,12 @@ int run_build(std::span<char* const> arguments) {
   if (!mesh) return fail(kSpec.name, kExitFailure, mesh.message());
   phase.emplace("encoding the .dpm file");
   progress("encoding", 0, 1);
-  const std::string bytes = encode_dpm(*mesh);
+  const auto bytes = encode_dpm(*mesh);
+  if (!bytes) return fail(kSpec.name, kExitFailure, bytes.message());
   progress("encoding", 1, 1);
   phase.emplace("writing the .dpm file");
   progress("writing", 0, 1);
-  if (Status s = write_file_atomically(*output, bytes); !s.ok())
+  if (Status s = write_file_atomically(*output, *bytes); !s.ok())
     return fail(kSpec.name, kExitFailure, s.message());
   progress("writing", 1, 1);
   const double seconds =
@@ -168,7 +169,7 @@ int run_build(std::span<char* const> arguments) {
 
   const size_t steps = mesh->step_count();
   const double raw = double(input.vertex_count) * steps * 12.0;  // float32 xyz per step
-  const double per_vertex_step = double(bytes.size()) / (double(input.vertex_count) * steps);
+  const double per_vertex_step = double(bytes->size()) / (double(input.vertex_count) * steps);
   if (json) {
     Json j;
     j.begin_object();
@@ -188,9 +189,9 @@ int run_build(std::span<char* const> arguments) {
     j.value("position_error", mesh->max_error);
     j.value("diagonal", mesh->diagonal());
     j.value("base_error", mesh->base_error);
-    j.value("bytes", uint64_t{bytes.size()});
+    j.value("bytes", uint64_t{bytes->size()});
     j.value("bytes_per_vertex_step", per_vertex_step);
-    j.value("ratio_to_float32", raw / double(bytes.size()));
+    j.value("ratio_to_float32", raw / double(bytes->size()));
     j.value("seconds", seconds);
     j.value("peak_rss_mb", peak_rss_mb());
     j.end_object();
@@ -217,9 +218,9 @@ int run_build(std::span<char* const> arguments) {
       std::printf("within %.3g\n", f.max_error);
   }
   // "0.7x smaller" reads as a gain: a file larger than the floats says so.
-  const double ratio = raw / double(bytes.size());
+  const double ratio = raw / double(bytes->size());
   std::printf("wrote   %s: %zu bytes, %.2f bytes per vertex per step, %.1f× %s than float32\n",
-              output->c_str(), bytes.size(), per_vertex_step, ratio >= 1 ? ratio : 1 / ratio,
+              output->c_str(), bytes->size(), per_vertex_step, ratio >= 1 ? ratio : 1 / ratio,
               ratio >= 1 ? "smaller" : "larger");
   std::printf("%.3f s; peak memory %.0f MB\n", seconds, peak_rss_mb());
   return kExitOk;

@@ -170,7 +170,7 @@ void expect_refused_at(const std::string& bytes, size_t byte, const std::string&
 
 TEST(ProgressiveFields, DamagedFieldChunksAreRefusedAtTheirByte) {
   const Built b = hat_rail_with_fields(false);
-  const std::string bytes = encode_dpm(b.mesh);
+  const std::string bytes = encode_dpm(b.mesh).value();
   const auto chunks = chunks_of(bytes);
   ASSERT_EQ(chunks[1].first, "FDEF");
   ASSERT_EQ(chunks[2].first, "BASE");
@@ -243,7 +243,7 @@ TEST(ProgressiveFields, DamagedFieldChunksAreRefusedAtTheirByte) {
 
 TEST(ProgressiveFields, UnknownOptionalChunksAreSkipped) {
   const Built b = hat_rail_with_fields(false);
-  const std::string bytes = encode_dpm(b.mesh);
+  const std::string bytes = encode_dpm(b.mesh).value();
   const auto chunks = chunks_of(bytes);
   const ProgressiveMesh plain = through_file(b.mesh);
   const std::string zzzz = chunk("ZZZZ", 0, 5, "hello");
@@ -280,7 +280,7 @@ TEST(ProgressiveFields, UnknownOptionalChunksAreSkipped) {
 
 TEST(ProgressiveFields, APrefixEndingInsideAnFldsHoldsTheLevelsBeforeItsSplt) {
   const Built b = hat_rail_with_fields(false);
-  const std::string bytes = encode_dpm(b.mesh);
+  const std::string bytes = encode_dpm(b.mesh).value();
   const auto chunks = chunks_of(bytes);
   const ProgressiveMesh full = through_file(b.mesh);
   uint32_t splits_before = 0;

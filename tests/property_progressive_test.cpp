@@ -53,7 +53,7 @@ TEST(PropertyProgressive, BuildThenFullRefinementGivesTheInputBack) {
     auto built = build_progressive_mesh(a.topology, a.frames, o);
     ASSERT_TRUE(built.ok()) << built.message();
     test::expect_input_back(a, *built, o.max_position_error);
-    const std::string bytes = encode_dpm(*built);
+    const std::string bytes = encode_dpm(*built).value();
     auto decoded = decode_dpm(bytes, "memory.dpm");
     ASSERT_TRUE(decoded.ok()) << decoded.message();
     test::expect_input_back(a, *decoded, o.max_position_error);

@@ -19,7 +19,7 @@
 namespace dynpm::test {
 
 inline ProgressiveMesh through_file(const ProgressiveMesh& pm) {
-  auto back = decode_dpm(encode_dpm(pm), "memory.dpm");
+  auto back = decode_dpm(encode_dpm(pm).value(), "memory.dpm");
   EXPECT_TRUE(back.ok()) << back.message();
   return std::move(back).value();
 }

@@ -142,6 +142,12 @@ uint32_t merge_undone_split(const ProgressiveMesh& mesh, uint32_t i, bool per_fa
 // navigator shows agree: call before use when the mesh did not come from read_dpm().
 void quantize_positions(ProgressiveMesh& mesh);
 
+// Rounds the split errors up onto the file's grid (never below the true error, never
+// increasing; the base's too) and lists each split's moved faces in ascending order, as the file
+// keeps them (docs/FORMAT.md "Split records"): the build applies it with quantize_positions(), so
+// the mesh written equals the mesh read.
+void prepare_split_records(ProgressiveMesh& mesh);
+
 // Sets each field's grid from `bound` (a fraction of the field's range; docs/FORMAT.md,
 // "Fields: FDEF and FLDS") and rounds its values to it, or makes it lossless (float32 exact),
 // so that what the file holds and what the navigator shows agree.
@@ -149,7 +155,9 @@ void quantize_fields(ProgressiveMesh& mesh, double bound, bool lossless);
 
 // The file (docs/FORMAT.md). Written to a temporary name and renamed.
 Status write_dpm(const std::string& path, const ProgressiveMesh& mesh);
-std::string encode_dpm(const ProgressiveMesh& mesh);
+// An error when the mesh's records do not fit its own faces or were not prepared
+// (prepare_split_records): a bug of whoever made the mesh, not of a file.
+Result<std::string> encode_dpm(const ProgressiveMesh& mesh);
 // What a reader needs of a file (docs/FORMAT.md "SPLT payload"): the splits up to one level and
 // the steps up to one step. The rest is not decoded, nor read from disk when it lies after the
 // last split needed. The level is known once HEAD is read: a vertex count, a fraction of the full

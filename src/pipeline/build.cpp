@@ -200,6 +200,7 @@ Result<ProgressiveMesh> build_progressive_mesh(const Topology& topology, const F
   pm.note = options.note;
   if (options.progress) options.progress("quantizing", 0, steps);
   quantize_positions(pm);
+  prepare_split_records(pm);  // errors on the file's grid, moved faces ascending (as read back)
   if (options.progress) options.progress("quantizing", steps, steps);
   // Result fields, per vertex or per face, permuted like the positions (build_fields.cpp).
   DYNPM_RETURN_IF_ERROR(

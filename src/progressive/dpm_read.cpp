@@ -17,6 +17,7 @@
 #include "dpm_read_fields.h"
 #include "dynpm/progressive.h"
 #include "position_coding.h"
+#include "split_records_coding.h"
 #include "zstd_frame.h"
 
 namespace dynpm {
@@ -34,11 +35,13 @@ class Decoder {
       return fail(0, "not a .dpm file (no DPM signature)");
     uint32_t version;
     std::memcpy(&version, bytes_.data() + kMagic.size(), 4);
-    if (version == 1)
-      return fail(kMagic.size(), "written by an older dynpm (version 1): build it again");
+    if (version == 1 || version == 2)
+      return fail(kMagic.size(), "written by an older dynpm (version " + std::to_string(version) +
+                                     "): build it again");
     if (version != kVersion)
       return fail(kMagic.size(), "version " + std::to_string(version) +
-                                     " is not supported (this dynpm reads version 2)");
+                                     " is not supported (this dynpm reads version " +
+                                     std::to_string(kVersion) + ")");
     pos_ = kMagic.size() + 4;
 
     std::string payload, tag;
@@ -80,13 +83,13 @@ class Decoder {
         if (pos_ != bytes_.size()) return fail(pos_, "bytes after the END chunk");
         break;
       }
-      const uint32_t first = mesh_.split_count(), faces_before = face_count_;
+      const uint32_t first = mesh_.split_count(), faces_before = records_->face_count();
       DYNPM_RETURN_IF_ERROR(parse_splits(payload));
       if (!fields) continue;
       // A SPLT and its FLDS are one unit: a file that ends before the FLDS is complete holds
       // the levels before that SPLT.
       pending_splits_ = mesh_.split_count() - first;
-      pending_faces_ = face_count_ - faces_before;
+      pending_faces_ = records_->face_count() - faces_before;
       got = next_chunk("FLDS", tag, payload);
       if (!got) return got.status();
       if (!*got) {
@@ -95,8 +98,8 @@ class Decoder {
         break;
       }
       if (!decode_fields_) continue;
-      if (auto e =
-              parse_field_values(payload, mesh_, first, pending_splits_, faces_before, face_count_))
+      if (auto e = parse_field_values(payload, mesh_, first, pending_splits_, faces_before,
+                                      records_->face_count()))
         return bad_at(*e);
     }
     for (size_t t = 0; t < steps_; ++t) q_->move_to_positions(mesh_, t, mesh_.base_vertex_count);
@@ -259,7 +262,8 @@ class Decoder {
   double payload_limit(std::string_view tag) const {
     const ProgressiveMesh& m = mesh_;
     if (tag == "FLDS")
-      return field_values_limit(m, pending_splits_, face_count_ - pending_faces_, face_count_);
+      return field_values_limit(m, pending_splits_, records_->face_count() - pending_faces_,
+                                records_->face_count());
     const double steps = double(m.times.size());
     const double per_vertex = 2 * kMaxVarint + steps * 3 * kMaxVarint;
     const double per_face_attributes = 3 * kMaxVarint;
@@ -287,8 +291,8 @@ class Decoder {
   }
 
   Status bad(const ByteReader& r, const std::string& what) const {
-    return fail(payload_start_, what + " (at byte " + std::to_string(section_start_ + r.offset()) +
-                                    " of the chunk's data)");
+    return fail(payload_start_,
+                what + " (at byte " + std::to_string(r.offset()) + " of the chunk's data)");
   }
 
   Status parse_head(std::string_view payload) {
@@ -423,71 +427,7 @@ class Decoder {
     q_->take(m, steps_, 0, m.base_vertex_count);
     if (r.remaining() != 0 && steps_ == mesh_.times.size())
       return bad(r, "unexpected bytes after the base mesh");
-    faces_ = m.base_faces;
-    face_count_ = m.base_face_count;
-    return {};
-  }
-
-  // The records and attributes of the n splits from `first`, in version 1's varints (FORMAT.md).
-  Status read_records_sections(std::string_view records, std::string_view attributes,
-                               uint32_t first, uint32_t n) {
-    ByteReader r(records);
-    ProgressiveMesh& m = mesh_;
-    if (!r.can_hold(n, 7)) return bad(r, "the split records are shorter than their count");
-    uint32_t face_count = face_count_;
-    for (uint32_t i = first; i < first + n; ++i) {
-      const uint32_t v0 = m.base_vertex_count + i;
-      const uint64_t parent_delta = r.varint();
-      if (parent_delta >= v0) return bad(r, "split " + std::to_string(i) + ": parent out of range");
-      m.parent.push_back(static_cast<uint32_t>(v0 - 1 - parent_delta));
-      const float error = r.get<float>();
-      if (!std::isfinite(error) || error < 0)
-        return bad(r, "split " + std::to_string(i) + ": error is not valid");
-      m.error.push_back(error);
-      const uint8_t wings = r.get<uint8_t>();
-      if (wings > 4) return bad(r, "split " + std::to_string(i) + ": more than 4 wings");
-      uint32_t created = 0;
-      for (uint8_t k = 0; k < wings; ++k) {
-        SplitWing w;
-        w.flags = r.get<uint8_t>();
-        if (w.flags >> 4) return bad(r, "split " + std::to_string(i) + ": unknown wing flags");
-        const uint64_t dv = r.varint();
-        if (dv >= v0) return bad(r, "split " + std::to_string(i) + ": wing vertex out of range");
-        w.vertex = static_cast<uint32_t>(v0 - 1 - dv);
-        if (w.was_triangle()) {
-          w.face = face_count + created++;
-        } else {
-          const uint64_t df = r.varint();
-          if (df >= face_count)
-            return bad(r, "split " + std::to_string(i) + ": wing face out of range");
-          w.face = static_cast<uint32_t>(face_count - 1 - df);
-        }
-        m.wings.push_back(w);
-      }
-      m.wing_start.push_back(static_cast<uint32_t>(m.wings.size()));
-      const uint64_t moved = r.varint();
-      if (!r.can_hold(moved, 1))
-        return bad(r, "split " + std::to_string(i) + ": moved faces cut short");
-      for (uint64_t k = 0; k < moved; ++k) {
-        const uint64_t df = r.varint();
-        if (df >= face_count)
-          return bad(r, "split " + std::to_string(i) + ": moved face out of range");
-        m.moved_faces.push_back(static_cast<uint32_t>(face_count - 1 - df));
-      }
-      m.moved_start.push_back(static_cast<uint32_t>(m.moved_faces.size()));
-      if (!r.ok()) return bad(r, "split records are cut short");
-      face_count += created;
-    }
-    if (r.remaining() != 0) return bad(r, "unexpected bytes after the split records");
-    if (face_count > m.full_face_count)
-      return bad(r, "splits create more faces than the header says");
-    if (first + n == m.full_split_count && face_count != m.full_face_count)
-      return bad(r, "the splits create fewer faces than the header says");
-    section_start_ += records.size();  // the attributes follow the records
-    ByteReader a(attributes);
-    DYNPM_RETURN_IF_ERROR(read_vertex_attributes(a, n));
-    DYNPM_RETURN_IF_ERROR(read_face_attributes(a, face_count - face_count_));
-    if (a.remaining() != 0) return bad(a, "unexpected bytes after the split attributes");
+    records_.emplace(m);
     return {};
   }
 
@@ -511,23 +451,12 @@ class Decoder {
     std::vector<std::string_view> section;
     for (size_t k = 0, at = r.offset(); k < sections; at += sizes[k++])
       section.push_back(payload.substr(at, sizes[k]));
-    section_start_ = size_t(section[0].data() - payload.data());
-    const Status read = read_records_sections(section[0], section[1], first, n);
-    section_start_ = 0;
-    DYNPM_RETURN_IF_ERROR(read);
-    // Replay the splits on the faces: a record that does not fit is an error here, so the
-    // navigator can apply them unchecked. The faces right after each split give its stencil.
-    uint32_t face_count = face_count_;
-    for (uint32_t i = first; i < first + n; ++i)
-      for (uint32_t k = m.wing_start[i]; k < m.wing_start[i + 1]; ++k)
-        face_count += m.wings[k].was_triangle();
-    faces_.resize(face_count);
+    // The records, applied to the faces as they are decoded (checked: the navigator can apply
+    // them unchecked); the faces right after each split give its stencil.
     ChunkStencils stencils;
-    for (uint32_t i = first; i < first + n; ++i) {
-      std::string problem;
-      if (!apply_split(m, i, faces_, face_count_, &problem)) return fail(payload_start_, problem);
-      stencils.add(m, i, faces_);
-    }
+    if (auto e = decode_split_records(section[0], section[1], first, n, m, *records_,
+                                      [&](uint32_t i) { stencils.add(m, i, records_->faces()); }))
+      return bad_at({e->what, size_t(section[0].data() - payload.data()) + e->offset});
     // The positions of the steps asked for; the later steps' sections are not decoded.
     q_->resize(steps_, m.base_vertex_count + first + n);  // positions: at the end (run())
     const std::string problem = decode_split_positions(m, first, stencils, *models_,
@@ -569,13 +498,11 @@ class Decoder {
   bool decode_fields_ = false;
   size_t steps_ = 0;  // the steps whose positions are decoded: 0 … steps_ − 1
   size_t pos_ = 0, chunk_start_ = 0, payload_start_ = 0;
-  size_t section_start_ = 0;  // where the section a ByteReader reads starts in the payload
   ProgressiveMesh mesh_;
   Deltas d_;
   std::optional<SplitPositionModels> models_;  // sized by HEAD's step count
   std::optional<GridValues> q_;                // the decoded positions' q-values
-  std::vector<Face> faces_;                    // the decode-time replay
-  uint32_t face_count_ = 0;
+  std::optional<RecordModels> records_;        // the records' models and the decode-time replay
   // The last SPLT's split and face counts, for the size of the FLDS that follows it.
   uint32_t pending_splits_ = 0, pending_faces_ = 0;
 };

@@ -10,6 +10,7 @@
 #include "dpm_format.h"
 #include "dynpm/progressive.h"
 #include "position_coding.h"
+#include "split_records_coding.h"
 
 namespace dynpm {
 namespace {
@@ -64,42 +65,6 @@ void write_face_attributes(ByteWriter& w, const ProgressiveMesh& mesh, uint32_t 
   w.svarint(int64_t{mesh.face_original_index[f]} - d.face_index);
   d.element_id = mesh.element_ids[f];
   d.face_index = mesh.face_original_index[f];
-}
-
-// The records and attributes sections of splits [first, last) (docs/FORMAT.md "Split records",
-// "Split attributes"): for now the bytes version 1 wrote (varints), not range-coded.
-// `first_face`: the faces before split `first`.
-void write_records_sections(const ProgressiveMesh& mesh, uint32_t first, uint32_t last,
-                            uint32_t first_face, Deltas& d, std::string& records,
-                            std::string& attributes) {
-  ByteWriter w;
-  uint32_t face_count = first_face;
-  for (uint32_t i = first; i < last; ++i) {
-    const uint32_t v0 = mesh.base_vertex_count + i;
-    w.varint(v0 - 1 - mesh.parent[i]);
-    w.put<float>(mesh.error[i]);
-    w.put<uint8_t>(static_cast<uint8_t>(mesh.wing_start[i + 1] - mesh.wing_start[i]));
-    uint32_t created = 0;
-    for (uint32_t k = mesh.wing_start[i]; k < mesh.wing_start[i + 1]; ++k) {
-      const SplitWing& wing = mesh.wings[k];
-      w.put<uint8_t>(wing.flags);
-      w.varint(v0 - 1 - wing.vertex);
-      if (wing.was_triangle())
-        ++created;
-      else
-        w.varint(face_count - 1 - wing.face);
-    }
-    w.varint(mesh.moved_start[i + 1] - mesh.moved_start[i]);
-    for (uint32_t m = mesh.moved_start[i]; m < mesh.moved_start[i + 1]; ++m)
-      w.varint(face_count - 1 - mesh.moved_faces[m]);
-    face_count += created;
-  }
-  records = std::move(w.bytes);
-  ByteWriter a;
-  for (uint32_t i = first; i < last; ++i)
-    write_vertex_attributes(a, mesh, mesh.base_vertex_count + i, d);
-  for (uint32_t f = first_face; f < face_count; ++f) write_face_attributes(a, mesh, f, d);
-  attributes = std::move(a.bytes);
 }
 
 std::string field_definitions(const ProgressiveMesh& mesh) {
@@ -175,7 +140,7 @@ std::string head_payload(const ProgressiveMesh& mesh) {
 
 }  // namespace
 
-std::string encode_dpm(const ProgressiveMesh& mesh) {
+Result<std::string> encode_dpm(const ProgressiveMesh& mesh) {
   std::string out(kMagic);
   ByteWriter version;
   version.put<uint32_t>(kVersion);
@@ -198,10 +163,9 @@ std::string encode_dpm(const ProgressiveMesh& mesh) {
   }
   if (fields) put_chunk(out, "FLDS", field_values(mesh, 0, 0, 0, mesh.base_face_count), true);
 
-  uint32_t face_count = mesh.base_face_count;
-  // The faces as the decoder has them, split by split: the stencils of the positions need them.
-  std::vector<Face> faces(mesh.full_face_count);
-  std::copy(mesh.base_faces.begin(), mesh.base_faces.end(), faces.begin());
+  // The records' models keep the mesh as the decoder has it, split by split: the records are
+  // coded against it and the positions' stencils read from it.
+  RecordModels records(mesh);
   SplitPositionModels models(mesh.step_count());
   GridValues q(grid_of(mesh), mesh.step_count());
   q.take(mesh, mesh.step_count(), 0, mesh.vertex_count());
@@ -209,14 +173,12 @@ std::string encode_dpm(const ProgressiveMesh& mesh) {
   for (uint32_t first = 0; first < mesh.split_count();
        first += chunk, chunk = std::min(chunk * 2, kMaxChunkSplits)) {
     const uint32_t last = std::min(mesh.split_count(), first + chunk);
-    const uint32_t first_face = face_count;
-    std::vector<std::string> sections(2);
-    write_records_sections(mesh, first, last, first_face, d, sections[0], sections[1]);
+    const uint32_t first_face = records.face_count();
     ChunkStencils stencils;
-    for (uint32_t i = first; i < last; ++i) {
-      apply_split(mesh, i, faces, face_count);
-      stencils.add(mesh, i, faces);
-    }
+    auto coded = encode_split_records(mesh, first, last, records,
+                                      [&](uint32_t i) { stencils.add(mesh, i, records.faces()); });
+    if (!coded.ok()) return coded.status();
+    std::vector<std::string> sections{std::move(coded->first), std::move(coded->second)};
     for (std::string& s : encode_split_positions(mesh, first, stencils, models, q))
       sections.push_back(std::move(s));
     ByteWriter w;
@@ -227,7 +189,8 @@ std::string encode_dpm(const ProgressiveMesh& mesh) {
     for (const std::string& s : sections) w.bytes += s;
     put_chunk(out, "SPLT", w.bytes, false);  // range-coded bytes do not compress
     if (fields)
-      put_chunk(out, "FLDS", field_values(mesh, first, last, first_face, face_count), true);
+      put_chunk(out, "FLDS", field_values(mesh, first, last, first_face, records.face_count()),
+                true);
   }
   put_chunk(out, "END ", {}, false);
   return out;
@@ -235,7 +198,9 @@ std::string encode_dpm(const ProgressiveMesh& mesh) {
 
 Status write_dpm(const std::string& path, const ProgressiveMesh& mesh) {
   if (!mesh.complete) return Status::error(path + ": cannot write a partial progressive mesh");
-  return write_file_atomically(path, encode_dpm(mesh));
+  auto bytes = encode_dpm(mesh);
+  if (!bytes.ok()) return bytes.status();
+  return write_file_atomically(path, *bytes);
 }
 
 }  // namespace dynpm

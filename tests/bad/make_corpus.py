@@ -143,119 +143,6 @@ def chunk(tag, flags, raw, stored):
     return tag + struct.pack("<IIIII", flags, len(stored), raw, zlib.crc32(stored), 0) + stored
 
 
-def varint(n):
-    out = bytearray()
-    while n >= 0x80:
-        out.append((n & 0x7F) | 0x80)
-        n >>= 7
-    out.append(n)
-    return bytes(out)
-
-
-def svarint(n):
-    return varint(2 * n if n >= 0 else -2 * n - 1)
-
-
-class RangeEncoder:
-    """docs/FORMAT.md "Range coding": the encoder (LZMA's) and a signed integer with fresh models
-    of its own (the only kind the figure needs)."""
-
-    def __init__(self):
-        self.low, self.range, self.cache, self.pending, self.out = 0, 0xFFFFFFFF, 0, 1, bytearray()
-
-    def bit(self, models, i, b):
-        bound = (self.range >> 12) * models[i]
-        if b == 0:
-            self.range = bound
-            models[i] += (4096 - models[i]) >> 5
-        else:
-            self.low += bound
-            self.range -= bound
-            models[i] -= models[i] >> 5
-        while self.range < 1 << 24:
-            self.range <<= 8
-            self.shift_low()
-
-    def direct(self, value, count):
-        for k in range(count - 1, -1, -1):
-            self.range >>= 1
-            if (value >> k) & 1:
-                self.low += self.range
-            while self.range < 1 << 24:
-                self.range <<= 8
-                self.shift_low()
-
-    def shift_low(self):
-        if (self.low & 0xFFFFFFFF) < 0xFF000000 or self.low >> 32:
-            carry, byte = self.low >> 32, self.cache
-            while True:
-                self.out.append((byte + carry) & 0xFF)
-                byte = 0xFF
-                self.pending -= 1
-                if self.pending == 0:
-                    break
-            self.cache = (self.low >> 24) & 0xFF
-        self.pending += 1
-        self.low = (self.low & 0xFFFFFF) << 8
-
-    def signed_fresh(self, v):
-        """v with a signed model that has coded nothing yet."""
-        zero_sign, length, high = [2048, 2048], [2048] * 25, [2048] * 75
-        self.bit(zero_sign, 0, 0 if v == 0 else 1)
-        if v == 0:
-            return
-        self.bit(zero_sign, 1, 1 if v < 0 else 0)
-        n = abs(v)  # (|v| − 1) + 1
-        k = n.bit_length() - 1
-        for i in range(k):
-            self.bit(length, min(i, 24), 1)
-        self.bit(length, min(k, 24), 0)
-        left, node = k, 0
-        for _ in range(2):
-            if left == 0:
-                break
-            b = (n >> (left - 1)) & 1
-            self.bit(high, min(k, 24) * 3 + node, b)
-            node, left = 1 + b, left - 1
-        self.direct(n & ((1 << left) - 1), left)
-
-    def finish(self):
-        for _ in range(5):
-            self.shift_low()
-        return bytes(self.out)
-
-
-def figure_dpm(split_error):
-    """A .dpm written from docs/FORMAT.md, chunks uncompressed: FORMAT.md's quad-wing figure as
-    viewer/test/dpm.test.mjs builds it (5 base vertices, 2 triangles, one split with a quad wing,
-    a triangle wing and a moved face, one step), with the split's error given."""
-    q = [(0, 0, 0), (4, 0, 0), (4, 4, 0), (8, 2, 0), (6, -2, 1), (2, 1, 0)]
-    head = struct.pack("<8I", 6, 3, 5, 2, 1, 1, 0, 0)
-    head += struct.pack("<9d", 0, 0, 0, 2, 1, 0.25, 0.25, 0.2165, 0.5)
-    head += struct.pack("<dI", 0.0, 1) + struct.pack("<I", 0)  # times, key steps
-    head += struct.pack("<H", 11) + b"make_corpus"
-    base = b"".join(svarint(min(v, 1)) + svarint(1) for v in range(5))  # original index, node id
-    base += bytes([3]) + varint(0) + varint(1) + varint(2) + bytes([3]) + varint(1) + varint(4) + varint(3)
-    base += svarint(7) + svarint(500) + svarint(0) + svarint(8) + svarint(1) + svarint(1)
-    base += b"".join(svarint(q[v][c] - (q[v - 1][c] if v else 0)) for v in range(5) for c in range(3))
-    records = varint(5 - 1 - 1) + struct.pack("<f", split_error)
-    records += bytes([2, 2 | 1 << 2]) + varint(5 - 1 - 0) + varint(2 - 1 - 0)  # quad wing, face 0
-    records += bytes([1]) + varint(5 - 1 - 3)  # triangle wing, w = 3
-    records += varint(1) + varint(2 - 1 - 1)  # moved: face 1
-    attributes = svarint(1) + svarint(1) + svarint(9) + svarint(3) + svarint(1)
-    # Step 0: the quad wing is (w, v0, v1, x) = (0, 5, 1, 2) after the split: q0 + q1 − q2.
-    coder = RangeEncoder()
-    for c in range(3):
-        coder.signed_fresh(q[5][c] - (q[0][c] + q[1][c] - q[2][c]))
-    sections = [records, attributes, coder.finish()]
-    split = struct.pack("<III", 0, 1, len(sections)) + b"".join(struct.pack("<I", len(x)) for x in sections)
-    split += b"".join(sections)
-    magic = b"\x89DPM\r\n\x1a\n" + struct.pack("<I", 2)
-    return magic + b"".join(
-        chunk(tag, 0, len(p), p) for tag, p in
-        [(b"HEAD", head), (b"BASE", base), (b"SPLT", split), (b"END ", b"")])
-
-
 def main():
     dynpm = sys.argv[1] if len(sys.argv) > 1 else None
 
@@ -367,9 +254,14 @@ def main():
         # 2^31 zero bytes (16384 RLE blocks of 128 KiB, 4 bytes each: 64 KiB for 2 GiB).
         head_end = base  # the BASE chunk starts where HEAD ends
         write("bomb-base.dpm", data[:head_end] + chunk(b"BASE", 1, 2**31, zstd_zeros(2**31)))
-
-    # A split whose error is NaN (the browser's decoder took it; both readers refuse it now).
-    write("split-error-nan.dpm", figure_dpm(math.nan))
+        # HEAD's base_error a NaN (8 counts, the box, quant_step and max_error before it; the
+        # checksum made again): the split errors' grid starts there (docs/FORMAT.md "Split
+        # records"), so both readers refuse it where HEAD is read.
+        head = data.index(b"HEAD")
+        payload = bytearray(data[head + 24:base])
+        payload[96:104] = struct.pack("<d", math.nan)
+        write("base-error-nan.dpm", data[:head] + chunk(b"HEAD", 0, len(payload), bytes(payload))
+              + data[base:])
 
     # d3plot-like garbage: named like an LS-DYNA result, 4 KB of noise.
     noise = bytearray()

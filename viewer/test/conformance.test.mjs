@@ -175,15 +175,14 @@ function mutants(name, bytes) {
         rebuild((kk, p) => (kk === k ? ((p[i] = f(p[i])), p) : null)));
     }
   });
-  // The first split's error (after first_split, count, the section sizes and the parent varint
-  // that opens the records section).
-  const splt = chunks.findIndex((c) => c.tag === 'SPLT');
-  for (const e of [NaN, -1, Infinity])
-    add(`split 0 error ${e}`, rebuild((k, p) => {
-      if (k !== splt) return null;
-      const records = 12 + 4 * new DataView(p.buffer).getUint32(8, true);
-      const at = records + (p[records] < 0x80 ? 1 : 2);
-      new DataView(p.buffer).setFloat32(at, e, true);
+  // HEAD's base_error (8 counts, the box, quant_step and max_error before it): the split
+  // errors' grid starts there, so neither reader takes one that is not a finite number ≥ 0; a
+  // finite one moves the grid, and both decode the same splits on it.
+  const head = chunks.findIndex((c) => c.tag === 'HEAD');
+  for (const e of [NaN, -1, Infinity, 1e30])
+    add(`base_error ${e}`, rebuild((k, p) => {
+      if (k !== head) return null;
+      new DataView(p.buffer, p.byteOffset).setFloat64(4 * 8 + 8 * 8, e, true);
       return p;
     }));
   add('a byte after END', concat([plain, Uint8Array.of(0)]));

@@ -9,6 +9,7 @@ import { DpmDecoder, Navigator, readDpm, ShownValues, updateIndices } from '../s
 import { SignedModel } from '../src/dpm/range_coder.js';
 import { Bytes } from './fields_fixture.mjs';
 import { encodeSigned, RangeEncoder } from './range_encoder.mjs';
+import { encodeSplitRecords } from './split_records_encoder.mjs';
 
 // A chunk; with `frame` (payload → zstd frame bytes) stored compressed.
 function chunk(out, tag, payload, frame = null) {
@@ -79,10 +80,10 @@ function fieldDefs() {
   return out.bytes;
 }
 
-function makeFile(baseFrame = null, { fields = true, extra = null } = {}) {
+function makeFile(baseFrame = null, { fields = true, extra = null, upToBase = false } = {}) {
   const out = new Bytes();
   [0x89, 0x44, 0x50, 0x4d, 0x0d, 0x0a, 0x1a, 0x0a].forEach((x) => out.u8(x));
-  out.u32(2);
+  out.u32(3);
   const head = new Bytes();
   [6, 3, 5, 2, 1, 2, 0, 0].forEach((x) => head.u32(x));
   BMIN.forEach((x) => head.f64(x));
@@ -112,18 +113,23 @@ function makeFile(baseFrame = null, { fields = true, extra = null } = {}) {
         base.svarint(t === 0 ? Q[0][v][c] - (v ? Q[0][v - 1][c] : 0) : Q[t][v][c] - Q[t - 1][v][c]);
   chunk(out, 'BASE', base.bytes, baseFrame);
   if (fields) chunk(out, 'FLDS', fieldValues(0), baseFrame);
+  if (upToBase) return out.bytes;
 
   // SPLT: first_split, count, 2 + m sections (records, attributes, positions of each step).
-  const records = new Bytes();
-  records.varint(5 - 1 - 1);  // parent v1 = 1
-  records.f32(0);
-  records.u8(2);
-  records.u8(2 | (1 << 2)), records.varint(5 - 1 - 0), records.varint(2 - 1 - 0);  // quad wing, face 0
-  records.u8(1 | (0 << 2)), records.varint(5 - 1 - 3);  // triangle wing, w = 3
-  records.varint(1), records.varint(2 - 1 - 1);  // moved: face 1
-  const attributes = new Bytes();
-  attributes.svarint(5 - 4), attributes.svarint(105 - 104);
-  attributes.svarint(9), attributes.svarint(3 - 501), attributes.svarint(2 - 1);
+  // The split's record and attributes against the mesh a reader has after BASE (stored plain).
+  const reader = new DpmDecoder();
+  reader.push(makeFile(null, { fields, extra, upToBase: true }));
+  const { records, attributes } = encodeSplitRecords(reader.mesh, reader.records, 0, [{
+    parent: 1,  // v1 = 1
+    error: 0,
+    wings: [
+      { flags: 2 | (1 << 2), vertex: 0, face: 0 },  // quad wing: face 0, w = 0
+      { flags: 1 | (0 << 2), vertex: 3 },  // triangle wing, w = 3
+    ],
+    moved: [1],
+    vertexOriginal: 5, nodeId: 105,
+    faces: [{ part: 9, element: 3, original: 2 }],
+  }]);
   // Positions: after the split the quad wing is (w, v0, v1, x) = (0, 5, 1, 2), so step 0 guesses
   // q(0) + q(1) − q(2); step 1 moves q_0(5) by the mean motion of 5's ring {0, 1, 3, 4} (its
   // wing vertices, its parent, and its neighbours 4 and 3 in the moved face (5, 4, 3)), rounded
@@ -143,7 +149,7 @@ function makeFile(baseFrame = null, { fields = true, extra = null } = {}) {
     }
     return e.finish();
   });
-  const sections = [records.bytes, attributes.bytes, ...positions];
+  const sections = [records, attributes, ...positions];
   const split = new Bytes();
   split.u32(0), split.u32(1), split.u32(sections.length);
   sections.forEach((x) => split.u32(x.length));
@@ -329,9 +335,11 @@ test('shown values: max |value| and mean of what each vertex and face stands for
   assert.equal(nav.fieldError(1), 0);
 });
 
-test('a version-1 file is refused with what to do about it', () => {
-  const old = FILE.slice();
-  old[8] = 1;
-  assert.throws(() => readDpm(old, 'old.dpm'),
-    /^Error: old\.dpm: byte 8: written by an older dynpm \(version 1\): build it again$/);
+test('a version-1 or version-2 file is refused with what to do about it', () => {
+  for (const version of [1, 2]) {
+    const old = FILE.slice();
+    old[8] = version;
+    assert.throws(() => readDpm(old, 'old.dpm'), new RegExp(
+      `^Error: old\\.dpm: byte 8: written by an older dynpm \\(version ${version}\\): build it again$`));
+  }
 });

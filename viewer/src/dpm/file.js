@@ -12,17 +12,11 @@ import { decompress } from 'fzstd';
 import { crc32, DpmError, Reader } from './bytes.js';
 import { maxFieldValueBytes, parseFieldDefs, parseFieldValues } from './fields.js';
 import { ChunkStencils, decodeSplitPositions, positionModels } from './positions.js';
-import {
-  applySplit,
-  checkSplit,
-  HEAD_FLAG_LOSSLESS,
-  ProgressiveMesh,
-  touchedFacesValid,
-  WING_WAS_TRIANGLE,
-} from './progressive_mesh.js';
+import { HEAD_FLAG_LOSSLESS, ProgressiveMesh } from './progressive_mesh.js';
+import { decodeSplitRecords, RecordModels } from './split_records.js';
 
 export const MAGIC = Uint8Array.of(0x89, 0x44, 0x50, 0x4d, 0x0d, 0x0a, 0x1a, 0x0a);
-const VERSION = 2;
+const VERSION = 3;
 const CHUNK_HEADER_BYTES = 24;
 const FLAG_ZSTD = 1;
 const TAGS = ['HEAD', 'FDEF', 'BASE', 'FLDS', 'SPLT', 'END '];
@@ -94,7 +88,8 @@ export class DpmDecoder {
     // magic → HEAD → FDEF? → BASE → FLDS? → (SPLT → FLDS?)… → END → done
     this.state = 'magic';
     this.mesh = null;
-    this.replay = null;  // the faces at the last decoded split (4 slots each), for the checks
+    // The records' models and the faces at the last decoded split (4 slots each), for the checks.
+    this.records = null;
     // The splits of a SPLT whose FLDS has not arrived: not applied yet (FORMAT.md "Prefixes").
     this.pending = null;
   }
@@ -123,8 +118,10 @@ export class DpmDecoder {
           if (b[i] !== MAGIC[i]) this.fail(0, 'not a .dpm file (wrong magic)');
         if (available < 12) return;
         const version = new DataView(b.buffer, b.byteOffset + 8, 4).getUint32(0, true);
-        if (version === 1) this.fail(8, 'written by an older dynpm (version 1): build it again');
-        if (version !== VERSION) this.fail(8, `version ${version}, this reader knows version 2`);
+        if (version === 1 || version === 2)
+          this.fail(8, `written by an older dynpm (version ${version}): build it again`);
+        if (version !== VERSION)
+          this.fail(8, `version ${version} is not supported (this reader reads version ${VERSION})`);
         this.start += 12;
         this.state = 'HEAD';
         continue;
@@ -267,13 +264,14 @@ export class DpmDecoder {
       else this.commit();
     } else if (tag === 'SPLT') {
       this.models ??= positionModels(mesh.head.stepCount);
-      // Made at the first SPLT, not at BASE: 16 bytes a face of the whole mesh, which would
-      // delay the base mesh's picture.
-      if (!this.replay) {
-        this.replay = new Int32Array(4 * mesh.head.faceCount).fill(-1);
-        this.replay.set(mesh.baseCorners);
+      // Made at the first SPLT, not at BASE: the replay holds 16 bytes a face of the whole mesh,
+      // which would delay the base mesh's picture.
+      if (!this.records) {
+        const replay = new Int32Array(4 * mesh.head.faceCount).fill(-1);
+        replay.set(mesh.baseCorners);
+        this.records = new RecordModels(mesh, replay);
       }
-      this.pending = { s: mesh.splitsLoaded, n: parseSplits(r, mesh, this.replay, this.models) };
+      this.pending = { s: mesh.splitsLoaded, n: parseSplits(r, mesh, this.records, this.models) };
       if (withFields) this.state = 'FLDS';
       else this.commit();
     } else if (tag === 'FLDS') {
@@ -436,74 +434,7 @@ function parsePositions(r, mesh, count) {
   }
 }
 
-// The records and attributes sections of the n splits from s (FORMAT.md "Split records", "Split
-// attributes"): for now the bytes version 1 wrote (varints). C++: read_records_sections().
-function readRecordsSections(records, attributes, mesh, s, n) {
-  const r = records;
-  const h = mesh.head;
-  const b = h.baseVertexCount;
-  // A split takes at least 7 bytes: parent, error, wing count, moved count.
-  if (r.remaining() < n * 7) r.fail(`${n} splits do not fit in the records section`);
-  const { parent, error, wingStart, movedStart, faceCountAt } = mesh;
-  const { wingFlags, wingVertex, wingFace, movedFaces } = mesh;
-  let newFaces = 0;
-  for (let i = s; i < s + n; i++) {
-    const v0 = b + i;
-    let F = faceCountAt[i];
-    const pv = r.varint();
-    if (pv > v0 - 1) r.fail(`split ${i}: parent ${v0 - 1 - pv} < 0`);
-    parent[i] = v0 - 1 - pv;
-    const e = r.f32();
-    if (!(e >= 0 && e < Infinity)) r.fail(`split ${i}: error ${e} is not a finite number ≥ 0`);
-    error[i] = e;
-    const wings = r.u8();
-    if (wings > 4) r.fail(`split ${i}: ${wings} wings (at most 4)`);
-    wingStart[i] = wingFlags.length;
-    let created = 0;
-    for (let w = 0; w < wings; w++) {
-      const flags = r.u8();
-      if (flags & ~0xf) r.fail(`split ${i}: wing flags ${flags}`);
-      const wv = r.varint();
-      if (wv > v0 - 1) r.fail(`split ${i}: wing vertex ${v0 - 1 - wv} < 0`);
-      wingFlags.push(flags);
-      wingVertex.push(v0 - 1 - wv);
-      if (flags & WING_WAS_TRIANGLE) {
-        wingFace.push(F + created++);
-      } else {
-        const fv = r.varint();
-        if (fv > F - 1) r.fail(`split ${i}: wing face ${F - 1 - fv} < 0`);
-        wingFace.push(F - 1 - fv);
-      }
-    }
-    const movedCount = r.varint();
-    if (movedCount > r.remaining()) r.fail(`split ${i}: ${movedCount} moved faces do not fit`);
-    movedStart[i] = movedFaces.length;
-    for (let k = 0; k < movedCount; k++) {
-      const fv = r.varint();
-      if (fv > F - 1) r.fail(`split ${i}: moved face ${F - 1 - fv} < 0`);
-      movedFaces.push(F - 1 - fv);
-    }
-    faceCountAt[i + 1] = F + created;
-    wingStart[i + 1] = wingFlags.length;
-    movedStart[i + 1] = movedFaces.length;
-    newFaces += created;
-  }
-  if (r.remaining() !== 0) r.fail(`${r.remaining()} bytes left over in the records section`);
-  if (faceCountAt[s + n] > h.faceCount) r.fail(`splits create more faces than F = ${h.faceCount}`);
-  if (s + n === h.splitCount && faceCountAt[s + n] !== h.faceCount)
-    r.fail(`all splits give ${faceCountAt[s + n]} faces, HEAD says ${h.faceCount}`);
-  parseVertexIds(attributes, mesh, b + s, n);
-  parseFaceIds(attributes, mesh, faceCountAt[s], newFaces);
-  if (attributes.remaining() !== 0)
-    attributes.fail(`${attributes.remaining()} bytes left over in the attributes section`);
-}
-
-// A Reader over bytes [at, at + size) of the payload r reads, its messages at payload offsets.
-function sectionReader(r, at, size) {
-  return new Reader(r.bytes.subarray(at, at + size), r.at, (pos) => r.where(at + pos));
-}
-
-function parseSplits(r, mesh, replay, models) {
+function parseSplits(r, mesh, records, models) {
   const h = mesh.head;
   const s = r.u32();
   const n = r.u32();
@@ -518,29 +449,20 @@ function parseSplits(r, mesh, replay, models) {
     r.fail('the section sizes do not add up to the payload');
   const starts = [];
   sizes.reduce((at, size) => (starts.push(at), at + size), r.pos);
-  readRecordsSections(sectionReader(r, starts[0], sizes[0]), sectionReader(r, starts[1], sizes[1]),
-    mesh, s, n);
-  // Replay the splits on the faces: a record that does not fit is an error here, so that the
-  // navigator can apply them unchecked. The faces right after each split give its stencil.
-  const touch = () => {};
+  // The records, applied to the faces as they are decoded (checked: the navigator can apply
+  // them unchecked); the faces right after each split give its stencil. A problem is the
+  // records section's, at its start (C++: decode_split_records()).
   const stencils = new ChunkStencils(n);
-  for (let i = s; i < s + n; i++) {
-    let problem = checkSplit(mesh, i, replay);
-    if (!problem) {
-      try {
-        applySplit(mesh, i, replay, touch);
-        problem = touchedFacesValid(mesh, i, replay);
-      } catch (e) {
-        if (!(e instanceof DpmError)) throw e;
-        problem = e.message;
-      }
-    }
-    if (problem) r.failChunk(problem);
-    stencils.add(mesh, i - s, i, replay);
+  const bytes = (k) => r.bytes.subarray(starts[k], starts[k] + sizes[k]);
+  const problem = decodeSplitRecords(bytes(0), bytes(1), s, n, mesh, records,
+    (i) => stencils.add(mesh, i - s, i, records.corners));
+  if (problem) {
+    r.pos = starts[0];
+    r.fail(problem);
   }
   const sections = starts.slice(2).map((at, t) => r.bytes.subarray(at, at + sizes[2 + t]));
-  const problem = decodeSplitPositions(mesh, s, n, stencils, models, sections);
-  if (problem) r.failChunk(problem);
+  const positions = decodeSplitPositions(mesh, s, n, stencils, models, sections);
+  if (positions) r.failChunk(positions);
   // The loaded levels grow only at commit(): a chunk that fails half-way, or whose FLDS does
   // not arrive, leaves them as they were.
   return n;

@@ -1,0 +1,360 @@
+// The records and attributes sections of a SPLT (docs/FORMAT.md "Split records", "Split
+// attributes"), decoded as the C++ decoder does (src/progressive/split_records_coding.cpp): each
+// split is applied as it is decoded, and every vertex's faces are kept, because the coding
+// refers to the mesh as the earlier splits left it. Same checks, same messages.
+import { bitModels, RangeDecoder, SignedModel, UnsignedModel } from './range_coder.js';
+import {
+  applySplit,
+  checkSplit,
+  touchedFacesValid,
+  WING_SLOT_SHIFT,
+  WING_V1_FOLLOWS_V0,
+  WING_WAS_TRIANGLE,
+} from './progressive_mesh.js';
+import { DpmError } from './bytes.js';
+
+// Split errors on the file's grid: code 0 is 0, code c ≥ 1 is P · (16 + (c−1) mod 16) ·
+// 2^((c−1) div 16 − 44), P the power of two at or above HEAD's base_error. Exact in f64 and f32.
+const ERROR_STEPS = 16;
+const ERROR_OCTAVES = 40;
+export const TOP_ERROR_CODE = ERROR_STEPS * ERROR_OCTAVES + 1;
+
+export function errorReference(baseError) {
+  let p = 1;
+  if (!(baseError > 0) || !Number.isFinite(baseError)) return p;
+  while (p < baseError) p *= 2;
+  while (p / 2 >= baseError) p /= 2;
+  return p;
+}
+
+export function errorOfCode(code, reference) {
+  if (code === 0) return 0;
+  const k = code - 1;
+  const mantissa = reference * (ERROR_STEPS + (k % ERROR_STEPS));
+  return Math.fround(mantissa * 2 ** (Math.floor(k / ERROR_STEPS) - 44));
+}
+
+export function errorCodeAtLeast(e, reference) {
+  let lo = 0, hi = TOP_ERROR_CODE;
+  while (lo < hi) {
+    const mid = (lo + hi) >>> 1;
+    if (errorOfCode(mid, reference) >= e) hi = mid;
+    else lo = mid + 1;
+  }
+  return lo;
+}
+
+// The original indices (of vertices, or of faces) not yet given, in [0, n): a Fenwick tree of
+// one bit per index, so an index is coded by its rank among the free ones (C++ FreeIndices).
+export class FreeIndices {
+  constructor(n) {
+    this.tree = new Int32Array(n + 1);
+    for (let k = 1; k <= n; k++) this.tree[k] = k & -k;  // every index free
+    this.free = new Uint8Array(n).fill(1);
+    this.count = n;
+    this.top = n > 0 ? 2 ** Math.floor(Math.log2(n)) : 0;
+    while (this.top * 2 <= n) this.top *= 2;  // the largest power of two ≤ n, exactly
+    while (this.top > n) this.top /= 2;
+  }
+  // Free indices below v.
+  below(v) {
+    let sum = 0;
+    for (let k = Math.min(v, this.free.length); k > 0; k &= k - 1) sum += this.tree[k];
+    return sum;
+  }
+  // The free index with r free ones below it (r < count).
+  nth(r) {
+    let at = 0;
+    for (let step = this.top; step > 0; step >>= 1)
+      if (at + step < this.tree.length && this.tree[at + step] <= r) {
+        at += step;
+        r -= this.tree[at];
+      }
+    return at;
+  }
+  take(v) {
+    this.free[v] = 0;
+    this.count--;
+    for (let k = v + 1; k < this.tree.length; k += k & -k) this.tree[k]--;
+  }
+}
+
+// The models of both sections, continued from one SPLT to the next, and the mesh as the splits
+// so far left it: `corners` (4 slots per face, room for every face; the base's filled in, as
+// file.js's replay) and each vertex's faces, ascending (C++ RecordModels).
+export class RecordModels {
+  constructor(mesh, corners) {
+    this.parent = new UnsignedModel();
+    this.wingCount = new UnsignedModel();
+    this.quadFace = new UnsignedModel();
+    this.neighbour = new UnsignedModel();
+    this.farVertex = new UnsignedModel();
+    this.errorStep = new UnsignedModel();
+    this.wasTriangle = bitModels(16);  // by wing count and wing number
+    this.quad = bitModels(3);  // [0] side, [1] slot at the end, [2] follows
+    this.triFollows = bitModels(2);
+    this.triSlot = bitModels(2);
+    this.moved = bitModels(12);  // triangle? × beside a moved face? × moved so far (0, 1, 2+)
+    this.vertexIndex = new SignedModel();
+    this.nodeId = new SignedModel();
+    this.part = new SignedModel();
+    this.faceIndex = new SignedModel();
+    this.elementId = new SignedModel();
+    this.samePart = bitModels(1);
+
+    this.corners = corners;
+    this.faceCount = mesh.head.baseFaceCount;
+    this.vertexFaces = new Array(mesh.head.vertexCount);
+    for (let v = 0; v < mesh.head.baseVertexCount; v++) this.vertexFaces[v] = [];
+    for (let f = 0; f < this.faceCount; f++)
+      for (let k = 0; k < 4; k++) {
+        const v = corners[4 * f + k];
+        if (v >= 0 && v < this.vertexFaces.length) (this.vertexFaces[v] ??= []).push(f);
+      }
+    const { vertexCount: V, faceCount: F, baseVertexCount: b } = mesh.head;
+    this.freeVertices = new FreeIndices(V);
+    this.freeFaces = new FreeIndices(F);
+    for (let v = 0; v < b; v++) {
+      const o = mesh.vertexOriginal[v];
+      if (o >= 0 && o < V && this.freeVertices.free[o]) this.freeVertices.take(o);
+    }
+    for (let f = 0; f < this.faceCount; f++) {
+      const o = mesh.faceOriginal[f];
+      if (o >= 0 && o < F && this.freeFaces.free[o]) this.freeFaces.take(o);
+    }
+    this.errorReference = errorReference(mesh.head.baseError);
+    this.errorCode = errorCodeAtLeast(mesh.head.baseError, this.errorReference);
+  }
+}
+
+function degree(corners, f) {
+  return corners[4 * f + 3] < 0 ? 3 : 4;
+}
+export function slotOf(corners, f, v) {
+  for (let k = 0; k < 4; k++) if (corners[4 * f + k] === v) return k;
+  return -1;
+}
+
+export function neighbours(st, v) {
+  const out = [];
+  const c = st.corners;
+  for (const f of st.vertexFaces[v]) {
+    const n = degree(c, f), a = slotOf(c, f, v);
+    out.push(c[4 * f + ((a + 1) % n)], c[4 * f + ((a + n - 1) % n)]);
+  }
+  out.sort((x, y) => x - y);
+  return out.filter((x, k) => k === 0 || x !== out[k - 1]);
+}
+
+// 0: no face of v1 on the edge v1–w; 1: one runs v1 → w (v1 not after v0); 2: w → v1.
+export function orientationGuess(st, v1, w) {
+  const c = st.corners;
+  for (const f of st.vertexFaces[v1]) {
+    const n = degree(c, f), a = slotOf(c, f, v1);
+    if (c[4 * f + ((a + 1) % n)] === w) return 1;
+    if (c[4 * f + ((a + n - 1) % n)] === w) return 2;
+  }
+  return 0;
+}
+
+// Split i's record into mesh's arrays; a problem, or null.
+function decodeRecord(d, st, mesh, i) {
+  const v0 = mesh.head.baseVertexCount + i;
+  const dp = st.parent.decode(d);
+  if (dp >= v0) return `split ${i}: parent out of range`;
+  const v1 = v0 - 1 - dp;
+  mesh.parent[i] = v1;
+  const fan = st.vertexFaces[v1];
+  const c = st.corners;
+  // Moved faces first: a bit per face of v1 (ascending), by its kind, whether it shares a
+  // corner with a face moved before it, and how many moved so far.
+  mesh.movedStart[i] = mesh.movedFaces.length;
+  const movedList = [];
+  const movedCorners = new Set();
+  for (const f of fan) {
+    let beside = false;
+    for (let k = 0; k < 4; k++) {
+      const v = c[4 * f + k];
+      if (v >= 0 && v !== v1 && movedCorners.has(v)) beside = true;
+    }
+    const ctx = (c[4 * f + 3] < 0 ? 6 : 0) + (beside ? 3 : 0) + Math.min(movedList.length, 2);
+    if (!d.bit(st.moved, ctx)) continue;
+    movedList.push(f);
+    mesh.movedFaces.push(f);
+    for (let k = 0; k < 4; k++) {
+      const v = c[4 * f + k];
+      if (v >= 0 && v !== v1) movedCorners.add(v);
+    }
+  }
+  mesh.movedStart[i + 1] = mesh.movedFaces.length;
+  const movedSet = new Set(movedList);
+
+  const wings = st.wingCount.decode(d);
+  if (wings > 4) return `split ${i}: more than 4 wings`;
+  const wingVertex = [], wingFace = [], wingFlags = [];
+  let near = null;
+  let created = 0;
+  for (let k = 0; k < wings; k++) {
+    if (!d.bit(st.wasTriangle, 4 * (wings - 1) + k)) {
+      let triangles = [];
+      const beside = [];
+      for (const f of fan) {
+        if (c[4 * f + 3] >= 0 || movedSet.has(f) || wingFace.includes(f)) continue;
+        triangles.push(f);
+        if (movedCorners.has(c[4 * f]) || movedCorners.has(c[4 * f + 1]) || movedCorners.has(c[4 * f + 2]))
+          beside.push(f);
+      }
+      if (beside.length > 0) triangles = beside;
+      const index = st.quadFace.decode(d);
+      if (index >= triangles.length) return `split ${i}: quad wing face out of range`;
+      const f = triangles[index];
+      const a = slotOf(c, f, v1);
+      const after = c[4 * f + ((a + 1) % 3)], before = c[4 * f + ((a + 2) % 3)];
+      const guessBefore = movedCorners.has(before) && !movedCorners.has(after);
+      const w = d.bit(st.quad, 0) !== (guessBefore ? 1 : 0) ? before : after;
+      const b = slotOf(c, f, w);
+      let slot = Math.max(a, b);
+      if (Math.min(a, b) === 0 && slot === 2) slot = d.bit(st.quad, 1) ? 3 : 0;
+      const follows = (b + 1) % 3 === a ? 1 : 0;
+      const flag = d.bit(st.quad, 2) ^ follows;
+      wingVertex.push(w), wingFace.push(f);
+      wingFlags.push((flag ? WING_V1_FOLLOWS_V0 : 0) | (slot << WING_SLOT_SHIFT));
+      continue;
+    }
+    if (!near) {
+      const all = neighbours(st, v1);
+      near = all.filter((v) => movedCorners.has(v)).concat(all.filter((v) => !movedCorners.has(v)));
+    }
+    const index = st.neighbour.decode(d);
+    if (index > near.length) return `split ${i}: wing vertex out of range`;
+    let w;
+    if (index < near.length) {
+      w = near[index];
+    } else {
+      const dv = st.farVertex.decode(d);
+      if (dv >= v0) return `split ${i}: wing vertex out of range`;
+      w = v0 - 1 - dv;
+    }
+    const guess = orientationGuess(st, v1, w);
+    const follows = d.bit(st.triFollows, guess !== 0 ? 1 : 0) ^ (guess === 2 ? 1 : 0);
+    let slot = d.bit(st.triSlot, 0);
+    if (slot) slot += d.bit(st.triSlot, 1);
+    wingVertex.push(w), wingFace.push(st.faceCount + created++);
+    wingFlags.push(WING_WAS_TRIANGLE | (follows ? WING_V1_FOLLOWS_V0 : 0) | (slot << WING_SLOT_SHIFT));
+  }
+  mesh.wingStart[i] = mesh.wingFlags.length;
+  for (let k = 0; k < wings; k++) {
+    mesh.wingFlags.push(wingFlags[k]);
+    mesh.wingVertex.push(wingVertex[k]);
+    mesh.wingFace.push(wingFace[k]);
+  }
+  mesh.wingStart[i + 1] = mesh.wingFlags.length;
+
+  const down = st.errorStep.decode(d);
+  if (down > st.errorCode) return `split ${i}: error is not valid`;
+  st.errorCode -= down;
+  mesh.error[i] = errorOfCode(st.errorCode, st.errorReference);
+  mesh.faceCountAt[i + 1] = st.faceCount + created;
+  return null;
+}
+
+// Applies split i to st.corners with the file reader's checks, and updates each vertex's faces.
+export function applyToModels(st, mesh, i) {
+  if (mesh.faceCountAt[i + 1] > mesh.head.faceCount)
+    return `split ${i}: the splits create more faces than the header says`;
+  let problem = checkSplit(mesh, i, st.corners);
+  if (problem) return problem;
+  try {
+    applySplit(mesh, i, st.corners, () => {});
+  } catch (e) {
+    if (!(e instanceof DpmError)) throw e;
+    return e.message;
+  }
+  problem = touchedFacesValid(mesh, i, st.corners);
+  if (problem) return problem;
+  st.faceCount = mesh.faceCountAt[i + 1];
+  const v0 = mesh.head.baseVertexCount + i, v1 = mesh.parent[i];
+  const moved = mesh.movedFaces.data.subarray(mesh.movedStart[i], mesh.movedStart[i + 1]);
+  const ofV0 = Array.from(moved);
+  const movedSet = new Set(ofV0);
+  st.vertexFaces[v1] = st.vertexFaces[v1].filter((f) => !movedSet.has(f));
+  for (let k = mesh.wingStart[i]; k < mesh.wingStart[i + 1]; k++) {
+    const f = mesh.wingFace.data[k];
+    ofV0.push(f);
+    if (!(mesh.wingFlags.data[k] & WING_WAS_TRIANGLE)) continue;
+    st.vertexFaces[v1].push(f);
+    st.vertexFaces[mesh.wingVertex.data[k]].push(f);
+  }
+  st.vertexFaces[v0] = ofV0.sort((x, y) => x - y);
+  return null;
+}
+
+// The attributes of split i's vertex and created faces, against the mesh after it.
+function decodeAttributes(d, st, mesh, i) {
+  const v0 = mesh.head.baseVertexCount + i, v1 = mesh.parent[i];
+  // The original index by its rank among the free ones, from the parent's; the node id moves
+  // with it.
+  const free = st.freeVertices;
+  const indexGuess = mesh.vertexOriginal[v1];
+  const rank = free.below(indexGuess) + st.vertexIndex.decode(d);
+  if (!(rank >= 0 && rank < free.count)) return `split ${i}: a vertex's original index is out of range`;
+  const index = free.nth(rank);
+  free.take(index);
+  mesh.vertexOriginal[v0] = index;
+  mesh.nodeId[v0] = mesh.nodeId[v1] + (index - indexGuess) + st.nodeId.decode(d);
+
+  const firstCreated = mesh.faceCountAt[i];
+  let like = -1;
+  for (let k = mesh.wingStart[i]; k < mesh.wingStart[i + 1] && like < 0; k++)
+    if (!(mesh.wingFlags.data[k] & WING_WAS_TRIANGLE)) like = mesh.wingFace.data[k];
+  if (like < 0 && mesh.movedStart[i + 1] > mesh.movedStart[i])
+    like = mesh.movedFaces.data[mesh.movedStart[i]];
+  const fan = st.vertexFaces[v1];
+  if (like < 0 && fan.length > 0 && fan[0] < firstCreated) like = fan[0];
+  const partGuess = like < 0 ? 0 : mesh.partId[like];
+  const faceGuess = like < 0 ? 0 : mesh.faceOriginal[like];
+  const elementGuess = like < 0 ? 0 : mesh.elementId[like];
+  const freeFaces = st.freeFaces;
+  const rankGuess = freeFaces.below(faceGuess);
+  for (let g = firstCreated; g < st.faceCount; g++) {
+    let part = partGuess;
+    if (d.bit(st.samePart, 0)) part = partGuess + st.part.decode(d);
+    const faceRank = rankGuess + st.faceIndex.decode(d);
+    if (!(faceRank >= 0 && faceRank < freeFaces.count))
+      return `split ${i}: a face's original index is out of range`;
+    const face = freeFaces.nth(faceRank);
+    freeFaces.take(face);
+    const element = elementGuess + (face - faceGuess) + st.elementId.decode(d);
+    if (!(part >= -2147483648 && part <= 2147483647)) return `split ${i}: a part id is out of range`;
+    mesh.partId[g] = part;
+    mesh.faceOriginal[g] = face;
+    mesh.elementId[g] = element;
+  }
+  return null;
+}
+
+// Decodes splits [first, first + count) from the two sections (Uint8Arrays) into mesh's arrays
+// (parent, error, wingStart, wingFace, wingVertex, wingFlags, movedStart, movedFaces,
+// faceCountAt, vertexOriginal, nodeId, faceOriginal, partId, elementId), applying each split to
+// models.corners with the reader's checks, then calling afterSplit(i) (the reader takes the
+// positions' stencils there). Returns what is wrong, or null.
+export function decodeSplitRecords(records, attributes, first, count, mesh, models, afterSplit) {
+  const rd = new RangeDecoder(records);
+  const ad = new RangeDecoder(attributes);
+  for (let i = first; i < first + count; i++) {
+    let problem = decodeRecord(rd, models, mesh, i);
+    if (!rd.ok()) return 'the split records section is cut short or damaged';
+    if (problem) return problem;
+    problem = applyToModels(models, mesh, i);
+    if (problem) return problem;
+    problem = decodeAttributes(ad, models, mesh, i);
+    if (!ad.ok()) return 'the split attributes section is cut short or damaged';
+    if (problem) return problem;
+    afterSplit?.(i);
+  }
+  if (first + count === mesh.head.splitCount && models.faceCount !== mesh.head.faceCount)
+    return 'the splits create fewer faces than the header says';
+  if (!rd.exhausted()) return 'bytes left over after the split records';
+  if (!ad.exhausted()) return 'bytes left over after the split attributes';
+  return null;
+}
