@@ -85,4 +85,24 @@ inline std::multiset<std::vector<uint32_t>> face_sets(const Topology& t,
   return out;
 }
 
+// The split records and the attributes of two meshes are the same, array by array.
+inline void expect_same_split_records(const ProgressiveMesh& a, const ProgressiveMesh& b) {
+  EXPECT_EQ(a.parent, b.parent);
+  EXPECT_EQ(a.error, b.error);
+  EXPECT_EQ(a.wing_start, b.wing_start);
+  ASSERT_EQ(a.wings.size(), b.wings.size());
+  for (size_t k = 0; k < a.wings.size(); ++k) {
+    EXPECT_EQ(a.wings[k].face, b.wings[k].face) << "wing " << k;
+    EXPECT_EQ(a.wings[k].vertex, b.wings[k].vertex) << "wing " << k;
+    EXPECT_EQ(a.wings[k].flags, b.wings[k].flags) << "wing " << k;
+  }
+  EXPECT_EQ(a.moved_start, b.moved_start);
+  EXPECT_EQ(a.moved_faces, b.moved_faces);
+  EXPECT_EQ(a.vertex_original_index, b.vertex_original_index);
+  EXPECT_EQ(a.node_ids, b.node_ids);
+  EXPECT_EQ(a.face_original_index, b.face_original_index);
+  EXPECT_EQ(a.part_ids, b.part_ids);
+  EXPECT_EQ(a.element_ids, b.element_ids);
+}
+
 }  // namespace dynpm::test

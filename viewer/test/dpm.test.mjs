@@ -119,7 +119,7 @@ function makeFile(baseFrame = null, { fields = true, extra = null, upToBase = fa
   // The split's record and attributes against the mesh a reader has after BASE (stored plain).
   const reader = new DpmDecoder();
   reader.push(makeFile(null, { fields, extra, upToBase: true }));
-  const { records, attributes } = encodeSplitRecords(reader.mesh, reader.records, 0, [{
+  const { records, attributes } = encodeSplitRecords(reader.mesh, reader.recordModels(), 0, [{
     parent: 1,  // v1 = 1
     error: 0,
     wings: [

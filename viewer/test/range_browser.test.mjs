@@ -53,7 +53,9 @@ test('the base mesh is drawn before the file is in, from range requests', async 
   const last = await state(page);
   assert.equal(last.bytesLoaded, size);
   assert.equal(last.loadedVertices, last.vertices);
-  assert.ok(ranges.length > 2 && ranges.every((r) => /^bytes=\d+-\d+$/.test(r)), ranges.join(' '));
+  // The first request takes 64 KiB: a larger file needs more than one.
+  assert.ok(size > 65536, `the sample is ${size} bytes`);
+  assert.ok(ranges.length >= 2 && ranges.every((r) => /^bytes=\d+-\d+$/.test(r)), ranges.join(' '));
   assert.equal(ranges[0], 'bytes=0-65535');
   assert.deepEqual(errors, []);
   await page.close();

@@ -94,6 +94,19 @@ export class DpmDecoder {
     this.pending = null;
   }
 
+  // The split records' models and the faces as the splits so far left them, made at the first
+  // SPLT, not at BASE: the replay holds 16 bytes a face of the whole mesh, which would delay the
+  // base mesh's picture. The test encoder starts from them too.
+  recordModels() {
+    if (!this.records) {
+      const mesh = this.mesh;
+      const replay = new Int32Array(4 * mesh.head.faceCount).fill(-1);
+      replay.set(mesh.baseCorners);
+      this.records = new RecordModels(mesh, replay);
+    }
+    return this.records;
+  }
+
   get complete() {
     return this.state === 'done';
   }
@@ -264,14 +277,8 @@ export class DpmDecoder {
       else this.commit();
     } else if (tag === 'SPLT') {
       this.models ??= positionModels(mesh.head.stepCount);
-      // Made at the first SPLT, not at BASE: the replay holds 16 bytes a face of the whole mesh,
-      // which would delay the base mesh's picture.
-      if (!this.records) {
-        const replay = new Int32Array(4 * mesh.head.faceCount).fill(-1);
-        replay.set(mesh.baseCorners);
-        this.records = new RecordModels(mesh, replay);
-      }
-      this.pending = { s: mesh.splitsLoaded, n: parseSplits(r, mesh, this.records, this.models) };
+      const records = this.recordModels();
+      this.pending = { s: mesh.splitsLoaded, n: parseSplits(r, mesh, records, this.models) };
       if (withFields) this.state = 'FLDS';
       else this.commit();
     } else if (tag === 'FLDS') {
