@@ -12,6 +12,7 @@
 #include "fixtures.h"
 #include "progressive/split_records_coding.h"
 #include "round_trip.h"
+#include "split_records_base.h"
 
 namespace dynpm {
 namespace {
@@ -32,23 +33,6 @@ ProgressiveMesh build(const std::string& pattern) {
   auto pm = build_progressive_mesh(a->topology, a->frames, options);
   EXPECT_TRUE(pm.ok()) << pm.message();
   return std::move(pm).value();
-}
-
-// The mesh as a reader has it before the first SPLT: HEAD's counts, the base and its attributes.
-ProgressiveMesh base_of(const ProgressiveMesh& pm) {
-  ProgressiveMesh m = pm;
-  m.parent.clear();
-  m.error.clear();
-  m.wing_start = {0};
-  m.wings.clear();
-  m.moved_start = {0};
-  m.moved_faces.clear();
-  m.vertex_original_index.resize(pm.base_vertex_count);
-  m.node_ids.resize(pm.base_vertex_count);
-  m.face_original_index.resize(pm.base_face_count);
-  m.part_ids.resize(pm.base_face_count);
-  m.element_ids.resize(pm.base_face_count);
-  return m;
 }
 
 struct Section {
@@ -119,7 +103,7 @@ TEST(SplitRecords, EveryArrayComesBackOnRealCrashData) {
     prepare_split_records(pm);
     const auto sections = encode(pm);
     ASSERT_FALSE(sections.empty());
-    ProgressiveMesh back = base_of(pm);
+    ProgressiveMesh back = test::base_level_of(pm);
     ASSERT_EQ(decode(sections, back), "");
     test::expect_same_split_records(pm, back);
     // Version 1 took 19–21 B per vertex on these (zstd-compressed); this coding under 6.
@@ -137,7 +121,7 @@ TEST(SplitRecords, DamagedSectionsAreRefusedWithAMessage) {
   auto verdict = [&](auto damage) {
     auto s = sections;
     damage(s);
-    ProgressiveMesh m = base_of(pm);
+    ProgressiveMesh m = test::base_level_of(pm);
     return decode(s, m);
   };
   EXPECT_EQ(verdict([](auto& s) { s[0].records.pop_back(); }),

@@ -12,6 +12,7 @@
 #include "dynpm/progressive.h"
 #include "progressive/bytes.h"
 #include "progressive/split_records_coding.h"
+#include "split_records_base.h"
 
 using namespace dynpm;
 using namespace dynpm::progressive;
@@ -109,18 +110,6 @@ double old_decode_seconds(const ProgressiveMesh& m, const std::vector<Chunk>& ch
     }
   }
   return double(std::clock() - start) / CLOCKS_PER_SEC;
-}
-
-ProgressiveMesh base_of(const ProgressiveMesh& pm) {
-  ProgressiveMesh m = pm;
-  m.parent.clear(), m.error.clear(), m.wings.clear(), m.moved_faces.clear();
-  m.wing_start = {0}, m.moved_start = {0};
-  m.vertex_original_index.resize(pm.base_vertex_count);
-  m.node_ids.resize(pm.base_vertex_count);
-  m.face_original_index.resize(pm.base_face_count);
-  m.part_ids.resize(pm.base_face_count);
-  m.element_ids.resize(pm.base_face_count);
-  return m;
 }
 
 std::string base64(const std::string& s) {
@@ -233,7 +222,7 @@ int main(int argc, char** argv) {
   }
   // Decode speeds: the records (and v2's attributes) into the arrays, each split replayed.
   const double old_s = old_decode_seconds(pm, chunks);
-  ProgressiveMesh back = base_of(pm);
+  ProgressiveMesh back = test::base_level_of(pm);
   const std::clock_t start = std::clock();  // CPU time: the machine may be shared
   RecordModels decode_models(back);
   for (const Chunk& c : chunks)
