@@ -156,7 +156,7 @@ int run_build(std::span<char* const> arguments) {
   if (!mesh) return fail(kSpec.name, kExitFailure, mesh.message());
   phase.emplace("encoding the .dpm file");
   progress("encoding", 0, 1);
-  const auto bytes = encode_dpm(*mesh);
+  const auto bytes = encode_dpm(*mesh, options.simplify.threads);
   if (!bytes) return fail(kSpec.name, kExitFailure, bytes.message());
   progress("encoding", 1, 1);
   phase.emplace("writing the .dpm file");

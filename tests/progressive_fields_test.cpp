@@ -168,6 +168,22 @@ void expect_refused_at(const std::string& bytes, size_t byte, const std::string&
   EXPECT_NE(r.message().find(what), std::string::npos) << r.message();
 }
 
+// The encoder codes each step's positions and each chunk's fields on its own thread: the bytes
+// must not depend on how many there are (quantized and lossless, several SPLT chunks).
+TEST(ProgressiveFields, TheFileIsTheSameOnAnyThreadCount) {
+  for (bool lossless : {false, true}) {
+    const Built b = hat_rail_with_fields(lossless);
+    ASSERT_GT(b.mesh.split_count(), 256u * 3);  // at least three SPLT chunks
+    const std::string one = encode_dpm(b.mesh, 1).value();
+    for (unsigned threads : {2u, 3u, 8u})
+      EXPECT_TRUE(encode_dpm(b.mesh, threads).value() == one)
+          << threads << " threads, lossless " << lossless;
+    auto back = decode_dpm(one, "one.dpm");
+    ASSERT_TRUE(back.ok()) << back.message();
+    EXPECT_EQ(back->positions.size(), b.mesh.positions.size());
+  }
+}
+
 TEST(ProgressiveFields, DamagedFieldChunksAreRefusedAtTheirByte) {
   const Built b = hat_rail_with_fields(false);
   const std::string bytes = encode_dpm(b.mesh).value();

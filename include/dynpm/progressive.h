@@ -156,8 +156,10 @@ void quantize_fields(ProgressiveMesh& mesh, double bound, bool lossless);
 // The file (docs/FORMAT.md). Written to a temporary name and renamed.
 Status write_dpm(const std::string& path, const ProgressiveMesh& mesh);
 // An error when the mesh's records do not fit its own faces or were not prepared
-// (prepare_split_records): a bug of whoever made the mesh, not of a file.
-Result<std::string> encode_dpm(const ProgressiveMesh& mesh);
+// (prepare_split_records): a bug of whoever made the mesh, not of a file. The positions and
+// fields are coded on up to `threads` threads (0: one per hardware thread); the bytes do not
+// depend on it.
+Result<std::string> encode_dpm(const ProgressiveMesh& mesh, unsigned threads = 0);
 // What a reader needs of a file (docs/FORMAT.md "SPLT payload"): the splits up to one level and
 // the steps up to one step. The rest is not decoded, nor read from disk when it lies after the
 // last split needed. The level is known once HEAD is read: a vertex count, a fraction of the full

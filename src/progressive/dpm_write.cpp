@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "bytes.h"
+#include "core/parallel.h"
 #include "dpm_format.h"
 #include "dynpm/progressive.h"
 #include "position_coding.h"
@@ -140,7 +141,7 @@ std::string head_payload(const ProgressiveMesh& mesh) {
 
 }  // namespace
 
-Result<std::string> encode_dpm(const ProgressiveMesh& mesh) {
+Result<std::string> encode_dpm(const ProgressiveMesh& mesh, unsigned threads) {
   std::string out(kMagic);
   ByteWriter version;
   version.put<uint32_t>(kVersion);
@@ -163,34 +164,66 @@ Result<std::string> encode_dpm(const ProgressiveMesh& mesh) {
   }
   if (fields) put_chunk(out, "FLDS", field_values(mesh, 0, 0, 0, mesh.base_face_count), true);
 
-  // The records' models keep the mesh as the decoder has it, split by split: the records are
-  // coded against it and the positions' stencils read from it.
+  // The records, chunk by chunk: each is coded against the mesh the splits before it left, which
+  // the records' models keep as the decoder has it, and which gives each split's stencil.
+  struct SplitChunk {
+    uint32_t first, last, first_face, end_face;
+    std::string records, attributes;
+  };
+  std::vector<SplitChunk> chunks;
   RecordModels records(mesh);
-  SplitPositionModels models(mesh.step_count());
-  GridValues q(grid_of(mesh), mesh.step_count());
-  q.take(mesh, mesh.step_count(), 0, mesh.vertex_count());
+  ChunkStencils stencils;  // every split's, in split order
   uint32_t chunk = kFirstChunkSplits;
   for (uint32_t first = 0; first < mesh.split_count();
        first += chunk, chunk = std::min(chunk * 2, kMaxChunkSplits)) {
     const uint32_t last = std::min(mesh.split_count(), first + chunk);
     const uint32_t first_face = records.face_count();
-    ChunkStencils stencils;
     auto coded = encode_split_records(mesh, first, last, records,
                                       [&](uint32_t i) { stencils.add(mesh, i, records.faces()); });
     if (!coded.ok()) return coded.status();
-    std::vector<std::string> sections{std::move(coded->first), std::move(coded->second)};
-    for (std::string& s : encode_split_positions(mesh, first, stencils, models, q))
-      sections.push_back(std::move(s));
+    chunks.push_back({first, last, first_face, records.face_count(), std::move(coded->first),
+                      std::move(coded->second)});
+  }
+
+  // The positions: residuals first, then each step's sections on its own thread (a step's
+  // models run through every chunk in order; steps share nothing).
+  threads = thread_count(threads);
+  const size_t steps = mesh.step_count();
+  std::vector<std::vector<std::string>> positions(steps, std::vector<std::string>(chunks.size()));
+  {
+    GridValues q(grid_of(mesh), steps);
+    q.take(mesh, steps, 0, mesh.vertex_count());
+    turn_into_residuals(mesh, stencils, q, threads);
+    SplitPositionModels models(steps);
+    parallel_for(steps, steps, threads, [&](size_t begin, size_t end, size_t) {
+      for (size_t t = begin; t < end; ++t)
+        for (size_t k = 0; k < chunks.size(); ++k)
+          positions[t][k] =
+              encode_step_positions(mesh, chunks[k].first, chunks[k].last, q, t, models);
+    });
+  }
+  // The fields of each chunk, compressed on every thread.
+  std::vector<std::string> field_chunks(fields ? chunks.size() : 0);
+  parallel_for(field_chunks.size(), field_chunks.size(), threads,
+               [&](size_t begin, size_t end, size_t) {
+                 for (size_t k = begin; k < end; ++k) {
+                   const SplitChunk& c = chunks[k];
+                   put_chunk(field_chunks[k], "FLDS",
+                             field_values(mesh, c.first, c.last, c.first_face, c.end_face), true);
+                 }
+               });
+
+  for (size_t k = 0; k < chunks.size(); ++k) {
+    std::vector<std::string_view> sections{chunks[k].records, chunks[k].attributes};
+    for (size_t t = 0; t < steps; ++t) sections.push_back(positions[t][k]);
     ByteWriter w;
-    w.put<uint32_t>(first);
-    w.put<uint32_t>(last - first);
+    w.put<uint32_t>(chunks[k].first);
+    w.put<uint32_t>(chunks[k].last - chunks[k].first);
     w.put<uint32_t>(static_cast<uint32_t>(sections.size()));
-    for (const std::string& s : sections) w.put<uint32_t>(static_cast<uint32_t>(s.size()));
-    for (const std::string& s : sections) w.bytes += s;
+    for (std::string_view s : sections) w.put<uint32_t>(static_cast<uint32_t>(s.size()));
+    for (std::string_view s : sections) w.bytes += s;
     put_chunk(out, "SPLT", w.bytes, false);  // range-coded bytes do not compress
-    if (fields)
-      put_chunk(out, "FLDS", field_values(mesh, first, last, first_face, records.face_count()),
-                true);
+    if (fields) out += field_chunks[k];
   }
   put_chunk(out, "END ", {}, false);
   return out;

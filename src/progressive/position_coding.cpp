@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <bit>
 
+#include "core/parallel.h"
+
 namespace dynpm::progressive {
 namespace {
 
@@ -14,11 +16,11 @@ int64_t floor_div(int64_t a, int64_t b) { return a / b - ((a % b != 0) && (a < 0
 // ⌊(2 · sum + count) / (2 · count)⌋: the mean rounded half up.
 int64_t rounded_mean(int64_t sum, int64_t count) { return floor_div(2 * sum + count, 2 * count); }
 
-// The guess of q_t(v0) on coordinate c (FORMAT.md "Positions", in SPLT); q(u, s) gives vertex u's
-// q-value at step s, `before` is v0's residual at step t − 1.
+// The guess of q_t(v0) on coordinate c before the correction by v0's own last miss
+// (FORMAT.md "Positions", in SPLT); q(u, s) gives vertex u's q-value at step s.
 template <class Q>
-int64_t guess(const ChunkStencils& cs, const SplitStencil& s, const Grid& g, uint32_t v0, size_t t,
-              int64_t before, Q q) {
+int64_t uncorrected_guess(const ChunkStencils& cs, const SplitStencil& s, const Grid& g,
+                          uint32_t v0, size_t t, Q q) {
   if (g.lossless) {
     if (t == 0) return q(s.parent, 0);
     return g.add(q(v0, t - 1), g.residual(q(s.parent, t), q(s.parent, t - 1)));
@@ -32,9 +34,20 @@ int64_t guess(const ChunkStencils& cs, const SplitStencil& s, const Grid& g, uin
   int64_t motion = 0;
   for (uint32_t k = s.ring_begin; k < s.ring_end; ++k)
     motion += q(cs.ring[k], t) - q(cs.ring[k], t - 1);
-  const int64_t moved = q(v0, t - 1) + rounded_mean(motion, s.ring_end - s.ring_begin);
-  // 3/8 of the last step's miss, rounded half up (at t = 1 that miss is step 0's, not a motion's).
-  return t >= 2 ? moved + floor_div(3 * before + 4, 8) : moved;
+  return q(v0, t - 1) + rounded_mean(motion, s.ring_end - s.ring_begin);
+}
+
+// 3/8 of the last step's miss `before`, rounded half up; only from t = 2 on (at t = 1 that miss
+// is step 0's, not a motion's) and not when lossless.
+int64_t correction(const Grid& g, size_t t, int64_t before) {
+  return !g.lossless && t >= 2 ? floor_div(3 * before + 4, 8) : 0;
+}
+
+// The guess of q_t(v0) on coordinate c; `before` is v0's residual at step t − 1.
+template <class Q>
+int64_t guess(const ChunkStencils& cs, const SplitStencil& s, const Grid& g, uint32_t v0, size_t t,
+              int64_t before, Q q) {
+  return uncorrected_guess(cs, s, g, v0, t, q) + correction(g, t, before);
 }
 
 // The context of a residual: how large the same vertex's residual was at the step before.
@@ -118,20 +131,53 @@ void ChunkStencils::add(const ProgressiveMesh& mesh, uint32_t i, std::span<const
   splits.push_back(s);
 }
 
-std::vector<std::string> encode_split_positions(const ProgressiveMesh& mesh, uint32_t first,
-                                                const ChunkStencils& stencils,
-                                                SplitPositionModels& models, const GridValues& q) {
+void turn_into_residuals(const ProgressiveMesh& mesh, const ChunkStencils& all, GridValues& q,
+                         unsigned threads) {
   const Grid g = grid_of(mesh);
-  std::vector<RangeEncoder> coders(mesh.step_count());
-  walk(mesh, first, stencils, models, mesh.step_count(), q,
-       [&](size_t t, uint32_t v, int c, int64_t guess, SignedModel& m, int64_t& got) {
-         got = q.at(v, t, c);
-         m.encode(coders[t], g.residual(got, guess));
-         return true;
-       });
-  std::vector<std::string> sections;
-  for (RangeEncoder& e : coders) sections.push_back(e.finish());
-  return sections;
+  const uint32_t b = mesh.base_vertex_count;
+  const size_t splits = all.splits.size(), parts = std::max<size_t>(1, splits / 4096);
+  // Each step's misses (the residual before the correction) into `out`, which then takes the
+  // step's place: later steps were done, earlier ones read only steps t − 1 and before.
+  std::vector<uint32_t> out;
+  for (size_t t = mesh.step_count(); t-- > 0;) {
+    out.assign(q.step_size(t), 0);
+    parallel_for(splits, parts, threads, [&](size_t begin, size_t end, size_t) {
+      for (size_t k = begin; k < end; ++k) {
+        const uint32_t v = b + static_cast<uint32_t>(k);
+        for (int c = 0; c < 3; ++c) {
+          const auto qc = [&](uint32_t u, size_t s) { return q.at(u, s, c); };
+          const int64_t miss =
+              g.residual(q.at(v, t, c), uncorrected_guess(all, all.splits[k], g, v, t, qc));
+          out[size_t{v} * 3 + c] = static_cast<uint32_t>(miss);  // |miss| < 2^31: q < 2^23
+        }
+      }
+    });
+    q.swap_step(t, out);
+  }
+  if (g.lossless) return;
+  // The correction follows each vertex's own residuals from step to step.
+  parallel_for(splits, parts, threads, [&](size_t begin, size_t end, size_t) {
+    for (size_t k = begin; k < end; ++k) {
+      const uint32_t v = b + static_cast<uint32_t>(k);
+      for (int c = 0; c < 3; ++c)
+        for (size_t t = 2; t < mesh.step_count(); ++t)
+          q.set(v, t, c, q.at(v, t, c) - correction(g, t, q.at(v, t - 1, c)));
+    }
+  });
+}
+
+std::string encode_step_positions(const ProgressiveMesh& mesh, uint32_t first, uint32_t last,
+                                  const GridValues& residuals, size_t t,
+                                  SplitPositionModels& models) {
+  auto& m = models.step(t);
+  // Residuals are signed 32-bit also where q-values are float bits (lossless).
+  const auto r = [&](uint32_t v, size_t s, int c) {
+    return int64_t{static_cast<int32_t>(static_cast<uint32_t>(residuals.at(v, s, c)))};
+  };
+  RangeEncoder coder;
+  for (uint32_t v = mesh.base_vertex_count + first; v < mesh.base_vertex_count + last; ++v)
+    for (int c = 0; c < 3; ++c) m[c][t > 0 ? bucket(r(v, t - 1, c)) : 0].encode(coder, r(v, t, c));
+  return coder.finish();
 }
 
 std::string decode_split_positions(ProgressiveMesh& mesh, uint32_t first,

@@ -64,6 +64,9 @@ class GridValues {
   void set(uint32_t v, size_t t, int c, int64_t q) {
     q_[t][size_t{v} * 3 + c] = static_cast<uint32_t>(q);
   }
+  // Step t's values for `values` (of the same size): the encoder turns q-values into residuals.
+  void swap_step(size_t t, std::vector<uint32_t>& values) { q_[t].swap(values); }
+  size_t step_size(size_t t) const { return q_[t].size(); }
   // Room for `vertices` vertices at steps [0, steps).
   void resize(size_t steps, uint32_t vertices) {
     for (size_t t = 0; t < steps; ++t) q_[t].resize(size_t{vertices} * 3);
@@ -79,11 +82,22 @@ class GridValues {
   std::vector<std::vector<uint32_t>> q_;
 };
 
-// The m position sections of splits [first, first + stencils.splits.size()); `q` holds every
-// vertex's q-values (GridValues::take of the whole mesh).
-std::vector<std::string> encode_split_positions(const ProgressiveMesh& mesh, uint32_t first,
-                                                const ChunkStencils& stencils,
-                                                SplitPositionModels& models, const GridValues& q);
+// The encoder's side, in passes that each keep every thread busy and give exactly the bytes of
+// the decoder's walk (the specification): the residuals do not depend on the models, and each
+// step's models see only that step's residuals, so steps are coded apart.
+//
+// Every split vertex's residual at every step, in place of its q-values in `q` (which holds the
+// whole mesh: GridValues::take). `all` holds every split's stencil, in split order. Steps go
+// from the last down, so a step's q-values are replaced once no later step reads them; the
+// 3/8 correction (a residual's own recurrence over the steps) is applied last.
+void turn_into_residuals(const ProgressiveMesh& mesh, const ChunkStencils& all, GridValues& q,
+                         unsigned threads);
+
+// The position section of step t for splits [first, last), from turn_into_residuals()'s
+// values, continuing step t's models.
+std::string encode_step_positions(const ProgressiveMesh& mesh, uint32_t first, uint32_t last,
+                                  const GridValues& residuals, size_t t,
+                                  SplitPositionModels& models);
 
 // Decodes the sections given (steps 0 … sections.size() − 1) into `q` (sized for the new
 // vertices), which holds the earlier vertices' values. Empty, or what is wrong.
