@@ -53,7 +53,10 @@ export class Images {
       return Promise.reject(new Error('this browser cannot record WebM (MediaRecorder)'));
     const { states } = this.viewer;
     states.pause();
-    const stream = this.viewer.canvas.captureStream(0);  // a frame when asked for
+    // One stream for every recording, a frame when asked for: Chrome sends no frames on a
+    // second capture stream of a canvas whose first one was stopped.
+    this.stream ??= this.viewer.canvas.captureStream(0);
+    const stream = this.stream;
     const [track] = stream.getVideoTracks();
     const recorder = new MediaRecorder(stream, { mimeType: WEBM });
     const chunks = [];
@@ -64,7 +67,6 @@ export class Images {
     });
     const done = new Promise((resolve, reject) => {
       recorder.addEventListener('stop', () => {
-        track.stop();
         this.recording = null;
         this.ui.record.textContent = '● Record WebM';
         this.ui.status.textContent = '';

@@ -355,6 +355,7 @@ test('images: PNG of the view (with the axis triad) and the animation as WebM', 
   assert.equal(video.suggestedFilename(), 'hat-rail.webm');
   const file = readFileSync(await video.path());
   assert.deepEqual([...file.subarray(0, 4)], [0x1a, 0x45, 0xdf, 0xa3]);
+  assert.ok(file.length > 2000, `a second recording has frames too: ${file.length} bytes`);
   execFileSync('cp', [await video.path(), join(dir, 'hat-rail.webm')]);
   assert.equal((await view()).mode, 'loop', 'the play mode the user had');
   await page.locator('#play-speed').selectOption('1');
@@ -376,8 +377,8 @@ test('details: select labels not cut off, edges that read over every colour of t
   });
   assert.deepEqual(cut, []);
   await page.locator('#colour').selectOption('part');
-  // Every colour of both schemes and the part hues: at least 2.2 : 1 against its edge (the old
-  // fixed edge, #1b2330 at 55 %, gave 1.3 : 1 over viridis's low end).
+  // Every colour of both schemes and the part hues: at least 2.4 : 1 against its edge (the old
+  // fixed edge, #1b2330 at 55 %, fell to 1.0 : 1 over viridis's dark purple).
   const colours = [];
   for (const stops of Object.values(SCHEMES))
     for (let i = 0; i <= 100; i++) {
@@ -387,9 +388,9 @@ test('details: select labels not cut off, edges that read over every colour of t
     }
   for (let id = 0; id < 64; id++) colours.push(new THREE.Color().setHSL((0.58 + id * 0.618033988749895) % 1, 0.35, 0.66).toArray());
   const worst = Math.min(...colours.map((c) => contrast(c, edgeColour(c))));
-  assert.ok(worst >= 2.2, `worst contrast ${worst}`);
+  assert.ok(worst >= 2.4, `worst contrast ${worst}`);
   const old = (c) => c.map((x, i) => 0.45 * x + 0.55 * [0x1b, 0x23, 0x30][i] / 255);
-  assert.ok(contrast(SCHEMES.viridis[0], old(SCHEMES.viridis[0])) < 1.5, 'the rule this replaces fails there');
+  assert.ok(Math.min(...colours.map((c) => contrast(c, old(c)))) < 1.1, 'the rule this replaces fails');
   assert.deepEqual(consoleErrors, []);
 });
 
