@@ -11,12 +11,23 @@ const $ = (id) => document.getElementById(id);
 const AXES = { x: 0, y: 1, z: 2 };
 export const VIEW_NAMES = ['+x', '-x', '+y', '-y', '+z', '-z', 'iso', 'fit'];
 
-// The up axis a model probably has, from its box: crash models lie flat (vehicles, rails,
-// boxes are longer than high), so up is whichever of y and z the box is thinner along.
-// ?up=y|z overrides it.
-export function upAxisOf(head, param = null) {
+// The up axis a model probably has (a .dpm records none), y or z: the one it moves along most
+// from its first state to its last (mean |Δ| over the base mesh's vertices), if at least twice
+// as much as along the other (a column crushed from above, a rail bent upward); else the one its
+// box is thinner along (vehicles, rails and boxes lie flat). ?up=y|z overrides.
+export function upAxisOf(mesh, param = null) {
   if (param === 'y' || param === 'z') return param;
-  const extent = (c) => head.bboxMax[c] - head.bboxMin[c];
+  const h = mesh.head;
+  const n = h.baseVertexCount;
+  if (h.stepCount > 1 && n > 0) {
+    const first = mesh.positionsAt(0, n, new Float32Array(3 * n));
+    const last = mesh.positionsAt(h.stepCount - 1, n, new Float32Array(3 * n));
+    const moved = [0, 0, 0];
+    for (let i = 0; i < 3 * n; i++) moved[i % 3] += Math.abs(last[i] - first[i]);
+    if (moved[2] >= 2 * moved[1] && moved[2] > 0) return 'z';
+    if (moved[1] >= 2 * moved[2] && moved[1] > 0) return 'y';
+  }
+  const extent = (c) => h.bboxMax[c] - h.bboxMin[c];
   return extent(2) < extent(1) ? 'z' : 'y';
 }
 

@@ -423,7 +423,6 @@ function onHead(mesh) {
   createGeometry(mesh);
   states.onHead(h);  // a one-state model: no time controls, no displacement, no deformation
   deformation.onHead(h);
-  orientation.setUp(upAxisOf(h, params.get('up')));
 }
 
 function onBase(mesh) {
@@ -434,7 +433,7 @@ function onBase(mesh) {
   // from the worker, or is made here after the frame that shows the base (?worker=0).
   state.nav = new BaseLevel(mesh);
   updateLevel();
-  orientation.setView('iso');
+  orientation.setUp(upAxisOf(mesh, params.get('up')));  // and the iso view
   drawLegend();
   panel.loaded();
   timing.baseDone = performance.now();
