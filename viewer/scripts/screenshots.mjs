@@ -1,4 +1,5 @@
-// The screenshots of docs/viewer.md "Fields", made reproducibly: `dynpm view` serves the model,
+// The screenshots of docs/viewer.md "Fields" and of the view's controls ("States" … "First
+// moments"), made reproducibly: `dynpm view` serves the model,
 // headless Chromium (as in the browser tests) shows its last step with an element field (fully
 // refined, then at 10 % of the vertices) and a nodal field (rainbow), saved as PNG.
 //   node scripts/screenshots.mjs DYNPM MODEL.dpm OUT_DIR [--element NAME] [--node NAME]
@@ -69,7 +70,37 @@ try {
     await page.screenshot({ path: join(out, name) });
     console.log(`${join(out, name)}: ${field.name} (${field.perFace ? 'element' : 'node'})`);
   }
+  await viewShots(page, url);
 } finally {
   await browser.close();
   server.kill('SIGTERM');
+}
+
+// The view's controls through window.dynpm: the panel at the last state with displacement
+// colours, the deformation scaled ×3 over the undeformed ghost, and a small window (panel
+// collapsed).
+async function viewShots(page, url) {
+  await page.locator('#colour').selectOption('displacement');
+  await page.locator('#scheme').selectOption('viridis');
+  await page.evaluate(() => {
+    window.dynpm.setLevel({ ratio: 1 });
+    window.dynpm.setStep(window.dynpm.view().stepCount - 1);
+    window.dynpm.setView('iso');
+  });
+  await page.waitForTimeout(300);
+  await page.screenshot({ path: join(out, 'viewer-view-controls.png') });
+  await page.locator('#colour').selectOption('part');
+  await page.evaluate(() => {
+    window.dynpm.setDeformationScale(3);
+    window.dynpm.setGhost(true);
+    window.dynpm.setView('+x');
+  });
+  await page.waitForTimeout(300);
+  await page.screenshot({ path: join(out, 'viewer-deformation-ghost.png') });
+  const small = await browser.newPage({ viewport: { width: 560, height: 420 } });
+  await small.goto(url);
+  await small.evaluate(() => window.dynpm.ready.then(() => window.dynpm.setStep(window.dynpm.view().stepCount - 1)));
+  await small.waitForTimeout(300);
+  await small.screenshot({ path: join(out, 'viewer-small-window.png') });
+  console.log(`${out}: viewer-view-controls.png, viewer-deformation-ghost.png, viewer-small-window.png`);
 }

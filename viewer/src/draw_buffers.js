@@ -30,9 +30,11 @@ export function growDrawBuffers(buffers, room, vertices, faces, head, geometry, 
   const dynamic = (array, size) => new THREE.BufferAttribute(array, size).setUsage(THREE.DynamicDrawUsage);
   const position = dynamic(b.positions, 3);
   geometry.setAttribute('position', position);
-  geometry.setAttribute('color', dynamic(b.colours, 3));
+  const colour = dynamic(b.colours, 3);
+  geometry.setAttribute('color', colour);
   geometry.setIndex(dynamic(b.triIndex, 1));
   edgeGeometry.setAttribute('position', position);  // shared: one upload serves both
+  edgeGeometry.setAttribute('color', colour);  // the edges' colours follow the faces' (edge_lines.js)
   edgeGeometry.setIndex(dynamic(b.edgeIndex, 1));
   return b;
 }

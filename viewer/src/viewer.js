@@ -11,13 +11,20 @@
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 
+import { installApi } from './api.js';
 import { BaseLevel } from './base_level.js';
+import { Deformation } from './deformation.js';
 import { Navigator, ProgressiveMesh, updateIndices } from './dpm.js';
 import { compileShaders, growDrawBuffers } from './draw_buffers.js';
+import { edgeMaterial, fieldColoursAtVertices } from './edge_lines.js';
 import { FieldView } from './field_view.js';
+import { Images } from './images.js';
 import { memoryUse } from './memory_use.js';
 import { modelFile, wantedVertices } from './model_file.js';
+import { grownBox, Orientation, upAxisOf } from './orientation.js';
+import { Panel } from './panel.js';
 import { greySnapshot } from './snapshot.js';
+import { States } from './states.js';
 import { decodeInWorker, decodeOnPage } from './worker_decoder.js';
 import { bytes, element, fmt, Fringe, fringeLegend, fringeOptions, int } from './fringe.js';
 
@@ -25,7 +32,6 @@ const $ = (id) => document.getElementById(id);
 const ui = {
   title: $('title'),
   note: $('note'),
-  play: $('play'),
   time: $('time'),
   timeLabel: $('time-label'),
   resolution: $('resolution'),
@@ -54,14 +60,13 @@ const state = {
   mesh: null,
   nav: null,
   t: 0,
-  playing: false,
+  loading: true,  // the file is still arriving (the status line's "…")
   follow: true,  // keep the resolution at the finest level loaded while the file arrives
   colour: 'part',
   base0: null,  // positions at step 0 of the first base0Count vertices (displacement colours)
   base0Count: 0,
   ranges: new Map(),  // colour mode → [min, max] over every step
   partColours: new Map(),
-  lastFrameTime: 0,
   decoder: {},  // want(vertices): the worker fetches more (worker_decoder.js)
 };
 
@@ -95,8 +100,7 @@ const surface = new THREE.Mesh(new THREE.BufferGeometry(), new THREE.MeshLambert
   vertexColors: true, flatShading: true, side: THREE.DoubleSide,
   polygonOffset: true, polygonOffsetFactor: 1, polygonOffsetUnits: 1,  // faces behind their edges
 }));
-const edgeLines = new THREE.LineSegments(new THREE.BufferGeometry(),
-  new THREE.LineBasicMaterial({ color: 0x1b2330, transparent: true, opacity: 0.55 }));
+const edgeLines = new THREE.LineSegments(new THREE.BufferGeometry(), edgeMaterial());  // edge_lines.js
 let positions = null;  // Float32Array(3 × vertex room)
 let colours = null;  // Float32Array(3 × vertex room)
 let triIndex = null;  // Uint32Array(6 × face room)
@@ -129,20 +133,6 @@ function makeRoom(vertices, faces) {
   if (grown) ({ positions, colours, triIndex, edgeIndex, scratch } = grown);
 }
 
-function resetView() {
-  const sphere = geometry.boundingSphere;
-  // The bounding sphere is loose for long parts: 0.9 of its fit fills the view better.
-  const distance = (sphere.radius / Math.sin(THREE.MathUtils.degToRad(camera.fov / 2))) * 0.9;
-  const direction = new THREE.Vector3(1, 0.7, 1.3).normalize();
-  controls.target.copy(sphere.center);
-  camera.position.copy(sphere.center).addScaledVector(direction, distance);
-  camera.near = distance / 100;
-  camera.far = distance * 10;
-  camera.updateProjectionMatrix();
-  controls.update();
-  requestRender();
-}
-
 function resize() {
   const w = window.innerWidth, h = window.innerHeight;
   renderer.setSize(w, h, false);
@@ -161,17 +151,13 @@ function requestRender() {
 
 function frame(now) {
   renderPending = false;
-  if (state.playing && state.mesh) {
-    const m = state.mesh.head.stepCount;
-    const stepsPerSecond = Math.max(1, (m - 1) / 4);  // the whole animation in about 4 s
-    const dt = state.lastFrameTime ? (now - state.lastFrameTime) / 1000 : 0;
-    let t = state.t + dt * stepsPerSecond;
-    if (t > m - 1) t = 0;
-    setTime(t);
-    state.lastFrameTime = now;
-    requestRender();
-  }
+  states.tick(now);  // playback (states.js)
+  renderNow();
+}
+
+function renderNow() {
   renderer.render(scene, camera);
+  orientation.triad.render(renderer, camera);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -191,6 +177,7 @@ function updateTime({ render = true } = {}) {
   const { mesh, nav, t } = state;
   const n = nav.vertexCount;
   mesh.positionsAt(t, n, positions);
+  deformation.update(positions, n, geometry);  // the deformation scale and the ghost
   // A finer level at the same t: only the new vertices' positions changed.
   upload(geometry.attributes.position, t === state.shownT ? Math.min(n, state.shownN) : 0, n);
   Object.assign(state, { shownT: t, shownN: n });
@@ -234,7 +221,7 @@ const SPLITS_PER_STEP = 65536;
 // go (the tests' and benchmarks' entry), else in steps of SPLITS_PER_STEP, one a frame.
 function setVertexCount(n, now = false) {
   state.follow = n >= state.mesh.vertexCountLoaded;
-  if (n > state.mesh.vertexCountLoaded) state.decoder.want?.(n);  // fetched by ranges: more
+  if (n > state.mesh.vertexCountLoaded && state.decoder.want) (state.loading = true), state.decoder.want(n);  // by ranges: more
   state.targetVertices = n;
   ui.resolution.value = String(n);
   stepLevel(now);
@@ -313,9 +300,10 @@ function updateScalarColours() {
     fieldView ??= new FieldView(scene, state.mesh, surface, fieldMarkerRadius);
     smooth = fieldView.update(k, nav, state.t, positions, options);
     state.fringe = fieldView.fringe;
+    fieldColoursAtVertices(fieldView, nav, colours);  // for the edges
   } else {
     extendBase0();
-    ProgressiveMesh.displacement(positions, state.base0, n, scratch);
+    ProgressiveMesh.displacement(deformation.unscaled(positions, n), state.base0, n, scratch);
     let [lo, hi] = scalarRange();
     if (options.range === 'step') [lo, hi] = [0, scratch.subarray(0, n).reduce((a, x) => Math.max(a, x), 0)];
     const fringe = (state.fringe = new Fringe({ lo: options.min ?? lo, hi: options.max ?? hi, ...options }));
@@ -323,7 +311,7 @@ function updateScalarColours() {
     fieldView?.hide();
   }
   surface.visible = smooth;
-  if (k < 0) uploadColours();
+  uploadColours();
   drawLegend();
 }
 
@@ -400,7 +388,8 @@ function updateLabels() {
   const n = nav.vertexCount;
   ui.resolutionLabel.textContent =
     `${int(n)} of ${int(h.vertexCount)} vertices (${((100 * n) / h.vertexCount).toFixed(1)}%), ` +
-    `error ${fmt(nav.error)} (${fmt((100 * nav.error) / diag, 3)}% of the diagonal)` +
+    `error ${fmt(nav.error)} model units (${fmt((100 * nav.error) / diag, 3)}% of the box diagonal): ` +
+    `how far this level's surface may lie from the full mesh's, at any step` +
     (fieldIndex() >= 0 ? `, field error ${fmt(100 * nav.fieldError(fieldIndex()), 3)}% of its range` : '') +
     (mesh.splitsLoaded < h.splitCount ? `, ${int(mesh.vertexCountLoaded)} loaded` : '');
   const loaded = state.totalBytes
@@ -409,7 +398,7 @@ function updateLabels() {
   ui.stats.textContent =
     `vertices ${int(n)} · triangles ${int(nav.triangleCount)} · quads ${int(nav.quadCount)} · ` +
     `step ${step.toFixed(2)} · time ${fmt(time)} · error ${fmt(nav.error)} · ` +
-    `loaded ${loaded}${mesh.complete ? '' : ' …'}`;
+    `loaded ${loaded}${state.loading ? ' …' : ''}`;
   ui.stats.dataset.faces = String(nav.faceCount);
 }
 
@@ -417,6 +406,7 @@ function showError(e) {
   console.error(e);
   ui.error.hidden = false;
   ui.error.textContent = String(e.message ?? e);
+  panel.loaded();
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -431,6 +421,8 @@ function onHead(mesh) {
   ui.resolution.max = String(h.vertexCount);
   ui.note.textContent = h.note;
   createGeometry(mesh);
+  states.onHead(h);  // a one-state model: no time controls, no displacement, no deformation
+  deformation.onHead(h);
 }
 
 function onBase(mesh) {
@@ -441,8 +433,9 @@ function onBase(mesh) {
   // from the worker, or is made here after the frame that shows the base (?worker=0).
   state.nav = new BaseLevel(mesh);
   updateLevel();
-  resetView();
+  orientation.setUp(upAxisOf(mesh, params.get('up')));  // and the iso view
   drawLegend();
+  panel.loaded();
   timing.baseDone = performance.now();
   if (!state.worker) requestAnimationFrame(() => setTimeout(() => onNavigator(new Navigator(mesh))));
 }
@@ -477,6 +470,7 @@ async function load() {
   const { file, name } = await modelFile(params);
   state.name = name;
   ui.title.textContent = state.name;
+  panel.loading(`loading ${state.name}…`);
   document.title = `${state.name} — dynpm view`;
   const onProgress = (received) => {
     state.bytesLoaded = received;
@@ -488,11 +482,12 @@ async function load() {
   const decode = { url: new URL(file, location.href).href, name: state.name, onHead, onBase, onSplits, onStart, onProgress };
   const onFirstBytes = (at) => (timing.firstByte = at);
   // Fetched by ranges up to ?vertices=N (model_file.js); the slider asks for more.
-  const worker = { ...decode, onNavigator, onFirstBytes, vertices: wantedVertices(params), control: state.decoder, onPaused: () => state.nav && updateLabels() };
+  const worker = { ...decode, onNavigator, onFirstBytes, vertices: wantedVertices(params), control: state.decoder, onPaused: () => ((state.loading = false), state.nav && updateLabels()) };
   const decoder = await (state.worker ? decodeInWorker(worker) : decodeOnPage(decode));
   if (!decoder.mesh?.hasBase) throw new Error(`${state.name}: ends before the base mesh`);
   if (!decoder.complete) showError(`${state.name}: the file ends early (no END chunk): showing the ${int(decoder.mesh.vertexCountLoaded)} vertices it holds`);
   state.ranges.clear();
+  state.loading = false;
   if (state.colour !== 'part') setColour(state.colour);
   updateLabels();
   ui.loadingBar.style.width = '100%';
@@ -508,7 +503,6 @@ ui.time.addEventListener('input', () => {
 ui.resolution.addEventListener('input', () => {
   if (state.nav) setVertexCount(Number(ui.resolution.value));
 });
-ui.play.addEventListener('click', () => togglePlay());
 ui.edges.addEventListener('change', () => {
   if (edgeLines) edgeLines.visible = ui.edges.checked;
   requestRender();
@@ -520,25 +514,30 @@ for (const input of [ui.scheme, ui.bands, ui.continuous, ui.aggregate, ui.range,
   input.addEventListener(input.tagName === 'SELECT' || input.type === 'checkbox' ? 'change' : 'input', () => {
     if (state.nav && state.colour !== 'part') setColour(state.colour);
   });
-ui.reset.addEventListener('click', () => geometry && resetView());
+ui.reset.addEventListener('click', () => geometry && orientation.setView('iso'));
 window.addEventListener('keydown', (e) => {
   if (e.target instanceof HTMLInputElement && e.target.type !== 'range') return;
-  if (e.key === ' ') togglePlay(), e.preventDefault();
-  if (e.key === 'r') geometry && resetView();
+  if (e.key === 'r') geometry && orientation.setView('iso');
+  if (e.key === 'f') geometry && orientation.setView('fit');
 });
 
-function togglePlay() {
-  if (!state.nav) return;
-  state.playing = !state.playing;
-  state.lastFrameTime = 0;
-  ui.play.textContent = state.playing ? '❚❚' : '▶';
-  requestRender();
-}
+// The view's parts (states.js, orientation.js, deformation.js, images.js, panel.js) and the
+// scripting API (api.js) see the page through `viewer`.
+const redraw = () => ((state.shownT = NaN), updateTime());
+const fitBox = () => grownBox(geometry.boundingBox, positions, state.nav?.vertexCount ?? 0);
+const viewer = { state, scene, camera, controls, canvas: renderer.domElement, requestRender, renderNow, setTime, setVertexCount, extendBase0, redraw, fitBox };
+const panel = new Panel();
+const states = (viewer.states = new States(viewer));
+const orientation = (viewer.orientation = new Orientation(viewer));
+const deformation = (viewer.deformation = new Deformation(viewer));
+viewer.images = new Images(viewer);
 
 // For the browser tests and benchmarks: the state, the picture (snapshot.js), page times of the
 // first bytes (worker; else the fetch's responseStart), HEAD, BASE and the base mesh made.
 const timing = { firstByte: undefined, head: undefined, base: undefined, baseDone: undefined };
-const done = load().catch(showError);
+const loading = load();
+const done = loading.catch(showError);
+installApi({ ...viewer, loading });
 window.dpmViewer = {
   done,
   timing,

@@ -75,7 +75,9 @@ test('?vertices=N fetches only the chunks up to N vertices; the slider fetches t
   assert.ok(s.bytesLoaded < size, `${s.bytesLoaded} of ${size} bytes fetched for the base level`);
   assert.ok(s.loadedVertices < total, `${s.loadedVertices} of ${total} vertices`);
   assert.equal(s.complete, false);
-  // The slider's far end asks for every vertex.
+  assert.doesNotMatch(await page.locator('#stats').textContent(), /…/, 'paused: the status line says no more is coming');
+  // The slider's far end asks for every vertex (the panel starts collapsed in this small window).
+  await page.locator('#panel-toggle').click();
   const box = await page.locator('#resolution').boundingBox();
   await page.mouse.click(box.x + box.width - 2, box.y + box.height / 2);
   const followed = () => ((s) => s.complete && s.vertices === s.loadedVertices)(window.dpmViewer.state());

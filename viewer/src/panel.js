@@ -1,0 +1,36 @@
+// The page around the picture (docs/viewer.md "First moments"): the "loading…" screen that the
+// HTML shows from its first paint until the first picture (or an error), and the side panel,
+// collapsible, collapsed from the start in a small window so that it never hides the model.
+const $ = (id) => document.getElementById(id);
+
+// A window this small starts with the panel collapsed (CSS pixels).
+const SMALL = { width: 720, height: 520 };
+
+export class Panel {
+  constructor() {
+    this.ui = { panel: $('panel'), toggle: $('panel-toggle'), loading: $('loading-screen'), loadingText: $('loading-text') };
+    this.ui.toggle.addEventListener('click', () => this.setCollapsed(!this.collapsed));
+    this.setCollapsed(window.innerWidth < SMALL.width || window.innerHeight < SMALL.height);
+  }
+
+  get collapsed() {
+    return this.ui.panel.classList.contains('collapsed');
+  }
+
+  setCollapsed(on) {
+    this.ui.panel.classList.toggle('collapsed', on);
+    this.ui.toggle.setAttribute('aria-expanded', String(!on));
+    this.ui.toggle.textContent = on ? '☰' : '‹';
+    this.ui.toggle.title = on ? 'Show the panel' : 'Hide the panel';
+  }
+
+  // What the loading screen says while the page starts (the file's name once known).
+  loading(text) {
+    this.ui.loadingText.textContent = text;
+  }
+
+  // The first picture is up (or loading failed): the loading screen goes.
+  loaded() {
+    this.ui.loading.hidden = true;
+  }
+}
