@@ -15,6 +15,7 @@ import { BaseLevel } from './base_level.js';
 import { Navigator, ProgressiveMesh, updateIndices } from './dpm.js';
 import { compileShaders, growDrawBuffers } from './draw_buffers.js';
 import { FieldView } from './field_view.js';
+import { installInspect } from './inspect.js';
 import { memoryUse } from './memory_use.js';
 import { modelFile, wantedVertices } from './model_file.js';
 import { greySnapshot } from './snapshot.js';
@@ -539,6 +540,7 @@ function togglePlay() {
 // first bytes (worker; else the fetch's responseStart), HEAD, BASE and the base mesh made.
 const timing = { firstByte: undefined, head: undefined, base: undefined, baseDone: undefined };
 const done = load().catch(showError);
+installInspect({ renderer, scene, camera, surface, state, requestRender });  // picking, history, section, measure
 window.dpmViewer = {
   done,
   timing,
