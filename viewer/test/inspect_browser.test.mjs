@@ -15,10 +15,11 @@ import { gunzipSync } from 'node:zlib';
 import { chromium } from 'playwright-core';
 
 import { CHROMIUM_ARGS, startServer } from './chromium.mjs';
+import { DEMO_FIELDS, withFields } from './fields_fixture.mjs';
 import { readVtkLegacy } from './vtk_legacy.mjs';
 
-const { DYNPM_CLI: cli, DYNPM_TEST_OUT: out } = process.env;
-if (!cli || !out) throw new Error('inspect_browser.test.mjs needs DYNPM_CLI and DYNPM_TEST_OUT');
+const { DYNPM_CLI: cli, DYNPM_DPM: sample, DYNPM_TEST_OUT: out } = process.env;
+if (!cli || !sample || !out) throw new Error('inspect_browser.test.mjs needs DYNPM_CLI, DYNPM_DPM and DYNPM_TEST_OUT');
 const CHROMIUM = process.env.DYNPM_CHROMIUM ?? '/usr/bin/chromium';
 const root = join(dirname(fileURLToPath(import.meta.url)), '..', '..');
 const dir = join(out, 'inspect-browser');
@@ -257,4 +258,47 @@ test('section cut: the plane clips the model, the outline lies on it and crosses
   await page.locator('#section').uncheck();
   assert.equal((await api('section')).enabled, false);
   assert.deepEqual(consoleErrors, []);
+});
+
+// An element field: the sample's .dpm (from its OBJ frames) with test/fields_fixture.mjs's
+// fields, which the C++ reader reads too: `dynpm extract --full` writes them as cell data.
+test('an element field: the value and history of the picked element, the plot names elements', async () => {
+  const file = join(dir, 'element-field.dpm');
+  writeFileSync(file, withFields(new Uint8Array(readFileSync(sample)), DEMO_FIELDS));
+  // Every step (with --step T, --full writes the progressive order, not the input's: see the report).
+  execFileSync(cli, ['extract', file, '--full', '--ascii', '-o', join(dir, 'element_{:03d}.vtk')], { stdio: 'ignore' });
+  const cells = (t) => readVtkLegacy(readFileSync(join(dir, `element_${String(t).padStart(3, '0')}.vtk`)));
+  const { server: second, url } = await startServer(cli, file);
+  const other = await browser.newPage({ viewport: { width: 1100, height: 760 } });
+  try {
+    await other.goto(url);
+    await other.waitForFunction(() => window.dpmViewer?.state().complete && window.dynpm?.pick, null, { timeout: 60000 });
+    await other.evaluate((n) => {
+      window.dpmViewer.setVertexCount(n);
+      const t = document.getElementById('time');
+      t.value = t.max;
+      t.dispatchEvent(new Event('input'));
+    }, 300);
+    const [x, y] = [(await other.locator('#view').boundingBox()).width * 0.6, 380];
+    const box = await other.locator('#view').boundingBox();
+    await other.mouse.click(box.x + x, box.y + y);
+    await other.evaluate(() => new Promise(requestAnimationFrame));
+    const [p] = await other.evaluate(() => window.dynpm.picks());
+    assert.ok(p, 'a click at the model picks');
+    const c0 = cells(0);
+    assert.equal(p.element, c0.cellData.element_id.values[p.face]);
+    close(p.values['plastic strain'], cells(LAST).cellData.plastic_strain.values[p.face], 1e-6, 'element value at the last step');
+    close(p.values.stress, cells(LAST).pointData.stress.values[p.vertex], 1e-3, 'node value at the last step');
+    const h = await other.evaluate((e) => window.dynpm.history(e, 'plastic strain'), p.element);
+    assert.equal(h.length, STEPS);
+    for (const t of [0, 17, LAST]) close(h[t], cells(t).cellData.plastic_strain.values[p.face], 1e-6, `history at step ${t}`);
+    assert.ok(Math.max(...h) > 0, 'the element yields');
+    await other.locator('#history-quantity').selectOption('plastic strain');
+    assert.equal(await other.locator('#history-plot polyline title').textContent(), `element ${p.element}`);
+    const csv = await other.evaluate(() => window.dynpm.historyCsv());
+    assert.equal(csv.split('\n')[0], `step,time,"element ${p.element}"`);
+  } finally {
+    await other.close();
+    second.kill('SIGTERM');
+  }
 });
