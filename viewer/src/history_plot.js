@@ -34,8 +34,11 @@ export class HistoryPlot {
     this.times = times;
     this.quantity = quantity;
     const values = series.flatMap((s) => Array.from(s.values));
-    let lo = Math.min(0, ...values), hi = Math.max(...values, lo);
-    if (!(hi > lo)) hi = lo + 1;
+    // The values' own range (an intrusion of 1 mm on a distance of 150 mm must show), a little
+    // wider so that a line at an end stays clear of the frame.
+    let lo = Math.min(...values), hi = Math.max(...values);
+    if (!(hi > lo)) (lo -= 0.5 * Math.abs(lo) || 1), (hi += 0.5 * Math.abs(hi) || 1);
+    else (lo -= 0.04 * (hi - lo)), (hi += 0.04 * (hi - lo));
     const m = times.length;
     const t0 = times[0] ?? 0, t1 = times[m - 1] ?? 1;
     const span = t1 > t0 ? t1 - t0 : 1;
@@ -46,7 +49,7 @@ export class HistoryPlot {
       return x(times[s0] + (times[s1] - times[s0]) * (step - s0));
     };
     const axes = svg('path', { d: `M${PAD.left},${PAD.top}V${H - PAD.bottom}H${W - PAD.right}`, class: 'axes' });
-    const text = (tx, ty, anchor, s) => svg('text', { x: tx, y: ty, 'text-anchor': anchor }, s);
+    const text = (tx, ty, anchor, s) => svg('text', { x: tx, y: ty, 'text-anchor': anchor, class: 'tick' }, s);
     const labels = [
       text(PAD.left - 4, PAD.top + 8, 'end', short(hi)),
       text(PAD.left - 4, H - PAD.bottom, 'end', short(lo)),
@@ -58,8 +61,11 @@ export class HistoryPlot {
       const points = Array.from(s.values, (v, t) => `${x(times[t]).toFixed(2)},${y(v).toFixed(2)}`).join(' ');
       return svg('polyline', { points, fill: 'none', stroke: SERIES_COLOURS[i % SERIES_COLOURS.length], 'stroke-width': 1.5 }, svg('title', {}, s.label));
     });
+    // The series' names, each in its colour, along the top.
+    const names = series.slice(0, 4).map((s, i) => svg('text', { x: W - PAD.right, y: PAD.top + 9 + 10 * i, 'text-anchor': 'end', fill: SERIES_COLOURS[i % SERIES_COLOURS.length] }, s.label));
+    if (series.length > 4) names.push(text(W - PAD.right, PAD.top + 49, 'end', `+${series.length - 4} more`));
     this.cursor = svg('line', { y1: PAD.top, y2: H - PAD.bottom, class: 'cursor' });
-    this.root.replaceChildren(axes, ...labels, ...lines, this.cursor);
+    this.root.replaceChildren(axes, ...labels, ...lines, ...names, this.cursor);
   }
 
   // The current step (fractional while playing) as the vertical line.

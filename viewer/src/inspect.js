@@ -8,7 +8,7 @@
 import * as THREE from 'three';
 
 import { HistoryPlot, SERIES_COLOURS, download, historyCsv } from './history_plot.js';
-import { Ids, OriginalMesh, describePick, historyOf, vertexAt } from './pick.js';
+import { Ids, OriginalMesh, describePick, historyOf, rayCrossing, vertexAt } from './pick.js';
 import { SectionCut } from './section_cut.js';
 import { fmt } from './fringe.js';
 
@@ -27,7 +27,8 @@ export function installInspect(page) {
     select: (x, y) => inspect.select(x, y),
     picks: () => inspect.picks.map((p) => inspect.describe(p)),
     clearPicks: () => inspect.clear(),
-    markers: () => (inspect.follow(), inspect.markers.children.filter((o) => o.isMesh).map((o) => o.position.toArray())),
+    // Where the node markers were drawn at the last render (world positions, as the GPU got them).
+    markers: () => inspect.markers.children.filter((o) => o.isMesh).map((o) => new THREE.Vector3().setFromMatrixPosition(o.matrixWorld).toArray()),
     measure: () => inspect.measure(),
     setPlot: (quantity) => inspect.setPlot(quantity),
     historyCsv: () => inspect.csv(),
@@ -49,6 +50,7 @@ class Inspect {
     this.original = null;
     this.ids = null;
     this.cut = null;
+    this.keep = (point) => !this.cut || this.cut.keeps(point);  // on the kept side of the section
     this.plot = new HistoryPlot(this.ui.plot);
     this.markers = new THREE.Group();
     this.markers.renderOrder = 11;
@@ -85,14 +87,14 @@ class Inspect {
   // Picking
 
   // The ray through CSS pixel (x, y) of the canvas, and where it first meets the level on screen
-  // on the kept side of the section, or null.
+  // (the drawn positions) on the kept side of the section, or null.
   screenHit(x, y) {
     const r = this.renderer.domElement.getBoundingClientRect();
-    const ndc = new THREE.Vector2((2 * x) / r.width - 1, 1 - (2 * y) / r.height);
     const raycaster = new THREE.Raycaster();
-    raycaster.setFromCamera(ndc, this.camera);
-    const hit = raycaster.intersectObject(this.surface, false).find((h) => !this.cut || this.cut.keeps(h.point.toArray()));
-    return hit ? { ray: raycaster.ray, distance: hit.distance } : null;
+    raycaster.setFromCamera(new THREE.Vector2((2 * x) / r.width - 1, 1 - (2 * y) / r.height), this.camera);
+    const origin = raycaster.ray.origin.toArray(), direction = raycaster.ray.direction.toArray();
+    const hit = rayCrossing(this.state.nav, this.surface.geometry.attributes.position.array, origin, direction, this.keep);
+    return hit && { origin, direction, distance: hit.s };
   }
 
   // {face, vertex} of the original mesh under (x, y), or null.
@@ -101,9 +103,7 @@ class Inspect {
     const hit = this.screenHit(x, y);
     if (!hit) return null;
     this.original ??= new OriginalMesh(this.state.mesh);
-    const { origin, direction } = hit.ray;
-    const keep = (p) => !this.cut || this.cut.keeps(p);
-    return this.original.pick(this.state.t, origin.toArray(), direction.toArray(), hit.distance, keep, this.state.nav);
+    return this.original.pick(this.state.t, hit.origin, hit.direction, hit.distance, this.keep, this.state.nav);
   }
 
   pick(x, y) {
@@ -243,7 +243,7 @@ class Inspect {
   placeMarkers() {
     const { mesh, t } = this.state;
     const h = mesh.head;
-    const radius = Math.hypot(...h.bboxMax.map((x, c) => x - h.bboxMin[c])) / 150;
+    const radius = Math.hypot(...h.bboxMax.map((x, c) => x - h.bboxMin[c])) / 160;
     for (const o of this.markers.children) o.geometry.dispose(), o.material.dispose();
     this.markers.clear();
     this.picks.forEach((p, i) => {
@@ -258,7 +258,7 @@ class Inspect {
       const corners = this.original.level(t, this.state.nav).nav.face(last.face);
       const points = corners.map((v) => new THREE.Vector3(...vertexAt(mesh, v, t)));
       const loop = new THREE.LineLoop(new THREE.BufferGeometry().setFromPoints(points), new THREE.LineBasicMaterial({ color: 0xffd400, depthTest: false, transparent: true }));
-      loop.renderOrder = 11;
+      loop.renderOrder = 12;  // over the dots
       this.markers.add(loop);
     }
     const m = this.measure();
@@ -269,6 +269,7 @@ class Inspect {
       line.renderOrder = 11;
       this.markers.add(line);
     }
+    this.markers.updateMatrixWorld(true);  // placed in onBeforeRender, after the scene's update
   }
 
   // The panel: the latest pick's numbers and values (text nodes: names come from the file).

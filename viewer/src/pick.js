@@ -90,6 +90,60 @@ function rayTriangle(o, d, p, a, b, c) {
   return s >= 0 ? s : Infinity;
 }
 
+// Each vertex's two coordinates across the ray (in a plane normal to it, the ray at 0, 0): a face
+// the ray crosses has 0, 0 within its corners' box there, a test of a few reads that skips nearly
+// every face before the exact one.
+let acrossRay = new Float32Array(0);
+function across(n, p, o, d) {
+  if (acrossRay.length < 2 * n) acrossRay = new Float32Array(2 * n);
+  const e1 = Math.abs(d[0]) < 0.9 ? [0, d[2], -d[1]] : [-d[2], 0, d[0]];  // ⟂ d
+  const l = Math.hypot(...e1);
+  for (let c = 0; c < 3; c++) e1[c] /= l;
+  const e2 = [d[1] * e1[2] - d[2] * e1[1], d[2] * e1[0] - d[0] * e1[2], d[0] * e1[1] - d[1] * e1[0]];
+  const uv = acrossRay;
+  for (let v = 0, i = 0; v < n; v++, i += 3) {
+    const x = p[i] - o[0], y = p[i + 1] - o[1], z = p[i + 2] - o[2];
+    uv[2 * v] = x * e1[0] + y * e1[1] + z * e1[2];
+    uv[2 * v + 1] = x * e2[0] + y * e2[1] + z * e2[2];
+  }
+  return uv;
+}
+
+function aroundRay(uv, k, c, slack) {
+  const d = k[c + 3] < 0 ? 3 : 4;
+  let uLo = Infinity, uHi = -Infinity, wLo = Infinity, wHi = -Infinity;
+  for (let i = 0; i < d; i++) {
+    const v = 2 * k[c + i];
+    const u = uv[v], w = uv[v + 1];
+    if (u < uLo) uLo = u;
+    if (u > uHi) uHi = u;
+    if (w < wLo) wLo = w;
+    if (w > wHi) wHi = w;
+  }
+  return uLo <= slack && uHi >= -slack && wLo <= slack && wHi >= -slack;
+}
+
+// Of the faces of a level (nav, flat positions p) that the ray (origin, unit direction) crosses at
+// a point keep(point) accepts, the one whose distance s along the ray has the least score(s)
+// (s itself: the first crossing): {face, s, point}, or null. One pass over vertices and faces.
+export function rayCrossing(nav, p, origin, direction, keep = () => true, score = (s) => s) {
+  const k = nav.corners;
+  const uv = across(nav.vertexCount, p, origin, direction);
+  const mesh = nav.mesh;
+  const slack = 1e-6 * Math.hypot(...mesh.head.bboxMax.map((x, c) => x - mesh.head.bboxMin[c]));
+  const at = (s) => origin.map((x, c) => x + direction[c] * s);
+  let best = null, bestScore = Infinity;
+  for (let f = 0; f < nav.faceCount; f++) {
+    const c = 4 * f;
+    if (!aroundRay(uv, k, c, slack)) continue;
+    let s = rayTriangle(origin, direction, p, k[c], k[c + 1], k[c + 2]);
+    if (k[c + 3] >= 0) s = Math.min(s, rayTriangle(origin, direction, p, k[c], k[c + 2], k[c + 3]));
+    if (s === Infinity || score(s) >= bestScore || !keep(at(s))) continue;
+    best = { face: f, s, point: at(s) }, bestScore = score(s);
+  }
+  return best;
+}
+
 // The finest loaded level and its positions at one step.
 export class OriginalMesh {
   constructor(mesh) {
@@ -128,25 +182,17 @@ export class OriginalMesh {
   pick(t, origin, direction, near, keep = () => true, shown = null) {
     const { nav, positions: p } = this.level(t, shown);
     const k = nav.corners;
-    const at = (s) => [0, 1, 2].map((c) => origin[c] + direction[c] * s);
-    let best = -1, bestGap = Infinity, bestS = 0;
-    for (let f = 0; f < nav.faceCount; f++) {
-      const c = 4 * f;
-      let s = rayTriangle(origin, direction, p, k[c], k[c + 1], k[c + 2]);
-      if (k[c + 3] >= 0) s = Math.min(s, rayTriangle(origin, direction, p, k[c], k[c + 2], k[c + 3]));
-      if (s === Infinity || Math.abs(s - near) >= bestGap || !keep(at(s))) continue;
-      best = f, bestGap = Math.abs(s - near), bestS = s;
-    }
-    const point = best >= 0 ? at(bestS) : at(near);
-    if (best < 0) best = this.faceNearest(nav, p, point);
-    if (best < 0) return null;
+    const hit = rayCrossing(nav, p, origin, direction, keep, (s) => Math.abs(s - near));
+    const point = hit ? hit.point : origin.map((x, c) => x + direction[c] * near);
+    const face = hit ? hit.face : this.faceNearest(nav, p, point);
+    if (face < 0) return null;
     let vertex = -1, d = Infinity;
-    for (let i = 0; i < nav.degree(best); i++) {
-      const v = k[4 * best + i];
+    for (let i = 0; i < nav.degree(face); i++) {
+      const v = k[4 * face + i];
       const e = distance(point, p.subarray(3 * v, 3 * v + 3));
       if (e < d) (d = e), (vertex = v);
     }
-    return { face: best, vertex, point };
+    return { face, vertex, point };
   }
 
   // A face that holds the vertex nearest `point`, or −1.

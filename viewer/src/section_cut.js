@@ -57,7 +57,7 @@ export class SectionCut {
     this.outline = new THREE.LineSegments(geometry, new THREE.LineBasicMaterial({ color: 0xc2185b }));
     this.outline.frustumCulled = false;
     this.outline.renderOrder = 5;
-    this.frame = new THREE.LineLoop(new THREE.BufferGeometry(), new THREE.LineBasicMaterial({ color: 0xc2185b, transparent: true, opacity: 0.5 }));
+    this.frame = new THREE.LineLoop(new THREE.BufferGeometry(), new THREE.LineBasicMaterial({ color: 0xc2185b, transparent: true, opacity: 0.35 }));
     this.frame.frustumCulled = false;
     this.outline.visible = this.frame.visible = false;
     scene.add(this.outline, this.frame);
@@ -120,7 +120,7 @@ export class SectionCut {
 
   // A square around the model in the plane, to show where it is when it cuts nothing.
   placeFrame(point, normal) {
-    const size = this.box.getSize(new THREE.Vector3()).length() * 0.6;
+    const size = this.box.getSize(new THREE.Vector3()).length() * 0.45;
     const u = new THREE.Vector3().crossVectors(normal, Math.abs(normal.x) < 0.9 ? new THREE.Vector3(1, 0, 0) : new THREE.Vector3(0, 1, 0)).normalize();
     const v = new THREE.Vector3().crossVectors(normal, u);
     const centre = point.clone().addScaledVector(normal, 2 * this.slack());
