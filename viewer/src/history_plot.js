@@ -15,7 +15,12 @@ function svg(tag, attributes = {}, ...children) {
   return e;
 }
 
-const short = (x) => (x === 0 ? '0' : Math.abs(x) >= 1e4 || Math.abs(x) < 1e-3 ? x.toExponential(2) : String(Number(x.toPrecision(4))));
+// x in few digits, but enough that the two ends of a range `span` wide differ.
+function short(x, span) {
+  const digits = Math.min(10, Math.max(4, Math.ceil(Math.log10(Math.abs(x) / span)) + 2));
+  if (x === 0) return '0';
+  return Math.abs(x) >= 1e4 || Math.abs(x) < 1e-3 ? x.toExponential(digits - 2) : String(Number(x.toPrecision(digits)));
+}
 
 export class HistoryPlot {
   // parent: the element the <svg> goes in.
@@ -51,10 +56,10 @@ export class HistoryPlot {
     const axes = svg('path', { d: `M${PAD.left},${PAD.top}V${H - PAD.bottom}H${W - PAD.right}`, class: 'axes' });
     const text = (tx, ty, anchor, s) => svg('text', { x: tx, y: ty, 'text-anchor': anchor, class: 'tick' }, s);
     const labels = [
-      text(PAD.left - 4, PAD.top + 8, 'end', short(hi)),
-      text(PAD.left - 4, H - PAD.bottom, 'end', short(lo)),
-      text(PAD.left, H - 6, 'start', short(t0)),
-      text(W - PAD.right, H - 6, 'end', short(t1)),
+      text(PAD.left - 4, PAD.top + 8, 'end', short(hi, hi - lo)),
+      text(PAD.left - 4, H - PAD.bottom, 'end', short(lo, hi - lo)),
+      text(PAD.left, H - 6, 'start', short(t0, span)),
+      text(W - PAD.right, H - 6, 'end', short(t1, span)),
       text((PAD.left + W) / 2, H - 6, 'middle', `time · ${quantity}`),
     ];
     const lines = series.map((s, i) => {
