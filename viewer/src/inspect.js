@@ -137,6 +137,7 @@ class Inspect {
   history(id, quantity) {
     const { mesh } = this.state;
     this.ids ??= new Ids(mesh);
+    if (quantity === 'distance') throw new Error('a distance is of two nodes: measure() gives it for the last two picks');
     const field = mesh.fields.find((f) => f.name === quantity);
     const item = field?.perFace ? this.ids.faceOfElement(id) : this.ids.vertexOfNode(id);
     if (item < 0) throw new Error(`no ${field?.perFace ? 'element' : 'node'} ${id} in the loaded model`);
@@ -148,8 +149,8 @@ class Inspect {
   }
 
   setPlot(quantity) {
+    if (![...this.ui.quantity.options].some((o) => o.value === quantity)) throw new Error(`cannot plot "${quantity}"`);
     this.ui.quantity.value = quantity;
-    if (this.ui.quantity.value !== quantity) throw new Error(`cannot plot "${quantity}"`);
     this.refresh();
   }
 

@@ -167,6 +167,7 @@ test('history(node, field): one value per state, as the extracted steps hold', a
   assert.ok(Math.max(...d) > 0);
   await assert.rejects(api('history', p.node, 'no such field'), /no field named/);
   await assert.rejects(api('history', -12345, 'S_MISES'), /no node -12345/);
+  await assert.rejects(api('history', p.node, 'distance'), /two nodes/);
 });
 
 test('the history plot: a line per pick, the current step marked, CSV as history() says', async () => {
@@ -204,6 +205,7 @@ test('measure: the distance of the last two picked nodes, and its history', asyn
   close(Number(await page.locator('#measure-info').getAttribute('data-distance')), dist(LAST), 1e-4, 'the panel');
   await page.locator('#history-quantity').selectOption('distance');
   assert.equal(await page.locator('#history-plot polyline').count(), 1);
+  assert.deepEqual((await api('historyCsv')).trim().split('\n').slice(1).map((row) => Number(row.split(',')[2])), m.history);
   await setStep(0);
   close(Number(await page.locator('#measure-info').getAttribute('data-distance')), dist(0), 1e-4, 'the panel at step 0');
   await setStep(LAST);
