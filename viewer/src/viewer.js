@@ -19,6 +19,7 @@ import { compileShaders, growDrawBuffers } from './draw_buffers.js';
 import { edgeMaterial, fieldColoursAtVertices } from './edge_lines.js';
 import { FieldView } from './field_view.js';
 import { Images } from './images.js';
+import { installInspect } from './inspect.js';
 import { memoryUse } from './memory_use.js';
 import { modelFile, wantedVertices } from './model_file.js';
 import { grownBox, Orientation, upAxisOf } from './orientation.js';
@@ -538,6 +539,7 @@ const timing = { firstByte: undefined, head: undefined, base: undefined, baseDon
 const loading = load();
 const done = loading.catch(showError);
 installApi({ ...viewer, loading });
+installInspect({ renderer, scene, camera, surface, state, requestRender });  // picks, history, cut
 window.dpmViewer = {
   done,
   timing,

@@ -1,0 +1,306 @@
+// Picking, time histories, measuring and the section cut in the page (inspect.js; docs/viewer.md
+// "Picking, history, section, measure"), in Debian's headless Chromium, on the CalculiX hat rail
+// (data/hat-rail/rail.frd.gz: von Mises stress and plastic strain per node) built by `dynpm build`.
+// What the page says is compared with the C++ side: `dynpm extract --full` writes the input again
+// in its order, with node and element numbers and the fields, at every step (legacy VTK).
+// Each feature is driven through window.dynpm and through its visible control.
+import assert from 'node:assert/strict';
+import { execFileSync } from 'node:child_process';
+import { existsSync, mkdirSync, readFileSync, writeFileSync } from 'node:fs';
+import { dirname, join } from 'node:path';
+import { fileURLToPath } from 'node:url';
+import { after, before, test } from 'node:test';
+import { gunzipSync } from 'node:zlib';
+
+import { chromium } from 'playwright-core';
+
+import { CHROMIUM_ARGS, startServer } from './chromium.mjs';
+import { DEMO_FIELDS, withFields } from './fields_fixture.mjs';
+import { readVtkLegacy } from './vtk_legacy.mjs';
+
+const { DYNPM_CLI: cli, DYNPM_DPM: sample, DYNPM_TEST_OUT: out } = process.env;
+if (!cli || !sample || !out) throw new Error('inspect_browser.test.mjs needs DYNPM_CLI, DYNPM_DPM and DYNPM_TEST_OUT');
+const CHROMIUM = process.env.DYNPM_CHROMIUM ?? '/usr/bin/chromium';
+const root = join(dirname(fileURLToPath(import.meta.url)), '..', '..');
+const dir = join(out, 'inspect-browser');
+mkdirSync(dir, { recursive: true });
+const STEPS = 31;
+const LAST = STEPS - 1;
+
+let server, browser, page;
+const full = [];  // per step: the full-resolution mesh as `dynpm extract --full` writes it
+const consoleErrors = [];
+
+before(async () => {
+  const frd = join(dir, 'rail.frd'), dpm = join(dir, 'rail.dpm');
+  writeFileSync(frd, gunzipSync(readFileSync(join(root, 'data', 'hat-rail', 'rail.frd.gz'))));
+  execFileSync(cli, ['build', frd, '-o', dpm], { stdio: 'ignore' });
+  execFileSync(cli, ['extract', dpm, '--full', '--ascii', '-o', join(dir, 'full_{:03d}.vtk')], { stdio: 'ignore' });
+  for (let t = 0; t < STEPS; t++) full.push(readVtkLegacy(readFileSync(join(dir, `full_${String(t).padStart(3, '0')}.vtk`))));
+  let url;
+  ({ server, url } = await startServer(cli, dpm));
+  browser = await chromium.launch({ executablePath: CHROMIUM, headless: true, args: CHROMIUM_ARGS });
+  page = await browser.newPage({ viewport: { width: 1100, height: 760 } });
+  page.on('console', (m) => m.type() === 'error' && !/404/.test(m.text()) && consoleErrors.push(m.text()));
+  page.on('pageerror', (e) => consoleErrors.push(String(e)));
+  await page.goto(url);
+  await page.waitForFunction(() => window.dpmViewer?.state().complete && window.dynpm?.pick, null, { timeout: 60000 });
+  await setStep(LAST);
+});
+
+after(async () => {
+  await browser?.close();
+  server?.kill('SIGTERM');
+});
+
+// The panel follows at the next render: wait for that frame.
+const nextFrame = () => page.evaluate(() => new Promise(requestAnimationFrame));
+async function setStep(t) {
+  await page.evaluate((t) => {
+    const e = document.getElementById('time');
+    e.value = String(t);
+    e.dispatchEvent(new Event('input'));
+  }, t);
+  await nextFrame();
+}
+const setVertices = async (n) => (await page.evaluate((n) => window.dpmViewer.setVertexCount(n), n), await nextFrame());
+const canvasBox = () => page.locator('#view').boundingBox();
+const api = (name, ...args) => page.evaluate(([name, args]) => window.dynpm[name](...args), [name, args]);
+const close = (a, b, tol, what) => assert.ok(Math.abs(a - b) <= tol, `${what}: ${a} vs ${b}`);
+
+// Pixels of a grid over the canvas where the model is, and not under the panel.
+async function pixelsOnModel(count = 12) {
+  const { width, height } = await canvasBox();
+  const found = [];
+  for (let i = 1; i < 12 && found.length < count; i++)
+    for (let j = 1; j < 12 && found.length < count; j++) {
+      const [x, y] = [(width * i) / 12, (height * j) / 12];
+      const free = await page.evaluate(([x, y]) => document.elementFromPoint(x, y)?.id === 'view', [x, y]);
+      if (free && (await api('pick', x, y))) found.push([x, y]);
+    }
+  return found;
+}
+
+// A pick checked against the extracted full mesh at step t: the file's numbers, the position,
+// displacement and every field at its vertex (face), and the node is a corner of the element.
+function checkPick(p, t) {
+  const f = full[t], f0 = full[0];
+  assert.equal(p.node, f.pointData.node_id.values[p.vertex], 'node number of the vertex');
+  assert.equal(p.element, f.cellData.element_id.values[p.face], 'element number of the face');
+  assert.equal(p.part, f.cellData.part_id.values[p.face], 'part of the face');
+  assert.ok(f.polygons[p.face].includes(p.vertex), 'the node is a corner of the element');
+  for (let c = 0; c < 3; c++) close(p.position[c], f.points[3 * p.vertex + c], 1e-4, `position ${c}`);
+  const d = Math.hypot(...[0, 1, 2].map((c) => f.points[3 * p.vertex + c] - f0.points[3 * p.vertex + c]));
+  close(p.displacement, d, 1e-4, 'displacement');
+  assert.deepEqual(Object.keys(p.values).sort(), ['ERROR', 'PEEQ', 'S_MISES']);
+  for (const [name, v] of Object.entries(p.values)) close(v, f.pointData[name].values[p.vertex], 1e-6 * Math.max(1, Math.abs(v)), name);
+}
+
+test('pick(x, y): the original node and element under the cursor, with its values, at any level', async () => {
+  assert.equal(await api('pick', 2, 2), null, 'a corner of the canvas misses the model');
+  const pixels = await pixelsOnModel();
+  assert.ok(pixels.length >= 8, `${pixels.length} pixels on the model`);
+  const fine = [];
+  for (const [x, y] of pixels) {
+    const p = await api('pick', x, y);
+    checkPick(p, LAST);
+    fine.push(p);
+  }
+  // At 10 % of the vertices the same pixels name original elements, most of them the same as at
+  // full resolution, and some that the coarse level does not have.
+  const { faces } = await page.evaluate(() => window.dpmViewer.state());
+  await setVertices(Math.round(0.1 * 2608));
+  const coarseFaces = (await page.evaluate(() => window.dpmViewer.state())).faces;
+  assert.ok(coarseFaces < faces / 5, `${coarseFaces} faces at 10 %`);
+  let same = 0, absent = 0;
+  for (let i = 0; i < pixels.length; i++) {
+    const p = await api('pick', ...pixels[i]);
+    checkPick(p, LAST);
+    same += p.element === fine[i].element ? 1 : 0;
+    absent += p.dpm.face >= coarseFaces ? 1 : 0;
+  }
+  assert.ok(same >= 0.6 * pixels.length, `${same} of ${pixels.length} the same element as at full resolution`);
+  assert.ok(absent > 0, 'some picked elements are not drawn at the coarse level');
+  await setVertices(2608);
+  assert.deepEqual(consoleErrors, []);
+});
+
+test('a click picks: the panel shows the numbers, the marker follows time and level', async () => {
+  await api('clearPicks');
+  const [[x, y]] = await pixelsOnModel(1);
+  const box = await canvasBox();
+  await page.mouse.click(box.x + x, box.y + y);
+  await nextFrame();
+  const [p] = await api('picks');
+  checkPick(p, LAST);
+  const text = await page.locator('#pick-info').textContent();
+  assert.match(text, new RegExp(`node${p.node} \\(vertex ${p.vertex}\\)`));
+  assert.match(text, new RegExp(`element${p.element}`));
+  assert.match(text, /S_MISES \(step 30\)/);
+  // A drag is no pick.
+  await page.mouse.move(box.x + x, box.y + y), await page.mouse.down();
+  await page.mouse.move(box.x + x + 40, box.y + y + 10, { steps: 4 }), await page.mouse.up();
+  assert.equal((await api('picks')).length, 1);
+  for (const [t, n] of [[10, 2608], [10, 400], [LAST, 400]]) {
+    await setStep(t), await setVertices(n);
+    const [now] = await api('picks');
+    assert.equal(now.node, p.node, 'the same node');
+    checkPick(now, t);
+    const [marker] = await api('markers');
+    for (let c = 0; c < 3; c++) close(marker[c], full[t].points[3 * p.vertex + c], 1e-4, `marker ${c} at step ${t}`);
+    assert.match(await page.locator('#pick-info').textContent(), new RegExp(`S_MISES \\(step ${t}\\)`));
+  }
+  await setVertices(2608);
+  await page.screenshot({ path: join(dir, 'pick.png') });
+});
+
+test('history(node, field): one value per state, as the extracted steps hold', async () => {
+  const [p] = await api('picks');
+  for (const field of ['S_MISES', 'PEEQ']) {
+    const h = await api('history', p.node, field);
+    assert.equal(h.length, STEPS);
+    h.forEach((v, t) => close(v, full[t].pointData[field].values[p.vertex], 1e-6 * Math.max(1, Math.abs(v)), `${field} at step ${t}`));
+  }
+  const d = await api('history', p.node, 'displacement');
+  d.forEach((v, t) => close(v, Math.hypot(...[0, 1, 2].map((c) => full[t].points[3 * p.vertex + c] - full[0].points[3 * p.vertex + c])), 1e-4, `displacement at step ${t}`));
+  assert.equal(d[0], 0);
+  assert.ok(Math.max(...d) > 0);
+  await assert.rejects(api('history', p.node, 'no such field'), /no field named/);
+  await assert.rejects(api('history', -12345, 'S_MISES'), /no node -12345/);
+  await assert.rejects(api('history', p.node, 'distance'), /two nodes/);
+});
+
+test('the history plot: a line per pick, the current step marked, CSV as history() says', async () => {
+  const pixels = await pixelsOnModel(3);
+  const box = await canvasBox();
+  for (const [x, y] of pixels.slice(1)) await page.mouse.click(box.x + x, box.y + y);
+  const picks = await api('picks');
+  assert.equal(picks.length, 3);
+  await page.locator('#history-quantity').selectOption('PEEQ');
+  assert.equal(await page.locator('#history-plot polyline').count(), 3);
+  await setStep(15);
+  close(Number(await page.locator('#history-plot .cursor').getAttribute('data-step')), 15, 0, 'cursor step');
+  const x15 = Number(await page.locator('#history-plot .cursor').getAttribute('x1'));
+  await setStep(LAST);
+  assert.ok(Number(await page.locator('#history-plot .cursor').getAttribute('x1')) > x15, 'the cursor moves right with time');
+  const [download] = await Promise.all([page.waitForEvent('download'), page.locator('#history-csv').click()]);
+  const csv = readFileSync(await download.path(), 'utf8').trim().split('\n').map((l) => l.split(','));
+  assert.deepEqual(csv[0], ['step', 'time', ...picks.map((q) => `"node ${q.node}"`)]);
+  assert.equal(csv.length, 1 + STEPS);
+  for (let i = 0; i < picks.length; i++) {
+    const h = await api('history', picks[i].node, 'PEEQ');
+    for (let t = 0; t < STEPS; t++) assert.equal(Number(csv[1 + t][2 + i]), h[t], `CSV row ${t}, pick ${i}`);
+  }
+  await page.locator('#history-plot').screenshot({ path: join(dir, 'history.png') });
+});
+
+test('measure: the distance of the last two picked nodes, and its history', async () => {
+  const picks = await api('picks');
+  const [a, b] = picks.slice(-2).map((p) => p.vertex);
+  const dist = (t) => Math.hypot(...[0, 1, 2].map((c) => full[t].points[3 * a + c] - full[t].points[3 * b + c]));
+  const m = await api('measure');
+  assert.deepEqual(m.nodes, picks.slice(-2).map((p) => p.node));
+  close(m.distance, dist(LAST), 1e-4, 'distance now');
+  m.history.forEach((v, t) => close(v, dist(t), 1e-4, `distance at step ${t}`));
+  close(Number(await page.locator('#measure-info').getAttribute('data-distance')), dist(LAST), 1e-4, 'the panel');
+  await page.locator('#history-quantity').selectOption('distance');
+  assert.equal(await page.locator('#history-plot polyline').count(), 1);
+  assert.deepEqual((await api('historyCsv')).trim().split('\n').slice(1).map((row) => Number(row.split(',')[2])), m.history);
+  await setStep(0);
+  close(Number(await page.locator('#measure-info').getAttribute('data-distance')), dist(0), 1e-4, 'the panel at step 0');
+  await setStep(LAST);
+});
+
+// Faces of the extracted mesh at step t with corners on both sides of the plane.
+function facesCut(t, normal, constant) {
+  const f = full[t];
+  return f.polygons.filter((poly) => {
+    const s = poly.map((v) => normal.reduce((a, n, c) => a + n * f.points[3 * v + c], constant));
+    return s.some((x) => x < 0) && s.some((x) => x >= 0);
+  }).length;
+}
+
+test('section cut: the plane clips the model, the outline lies on it and crosses every cut face', async () => {
+  const before = await page.evaluate(() => window.dpmViewer.snapshot(64));
+  // The visible control: the checkbox, then the position slider.
+  await page.locator('#section').check();
+  await page.locator('#section-axis').selectOption('x');
+  await page.locator('#section-position').fill('40');
+  let s = await api('section');
+  assert.equal(s.enabled, true);
+  assert.equal(s.position, 0.4);
+  assert.ok(s.segments > 0, 'an outline');
+  assert.equal(s.segments, facesCut(LAST, s.normal, s.constant), 'one segment per face the plane crosses (full resolution)');
+  const [lo, hi] = [0, 1].map((e) => [0, 1, 2].map((c) => (e ? Math.max : Math.min)(...full[LAST].points.filter((_, i) => i % 3 === c))));
+  const diagonal = Math.hypot(...hi.map((x, c) => x - lo[c]));
+  for (let i = 0; i < s.outline.length; i += 3)
+    close(s.normal.reduce((a, n, c) => a + n * s.outline[i + c], s.constant), 0, 1e-4 * diagonal, 'outline point on the plane');
+  const cut = await page.evaluate(() => window.dpmViewer.snapshot(64));
+  assert.notDeepEqual(cut, before, 'the picture changed');
+  // Picks land on the kept side only.
+  for (const [x, y] of await pixelsOnModel(6)) {
+    const p = await api('pick', x, y);
+    const poly = full[LAST].polygons[p.face];
+    const side = poly.map((v) => s.normal.reduce((a, n, c) => a + n * full[LAST].points[3 * v + c], s.constant));
+    assert.ok(Math.max(...side) >= 0, 'the picked element reaches the kept side');
+  }
+  // The API: turned and flipped; a coarse level and another step follow.
+  s = await api('setSection', { axis: 'z', position: 0.5, tilt: 20, turn: -10, flip: true });
+  assert.ok(Math.abs(Math.hypot(...s.normal) - 1) < 1e-9);
+  assert.ok(s.normal[2] < -0.8, `flipped z normal ${s.normal}`);
+  assert.equal(Number(await page.locator('#section-tilt').inputValue()), 20);
+  await setStep(12);
+  s = await api('section');
+  assert.equal(s.segments, facesCut(12, s.normal, s.constant));
+  await setVertices(600);
+  s = await api('section');
+  assert.ok(s.segments > 0 && s.segments < facesCut(12, s.normal, s.constant), 'fewer faces cut at a coarse level');
+  await page.screenshot({ path: join(dir, 'section.png') });
+  await setVertices(2608), await setStep(LAST);
+  await page.locator('#section').uncheck();
+  assert.equal((await api('section')).enabled, false);
+  assert.deepEqual(consoleErrors, []);
+});
+
+// An element field: the sample's .dpm (from its OBJ frames) with test/fields_fixture.mjs's
+// fields, which the C++ reader reads too: `dynpm extract --full` writes them as cell data.
+test('an element field: the value and history of the picked element, the plot names elements', async () => {
+  const file = join(dir, 'element-field.dpm');
+  writeFileSync(file, withFields(new Uint8Array(readFileSync(sample)), DEMO_FIELDS));
+  // Every step (with --step T, --full writes the progressive order, not the input's: see the report).
+  execFileSync(cli, ['extract', file, '--full', '--ascii', '-o', join(dir, 'element_{:03d}.vtk')], { stdio: 'ignore' });
+  const cells = (t) => readVtkLegacy(readFileSync(join(dir, `element_${String(t).padStart(3, '0')}.vtk`)));
+  const { server: second, url } = await startServer(cli, file);
+  const other = await browser.newPage({ viewport: { width: 1100, height: 760 } });
+  try {
+    await other.goto(url);
+    await other.waitForFunction(() => window.dpmViewer?.state().complete && window.dynpm?.pick, null, { timeout: 60000 });
+    await other.evaluate((n) => {
+      window.dpmViewer.setVertexCount(n);
+      const t = document.getElementById('time');
+      t.value = t.max;
+      t.dispatchEvent(new Event('input'));
+    }, 300);
+    const [x, y] = [(await other.locator('#view').boundingBox()).width * 0.6, 380];
+    const box = await other.locator('#view').boundingBox();
+    await other.mouse.click(box.x + x, box.y + y);
+    await other.evaluate(() => new Promise(requestAnimationFrame));
+    const [p] = await other.evaluate(() => window.dynpm.picks());
+    assert.ok(p, 'a click at the model picks');
+    const c0 = cells(0);
+    assert.equal(p.element, c0.cellData.element_id.values[p.face]);
+    close(p.values['plastic strain'], cells(LAST).cellData.plastic_strain.values[p.face], 1e-6, 'element value at the last step');
+    close(p.values.stress, cells(LAST).pointData.stress.values[p.vertex], 1e-3, 'node value at the last step');
+    const h = await other.evaluate((e) => window.dynpm.history(e, 'plastic strain'), p.element);
+    assert.equal(h.length, STEPS);
+    for (const t of [0, 17, LAST]) close(h[t], cells(t).cellData.plastic_strain.values[p.face], 1e-6, `history at step ${t}`);
+    assert.ok(Math.max(...h) > 0, 'the element yields');
+    await other.locator('#history-quantity').selectOption('plastic strain');
+    assert.equal(await other.locator('#history-plot polyline title').textContent(), `element ${p.element}`);
+    const csv = await other.evaluate(() => window.dynpm.historyCsv());
+    assert.equal(csv.split('\n')[0], `step,time,"element ${p.element}"`);
+  } finally {
+    await other.close();
+    second.kill('SIGTERM');
+  }
+});
