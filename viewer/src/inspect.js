@@ -86,6 +86,11 @@ class Inspect {
   // ------------------------------------------------------------------------------------------
   // Picking
 
+  // The page's deformation scale (deformation.js): the drawn positions are scaled about step 0.
+  scale() {
+    return this.deformation?.scale ?? 1;
+  }
+
   // The ray through CSS pixel (x, y) of the canvas, and where it first meets the level on screen
   // (the drawn positions) on the kept side of the section, or null.
   screenHit(x, y) {
@@ -103,7 +108,7 @@ class Inspect {
     const hit = this.screenHit(x, y);
     if (!hit) return null;
     this.original ??= new OriginalMesh(this.state.mesh);
-    return this.original.pick(this.state.t, hit.origin, hit.direction, hit.distance, this.keep, this.state.nav);
+    return this.original.pick(this.state.t, hit.origin, hit.direction, hit.distance, this.keep, this.state.nav, this.scale());
   }
 
   pick(x, y) {
@@ -223,7 +228,7 @@ class Inspect {
     const geometry = this.surface.geometry;
     this.cut?.update(state.nav, geometry.attributes.position.array, geometry.attributes.position.version);
     this.plot.mark(state.t);
-    const key = `${state.t} ${this.picks.length} ${this.picks.at(-1)?.vertex}`;
+    const key = `${state.t} ${this.scale()} ${this.picks.length} ${this.picks.at(-1)?.vertex}`;
     if (key === this.shownKey) return;
     this.shownKey = key;
     this.placeMarkers();
@@ -247,24 +252,25 @@ class Inspect {
     const radius = Math.hypot(...h.bboxMax.map((x, c) => x - h.bboxMin[c])) / 160;
     for (const o of this.markers.children) o.geometry.dispose(), o.material.dispose();
     this.markers.clear();
+    const s = this.scale();  // markers sit where the page draws their nodes
     this.picks.forEach((p, i) => {
       const colour = SERIES_COLOURS[i % SERIES_COLOURS.length];
       const dot = new THREE.Mesh(new THREE.SphereGeometry(radius, 12, 8), new THREE.MeshBasicMaterial({ color: colour, depthTest: false, transparent: true }));
-      dot.position.set(...vertexAt(mesh, p.vertex, t));
+      dot.position.set(...vertexAt(mesh, p.vertex, t, undefined, s));
       dot.renderOrder = 11;
       this.markers.add(dot);
     });
     const last = this.picks.at(-1);
     if (last) {
       const corners = this.original.level(t, this.state.nav).nav.face(last.face);
-      const points = corners.map((v) => new THREE.Vector3(...vertexAt(mesh, v, t)));
+      const points = corners.map((v) => new THREE.Vector3(...vertexAt(mesh, v, t, undefined, s)));
       const loop = new THREE.LineLoop(new THREE.BufferGeometry().setFromPoints(points), new THREE.LineBasicMaterial({ color: 0xffd400, depthTest: false, transparent: true }));
       loop.renderOrder = 12;  // over the dots
       this.markers.add(loop);
     }
     const m = this.measure();
     if (m) {
-      const [a, b] = this.picks.slice(-2).map((p) => new THREE.Vector3(...vertexAt(mesh, p.vertex, t)));
+      const [a, b] = this.picks.slice(-2).map((p) => new THREE.Vector3(...vertexAt(mesh, p.vertex, t, undefined, s)));
       const line = new THREE.Line(new THREE.BufferGeometry().setFromPoints([a, b]), new THREE.LineDashedMaterial({ color: 0x202124, depthTest: false, transparent: true, dashSize: radius, gapSize: radius / 2 }));
       line.computeLineDistances();
       line.renderOrder = 11;

@@ -7,12 +7,20 @@
 // and its positions at the step of the last pick; the ray is tested against all of its faces.
 import { Navigator } from './dpm.js';
 
-// Position of vertex v at fractional step t (linear between the steps around it), into out.
-export function vertexAt(mesh, v, t, out = [0, 0, 0]) {
+// Position of vertex v at fractional step t (linear between the steps around it), into out;
+// with a deformation scale s, where the page draws it: p(0) + s · (p(t) − p(0)).
+export function vertexAt(mesh, v, t, out = [0, 0, 0], scale = 1) {
   const { t0, t1, a } = mesh.stepsAround(t);
   const p0 = mesh.position(v, t0), p1 = mesh.position(v, t1);
   for (let c = 0; c < 3; c++) out[c] = p0[c] + (p1[c] - p0[c]) * a;
+  if (scale !== 1) scaleFromFirst(mesh, v, out, 0, scale);
   return out;
+}
+
+// p[at … at + 2] (vertex v's position) moved to p(0) + s · (p − p(0)).
+function scaleFromFirst(mesh, v, p, at, s) {
+  const q = mesh.position(v, 0);
+  for (let c = 0; c < 3; c++) p[at + c] = q[c] + (p[at + c] - q[c]) * s;
 }
 
 // Field f's value at item i (a vertex of a node field, a face of an element field) at whole step
@@ -155,7 +163,7 @@ export class OriginalMesh {
 
   // Faces and positions at step t of the finest loaded level; `shown`: the page's navigator,
   // used as it is when it already shows that level (no second copy of the faces).
-  level(t, shown) {
+  level(t, shown, scale = 1) {
     const { mesh } = this;
     let nav = shown;
     if (shown?.level !== mesh.splitsLoaded || !(shown instanceof Navigator)) {
@@ -165,10 +173,11 @@ export class OriginalMesh {
       nav = this.nav;
     }
     const n = nav.vertexCount;
-    const key = `${t} ${n}`;
+    const key = `${t} ${n} ${scale}`;
     if (this.key !== key) {
       if (!this.positions || this.positions.length < 3 * n) this.positions = new Float32Array(3 * mesh.head.vertexCount);
       mesh.positionsAt(t, n, this.positions);
+      if (scale !== 1) for (let v = 0; v < n; v++) scaleFromFirst(mesh, v, this.positions, 3 * v, scale);
       this.key = key;
     }
     return { nav, positions: this.positions };
@@ -179,8 +188,8 @@ export class OriginalMesh {
   // ray met the level on screen); if it crosses none there (a coarse level stands off the
   // original), the face of the original vertex nearest that point. The node is the face's corner
   // nearest the point. Returns {face, vertex, point} or null.
-  pick(t, origin, direction, near, keep = () => true, shown = null) {
-    const { nav, positions: p } = this.level(t, shown);
+  pick(t, origin, direction, near, keep = () => true, shown = null, scale = 1) {
+    const { nav, positions: p } = this.level(t, shown, scale);
     const k = nav.corners;
     const hit = rayCrossing(nav, p, origin, direction, keep, (s) => Math.abs(s - near));
     const point = hit ? hit.point : origin.map((x, c) => x + direction[c] * near);

@@ -539,7 +539,7 @@ const timing = { firstByte: undefined, head: undefined, base: undefined, baseDon
 const loading = load();
 const done = loading.catch(showError);
 installApi({ ...viewer, loading });
-installInspect({ renderer, scene, camera, surface, state, requestRender });  // picks, history, cut
+installInspect({ renderer, scene, camera, surface, state, requestRender, deformation });
 window.dpmViewer = {
   done,
   timing,

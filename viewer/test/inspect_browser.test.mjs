@@ -150,6 +150,18 @@ test('a click picks: the panel shows the numbers, the marker follows time and le
     for (let c = 0; c < 3; c++) close(marker[c], full[t].points[3 * p.vertex + c], 1e-4, `marker ${c} at step ${t}`);
     assert.match(await page.locator('#pick-info').textContent(), new RegExp(`S_MISES \\(step ${t}\\)`));
   }
+  // A deformation scale moves the drawn model: the marker stays on its node, the values do not
+  // change (the panel gives the true position and displacement).
+  await api('setDeformationScale', 3);
+  await nextFrame();
+  const [scaled] = await api('markers');
+  for (let c = 0; c < 3; c++) {
+    const p0 = full[0].points[3 * p.vertex + c], pt = full[LAST].points[3 * p.vertex + c];
+    close(scaled[c], p0 + 3 * (pt - p0), 1e-3, `marker ${c} at ×3`);
+  }
+  checkPick((await api('picks'))[0], LAST);
+  await api('setDeformationScale', 1);
+  await nextFrame();
   await setVertices(2608);
   await page.screenshot({ path: join(dir, 'pick.png') });
 });
