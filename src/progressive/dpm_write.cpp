@@ -9,6 +9,7 @@
 #include "bytes.h"
 #include "dpm_format.h"
 #include "dynpm/progressive.h"
+#include "part_names_chunk.h"
 #include "position_coding.h"
 #include "split_records_coding.h"
 
@@ -148,6 +149,8 @@ Result<std::string> encode_dpm(const ProgressiveMesh& mesh) {
   put_chunk(out, "HEAD", head_payload(mesh), false);
   const bool fields = !mesh.fields.empty();
   if (fields) put_chunk(out, "FDEF", field_definitions(mesh), false);
+  if (const std::string parts = part_names_payload(mesh); !parts.empty())
+    put_chunk(out, "PART", parts, false);
 
   Deltas d;
   {
