@@ -4,7 +4,6 @@
 // text, never as markup. The scripting API's parts() and setPartsVisible() (window.dynpm) act
 // on the same PartView, so a test drives the list and the API alike.
 import { element } from './fringe.js';
-import { partColour } from './part_view.js';
 
 export class PartList {
   // view: a PartView; changed(): redraws the model after a change of visibility.
@@ -55,7 +54,7 @@ export class PartList {
     const isolate = element('button', {}, 'isolate');
     isolate.type = 'button';
     isolate.addEventListener('click', () => this.isolate(id));
-    const row = element('li', {}, box, element('span', { className: 'swatch', background: partColour(id).getStyle() }),
+    const row = element('li', {}, box, element('span', { className: 'swatch', background: this.view.colourStyle(id) }),
       text, element('span', { className: 'muted' }, name ? String(id) : ''), isolate);
     row.dataset.part = String(id);
     // Rows in id order: before the first row of a larger id.

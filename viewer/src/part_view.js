@@ -9,11 +9,11 @@ import * as THREE from 'three';
 import { writeFaceIndices } from './dpm.js';
 import { gatherSlotPositions } from './face_slots.js';
 
-// Part ids: hues spaced by the golden angle, so that neighbouring ids differ clearly; full
-// saturation at mid lightness, so that a part reads as one colour under the lights.
-export function partColour(id) {
-  const hue = (((0.58 + id * 0.618033988749895) % 1) + 1) % 1;
-  return new THREE.Color().setHSL(hue, 0.9, 0.5);
+// The k-th part (ascending id): hues spaced by the golden angle, so that parts next in the list
+// differ clearly whatever their ids (ids 102 and 301 could fall on one hue); high saturation at
+// mid lightness, so that a part reads as one colour under the lights.
+function partColour(k) {
+  return new THREE.Color().setHSL((0.58 + k * 0.618033988749895) % 1, 0.9, 0.5);
 }
 
 export class PartView {
@@ -22,6 +22,8 @@ export class PartView {
     this.mesh = mesh;
     this.hidden = new Set();
     this.colours = new Map();  // id → Float32Array rgb
+    this.rank = new Map();  // id → its colour's index: ascending id at BASE, then as parts arrive
+    for (const id of this.ids()) this.rank.set(id, this.rank.size);
     this.room = 0;  // faces the slot buffers hold
     this.geometry = new THREE.BufferGeometry();
     this.geometry.boundingSphere = sphere;
@@ -52,8 +54,16 @@ export class PartView {
 
   colour(id) {
     let c = this.colours.get(id);
-    if (!c) this.colours.set(id, (c = Float32Array.from(partColour(id).toArray())));
+    if (!c) {
+      if (!this.rank.has(id)) this.rank.set(id, this.rank.size);
+      this.colours.set(id, (c = Float32Array.from(partColour(this.rank.get(id)).toArray())));
+    }
     return c;
+  }
+
+  // The CSS colour of part id's swatch.
+  colourStyle(id) {
+    return new THREE.Color(...this.colour(id)).getStyle();
   }
 
   // The shared index entries of `faces` (all present faces when null): a hidden part's face as
