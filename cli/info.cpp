@@ -1,4 +1,5 @@
 // dynpm info: what a mesh or animation holds, and whether dynpm can work on it.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -99,6 +100,49 @@ std::string join(const std::vector<int32_t>& ids, size_t limit) {
   return s.str();
 }
 
+// Each part (ascending id): its id, its name ("" when the input gives none) and its faces.
+struct PartRow {
+  int32_t id = 0;
+  std::string_view name;
+  size_t faces = 0;
+};
+std::vector<PartRow> part_rows(const Topology& topology) {
+  std::vector<PartRow> rows;
+  for (int32_t id : topology.parts()) rows.push_back({id, topology.part_name(id), 0});
+  for (int32_t id : topology.part_ids)
+    ++std::lower_bound(rows.begin(), rows.end(), id, [](const PartRow& r, int32_t v) {
+        return r.id < v;
+      })->faces;
+  return rows;
+}
+
+// "parts  N (ids …)" and a line per part: id, faces, name (at most kListedParts of them). Names
+// are printed as they are: clean_part_name() made them UTF-8 without control characters.
+constexpr size_t kListedParts = 100;
+void print_parts(std::ostream& out, const Topology& topology) {
+  const std::vector<PartRow> rows = part_rows(topology);
+  std::vector<int32_t> ids;
+  for (const PartRow& r : rows) ids.push_back(r.id);
+  out << "parts         " << rows.size() << " (ids " << join(ids, 12) << ")\n";
+  for (size_t k = 0; k < rows.size() && k < kListedParts; ++k)
+    out << "  part " << rows[k].id << "  " << rows[k].faces << " faces"
+        << (rows[k].name.empty() ? "" : "  ") << rows[k].name << "\n";
+  if (rows.size() > kListedParts) out << "  … and " << rows.size() - kListedParts << " more\n";
+}
+
+// "part_list": [{id, name, faces}], name "" when the part has none.
+void json_parts(Json& j, const Topology& topology) {
+  j.begin_array("part_list");
+  for (const PartRow& r : part_rows(topology)) {
+    j.begin_object();
+    j.value("id", int64_t{r.id});
+    j.value("name", r.name);
+    j.value("faces", uint64_t{r.faces});
+    j.end_object();
+  }
+  j.end_array();
+}
+
 void print_text(std::span<const std::string> inputs, const Topology& topology,
                 const FrameSource& frames, std::span<const FieldRange> fields,
                 const TopologyStats& stats, const BoundingBox& box, const ValidationReport& report,
@@ -133,8 +177,7 @@ void print_text(std::span<const std::string> inputs, const Topology& topology,
       << " loops\n";
   out << "non-manifold  " << stats.non_manifold_edges << " edges, " << stats.non_manifold_vertices
       << " vertices (kept as features)\n";
-  const auto parts = topology.parts();
-  out << "parts         " << parts.size() << " (ids " << join(parts, 12) << ")\n";
+  print_parts(out, topology);
   out << "components    " << stats.components << "\n";
   out << "euler         " << stats.euler_characteristic << "\n";
   if (!box.empty)
@@ -195,6 +238,7 @@ void print_json(std::span<const std::string> inputs, const Topology& topology,
   j.begin_array("parts");
   for (int32_t id : topology.parts()) j.item(int64_t{id});
   j.end_array();
+  json_parts(j, topology);
   j.value("components", uint64_t{stats.components});
   j.value("euler_characteristic", stats.euler_characteristic);
   j.begin_object("bounding_box");
@@ -276,6 +320,7 @@ int print_dpm_info(const std::string& path, bool json) {
     }
     j.end_array();
     j.value("parts", uint64_t{full.parts().size()});
+    json_parts(j, full);
     j.value("lossless", m.lossless);
     j.value("position_error", m.max_error);
     j.value("diagonal", m.diagonal());
@@ -306,6 +351,9 @@ int print_dpm_info(const std::string& path, bool json) {
       m.base_error, 100 * of_diagonal(m.base_error, m.diagonal()));
   std::printf("steps     %zu, time %g to %g; key steps %zu\n", m.step_count(), m.times.front(),
               m.times.back(), m.key_steps.size());
+  std::fflush(stdout);
+  print_parts(std::cout, full);
+  std::cout.flush();
   // One line a field: where it lives, its range and unit, how exactly it is stored, and how far
   // the base mesh's shown values may be from the values they stand for.
   for (const ProgressiveField& f : m.fields) {

@@ -4,7 +4,8 @@
 // prints one line per file: "error <message>", or "counts" and the counts `dynpm info --json`
 // prints, as name=value pairs, then field_list=NAME:LOCATION:COUNT,… (each field's name with
 // bytes other than A-Z a-z 0-9 _ . - as %XX, node or element, its values per step present; empty
-// without fields). Test-only; reads with read_dpm() as `dynpm info` does.
+// without fields), then part_list=ID:NAME,… (the PART chunk's names, escaped alike). Test-only;
+// reads with read_dpm() as `dynpm info` does.
 #include <cstdio>
 #include <string>
 
@@ -54,7 +55,11 @@ int main(int argc, char** argv) {
     for (const ProgressiveField& f : m.fields)
       list += (list.empty() ? "" : ",") + escaped(f.info.name) + ":" + to_string(f.info.location) +
               ":" + std::to_string(f.values.empty() ? 0 : f.values[0].size());
-    std::printf(" field_list=%s\n", list.c_str());
+    std::printf(" field_list=%s", list.c_str());
+    std::string parts;
+    for (const PartName& p : m.part_names)
+      parts += (parts.empty() ? "" : ",") + std::to_string(p.id) + ":" + escaped(p.name);
+    std::printf(" part_list=%s\n", parts.c_str());
   }
   return 0;
 }

@@ -22,7 +22,10 @@ namespace {
 
 using test::chunk;
 using test::chunks_of;
+using test::expect_refused_at;
+using test::put;
 using test::through_file;
+using test::with_payload;
 
 struct Built {
   Animation animation;
@@ -133,20 +136,6 @@ std::string raw_payload(const std::string& bytes, size_t at) {
   return out;
 }
 
-// `bytes` with the chunk at `at` replaced by an uncompressed one holding `payload`.
-std::string with_payload(const std::string& bytes, size_t at, const std::string& payload) {
-  uint32_t stored;
-  std::memcpy(&stored, bytes.data() + at + 8, 4);
-  return bytes.substr(0, at) + chunk(bytes.substr(at, 4), 0, uint32_t(payload.size()), payload) +
-         bytes.substr(at + 24 + stored);
-}
-
-template <typename T>
-std::string put(std::string s, size_t at, T value) {
-  std::memcpy(s.data() + at, &value, sizeof value);
-  return s;
-}
-
 std::string varint(uint64_t v) {
   std::string s;
   for (; v >= 0x80; v >>= 7) s.push_back(char((v & 0x7f) | 0x80));
@@ -158,14 +147,6 @@ size_t varint_length(const std::string& s, size_t at) {
   size_t n = 1;
   while (uint8_t(s[at + n - 1]) & 0x80) ++n;
   return n;
-}
-
-void expect_refused_at(const std::string& bytes, size_t byte, const std::string& what) {
-  auto r = decode_dpm(bytes, "damaged.dpm");
-  ASSERT_FALSE(r.ok()) << "accepted; expected: " << what;
-  EXPECT_NE(r.message().find("damaged.dpm: byte " + std::to_string(byte) + ": "), std::string::npos)
-      << r.message();
-  EXPECT_NE(r.message().find(what), std::string::npos) << r.message();
 }
 
 // The encoder codes each step's positions and each chunk's fields on its own thread: the bytes

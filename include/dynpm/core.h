@@ -48,6 +48,23 @@ struct Face {
   bool operator==(const Face&) const = default;
 };
 
+// A part's name as the input gives it: an LS-DYNA part title, an Exodus element block name, an
+// OBJ group or object name. Made by clean_part_name(), so it is valid UTF-8 of 1 … 255 bytes
+// without control characters (names come from untrusted files and are shown in a browser).
+struct PartName {
+  int32_t id = 0;
+  std::string name;
+  bool operator==(const PartName&) const = default;
+};
+inline constexpr size_t kMaxPartName = 255;
+// `raw` as a part name: blanks and NULs at either end removed (fixed-width title fields), bytes
+// that are not UTF-8 and control characters each as U+FFFD, cut to kMaxPartName bytes at a
+// character boundary; "" when nothing is left (the part then has its id only).
+std::string clean_part_name(std::string_view raw);
+// Whether `name` is what clean_part_name() makes: 1 … kMaxPartName bytes of UTF-8 with no
+// control character and no blank at either end (the .dpm readers' check).
+bool is_clean_part_name(std::string_view name);
+
 // The connectivity shared by every time step. The per-face and per-vertex arrays are parallel
 // to faces and to the vertex range [0, vertex_count); validate() checks that they are.
 struct Topology {
@@ -56,6 +73,8 @@ struct Topology {
   std::vector<int32_t> part_ids;     // #F, FE part (PID); 0 where the input has none
   std::vector<int64_t> element_ids;  // #F, original element number
   std::vector<int64_t> node_ids;     // #V, original node number
+  // The parts that have a name, ascending id, each once (parts without one are absent).
+  std::vector<PartName> part_names;
 
   // A topology of n vertices numbered 1..n, with no faces yet.
   static Topology with_vertices(uint32_t n);
@@ -70,6 +89,11 @@ struct Topology {
   size_t quad_count() const;
   // Distinct part ids, ascending.
   std::vector<int32_t> parts() const;
+  // The name of part `id`, "" when it has none.
+  std::string_view part_name(int32_t id) const;
+  // Sets part `id`'s name (clean_part_name() of `raw`; nothing when that is ""), keeping
+  // part_names sorted by id.
+  void set_part_name(int32_t id, std::string_view raw);
 };
 
 // Where a result field lives: one value per vertex (a solver's nodal result) or one per face

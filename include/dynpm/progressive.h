@@ -87,6 +87,9 @@ struct ProgressiveMesh {
   std::vector<uint32_t> face_original_index;  // position in the input's face order
   std::vector<int32_t> part_ids;
   std::vector<int64_t> element_ids;
+  // The parts' names (docs/FORMAT.md "Part names: PART"), ascending id; parts without one are
+  // absent, and a file without the PART chunk has none.
+  std::vector<PartName> part_names;
 
   // positions[t]: xyz of every vertex present, at step t.
   std::vector<std::vector<float>> positions;

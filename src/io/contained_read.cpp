@@ -199,6 +199,14 @@ Packer pack_opened(const AnimationStream& stream, const std::vector<std::string>
   out.put(topology.part_ids);
   out.put(topology.element_ids);
   out.put(topology.node_ids);
+  std::vector<int32_t> named_ids;
+  std::vector<std::string> part_names;
+  for (const PartName& p : topology.part_names) {
+    named_ids.push_back(p.id);
+    part_names.push_back(p.name);
+  }
+  out.put(named_ids);
+  out.put(part_names);
   out.put(frames.vertex_count());
   std::vector<double> times(frames.step_count());
   std::vector<uint64_t> float_counts(frames.step_count());
@@ -425,6 +433,8 @@ Result<AnimationStream> open_in_child(
   std::vector<uint64_t> float_counts;
   std::vector<std::string> names, units;
   std::vector<uint8_t> locations;
+  std::vector<int32_t> named_ids;
+  std::vector<std::string> part_names;
   Unpacker in(reply);
   in.get(warnings);
   in.get(stream.warnings);
@@ -433,6 +443,8 @@ Result<AnimationStream> open_in_child(
   in.get(topology.part_ids);
   in.get(topology.element_ids);
   in.get(topology.node_ids);
+  in.get(named_ids);
+  in.get(part_names);
   in.get(vertex_count);
   in.get(times);
   in.get(float_counts);
@@ -440,8 +452,10 @@ Result<AnimationStream> open_in_child(
   in.get(units);
   in.get(locations);
   if (answer != 'O' || !in.done() || float_counts.size() != times.size() ||
-      units.size() != names.size() || locations.size() != names.size())
+      units.size() != names.size() || locations.size() != names.size() ||
+      part_names.size() != named_ids.size())
     return Status::error(path + ": the reader's process sent a malformed answer");
+  for (size_t p = 0; p < named_ids.size(); ++p) topology.set_part_name(named_ids[p], part_names[p]);
   if (options.warn)
     for (const std::string& w : warnings) options.warn(w);
   std::vector<FieldInfo> fields;

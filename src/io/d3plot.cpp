@@ -500,8 +500,13 @@ Result<AnimationStream> open_d3plot(const std::string& path, const ReadOptions& 
   const uint64_t geometry_end = geometry->end;
   geometry = Geometry{};  // its bytes are no longer needed
   // 5. The state index: where each state starts, after the part titles.
-  auto states_at = skip_titles(path, first, size0, c.words, geometry_end);
+  std::vector<PartName> titles;
+  auto states_at = skip_titles(path, first, size0, c.words, geometry_end, &titles);
   if (!states_at) return states_at.status();
+  const std::vector<int32_t> parts = topology->parts();
+  for (const PartName& title : titles)
+    if (std::binary_search(parts.begin(), parts.end(), title.id))
+      topology->set_part_name(title.id, title.name);
   const StateLayout layout = state_layout(c);
   auto states = index_states(path, *family, c.words, *states_at,
                              layout.words * uint64_t(c.words.size), options);

@@ -321,7 +321,7 @@ Status need(const std::string& path, uint64_t size, uint64_t start, uint64_t byt
 // The byte where the states start: after the part titles that newer versions write behind an
 // end marker following the geometry. Title entries are 72 bytes even in double precision.
 Result<uint64_t> skip_titles(const std::string& path, const File& file, uint64_t size,
-                             const Words& w, uint64_t at) {
+                             const Words& w, uint64_t at, std::vector<PartName>* part_titles) {
   std::array<char, 16> buf{};
   auto word_at = [&](uint64_t pos, bool real) -> std::optional<double> {
     if (pos + w.size > size || !file.read(pos, w.size, buf.data())) return std::nullopt;
@@ -341,9 +341,19 @@ Result<uint64_t> skip_titles(const std::string& path, const File& file, uint64_t
       if (!count || *count < 0 || *count > double(size))
         return Status::error(byte_error(path, at + w.size, "bad title count"));
       const uint64_t entry = type == 90100 ? 80 : w.size + 72;
-      at += 2 * w.size + static_cast<uint64_t>(*count) * entry;
+      const uint64_t first = at + 2 * w.size;
+      at = first + static_cast<uint64_t>(*count) * entry;
       if (at > size)
         return Status::error(byte_error(path, size, "the file ends inside the part titles"));
+      // NTYPE 90001: the parts' titles, each its user id and 72 characters.
+      for (uint64_t k = 0; type == 90001 && part_titles && k < uint64_t(*count); ++k) {
+        const auto id = word_at(first + k * entry, false);
+        std::string title(72, '\0');
+        if (!id || !file.read(first + k * entry + w.size, 72, title.data()))
+          return Status::error(byte_error(path, first + k * entry, "cannot read a part title"));
+        if (*id >= INT32_MIN && *id <= INT32_MAX)
+          part_titles->push_back({static_cast<int32_t>(*id), std::move(title)});
+      }
     } else {
       break;
     }

@@ -208,9 +208,11 @@ Status need(const std::string& path, uint64_t size, uint64_t start, uint64_t byt
             const char* section);
 
 // The byte where the states start: after the part titles that newer versions write behind an
-// end marker following the geometry. Title entries are 72 bytes even in double precision.
+// end marker following the geometry. Title entries are 72 bytes even in double precision. The
+// part titles (user part id, raw title) go to `part_titles` when given.
 Result<uint64_t> skip_titles(const std::string& path, const File& file, uint64_t size,
-                             const Words& w, uint64_t at);
+                             const Words& w, uint64_t at,
+                             std::vector<PartName>* part_titles = nullptr);
 
 // True if the bytes from offset to the end of the file are all zero (LS-DYNA's padding).
 Result<bool> rest_is_zero(const std::string& path, uint64_t size, uint64_t offset);

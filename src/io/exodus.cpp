@@ -375,6 +375,12 @@ Result<UserNumbers> read_user_numbers(const NcFile& nc) {
   return numbers;
 }
 
+// Block b's part id: its eb_prop1 id, else its number from 1.
+int32_t block_part(const UserNumbers& numbers, size_t b) {
+  return b < numbers.block_ids.size() ? static_cast<int32_t>(numbers.block_ids[b])
+                                      : static_cast<int32_t>(b + 1);
+}
+
 // The element blocks: shells and 2-D elements as faces, solids as their outer faces, the rest
 // ignored with a warning.
 Status read_blocks(const NcFile& nc, const std::string& path, const UserNumbers& numbers,
@@ -406,8 +412,7 @@ Status read_blocks(const NcFile& nc, const std::string& path, const UserNumbers&
     const size_t per_element = (*shape)[1];
     const std::string elem_type = nc.text_attribute(*var, "elem_type");
     const BlockType type = block_type(elem_type, per_element);
-    const int32_t part = b < numbers.block_ids.size() ? static_cast<int32_t>(numbers.block_ids[b])
-                                                      : static_cast<int32_t>(b + 1);
+    const int32_t part = block_part(numbers, b);
     if (type.kind == BlockKind::kIgnored) {
       ignored += in_block;
       if (std::find(ignored_types.begin(), ignored_types.end(), elem_type) == ignored_types.end())
@@ -652,6 +657,14 @@ Result<AnimationStream> read_exodus(const std::string& path, uint64_t file_size,
   // 2. The element blocks: faces, and solids as their outer faces.
   ElementData elements;
   DYNPM_RETURN_IF_ERROR(read_blocks(nc, path, *numbers, options, topology, elements));
+  // The blocks' names (eb_names) name the parts that have faces.
+  const size_t block_count = elements.block_sizes.size();
+  auto block_names = read_names(nc, "eb_names", block_count);
+  if (!block_names) return block_names.status();
+  const std::vector<int32_t> parts = topology.parts();
+  for (size_t b = 0; b < block_count; ++b)
+    if (std::binary_search(parts.begin(), parts.end(), block_part(*numbers, b)))
+      topology.set_part_name(block_part(*numbers, b), (*block_names)[b]);
   // 3. The nodes no face uses are dropped; the others' coordinates are the initial positions.
   std::vector<uint32_t> kept = drop_unused_vertices(topology);
   std::vector<float> coordinates(size_t{topology.vertex_count} * 3, 0.0f);

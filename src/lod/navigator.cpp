@@ -162,6 +162,7 @@ Topology Navigator::topology() const {
   out.part_ids.assign(mesh_->part_ids.begin(), mesh_->part_ids.begin() + face_count_);
   out.element_ids.assign(mesh_->element_ids.begin(), mesh_->element_ids.begin() + face_count_);
   out.node_ids.assign(mesh_->node_ids.begin(), mesh_->node_ids.begin() + vertex_count());
+  out.part_names = mesh_->part_names;
   return out;
 }
 
@@ -172,6 +173,7 @@ Result<OriginalOrder> original_order(const Navigator& full) {
   OriginalOrder out;
   Topology& t = out.topology;
   t.vertex_count = m.full_vertex_count;
+  t.part_names = m.part_names;
   t.node_ids.resize(t.vertex_count);
   out.vertex_of_original.resize(t.vertex_count);
   for (uint32_t v = 0; v < t.vertex_count; ++v) {

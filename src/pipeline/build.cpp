@@ -150,6 +150,7 @@ Result<ProgressiveMesh> build_progressive_mesh(const Topology& topology, const F
   }
   pm.face_original_index.resize(face_total);
   pm.part_ids.resize(face_total);
+  pm.part_names = topology.part_names;
   pm.element_ids.resize(face_total);
   for (uint32_t f = 0; f < face_total; ++f) {
     pm.face_original_index[new_face[f]] = f;

@@ -16,6 +16,7 @@
 #include "dpm_format.h"
 #include "dpm_read_fields.h"
 #include "dynpm/progressive.h"
+#include "part_names_chunk.h"
 #include "position_coding.h"
 #include "split_records_coding.h"
 #include "zstd_frame.h"
@@ -48,14 +49,21 @@ class Decoder {
     DYNPM_RETURN_IF_ERROR(expect_chunk("HEAD", payload, "the header"));
     DYNPM_RETURN_IF_ERROR(parse_head(payload));
     apply_limits_of_head();
-    // The field definitions, when the model has fields, then the base mesh and its values.
-    auto got = next_chunk("BASE", tag, payload, "FDEF");
+    // The field definitions, when the model has fields, the part names, when it has some, then
+    // the base mesh and its values.
+    auto got = next_chunk("BASE", tag, payload, "FDEF|PART");
     if (!got) return got.status();
-    if (!*got) return fail(chunk_start_, "the file ends before the base mesh is complete");
-    if (tag == "FDEF") {
+    if (*got && tag == "FDEF") {
       if (auto e = parse_field_definitions(payload, mesh_)) return bad_at(*e);
-      DYNPM_RETURN_IF_ERROR(expect_chunk("BASE", payload, "the base mesh"));
+      got = next_chunk("BASE", tag, payload, "PART");
+      if (!got) return got.status();
     }
+    if (*got && tag == "PART") {
+      if (auto e = parse_part_names(payload, mesh_)) return bad_at(*e);
+      got = next_chunk("BASE", tag, payload);
+      if (!got) return got.status();
+    }
+    if (!*got) return fail(chunk_start_, "the file ends before the base mesh is complete");
     DYNPM_RETURN_IF_ERROR(parse_base(payload));
     const bool fields = !mesh_.fields.empty();
     decode_fields_ = fields && limits_.fields;
@@ -170,8 +178,8 @@ class Decoder {
 
   // What a chunk's 24 header bytes say, checked before its payload is looked at (the browser's
   // decoder checks them as they arrive, in this order). `expected`: HEAD, BASE, FLDS, or SPLT
-  // (which END may end); `optional`: a chunk that may come instead (FDEF before BASE). An unknown
-  // chunk after HEAD is checked as an optional one, to be skipped.
+  // (which END may end); `optional`: chunks that may come instead, as "FDEF|PART" (before BASE). An
+  // unknown chunk after HEAD is checked as an optional one, to be skipped.
   Status check_chunk_header(std::string_view expected, std::string_view optional,
                             const std::string& tag, uint32_t flags, uint32_t stored, uint32_t raw,
                             uint32_t reserved) const {
@@ -183,7 +191,8 @@ class Decoder {
                   "0-9 and space)");
     if (unknown && expected == "HEAD")
       return fail(at, "expected the HEAD chunk, found '" + tag + "'");
-    if (!unknown && expected != "SPLT" && tag != expected && tag != optional)
+    if (!unknown && expected != "SPLT" && tag != expected &&
+        (optional.empty() || optional.find(tag) == std::string_view::npos))
       return fail(at, "expected the " + std::string(expected) + " chunk, found '" + tag + "'");
     if (!unknown && expected == "SPLT" && tag != "SPLT" && tag != "END ")
       return fail(at, "unexpected chunk '" + tag + "'");

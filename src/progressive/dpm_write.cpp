@@ -10,6 +10,7 @@
 #include "core/parallel.h"
 #include "dpm_format.h"
 #include "dynpm/progressive.h"
+#include "part_names_chunk.h"
 #include "position_coding.h"
 #include "split_records_coding.h"
 
@@ -149,6 +150,8 @@ Result<std::string> encode_dpm(const ProgressiveMesh& mesh, unsigned threads) {
   put_chunk(out, "HEAD", head_payload(mesh), false);
   const bool fields = !mesh.fields.empty();
   if (fields) put_chunk(out, "FDEF", field_definitions(mesh), false);
+  if (const std::string parts = part_names_payload(mesh); !parts.empty())
+    put_chunk(out, "PART", parts, false);
 
   Deltas d;
   {

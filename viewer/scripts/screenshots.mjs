@@ -2,8 +2,10 @@
 // moments"), made reproducibly: `dynpm view` serves the model,
 // headless Chromium (as in the browser tests) shows its last step with an element field (fully
 // refined, then at 10 % of the vertices) and a nodal field (rainbow), saved as PNG.
-//   node scripts/screenshots.mjs DYNPM MODEL.dpm OUT_DIR [--element NAME] [--node NAME]
-// A model without fields gets test/fields_fixture.mjs's DEMO_FIELDS (a nodal 'stress' and an
+//   node scripts/screenshots.mjs DYNPM MODEL.dpm OUT_DIR [--element NAME] [--node NAME] [--parts]
+// With --parts (docs/viewer.md "Parts"): the part colours and list at the last step, fully
+// refined and at 10 % of the vertices, and one part isolated from the list; no fields added.
+// Otherwise a model without fields gets test/fields_fixture.mjs's DEMO_FIELDS (a nodal 'stress' and an
 // element 'plastic strain' from the motion) first. Fields are chosen by name, or the first of
 // each location.
 import { mkdirSync, readFileSync, writeFileSync } from 'node:fs';
@@ -28,14 +30,15 @@ mkdirSync(out, { recursive: true });
 let bytes = new Uint8Array(readFileSync(model));
 let { mesh } = readDpm(bytes, model);
 let served = model;
-if (mesh.fields.length === 0) {
+const partShots = process.argv.includes('--parts');
+if (mesh.fields.length === 0 && !partShots) {
   bytes = withFields(bytes, DEMO_FIELDS);
   ({ mesh } = readDpm(bytes, model));
   served = join(out, 'with-fields.dpm');
   writeFileSync(served, bytes);
 }
 const pick = (perFace, name) => (name ? mesh.fields.find((f) => f.name === name) : mesh.fields.find((f) => f.perFace === perFace));
-const shots = [
+const shots = partShots ? [] : [
   ['viewer-element-fringe.png', pick(true, flag('--element')), 'viridis', 1],
   ['viewer-element-fringe-10pct.png', pick(true, flag('--element')), 'viridis', 0.1],
   ['viewer-nodal-fringe.png', pick(false, flag('--node')), 'rainbow', 1],
@@ -58,6 +61,19 @@ try {
     t.dispatchEvent(new Event('input'));
   });
   const h = mesh.head;
+  if (partShots) {
+    for (const [name, ratio] of [['viewer-parts.png', 1], ['viewer-parts-10pct.png', 0.1]]) {
+      await page.evaluate((n) => window.dpmViewer.setVertexCount(n), Math.round(h.baseVertexCount + ratio * h.splitCount));
+      await page.waitForTimeout(300);
+      await page.screenshot({ path: join(out, name) });
+      console.log(join(out, name));
+    }
+    await page.locator('#part-search').fill('wall');
+    await page.locator('#part-list li:visible button').last().click();  // isolate
+    await page.waitForTimeout(300);
+    await page.screenshot({ path: join(out, 'viewer-parts-isolated.png') });
+    console.log(join(out, 'viewer-parts-isolated.png'));
+  }
   for (const [name, field, scheme, ratio] of shots) {
     if (!field) {
       console.log(`${name}: the model has no such field`);

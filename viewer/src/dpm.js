@@ -5,6 +5,7 @@
 //   dpm/progressive_mesh.js  the mesh's arrays and the split record; applySplit()/undoSplit()
 //                            (include/dynpm/progressive.h, src/progressive/progressive_mesh.cpp)
 //   dpm/fields.js            the result fields: FDEF and FLDS (dpm_read.cpp)
+//   dpm/parts.js             the parts' names: PART (part_names_chunk.cpp)
 //   dpm/navigator.js         the mesh at one level (src/lod/navigator.cpp)
 //   dpm/shown_values.js      a field's values at one level (Navigator::field_values())
 //   dpm/draw_indices.js      index buffers of a level for WebGL (the viewer's own)
@@ -23,6 +24,7 @@ export {
   WING_WAS_TRIANGLE,
 } from './dpm/progressive_mesh.js';
 export { DpmField, FIELD_ELEMENT, FIELD_NODE } from './dpm/fields.js';
+export { cleanPartName } from './dpm/parts.js';
 export { Navigator } from './dpm/navigator.js';
 export { AGGREGATES, largerMagnitude, ShownValues } from './dpm/shown_values.js';
 export { updateIndices, writeFaceIndices } from './dpm/draw_indices.js';

@@ -52,7 +52,7 @@ export class FieldView {
   }
 
   // Field k at level nav.level and step round(t), with `options` {aggregate, range ('all' or
-  // 'step'), min, max (null: automatic), bands, scheme}. Returns whether the shared surface is
+  // 'step'), min, max (null: automatic), bands, scheme, parts (a PartView: its hidden parts)}. Returns whether the shared surface is
   // the one to show (nodal).
   update(k, nav, t, positions, options) {
     const { mesh } = this;
@@ -69,6 +69,7 @@ export class FieldView {
     const F = nav.faceCount;
     if (field.perFace) {
       gatherSlotPositions(nav.corners, F, positions, this.slotPositions);
+      options.parts?.collapseHidden(nav, this.slotPositions);  // hidden parts (part_view.js)
       fillSlotColours(fringe, s.values, F, this.slotColours);
       this.geometry.setDrawRange(0, 6 * F);
       for (const name of ['position', 'color']) {

@@ -24,10 +24,12 @@ import { memoryUse } from './memory_use.js';
 import { modelFile, wantedVertices } from './model_file.js';
 import { grownBox, Orientation, upAxisOf } from './orientation.js';
 import { Panel } from './panel.js';
+import { addPartsApi, PartList } from './part_list.js';
+import { PartView } from './part_view.js';
 import { greySnapshot } from './snapshot.js';
 import { States } from './states.js';
 import { decodeInWorker, decodeOnPage } from './worker_decoder.js';
-import { bytes, element, fmt, Fringe, fringeLegend, fringeOptions, int } from './fringe.js';
+import { bytes, fmt, Fringe, fringeLegend, fringeOptions, int } from './fringe.js';
 
 const $ = (id) => document.getElementById(id);
 const ui = {
@@ -67,7 +69,6 @@ const state = {
   base0: null,  // positions at step 0 of the first base0Count vertices (displacement colours)
   base0Count: 0,
   ranges: new Map(),  // colour mode → [min, max] over every step
-  partColours: new Map(),
   decoder: {},  // want(vertices): the worker fetches more (worker_decoder.js)
 };
 
@@ -108,6 +109,7 @@ let triIndex = null;  // Uint32Array(6 × face room)
 let edgeIndex = null;  // Uint32Array(8 × face room)
 let scratch = null;  // Float32Array(vertex room): per-vertex scalar for colours
 let fieldView = null, fieldMarkerRadius = 1;  // result fields (field_view.js), made when shown
+let parts = null, partList = null;  // part colours and visibility (part_view.js), made at BASE
 const room = { vertices: 0, faces: 0 };  // what the draw buffers hold
 
 function createGeometry(mesh) {
@@ -183,6 +185,7 @@ function updateTime({ render = true } = {}) {
   upload(geometry.attributes.position, t === state.shownT ? Math.min(n, state.shownN) : 0, n);
   Object.assign(state, { shownT: t, shownN: n });
   if (state.colour !== 'part') updateScalarColours();
+  else parts.drawPositions(nav, positions);
   updateLabels();
   if (render) requestRender();
 }
@@ -193,6 +196,7 @@ function updateLevel() {
   const { nav } = state;
   makeRoom(nav.vertexCount, nav.faceCount);
   const touched = {}, changed = updateIndices(nav, triIndex, edgeIndex, touched);
+  parts.mask(nav, touched.faces, triIndex, edgeIndex);  // hidden parts stay out
   const F = nav.faceCount;
   geometry.setDrawRange(0, 6 * F);
   edgeGeometry.setDrawRange(0, 8 * F);
@@ -204,7 +208,7 @@ function updateLevel() {
       index.needsUpdate = true;
     }
   }
-  if (state.colour === 'part') updatePartColours(touched.faces);
+  if (state.colour === 'part') parts.drawLevel(nav);
   updateTime();
 }
 
@@ -247,41 +251,13 @@ function stepLevel(now = false) {
 // ---------------------------------------------------------------------------------------------
 // Colours
 
-// Parts: hues spaced by the golden angle, so neighbouring ids differ clearly.
-function partColour(id) {
-  const c = new THREE.Color();
-  c.setHSL((((0.58 + id * 0.618033988749895) % 1) + 1) % 1, 0.35, 0.66);
-  return c;
-}
-
-// A vertex takes the part of a face that holds it (the last written: in face order, then the
-// faces a level change touched, `faces`): vertices on a part boundary blend over one element
-// row, which the element edges keep readable.
-function updatePartColours(faces = null) {
-  const { nav, mesh } = state;
-  const F = faces ? faces.length : nav.faceCount;
-  const cache = state.partColours;  // id → colour, of every part seen
-  const corners = nav.corners;
-  let lo = Infinity, hi = 0;  // the vertices whose colour changed: only they go up
-  for (let i = 0; i < F; i++) {
-    const f = faces ? faces[i] : i;
-    if (f >= nav.faceCount) continue;
-    const id = mesh.partId[f];
-    let c = cache.get(id);
-    if (!c) cache.set(id, (c = Float32Array.of(...partColour(id))));
-    const d = corners[4 * f + 3] < 0 ? 3 : 4;
-    for (let k = 0; k < d; k++) {
-      const v = 3 * corners[4 * f + k];
-      if (colours[v] === c[0] && colours[v + 1] === c[1] && colours[v + 2] === c[2]) continue;
-      colours[v] = c[0], colours[v + 1] = c[1], colours[v + 2] = c[2];
-      lo = Math.min(lo, v / 3), hi = Math.max(hi, v / 3 + 1);
-    }
-  }
-  uploadColours(lo, hi);
-  if (cache.size !== state.partCount) {
-    state.partCount = cache.size;
-    drawLegend();
-  }
+// Parts shown or hidden (part_list.js): every present face's index entries, then the colours.
+function partsChanged() {
+  const { nav } = state;
+  parts.mask(nav, null, triIndex, edgeIndex);
+  for (const [g, per] of [[geometry, 6], [edgeGeometry, 8]])
+    g.index.addUpdateRange(0, per * nav.faceCount), (g.index.needsUpdate = true);
+  setColour(state.colour);
 }
 
 // The field shown ('field:k'), or −1.
@@ -299,7 +275,7 @@ function updateScalarColours() {
   if (k >= 0) {
     // Made on first use: its per-face buffers cost nothing to a model shown without fields.
     fieldView ??= new FieldView(scene, state.mesh, surface, fieldMarkerRadius);
-    smooth = fieldView.update(k, nav, state.t, positions, options);
+    smooth = fieldView.update(k, nav, state.t, positions, { ...options, parts });
     state.fringe = fieldView.fringe;
     fieldColoursAtVertices(fieldView, nav, colours);  // for the edges
   } else {
@@ -342,15 +318,7 @@ function scalarRange() {
 function drawLegend() {
   const { mesh } = state;
   ui.fringeControls.hidden = state.colour === 'part';
-  if (state.colour === 'part') {
-    const ids = [...new Set(mesh.partId.subarray(0, state.nav.faceCount))].sort((a, b) => a - b);
-    const shown = ids.slice(0, 12).flatMap((id) => [
-      element('span', { className: 'swatch', background: partColour(id).getStyle() }),
-      String(id),
-    ]);
-    ui.legend.replaceChildren('part ids: ', ...shown, ids.length > 12 ? ' …' : '');
-    return;
-  }
+  if (state.colour === 'part') return ui.legend.replaceChildren();  // the part list says it
   if (!state.fringe) return;
   const k = fieldIndex();
   const field = k >= 0 ? mesh.fields[k] : null;
@@ -365,9 +333,11 @@ function setColour(mode) {
   ui.colour.value = mode;
   if (mode === 'part') {
     fieldView?.hide();
-    surface.visible = true;
-    updatePartColours();
+    surface.visible = false;  // each face on its own slots (part_view.js)
+    parts.drawLevel(state.nav);
+    parts.drawPositions(state.nav, positions);
   } else {
+    parts.hide();
     updateScalarColours();
   }
   drawLegend();
@@ -433,7 +403,10 @@ function onBase(mesh) {
   // Drawn at once from BASE; the Navigator (arrays for every face of the whole mesh) comes
   // from the worker, or is made here after the frame that shows the base (?worker=0).
   state.nav = new BaseLevel(mesh);
+  parts = new PartView(scene, mesh, surface.material, geometry.boundingSphere);
+  surface.visible = state.colour !== 'part';
   updateLevel();
+  partList = new PartList(parts, partsChanged);
   orientation.setUp(upAxisOf(mesh, params.get('up')));  // and the iso view
   drawLegend();
   panel.loaded();
@@ -452,6 +425,7 @@ function onSplits(mesh) {
   if (!(state.nav instanceof Navigator)) return;  // stepLevel() follows once it is made
   if (state.follow) stepLevel();
   else updateLabels();
+  partList.refresh();  // parts whose first faces came with these splits
   if (state.colour !== 'part') updateScalarColours();
 }
 
@@ -540,6 +514,7 @@ const loading = load();
 const done = loading.catch(showError);
 installApi({ ...viewer, loading });
 installInspect({ renderer, scene, camera, surface, state, requestRender, deformation });
+addPartsApi(() => partList);
 window.dpmViewer = {
   done,
   timing,
@@ -561,6 +536,7 @@ window.dpmViewer = {
   }),
   memory: () => memoryUse(state.mesh, state.nav, { positions, colours, triIndex, edgeIndex, scratch }, { base0: state.base0 }),
   fringe: () => (fieldView?.shown ? fieldView.describe(state.nav) : null),
+  partSlots: () => parts?.describe(state.nav),
   snapshot: (size = 64) => greySnapshot(renderer, scene, camera, size),
   // Sets the resolution as the slider does and renders; returns the milliseconds taken by the
   // page's JS (navigator, index and position buffers) and in all, with the upload and one frame

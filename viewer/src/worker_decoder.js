@@ -60,6 +60,7 @@ export function decodeInWorker({ url, name, onHead, onBase, onNavigator, onSplit
           onHead?.(mesh);
         } else if (m.type === 'base') {
           addFields(mesh, m.fields, m.faceHeir);
+          mesh.partNames = m.partNames;  // PART (parts.js): a Map, cloned
           applyPieces(mesh, m.pieces);
           mesh.hasBase = true;
           onBase?.(mesh);

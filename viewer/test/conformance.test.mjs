@@ -70,14 +70,15 @@ function jsVerdict(bytes) {
       lossless: mesh.lossless,
     },
     fieldList: fieldList(mesh, nav),
+    partList: [...mesh.partNames].map(([id, name]) => `${id}:${escaped(new TextEncoder().encode(name))}`).join(','),
   };
 }
 
 // As dpm_verdicts prints it: NAME:LOCATION:COUNT per field (bytes of the name other than
 // A-Z a-z 0-9 _ . - as %XX), COUNT the values per step present.
+const escaped = (bytes) => Array.from(bytes, (c) =>
+  /[A-Za-z0-9_.-]/.test(String.fromCharCode(c)) ? String.fromCharCode(c) : `%${c.toString(16).toUpperCase().padStart(2, '0')}`).join('');
 function fieldList(mesh, nav) {
-  const escaped = (bytes) => Array.from(bytes, (c) =>
-    /[A-Za-z0-9_.-]/.test(String.fromCharCode(c)) ? String.fromCharCode(c) : `%${c.toString(16).toUpperCase().padStart(2, '0')}`).join('');
   return mesh.fields.map((f) =>
     `${escaped(f.nameBytes)}:${f.perFace ? 'element' : 'node'}:${f.perFace ? nav.faceCount : nav.vertexCount}`).join(',');
 }
@@ -107,9 +108,9 @@ function toolVerdicts(paths) {
     const counts = {};
     for (const pair of rest) {
       const [key, value] = pair.split('=');
-      counts[key] = key === 'complete' || key === 'lossless' ? value === '1' : key === 'field_list' ? value : Number(value);
+      counts[key] = key === 'complete' || key === 'lossless' ? value === '1' : key.endsWith('_list') ? value : Number(value);
     }
-    return { counts: Object.fromEntries(COUNTS.map((key) => [key, counts[key]])), fieldList: counts.field_list };
+    return { counts: Object.fromEntries(COUNTS.map((key) => [key, counts[key]])), fieldList: counts.field_list, partList: counts.part_list };
   });
 }
 
@@ -196,6 +197,7 @@ function mutants(name, bytes) {
 
 function same(cpp, js) {
   if (cpp.counts && cpp.fieldList !== undefined && cpp.fieldList !== js.fieldList) return false;
+  if (cpp.counts && cpp.partList !== undefined && cpp.partList !== js.partList) return false;
   if (cpp.counts) return JSON.stringify(js.counts) === JSON.stringify(cpp.counts);
   return !Number.isNaN(cpp.byte) && js.byte === cpp.byte;
 }
@@ -339,4 +341,77 @@ test('files with fields: the C++ reader and dpm.js give the same verdict', async
   assert.equal(differences.length, 0,
     `${differences.length} of ${files.length} files get different verdicts:\n` + differences.slice(0, 20).join('\n'));
   assert.ok(verdicts.slice(0, fielded.length).every((v) => v.counts?.fields === 2), 'the fielded files are read');
+});
+
+// ---------------------------------------------------------------------------------------------
+// Part names (FORMAT.md "Part names: PART"): the corpus file with PART (small_grid_parts.dpm,
+// `dynpm build` of an OBJ grid whose `o` and `g` statements name its parts), and damage aimed at
+// each check of PART. Its generic mutants are made with the corpus's above.
+
+// Files that differ from `bytes` (which has a PART chunk) in one PART check each.
+function partDamage(name, bytes) {
+  const magic = bytes.subarray(0, 12);
+  const chunks = rawChunks(bytes).map((c) => ({ tag: c.tag, payload: c.bytes[4] & 1 ? decompress(c.bytes.subarray(24)) : c.bytes.slice(24) }));
+  const k = chunks.findIndex((c) => c.tag === 'PART');
+  assert.ok(k > 0, `${name} has a PART chunk`);
+  const out = [];
+  const rebuild = (what, list) => out.push({ name: `${name}, ${what}`, bytes: concat([magic, ...list.map((c) => chunkBytes(c.tag, c.payload))]) });
+  // The first entry: count (u32), id (i32) at 4, name length (u16) at 8, name from 10.
+  const payload = chunks[k].payload;
+  const first = new DataView(payload.buffer, payload.byteOffset).getUint16(8, true);
+  const withPart = (what, p) => rebuild(what, chunks.map((c, i) => (i === k ? { ...c, payload: p } : c)));
+  const patched = (f) => {
+    const p = payload.slice();
+    f(new DataView(p.buffer), p);
+    return p;
+  };
+  // The first name replaced by `bytes` (its length field too).
+  const named = (bytesOfName) => concat([payload.subarray(0, 8), Uint8Array.of(bytesOfName.length & 0xff, bytesOfName.length >> 8), bytesOfName, payload.subarray(10 + first)]);
+  withPart('count 0', patched((d) => d.setUint32(0, 0, true)));
+  withPart('count too large', patched((d) => d.setUint32(0, 1 << 20, true)));
+  withPart('ids not ascending', patched((d) => d.setInt32(4, 0x7fffffff, true)));
+  withPart('an empty name', named(new Uint8Array(0)));
+  withPart('a name of 256 bytes', named(new Uint8Array(256).fill(0x61)));
+  withPart('a name of 255 bytes', named(new Uint8Array(255).fill(0x61)));  // accepted
+  for (const [what, b] of [['ESC', [0x61, 0x1b, 0x62]], ['NUL', [0x61, 0, 0x62]], ['DEL', [0x61, 0x7f]],
+    ['C1 NEL', [0x61, 0xc2, 0x85]], ['a lone continuation byte', [0x61, 0x80]], ['an overlong slash', [0xc0, 0xaf]],
+    ['a surrogate', [0xed, 0xa0, 0x80]], ['above U+10FFFF', [0xf4, 0x90, 0x80, 0x80]], ['cut UTF-8', [0x61, 0xe2, 0x80]],
+    ['a leading space', [0x20, 0x61]], ['a trailing space', [0x61, 0x20]], ['a BOM', [0xef, 0xbb, 0xbf, 0x61]],
+    ['U+FFFD and an umlaut', [0xef, 0xbf, 0xbd, 0xc3, 0xa4]]])
+    withPart(`a name with ${what}`, named(Uint8Array.from(b)));
+  withPart('a byte left over', concat([payload, Uint8Array.of(0)]));
+  withPart('cut short', payload.subarray(0, payload.length - 1));
+  // Out of order: after BASE, twice, and before HEAD; an unknown optional chunk beside it is skipped.
+  const moved = chunks.slice();
+  const [part] = moved.splice(k, 1);
+  moved.splice(k + 1, 0, part);
+  rebuild('PART after BASE', moved);
+  rebuild('PART twice', [...chunks.slice(0, k + 1), chunks[k], ...chunks.slice(k + 1)]);
+  rebuild('PART before HEAD', [chunks[k], ...chunks.filter((c, i) => i !== k)]);
+  rebuild('an optional chunk before PART', [...chunks.slice(0, k), { tag: 'ZZ9 ', payload: Uint8Array.of(1) }, ...chunks.slice(k)]);
+  return out;
+}
+
+test('files with part names: the C++ reader and dpm.js give the same verdict', { skip }, async () => {
+  const named = dpmFiles('fuzz/corpus/dpm').filter((f) => Buffer.from(f.bytes).includes('PART'));
+  assert.ok(named.length >= 1, 'the corpus holds a file with PART');
+  const files = named.flatMap((f) => [f, ...partDamage(f.name, f.bytes)])
+    .map((f, k) => ({ ...f, path: join(OUT, `parts-${k}.dpm`) }));
+  mkdirSync(OUT, { recursive: true });
+  for (const f of files) writeFileSync(f.path, f.bytes);
+  const verdicts = toolVerdicts(files.map((f) => f.path));
+  const differences = [];
+  files.forEach((f, k) => {
+    const js = jsVerdictOrCrash(f.bytes);
+    if (!same(verdicts[k], js))
+      differences.push(`${f.name}:\n  C++: ${JSON.stringify(verdicts[k])}\n  JS:  ${JSON.stringify(js)}`);
+  });
+  rmSync(OUT, { recursive: true, force: true });
+  assert.equal(differences.length, 0,
+    `${differences.length} of ${files.length} files get different verdicts:\n` + differences.slice(0, 20).join('\n'));
+  const accepted = files.filter((f, k) => verdicts[k].counts).map((f) => f.name.replace(/^.*, /, ''));
+  // The file itself, the 255-byte name, U+FFFD with an umlaut, a BOM (U+FEFF is no control
+  // character) and the skipped optional chunk; every other damage is refused.
+  assert.deepEqual(accepted.slice(1), ['a name of 255 bytes', 'a name with a BOM', 'a name with U+FFFD and an umlaut', 'an optional chunk before PART']);
+  assert.ok(verdicts[0].partList.length > 0, 'the names are read');
 });

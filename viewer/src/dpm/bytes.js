@@ -71,6 +71,12 @@ export class Reader {
     this.pos += 4;
     return v;
   }
+  i32() {
+    this.need(4);
+    const v = this.view.getInt32(this.pos, true);
+    this.pos += 4;
+    return v;
+  }
   f32() {
     this.need(4);
     const v = this.view.getFloat32(this.pos, true);

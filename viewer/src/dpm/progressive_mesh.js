@@ -27,6 +27,7 @@ export class ProgressiveMesh {
     this.q = [];  // per step: Int32Array(3V), quantized (or f32 bit patterns when lossless)
     for (let t = 0; t < m; t++) this.q.push(new Int32Array(3 * V));
     this.fields = [];  // result fields (DpmField, fields.js), from FDEF
+    this.partNames = new Map();  // part id → name, from PART (parts.js)
     // per face a split re-creates: the face that stands for it while the split is undone
     // (Int32Array(F), −1 for base faces; only when a field is per element)
     this.faceHeir = null;
