@@ -44,6 +44,9 @@ struct SurfaceTriangle {
 // range and positions hold 3 · vertex_count floats (asserted).
 std::vector<SurfaceTriangle> surface_triangles(const Topology& topology,
                                                std::span<const float> positions);
+// The same into `out`, replacing its contents (its memory is reused).
+void surface_triangles(const Topology& topology, std::span<const float> positions,
+                       std::vector<SurfaceTriangle>& out);
 
 // A bounding-volume hierarchy over triangles for exact closest-point queries: binned-SAH build
 // (a quad's four triangles stay together in one leaf), nodes flattened depth first, traversal
@@ -67,6 +70,12 @@ class TriangleBvh {
   // Consecutive triangles of one face (up to 4: a quad's star) form one item of the build.
   explicit TriangleBvh(std::span<const SurfaceTriangle> triangles, unsigned threads = 0);
 
+  // New positions for the same triangles (same count, same faces, same order as given to the
+  // constructor): the tree is kept and its boxes are recomputed bottom up, in place, so answers
+  // stay exact. Returns false, leaving the tree to be rebuilt, when the boxes grew so much
+  // that queries would slow down (their summed area over 1.5× what a fresh build had then).
+  bool refit(std::span<const SurfaceTriangle> triangles);
+
   // The closest point of all triangles to p, or a Hit with triangle == kNoIndex if none is
   // closer than sqrt(max_squared_distance). Coordinates must be finite.
   Hit closest(const Point3& p,
@@ -83,9 +92,10 @@ class TriangleBvh {
   // that nothing outside can beat the best so far. One cursor per thread; the answer is the
   // same as without one.
   struct Cursor {
-    uint32_t leaf = kNoIndex;  // the previous answer's leaf
-    Point3 last{0, 0, 0};      // the previous query point
-    double travel = 0;         // length of the path of query points so far
+    uint32_t leaf = kNoIndex;      // the previous answer's leaf
+    uint32_t triangle = kNoIndex;  // the previous answer (leaf order)
+    Point3 last{0, 0, 0};          // the previous query point
+    double travel = 0;             // length of the path of query points so far
     // Indexed by depth of the leaf's ancestors (0: the root), stamped with `travel` (value +
     // travel when measured, so value now ≥ stamped − travel): clearance[d] bounds the distance
     // to everything outside the ancestor at depth d (−∞: unknown), sibling[d] to the subtree
@@ -93,7 +103,13 @@ class TriangleBvh {
     std::array<double, kMaxDepth> clearance;
     std::array<double, kMaxDepth> sibling;
   };
-  Hit closest(const Point3& p, Cursor& cursor) const;
+  // Without weights, Hit::weights is left at {1, 0, 0} (a distance alone does not need them).
+  Hit closest(const Point3& p, Cursor& cursor, bool with_weights = true) const;
+
+  // Whether the triangle of the cursor's previous answer is closer to p than
+  // sqrt(squared_distance): one triangle test, an upper bound on p's distance that often settles
+  // whether p can matter (a sample that cannot raise a maximum). The cursor is not moved.
+  bool previous_closer_than(const Point3& p, double squared_distance, const Cursor& cursor) const;
 
   size_t triangle_count() const { return triangles_.size(); }
   size_t node_count() const { return nodes_.size(); }
@@ -110,7 +126,7 @@ class TriangleBvh {
  private:
   struct Best;
   void descend(const Point3& p, uint32_t node, Best& best) const;
-  Hit hit(const Best& best) const;
+  Hit hit(const Best& best, bool with_weights = true) const;
 
   std::vector<Node> nodes_;
   std::vector<uint32_t> parent_;            // per node; kNoIndex for the root
@@ -119,6 +135,7 @@ class TriangleBvh {
   std::vector<uint32_t> leaf_of_;           // per triangle in leaf order: its leaf node
   std::vector<uint32_t> original_;          // leaf order → index given to the constructor
   std::vector<uint32_t> leaf_position_;     // index given to the constructor → leaf order
+  double box_area_ = 0;                     // summed half areas of the boxes after the build
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -211,6 +228,12 @@ struct Surface {
 // up to `threads` threads (0: all cores).
 Result<Surface> prepare_surface(const char* name, const SurfaceTopology& topology,
                                 std::span<const float> positions, unsigned threads = 0);
+// The same surface at another step: the same result as prepare_surface() on these positions,
+// made in place in the memory of the last step (no allocation) with the BVH refitted rather
+// than rebuilt (TriangleBvh::refit()). Errors as prepare_surface(); on error the surface is
+// unusable until the next successful update.
+Status update_surface(const char* name, Surface& surface, std::span<const float> positions,
+                      unsigned threads = 0);
 
 // A against B, prepared; the same numbers as hausdorff() below on the same positions. With
 // fields, result.fields holds one FieldDistance per FieldPair. Errors: a field with the wrong

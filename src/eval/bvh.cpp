@@ -109,6 +109,8 @@ struct Box {
   }
 };
 
+double half_area(const TriangleBvh::Node& n) { return Box{n.lo, n.hi}.half_area(); }
+
 // Top-down binned-SAH construction over items: runs of up to four consecutive triangles of one
 // face (a quad's star, which no split would separate usefully), or single triangles. The items'
 // boxes sit in one array that is partitioned in place, so every pass over a node's range reads
@@ -351,9 +353,16 @@ Point3 closest_point_on_triangle(const Point3& p, const Point3& a, const Point3&
 
 std::vector<SurfaceTriangle> surface_triangles(const Topology& topology,
                                                std::span<const float> positions) {
-  assert(positions.size() == size_t{topology.vertex_count} * 3);
   std::vector<SurfaceTriangle> triangles;
   triangles.reserve(topology.faces.size() + 3 * topology.quad_count());
+  surface_triangles(topology, positions, triangles);
+  return triangles;
+}
+
+void surface_triangles(const Topology& topology, std::span<const float> positions,
+                       std::vector<SurfaceTriangle>& triangles) {
+  assert(positions.size() == size_t{topology.vertex_count} * 3);
+  triangles.clear();
   auto vertex = [&](uint32_t v) {
     assert(v < topology.vertex_count);
     return std::array<float, 3>{positions[3 * size_t{v}], positions[3 * size_t{v} + 1],
@@ -375,7 +384,6 @@ std::vector<SurfaceTriangle> surface_triangles(const Topology& topology,
         triangles.push_back({corner[i], corner[(i + 1) % 4], centroid, f});
     }
   }
-  return triangles;
 }
 
 TriangleBvh::TriangleBvh(std::span<const SurfaceTriangle> triangles, unsigned threads) {
@@ -391,6 +399,7 @@ TriangleBvh::TriangleBvh(std::span<const SurfaceTriangle> triangles, unsigned th
     triangles_[i] = triangles[original_[i]];
     leaf_position_[original_[i]] = i;
   }
+  for (const Node& n : nodes_) box_area_ += half_area(n);
   parent_.assign(nodes_.size(), kNoIndex);
   depth_.assign(nodes_.size(), 0);
   leaf_of_.resize(triangles.size());
@@ -403,6 +412,30 @@ TriangleBvh::TriangleBvh(std::span<const SurfaceTriangle> triangles, unsigned th
       for (uint32_t i = node.first; i < node.first + node.count; ++i) leaf_of_[i] = n;
     }
   }
+}
+
+bool TriangleBvh::refit(std::span<const SurfaceTriangle> triangles) {
+  assert(triangles.size() == triangles_.size());
+  for (uint32_t i = 0; i < original_.size(); ++i) {
+    assert(triangles[original_[i]].face == triangles_[i].face);
+    triangles_[i] = triangles[original_[i]];
+  }
+  // Children come after their parents: in reverse order, a node's children are done first.
+  double area = 0;
+  for (size_t n = nodes_.size(); n-- > 0;) {
+    Node& node = nodes_[n];
+    Box box;
+    if (node.count > 0) {
+      for (uint32_t i = node.first; i < node.first + node.count; ++i)
+        box.extend(triangles_[i].a), box.extend(triangles_[i].b), box.extend(triangles_[i].c);
+    } else {
+      for (const Node* child : {&nodes_[n + 1], &nodes_[node.first]})
+        box.extend(Box{child->lo, child->hi});
+    }
+    node.lo = box.lo, node.hi = box.hi;
+    area += half_area(node);
+  }
+  return area <= 1.5 * box_area_;
 }
 
 // The best triangle so far (leaf order) and its closest point.
@@ -452,7 +485,7 @@ void TriangleBvh::descend(const Point3& p, uint32_t node, Best& best) const {
   }
 }
 
-TriangleBvh::Hit TriangleBvh::hit(const Best& best) const {
+TriangleBvh::Hit TriangleBvh::hit(const Best& best, bool with_weights) const {
   Hit h;
   if (best.triangle == kNoIndex) return h;
   h.squared_distance = best.d2;
@@ -460,7 +493,8 @@ TriangleBvh::Hit TriangleBvh::hit(const Best& best) const {
   h.triangle = original_[best.triangle];
   const SurfaceTriangle& t = triangles_[best.triangle];
   h.face = t.face;
-  h.weights = barycentric(best.point, to_point(t.a), to_point(t.b), to_point(t.c));
+  if (with_weights)
+    h.weights = barycentric(best.point, to_point(t.a), to_point(t.b), to_point(t.c));
   return h;
 }
 
@@ -470,7 +504,16 @@ TriangleBvh::Hit TriangleBvh::closest(const Point3& p, double max_squared_distan
   return hit(best);
 }
 
-TriangleBvh::Hit TriangleBvh::closest(const Point3& p, Cursor& cursor) const {
+bool TriangleBvh::previous_closer_than(const Point3& p, double squared_distance,
+                                       const Cursor& cursor) const {
+  if (cursor.triangle == kNoIndex) return false;
+  assert(cursor.triangle < triangles_.size());
+  const SurfaceTriangle& t = triangles_[cursor.triangle];
+  const Point3 q = closest_point_on_triangle(p, to_point(t.a), to_point(t.b), to_point(t.c));
+  return dynpm::squared_distance(p, q) < squared_distance;
+}
+
+TriangleBvh::Hit TriangleBvh::closest(const Point3& p, Cursor& cursor, bool with_weights) const {
   constexpr double kInfinity = std::numeric_limits<double>::infinity();
   Best best{kInfinity};
   if (nodes_.empty()) return hit(best);
@@ -479,10 +522,11 @@ TriangleBvh::Hit TriangleBvh::closest(const Point3& p, Cursor& cursor) const {
     descend(p, 0, best);
     if (best.triangle == kNoIndex) return hit(best);  // only if every distance overflowed
     c.leaf = leaf_of_[best.triangle];
+    c.triangle = best.triangle;
     c.last = p;
     c.clearance[0] = kInfinity;  // nothing is outside the root
     for (uint32_t d = 1; d <= depth_[c.leaf]; ++d) c.clearance[d] = -kInfinity;
-    return hit(best);
+    return hit(best, with_weights);
   }
   assert(c.leaf < nodes_.size() && nodes_[c.leaf].count > 0);
   c.travel += std::sqrt(squared_distance(p, c.last));
@@ -517,7 +561,8 @@ TriangleBvh::Hit TriangleBvh::closest(const Point3& p, Cursor& cursor) const {
     c.leaf = leaf_of_[best.triangle];
     for (uint32_t d = improved_at; d <= depth_[c.leaf]; ++d) c.clearance[d] = -kInfinity;
   }
-  return hit(best);
+  c.triangle = best.triangle;
+  return hit(best, with_weights);
 }
 
 }  // namespace dynpm

@@ -232,15 +232,30 @@ void sample_triangle(uint64_t n, Random& random, const Emit& emit) {
   assert(wanted == 0);
 }
 
-Tally run_job(const Job& job, const Direction& d, uint64_t seed, size_t job_index) {
+// `known_max` ≥ 0: a distance that some sample of this direction reaches (the area samples'
+// maximum), set only when a vertex or edge sample can matter through the maximum alone (no
+// fields, and the mean and RMS come from area samples). A sample then needs no closest point if
+// it is nearer than that — or than this job's maximum so far — to the previous answer's
+// triangle: it cannot be the (first) sample at the maximum. The margin keeps a distance that
+// would round to the maximum itself measured.
+Tally run_job(const Job& job, const Direction& d, uint64_t seed, size_t job_index,
+              double known_max) {
   Random random(job_seed(seed, job.direction, job.kind, job_index));
   Tally tally;
   tally.field_max.assign(d.fields.size(), -1);
   tally.field_max_at.resize(d.fields.size());
   TriangleBvh::Cursor cursor;  // consecutive samples are close: start where the last one ended
+  const bool with_weights = !d.fields.empty();
   // `own(k)`: field k's value at p on `from` (NaN: none there, an element field off a face).
   auto measure = [&](const Point3& p, uint64_t& counter, bool area_sample, const auto& own) {
-    const TriangleBvh::Hit hit = d.to->bvh.closest(p, cursor);
+    if (known_max >= 0 && !area_sample) {
+      const double below = std::max(known_max, tally.max);
+      if (below > 0 && d.to->bvh.previous_closer_than(p, below * below * (1 - 1e-12), cursor)) {
+        ++counter;
+        return;
+      }
+    }
+    const TriangleBvh::Hit hit = d.to->bvh.closest(p, cursor, with_weights);
     const double distance = std::sqrt(hit.squared_distance);
     if (distance > tally.max) tally.max = distance, tally.max_at = p;
     tally.all_sum += distance, tally.all_sum2 += distance * distance;
@@ -317,14 +332,16 @@ void add_jobs(std::vector<Job>& jobs, uint32_t direction, SampleKind kind, size_
     jobs.push_back({direction, kind, begin, std::min(count, begin + per_job)});
 }
 
-Result<Surface> prepare_step(const char* name, const SurfaceTopology& topology,
-                             std::span<const float> positions, unsigned threads) {
+// The surface at `positions`, in the memory of `s` (which holds its topology's last step, or
+// nothing): the BVH is refitted when it has one for these triangles, else built.
+Status fill_step(const char* name, Surface& s, std::span<const float> positions, unsigned threads) {
+  const SurfaceTopology& topology = *s.topology;
   DYNPM_RETURN_IF_ERROR(check_positions(name, *topology.topology, positions));
-  Surface s;
-  s.topology = &topology;
   s.positions.assign(positions.begin(), positions.end());
-  s.triangles = surface_triangles(*topology.topology, positions);
-  s.bvh = TriangleBvh(s.triangles, thread_count(threads));
+  surface_triangles(*topology.topology, positions, s.triangles);
+  if (s.bvh.triangle_count() != s.triangles.size() || !s.bvh.refit(s.triangles))
+    s.bvh = TriangleBvh(s.triangles, thread_count(threads));
+  s.area = 0, s.edge_length = 0;
   for (const SurfaceTriangle& t : s.triangles) s.area += triangle_area(t);
   for (const Edge& e : topology.edges) {
     double l2 = 0;
@@ -334,6 +351,14 @@ Result<Surface> prepare_step(const char* name, const SurfaceTopology& topology,
     }
     s.edge_length += std::sqrt(l2);
   }
+  return {};
+}
+
+Result<Surface> prepare_step(const char* name, const SurfaceTopology& topology,
+                             std::span<const float> positions, unsigned threads) {
+  Surface s;
+  s.topology = &topology;
+  DYNPM_RETURN_IF_ERROR(fill_step(name, s, positions, threads));
   return s;
 }
 
@@ -382,13 +407,29 @@ Result<HausdorffResult> evaluate(const Surface& a, const Surface& b,
                area_samples / double(d.from->triangles.size()));
   }
 
+  // The area samples first: their maximum then spares most vertex and edge samples a closest
+  // point when nothing but the maximum needs them (run_job). Either way the result is the same.
   std::vector<Tally> tallies(jobs.size());
-  // One part per job, taken by whichever thread is free (jobs differ in cost).
-  parallel_for(jobs.size(), jobs.size(), std::min(threads, 1024u),
-               [&](size_t begin, size_t end, size_t) {
-                 for (size_t i = begin; i < end; ++i)
-                   tallies[i] = run_job(jobs[i], directions[jobs[i].direction], options.seed, i);
-               });
+  std::array<double, 2> known_max{-1, -1};
+  for (const bool area_pass : {true, false}) {
+    std::vector<size_t> pass;
+    for (size_t i = 0; i < jobs.size(); ++i)
+      if ((jobs[i].kind == kFaceSamples) == area_pass) pass.push_back(i);
+    // One part per job, taken by whichever thread is free (jobs differ in cost).
+    parallel_for(pass.size(), pass.size(), std::min(threads, 1024u),
+                 [&](size_t begin, size_t end, size_t) {
+                   for (size_t j = begin; j < end; ++j) {
+                     const Job& job = jobs[pass[j]];
+                     tallies[pass[j]] = run_job(job, directions[job.direction], options.seed,
+                                                pass[j], known_max[job.direction]);
+                   }
+                 });
+    if (!area_pass || !fields.empty()) continue;
+    std::array<Tally, 2> area;
+    for (size_t i : pass) area[jobs[i].direction].merge(tallies[i]);
+    for (int k = 0; k < 2; ++k)
+      if (area[k].face_samples > 0) known_max[k] = std::max(area[k].max, 0.0);
+  }
   std::array<Tally, 2> total;
   for (size_t i = 0; i < jobs.size(); ++i) total[jobs[i].direction].merge(tallies[i]);
 
@@ -464,6 +505,12 @@ Result<SurfaceTopology> prepare_topology(const char* name, const Topology& topol
 Result<Surface> prepare_surface(const char* name, const SurfaceTopology& topology,
                                 std::span<const float> positions, unsigned threads) {
   return prepare_step(name, topology, positions, threads);
+}
+
+Status update_surface(const char* name, Surface& surface, std::span<const float> positions,
+                      unsigned threads) {
+  assert(surface.topology != nullptr);
+  return fill_step(name, surface, positions, threads);
 }
 
 Result<HausdorffResult> hausdorff(const Surface& a, const Surface& b,

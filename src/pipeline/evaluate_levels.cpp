@@ -114,6 +114,19 @@ Result<LevelsTable> evaluate_levels(const Topology& original, const FrameSource&
   std::vector<float> model_xyz(size_t{nav.vertex_count()} * 3);
   std::vector<std::vector<float>> original_values(field_count), level_values(field_count);
   std::vector<double> original_peak(field_count);
+  // Each surface at the current step, updated in place from step to step (its BVH refitted,
+  // no memory allocated: at a million vertices the fresh pages cost as much as the builds).
+  Surface original_step;
+  original_step.topology = &*original_surface;
+  // The levels' surfaces are kept between steps only while together they are no larger than
+  // the original (a long list of ratios up to 100 % would otherwise hold many originals).
+  std::vector<Surface> level_steps(table.rows.size());
+  size_t level_faces_total = 0;
+  for (size_t i = 0; i < level_steps.size(); ++i) {
+    level_steps[i].topology = &level_surfaces[i];
+    level_faces_total += table.rows[i].faces;
+  }
+  const bool keep_levels = level_faces_total <= original.faces.size();
   for (size_t k = 0; k < measured.size(); ++k) {
     const size_t t = measured[k];
     if (options.progress) options.progress(k, measured.size());
@@ -121,10 +134,10 @@ Result<LevelsTable> evaluate_levels(const Topology& original, const FrameSource&
     nav.set_level(model.split_count());
     nav.positions(double(t), model_xyz);
     // The original's side of every measurement at this step, built once.
-    auto original_step =
-        prepare_surface("the original", *original_surface, original_xyz, h.threads);
-    if (!original_step)
-      return Status::error("step " + std::to_string(t) + ": " + original_step.message());
+    const Status original_ready =
+        update_surface("the original", original_step, original_xyz, h.threads);
+    if (!original_ready.ok())
+      return Status::error("step " + std::to_string(t) + ": " + original_ready.message());
     for (size_t f = 0; f < field_count; ++f) {
       const bool per_face = source_fields[source_index[f]].location == FieldLocation::kElement;
       original_values[f].resize(per_face ? original.faces.size() : original.vertex_count);
@@ -139,8 +152,8 @@ Result<LevelsTable> evaluate_levels(const Topology& original, const FrameSource&
       const std::span<const float> xyz(model_xyz.data(), size_t{row.vertices} * 3);
       const std::string where =
           "step " + std::to_string(t) + ", " + std::to_string(row.vertices) + " vertices: ";
-      auto level_step = prepare_surface("the level", level_surfaces[i], xyz, h.threads);
-      if (!level_step) return Status::error(where + level_step.message());
+      const Status level_ready = update_surface("the level", level_steps[i], xyz, h.threads);
+      if (!level_ready.ok()) return Status::error(where + level_ready.message());
       std::vector<FieldPair> pairs;
       LevelDistance cell;
       if (field_count > 0) nav.set_level(row.level);
@@ -156,7 +169,11 @@ Result<LevelsTable> evaluate_levels(const Topology& original, const FrameSource&
         cell.peak_gap_pct.push_back(range > 0 ? 100 * (original_peak[f] - shown_peak) / range
                                               : 0.0);
       }
-      auto r = hausdorff(*original_step, *level_step, h, pairs);
+      auto r = hausdorff(original_step, level_steps[i], h, pairs);
+      if (!keep_levels) {  // its memory back
+        level_steps[i] = Surface();
+        level_steps[i].topology = &level_surfaces[i];
+      }
       if (!r) return Status::error(where + r.message());
       cell.hausdorff_pct = r->percent(r->hausdorff);
       cell.mean_pct = r->percent(r->mean);
