@@ -50,7 +50,8 @@ class Inspect {
     this.original = null;
     this.ids = null;
     this.cut = null;
-    this.keep = (point) => !this.cut || this.cut.keeps(point);  // on the kept side of the section
+    // On the kept side of the section, and of a part that is shown (part_list.js).
+    this.keep = (point, face) => (!this.cut || this.cut.keeps(point)) && !this.partHidden?.(face);
     this.plot = new HistoryPlot(this.ui.plot);
     this.markers = new THREE.Group();
     this.markers.renderOrder = 11;

@@ -132,7 +132,7 @@ function aroundRay(uv, k, c, slack) {
 }
 
 // Of the faces of a level (nav, flat positions p) that the ray (origin, unit direction) crosses at
-// a point keep(point) accepts, the one whose distance s along the ray has the least score(s)
+// a point keep(point, face) accepts, the one whose distance s along the ray has the least score(s)
 // (s itself: the first crossing): {face, s, point}, or null. One pass over vertices and faces.
 export function rayCrossing(nav, p, origin, direction, keep = () => true, score = (s) => s) {
   const k = nav.corners;
@@ -146,7 +146,7 @@ export function rayCrossing(nav, p, origin, direction, keep = () => true, score 
     if (!aroundRay(uv, k, c, slack)) continue;
     let s = rayTriangle(origin, direction, p, k[c], k[c + 1], k[c + 2]);
     if (k[c + 3] >= 0) s = Math.min(s, rayTriangle(origin, direction, p, k[c], k[c + 2], k[c + 3]));
-    if (s === Infinity || score(s) >= bestScore || !keep(at(s))) continue;
+    if (s === Infinity || score(s) >= bestScore || !keep(at(s), f)) continue;
     best = { face: f, s, point: at(s) }, bestScore = score(s);
   }
   return best;

@@ -513,7 +513,8 @@ const timing = { firstByte: undefined, head: undefined, base: undefined, baseDon
 const loading = load();
 const done = loading.catch(showError);
 installApi({ ...viewer, loading });
-installInspect({ renderer, scene, camera, surface, state, requestRender, deformation });
+const partHidden = (f) => Boolean(parts?.hidden.has(state.mesh.partId[f]));
+installInspect({ renderer, scene, camera, surface, state, requestRender, deformation, partHidden });
 addPartsApi(() => partList);
 window.dpmViewer = {
   done,

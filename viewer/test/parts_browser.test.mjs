@@ -97,6 +97,26 @@ test('each face its part\'s flat colour on its own slots, at the full and a coar
   await level(mesh.head.vertexCount);
 });
 
+test('a hidden part cannot be picked (inspect.js): the ray passes through it', async () => {
+  await setVisible([...NAMES.keys()], true);
+  const pickAt = (x, y) => page.evaluate(([x, y]) => window.dynpm.pick(x, y), [x, y]);
+  const { w, h } = await page.evaluate(() => {
+    const r = document.querySelector('canvas').getBoundingClientRect();
+    return { w: r.width, h: r.height };
+  });
+  let hit = null;
+  for (let i = 1; i < 16 && !hit; i++) for (let j = 1; j < 10 && !hit; j++) {
+    const p = await pickAt((w * i) / 16, (h * j) / 10);
+    if (p) hit = { x: (w * i) / 16, y: (h * j) / 10, part: p.part };
+  }
+  assert.ok(hit, 'some pixel picks a part');
+  await setVisible([hit.part], false);
+  const after = await pickAt(hit.x, hit.y);
+  assert.ok(after === null || after.part !== hit.part, `part ${hit.part} hidden, picked ${after?.part}`);
+  await setVisible([hit.part], true);
+  assert.equal((await pickAt(hit.x, hit.y))?.part, hit.part);
+});
+
 test('hidden through the API: not in the part slots, not in the picture', async () => {
   const all = await covered();
   await setVisible([201, 202], false);
