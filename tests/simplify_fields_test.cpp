@@ -146,6 +146,8 @@ TEST(SimplifyFields, WeightZeroIsTheGeometryOnlyCostExactly) {
   }
 }
 
+// The simplifier's own field error (each vertex's spread, every step): the added term at 0.01
+// lowers it to under 0.75 × the geometry-only one; the default (scaled) never makes it worse.
 TEST(SimplifyFields, FieldsInTheCostLowerTheFieldErrorOnTheCrashBox) {
   test::TempDir dir;
   const std::string frd = crashbox_fields(dir);
@@ -156,20 +158,26 @@ TEST(SimplifyFields, FieldsInTheCostLowerTheFieldErrorOnTheCrashBox) {
   for (double ratio : {0.05, 0.25}) {
     SimplifyOptions options;
     options.target_ratio = ratio;
-    Trace geometry(input->topology.vertex_count), fields(input->topology.vertex_count);
+    Trace geometry(input->topology.vertex_count), added(input->topology.vertex_count),
+        scaled(input->topology.vertex_count);
     options.field_weight = 0;
     ASSERT_TRUE(simplify(input->topology, *input->frames, options, &geometry));
     options.field_weight = kDefaultFieldWeight;
-    ASSERT_TRUE(simplify(input->topology, *input->frames, options, &fields));
+    ASSERT_TRUE(simplify(input->topology, *input->frames, options, &scaled));
+    options.field_weight = 0.01, options.field_combine = FieldCombine::kAdd;
+    ASSERT_TRUE(simplify(input->topology, *input->frames, options, &added));
     for (const char* name : {"S_MISES", "PEEQ"}) {
       const auto it = std::find(names.begin(), names.end(), name);
       ASSERT_NE(it, names.end()) << name;
       const size_t f = size_t(it - names.begin());
       const double before = field_error(*input->frames, f, geometry);
-      const double after = field_error(*input->frames, f, fields);
-      std::printf("ratio %.2f %-8s field error %.1f %% geometry only, %.1f %% with fields\n", ratio,
-                  name, 100 * before, 100 * after);
-      EXPECT_LE(after, 0.75 * before) << name << " at " << ratio;
+      const double with_added = field_error(*input->frames, f, added);
+      const double with_scaled = field_error(*input->frames, f, scaled);
+      std::printf(
+          "ratio %.2f %-8s field error %.1f %% geometry only, %.1f %% added, %.1f %% scaled\n",
+          ratio, name, 100 * before, 100 * with_added, 100 * with_scaled);
+      EXPECT_LE(with_added, 0.75 * before) << name << " at " << ratio;
+      EXPECT_LE(with_scaled, before + 1e-6) << name << " at " << ratio;
     }
   }
 }
@@ -221,6 +229,7 @@ TEST(SimplifyFields, ALinearNodeFieldCostsNothingInTheAttributeQuadrics) {
     options.target_ratio = 0.3;
     options.field_weight = 1;
     options.field_form = form;
+    options.field_combine = FieldCombine::kAdd;  // the field term itself, in diagonals
     options.check_every_collapse = true;
     auto r = simplify(a.topology, frames, options);
     EXPECT_TRUE(r) << r.message();
