@@ -43,6 +43,7 @@ const VerbSpec kSpec{
      kBoundaryWeightFlag,
      kFieldFlag,
      kFieldWeightFlag,
+     kFieldCostFlag,
      kRegularizeFlag,
      kIgnorePartsFlag,
      kThreadsFlag,

@@ -31,6 +31,26 @@ Status parse_simplify_flags(const Args& args, SimplifyOptions& options, KeyStepR
     if (field.name.empty()) return Status::error("--field needs a field name: --field NAME[:W]");
     options.field_weights.push_back(field);
   }
+  if (auto v = args.value("--field-cost")) {
+    std::string form = *v, combine;
+    if (const size_t comma = form.find(','); comma != std::string::npos)
+      combine = form.substr(comma + 1), form.resize(comma);
+    if (form == "spread")
+      options.field_form = FieldForm::kSpread;
+    else if (form == "attributes")
+      options.field_form = FieldForm::kAttributes;
+    else if (form == "quadric")
+      options.field_form = FieldForm::kQuadric;
+    else
+      return Status::error("--field-cost: unknown form '" + form +
+                           "' (spread, attributes, quadric)");
+    if (combine == "add")
+      options.field_combine = FieldCombine::kAdd;
+    else if (combine == "scale")
+      options.field_combine = FieldCombine::kScale;
+    else if (!combine.empty())
+      return Status::error("--field-cost: unknown combination '" + combine + "' (add, scale)");
+  }
   options.keep_part_boundaries = !args.has("--ignore-parts");
   if (const auto text = args.value("--threads")) {
     auto r = parse_whole("--threads", *text, 0, kMaxThreads);

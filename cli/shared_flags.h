@@ -25,8 +25,13 @@ inline const FlagSpec kFieldFlag{"--field", "", true, "NAME[:W]",
                                  "fields leaves the others out)"};
 inline const FlagSpec kFieldWeightFlag{"--field-weight", "", true, "W",
                                        "weight of every field in the cost: a change of the "
-                                       "field's whole range costs W diagonals (0.01; 0: "
+                                       "field's whole range multiplies the geometric error by "
+                                       "1 + W (3; with --field-cost …,add it costs W diagonals; 0: "
                                        "geometry only)"};
+inline const FlagSpec kFieldCostFlag{"--field-cost", "", true, "FORM[,COMBINE]",
+                                     "what the field term measures: spread (default), "
+                                     "attributes, quadric; and how it meets the geometry: scale "
+                                     "(default), add"};
 inline const FlagSpec kRegularizeFlag{"--regularize", "", true, "W",
                                       "shape term keeping flat regions well shaped (default 0: "
                                       "off; 0.001 measured)"};
@@ -34,6 +39,7 @@ inline const FlagSpec kIgnorePartsFlag{"--ignore-parts", "", false, "",
                                        "let collapses cross part boundaries"};
 
 // --key-steps (default all) into `key_steps`; --boundary-weight, --field, --field-weight,
+// --field-cost,
 // --regularize, --ignore-parts and --threads (kThreadsFlag, where the verb lists it) into
 // `options`. The error is the usage message, without the
 // verb.

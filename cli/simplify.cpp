@@ -31,7 +31,8 @@ const VerbSpec kSpec{
     "Key steps (paper §3): all; paper = first, last and the strongest deformation in between;\n"
     "auto:K = K steps, each the farthest (largest vertex displacement) from those chosen.\n"
     "Result fields count in the cost: by default every field, a change of its whole range\n"
-    "costing 0.01 diagonals (--field-weight); --field NAME[:W] picks fields.",
+    "multiplying the collapse's geometric error by 1 + 3 (--field-weight, --field-cost);\n"
+    "--field NAME[:W] picks fields.",
     {{"--output", "-o", true, "OUTPUT", "output mesh, or pattern with {:03d} for several steps"},
      {"--ratio", "", true, "R", "keep this fraction of the vertices, e.g. 0.05"},
      {"--vertices", "", true, "N", "keep N vertices"},
@@ -42,6 +43,7 @@ const VerbSpec kSpec{
      kBoundaryWeightFlag,
      kFieldFlag,
      kFieldWeightFlag,
+     kFieldCostFlag,
      kRegularizeFlag,
      kIgnorePartsFlag,
      {"--ascii", "", false, "", "write PLY and VTK as text"},

@@ -9,6 +9,9 @@ stored bound is 0.1 %), and the two-sided Hausdorff distance (% of the diagonal)
 
     python3 scripts/field_tables.py --dynpm build/release/cli/dynpm INPUT:FIELD[,FIELD]...
 
+--with "ARGS" builds the with-fields side with those build flags (e.g. "--field-cost
+quadric,scale --field-weight 30"), to compare the field term's forms.
+
 Standard library only. Prints markdown; every number comes from the dynpm runs made here.
 """
 import argparse
@@ -28,10 +31,10 @@ def run(cmd):
     return r.stdout
 
 
-def measure(dynpm, source, fields, weight, work):
+def measure(dynpm, source, fields, weight, work, extra=()):
     """eval's JSON of one build: {ratio: row} with every step's cells."""
     dpm = os.path.join(work, "w%s.dpm" % weight)
-    cmd = [dynpm, "build", source, "-o", dpm]
+    cmd = [dynpm, "build", source, "-o", dpm] + list(extra)
     if weight is not None:
         cmd += ["--field-weight", str(weight)]
     run(cmd)
@@ -47,13 +50,15 @@ def measure(dynpm, source, fields, weight, work):
 def main():
     p = argparse.ArgumentParser()
     p.add_argument("--dynpm", default="build/release/cli/dynpm")
+    p.add_argument("--with", dest="with_args", default="",
+                   help="build flags of the with-fields side (default: none, the defaults)")
     p.add_argument("inputs", nargs="+", help="INPUT:FIELD[,FIELD]")
     a = p.parse_args()
     for spec in a.inputs:
         source, fields = spec.rsplit(":", 1)
         fields = fields.split(",")
         with tempfile.TemporaryDirectory() as work:
-            with_fields = measure(a.dynpm, source, fields, None, work)
+            with_fields = measure(a.dynpm, source, fields, None, work, a.with_args.split())
             geometry = measure(a.dynpm, source, fields, 0, work)
         name = os.path.basename(source)
         print("\n#### %s\n" % name)

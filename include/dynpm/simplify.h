@@ -7,17 +7,21 @@
 //     quad's plane is quad_plane(): the mean of its corner normals through its centroid), plus
 //     constraint planes perpendicular to boundary and feature edges
 //     + regularize · (area of v's faces) · |p − p_t(v)|², the shape term (not counted in w)
-//   field term (quadrics.h, FieldTerm::add_field_term()): per vertex, key step t and cost field
-//     f the interval I[t][v][f] = [lo, hi] of the values v stands for (an element field: the
-//     values of v's faces); s_f = weight_f · diagonal / range_f (range over the key steps)
-//     F[t](v0, v1) = Σ_f (s_f · spread(I[t][v0][f] ∪ I[t][v1][f]))²
+//   field term (field_term.h, FieldTerm::squared(), form FieldForm): per vertex, key step t and
+//     cost field f, kSpread: the interval I[t][v][f] = [lo, hi] of the values v stands for (an
+//     element field: the values of v's faces), e = spread(I[t][v0][f] ∪ I[t][v1][f]) / range_f;
+//     kAttributes / kQuadric: an attribute quadric (values scaled by range_f) at v1's position,
+//     e² its area-weighted mean at v1's own value / at the optimal value
+//     F[t](v0, v1) = Σ_f (weight_f · diagonal · e_f)²
 //   cost (worst_over_key_steps(), paper method (1*)), with w the total plane weight:
-//     error(v0 → v1) = max over key steps t of
-//                      sqrt(max((Q[t][v0] + Q[t][v1])(p_t(v1)) / (w[t][v0] + w[t][v1]),
-//                               Q[t][v0](p_t(v1)) / w[t][v0]) + F[t](v0, v1))
-//                      / bounding-box diagonal
+//     G[t] = max((Q[t][v0] + Q[t][v1])(p_t(v1)) / (w[t][v0] + w[t][v1]),
+//                Q[t][v0](p_t(v1)) / w[t][v0])
 //     the second term is the cost floor: never less than v0's own RMS distance at its new place
 //     (with optimal placement: (Q[t][v0] + Q[t][v1]) / w at the minimiser, no floor)
+//     FieldCombine::kAdd:   error = max over key steps t of sqrt(G[t] + F[t]) / diagonal
+//     FieldCombine::kScale: error = max(max_t sqrt(G[t]) / diagonal, kFieldGeometryFloor)
+//                                   · (1 + max_t sqrt(F[t]) / diagonal)
+//     without cost fields both are max_t sqrt(G[t]) / diagonal
 //   legality (legality.h): CollapseRules::allows(), every rule, cheapest first
 //   the loop (simplifier.cpp, Simplifier::run(), line for line):
 //     rate_all_edges()                           every edge once, for its cheaper direction
@@ -67,9 +71,29 @@ enum class Placement {
               // system is ill-conditioned; needs every step to be a key step
 };
 
+// What the field term measures per vertex and key step (docs/simplify.md, "Fields in the cost",
+// where the three are measured against each other).
+enum class FieldForm {
+  kSpread,      // the spread (max − min) of the values a vertex stands for: what the max
+                // aggregate can show
+  kAttributes,  // an attribute quadric (Hoppe 1999's memory-efficient form) at v1's own value,
+                // as meshoptimizer's simplifyWithAttributes
+  kQuadric,     // the attribute quadric at its optimal value (Garland–Heckbert 1998)
+};
+// How the field term and the geometric error make one cost.
+enum class FieldCombine {
+  kAdd,    // sqrt(geometric² + field²): a field change of the whole range costs like weight
+           // diagonals of distance
+  kScale,  // max(geometric, kFieldGeometryFloor) · (1 + field): the field scales each
+           // collapse's own geometric error, by 1 + weight for a change of the whole range
+};
+// Under FieldCombine::kScale a geometric error below this (in diagonals) counts as this: where
+// the surface is flat to within the floats' precision, the field alone orders the collapses.
+inline constexpr double kFieldGeometryFloor = 1e-6;
+
 // Defaults of SimplifyOptions::field_weight and ::regularize (docs/simplify.md, where they are
 // measured).
-inline constexpr double kDefaultFieldWeight = 0.01;
+inline constexpr double kDefaultFieldWeight = 3;  // under FieldCombine::kScale
 inline constexpr double kDefaultRegularize = 0;
 
 struct SimplifyOptions {
@@ -95,9 +119,10 @@ struct SimplifyOptions {
   double boundary_weight = 1.0;
 
   // Result fields in the cost (docs/simplify.md, "Fields in the cost"): per key step, the
-  // spread of each field's values that v1 stands for after the collapse is added to the
-  // geometric mean squared distance, scaled so that a spread of the field's whole range (over
-  // the key steps) costs like a distance of weight × the bounding-box diagonal. Empty
+  // spread of each field's values that v1 stands for after the collapse (field_form), in parts
+  // of the field's range (over the key steps) times the weight, scales the collapse's own
+  // geometric error by 1 + that (field_combine kScale; kAdd adds it as weight × the
+  // bounding-box diagonal of distance, the cost before 2026-12-02 at weight 0.01). Empty
   // field_weights: every field of the input at field_weight; otherwise only the fields named,
   // each at its own weight or, without one, at field_weight. field_weight 0 and no field named:
   // the geometry-only cost, byte for byte.
@@ -107,6 +132,8 @@ struct SimplifyOptions {
   };
   std::vector<FieldWeight> field_weights;
   double field_weight = kDefaultFieldWeight;
+  FieldForm field_form = FieldForm::kSpread;
+  FieldCombine field_combine = FieldCombine::kScale;
   // Shape regularizer: an isotropic quadric per vertex and key step, weighted regularize × the
   // area of its faces, so that among collapses of (near) equal geometric error the one that
   // moves v0's faces least wins: flat regions stay well shaped instead of turning into slivers

@@ -26,77 +26,17 @@ std::vector<uint8_t> constrained_edges(const Topology& input, const Adjacency& a
   return constrained;
 }
 
-void FieldTerm::choose(std::span<const CostField> fields, std::span<const FieldInfo> infos,
-                       size_t key_count, uint32_t vertex_count) {
-  fields_.clear();
-  for (const CostField& c : fields) fields_.push_back({c.field, infos[c.field], c.weight});
-  key_count_ = key_count;
-  intervals_.assign(size_t{vertex_count} * key_count * fields_.size() * 2, 0.0f);
-}
-
-Status FieldTerm::load_step(const FrameSource& frames, const Topology& input, size_t k, size_t t) {
-  const uint32_t n = input.vertex_count;
-  for (size_t f = 0; f < fields_.size(); ++f) {
-    Chosen& c = fields_[f];
-    const bool element = c.info.location == FieldLocation::kElement;
-    values_.resize(element ? input.faces.size() : n);
-    DYNPM_RETURN_IF_ERROR(frames.read_field(c.field, t, values_));
-    for (float x : values_)
-      if (!std::isfinite(x))
-        return Status::error("field " + c.info.name + " at step " + std::to_string(t) +
-                             " holds a value that is not a finite number");
-    if (!values_.empty()) {
-      const auto [lo, hi] = std::minmax_element(values_.begin(), values_.end());
-      c.lo = std::min(c.lo, double{*lo}), c.hi = std::max(c.hi, double{*hi});
-    }
-    if (!element) {
-      for (uint32_t v = 0; v < n; ++v)
-        interval(v, k)[2 * f] = interval(v, k)[2 * f + 1] = values_[v];
-      continue;
-    }
-    // An element field at a vertex: the smallest and largest value of its faces, since a
-    // collapse merges the faces around v0 into those around v1 (a vertex without faces: 0).
-    for (uint32_t v = 0; v < n; ++v)
-      interval(v, k)[2 * f] = HUGE_VALF, interval(v, k)[2 * f + 1] = -HUGE_VALF;
-    for (size_t face = 0; face < input.faces.size(); ++face)
-      for (int corner = 0; corner < input.faces[face].degree(); ++corner) {
-        float* i = interval(input.faces[face].v[corner], k) + 2 * f;
-        i[0] = std::min(i[0], values_[face]), i[1] = std::max(i[1], values_[face]);
-      }
-    for (uint32_t v = 0; v < n; ++v)
-      if (interval(v, k)[2 * f] > interval(v, k)[2 * f + 1])
-        interval(v, k)[2 * f] = interval(v, k)[2 * f + 1] = 0;
-  }
-  return {};
-}
-
-void FieldTerm::finish(double diagonal) {
-  scale_.clear();
-  for (const Chosen& c : fields_) {
-    const double range = c.hi - c.lo;
-    scale_.push_back(range > 0 ? c.weight * diagonal / range : 0.0);
-  }
-  std::vector<float>().swap(values_);
-}
-
-void FieldTerm::merge(uint32_t v0, uint32_t v1) {
-  for (size_t k = 0; k < key_count_; ++k) {
-    const float* a = interval(v0, k);
-    float* b = interval(v1, k);
-    for (size_t f = 0; f < fields_.size(); ++f)
-      b[2 * f] = std::min(b[2 * f], a[2 * f]), b[2 * f + 1] = std::max(b[2 * f + 1], a[2 * f + 1]);
-  }
-}
-
 Status KeyStepQuadrics::load_key_steps(const FrameSource& frames, const Topology& input,
                                        std::span<const size_t> key_steps,
-                                       std::span<const CostField> fields, unsigned threads,
+                                       std::span<const CostField> fields, FieldForm form,
+                                       FieldCombine combine, unsigned threads,
                                        const ProgressCallback& progress) {
   const uint32_t vertex_count = input.vertex_count;
   key_count_ = key_steps.size();
   positions_.resize(size_t{vertex_count} * key_count_ * 3);
-  fields_.choose(fields, fields.empty() ? std::vector<FieldInfo>{} : frames.fields(), key_count_,
-                 vertex_count);
+  fields_.choose(fields, fields.empty() ? std::vector<FieldInfo>{} : frames.fields(), form,
+                 key_count_, vertex_count);
+  combine_ = combine;
   BoundingBox box;
   if (progress) progress("reading key steps", 0, key_count_);
   size_t done = 0;
@@ -184,6 +124,7 @@ void KeyStepQuadrics::build(const Topology& input, const CollapseMesh& mesh,
           vertex_quadric(input, mesh, v, k, constrained, boundary_weight, regularize));
     }
   });
+  fields_.build(input, mesh, positions_, threads);
 }
 
 Quadric KeyStepQuadrics::merged_quadric(uint32_t v0, uint32_t v1, size_t k) const {
@@ -195,61 +136,70 @@ double KeyStepQuadrics::collapse_error(uint32_t v0, uint32_t v1, VertexClass v1_
                                        std::vector<Vec3>& placement) const {
   placement.resize(key_count_);
   const bool moves = v1_class != VertexClass::kLocked;
-  return worst_over_key_steps<1>(key_count_, diagonal_, [&](size_t k, auto& worst) {
-    const Quadric q = merged_quadric(v0, v1, k);
-    const Vec3 p1 = position(v1, k);
-    Vec3 offset{};  // from v1's position
-    if (moves) {
-      if (auto m = q.minimiser()) {
-        offset = *m;
-      } else if (v1_class == VertexClass::kInterior &&
-                 q.evaluate(position(v0, k) - p1) < q.evaluate(offset)) {
-        offset = position(v0, k) - p1;  // ill-conditioned: the better endpoint
-      }
-    }
-    placement[k] = p1 + offset;
-    worst[0].offer(q.mean_squared(offset) + fields_.add_field_term(v0, v1, k));
-  })[0];
+  return worst_over_key_steps<1>(
+      key_count_, diagonal_, combine_, !fields_.empty(), [&](size_t k, auto& worst) {
+        const Quadric q = merged_quadric(v0, v1, k);
+        const Vec3 p1 = position(v1, k);
+        Vec3 offset{};  // from v1's position
+        if (moves) {
+          if (auto m = q.minimiser()) {
+            offset = *m;
+          } else if (v1_class == VertexClass::kInterior &&
+                     q.evaluate(position(v0, k) - p1) < q.evaluate(offset)) {
+            offset = position(v0, k) - p1;  // ill-conditioned: the better endpoint
+          }
+        }
+        placement[k] = p1 + offset;
+        worst[0].offer(q.mean_squared(offset), fields_.squared(v0, v1, k, p1 - position(v0, k)));
+      })[0];
 }
 
 double KeyStepQuadrics::half_edge_error(uint32_t v0, uint32_t v1) const {
-  return worst_over_key_steps<1>(key_count_, diagonal_, [&](size_t k, auto& worst) {
-    const LocalQuadric& q1 = quadric(v1, k);
-    const Quadric q0 = quadric(v0, k).widen();
-    const double weight = q0.w + double{q1.w};
-    if (!(weight > 0)) return;
-    const double moved = q0.evaluate(position(v1, k) - position(v0, k));
-    const double field = fields_.add_field_term(v0, v1, k);
-    worst[0].offer((moved + double{q1.c}) / weight + field);
-    if (q0.w > 0) worst[0].offer(moved / q0.w + field);  // the floor, see half_edge_errors()
-  })[0];
+  return worst_over_key_steps<1>(
+      key_count_, diagonal_, combine_, !fields_.empty(), [&](size_t k, auto& worst) {
+        const LocalQuadric& q1 = quadric(v1, k);
+        const Quadric q0 = quadric(v0, k).widen();
+        const double weight = q0.w + double{q1.w};
+        if (!(weight > 0)) return;
+        const Vec3 offset = position(v1, k) - position(v0, k);
+        const double moved = q0.evaluate(offset);
+        const double field = fields_.squared(v0, v1, k, offset);
+        worst[0].offer((moved + double{q1.c}) / weight, field);
+        if (q0.w > 0) worst[0].offer(moved / q0.w, field);  // the floor, see half_edge_errors()
+      })[0];
 }
 
 std::pair<double, double> KeyStepQuadrics::half_edge_errors(uint32_t a, uint32_t b) const {
-  const auto error = worst_over_key_steps<2>(key_count_, diagonal_, [&](size_t k, auto& worst) {
-    const Quadric qa = quadric(a, k).widen(), qb = quadric(b, k).widen();
-    const double weight = qa.w + qb.w;
-    if (!(weight > 0)) return;
-    const Vec3 d = position(b, k) - position(a, k);
-    const double moved_a = qa.evaluate(d), moved_b = qb.evaluate(Vec3{} - d);
-    const double field = fields_.add_field_term(a, b, k);  // the same both ways
-    worst[0].offer((moved_a + qb.c) / weight + field);
-    worst[1].offer((moved_b + qa.c) / weight + field);
-    // The cost floor: never less than the moved vertex's own mean squared distance. Divided by
-    // the merged weight alone, a light vertex (a boundary corner) next to a heavy one (which
-    // has absorbed many collapses) would be swallowed at almost no cost, cutting the corner.
-    if (qa.w > 0) worst[0].offer(moved_a / qa.w + field);
-    if (qb.w > 0) worst[1].offer(moved_b / qb.w + field);
-  });
+  const auto error = worst_over_key_steps<2>(
+      key_count_, diagonal_, combine_, !fields_.empty(), [&](size_t k, auto& worst) {
+        const Quadric qa = quadric(a, k).widen(), qb = quadric(b, k).widen();
+        const double weight = qa.w + qb.w;
+        if (!(weight > 0)) return;
+        const Vec3 d = position(b, k) - position(a, k);
+        const double moved_a = qa.evaluate(d), moved_b = qb.evaluate(Vec3{} - d);
+        const double field_a = fields_.squared(a, b, k, d);  // the spread's is the same both ways
+        const double field_b = fields_.squared(b, a, k, Vec3{} - d);
+        worst[0].offer((moved_a + qb.c) / weight, field_a);
+        worst[1].offer((moved_b + qa.c) / weight, field_b);
+        // The cost floor: never less than the moved vertex's own mean squared distance. Divided by
+        // the merged weight alone, a light vertex (a boundary corner) next to a heavy one (which
+        // has absorbed many collapses) would be swallowed at almost no cost, cutting the corner.
+        if (qa.w > 0) worst[0].offer(moved_a / qa.w, field_a);
+        if (qb.w > 0) worst[1].offer(moved_b / qb.w, field_b);
+      });
   return {error[0], error[1]};
 }
 
 std::span<const float> KeyStepQuadrics::merge(uint32_t v0, uint32_t v1,
                                               const std::vector<Vec3>* placement) {
+  offsets_.resize(key_count_);
+  moves_.resize(placement ? key_count_ : 0);
   for (size_t k = 0; k < key_count_; ++k) {
     Quadric q = merged_quadric(v0, v1, k);  // around v1's position
+    offsets_[k] = position(v1, k) - position(v0, k);
     if (placement) {
       const Vec3 before = position(v1, k);
+      moves_[k] = (*placement)[k] - before;
       float* p = position_data(v1, k);
       p[0] = static_cast<float>((*placement)[k].x), p[1] = static_cast<float>((*placement)[k].y),
       p[2] = static_cast<float>((*placement)[k].z);
@@ -257,7 +207,7 @@ std::span<const float> KeyStepQuadrics::merge(uint32_t v0, uint32_t v1,
     }
     quadric(v1, k) = LocalQuadric::narrow(q);
   }
-  fields_.merge(v0, v1);
+  fields_.merge(v0, v1, offsets_, moves_);
   return {position_data(v1, 0), key_count_ * 3};
 }
 

@@ -15,11 +15,7 @@
 // The phases alternate per face, not one after the other over all faces: the sums stay in the
 // order that makes every output byte-identical to what it was.
 //
-// The field term (FieldTerm::add_field_term(), issue 18): per vertex, key step and cost field,
-// the interval [lo, hi] of the values the vertex stands for — a node field's own value, or the
-// smallest and largest value of its faces for an element field. A collapse unites v0's and
-// v1's intervals; the shown value of v1 (max |value| or mean of what it stands for) differs from
-// each original value by at most hi − lo, so the spread is what the collapse costs the field.
+// The field term is field_term.h; how it combines with the geometric error is Worst below.
 #pragma once
 
 #include <array>
@@ -29,26 +25,39 @@
 
 #include "collapse_mesh.h"
 #include "dynpm/simplify.h"
+#include "field_term.h"
 #include "legality.h"
 #include "quadric.h"
 
 namespace dynpm::simplification {
 
-// Paper method (1*): a collapse costs the largest of its errors over the key steps (each the
-// geometric mean squared distance plus the field term). Each step
-// offers its weighted mean squared distance — for every direction rated at once, kDirections of
-// them — to worst[d].offer(); the cost is the root of the largest, in bounding-box diagonals.
+// Paper method (1*): a collapse costs the largest of its errors over the key steps. Each step
+// offers its geometric weighted mean squared distance and its field term (both squared
+// lengths) — for every direction rated at once, kDirections of them — to worst[d].offer().
+// FieldCombine::kAdd: the root of the largest sum; kScale: the largest geometric error (at
+// least kFieldGeometryFloor) times 1 + the largest field term, both in diagonals. Without cost
+// fields both are the geometric error alone.
 struct Worst {
-  double squared = 0;
-  void offer(double mean_squared) { squared = std::max(squared, mean_squared); }
+  double squared = 0, geometric = 0, field = 0;
+  void offer(double geometric_squared, double field_squared) {
+    squared = std::max(squared, geometric_squared + field_squared);
+    geometric = std::max(geometric, geometric_squared);
+    field = std::max(field, field_squared);
+  }
+  double error(double diagonal, FieldCombine combine, bool fields) const {
+    if (!fields || combine == FieldCombine::kAdd) return std::sqrt(squared) / diagonal;
+    return std::max(std::sqrt(geometric) / diagonal, kFieldGeometryFloor) *
+           (1 + std::sqrt(field) / diagonal);
+  }
 };
 template <size_t kDirections, class PerStep>
 std::array<double, kDirections> worst_over_key_steps(size_t key_count, double diagonal,
+                                                     FieldCombine combine, bool fields,
                                                      PerStep&& per_step) {
   std::array<Worst, kDirections> worst{};
   for (size_t k = 0; k < key_count; ++k) per_step(k, worst);
   std::array<double, kDirections> error{};
-  for (size_t d = 0; d < kDirections; ++d) error[d] = std::sqrt(worst[d].squared) / diagonal;
+  for (size_t d = 0; d < kDirections; ++d) error[d] = worst[d].error(diagonal, combine, fields);
   return error;
 }
 
@@ -56,58 +65,6 @@ std::array<double, kDirections> worst_over_key_steps(size_t key_count, double di
 // next corner, set when that edge is a boundary or feature edge.
 std::vector<uint8_t> constrained_edges(const Topology& input, const Adjacency& adjacency,
                                        const FeatureEdges& features);
-
-// The field term of the cost: the spread of each cost field's values a vertex stands for, per
-// key step (see the top of this file). Scaled so that a spread of the field's whole range costs
-// like weight × the diagonal, as a squared length next to the quadrics' mean squared distance.
-class FieldTerm {
- public:
-  // Which fields, before the key steps are read.
-  void choose(std::span<const CostField> fields, std::span<const FieldInfo> infos, size_t key_count,
-              uint32_t vertex_count);
-  // Reads the cost fields at key step k (step t of the source).
-  Status load_step(const FrameSource& frames, const Topology& input, size_t k, size_t t);
-  // After the last key step: each field's scale from its range and the diagonal.
-  void finish(double diagonal);
-
-  bool empty() const { return fields_.empty(); }
-  // Σ over the cost fields of (scale · spread)² of v0's and v1's values together, in key step k.
-  // Symmetric in v0 and v1.
-  double add_field_term(uint32_t v0, uint32_t v1, size_t k) const {
-    if (fields_.empty()) return 0;
-    double sum = 0;
-    const float* a = interval(v0, k);
-    const float* b = interval(v1, k);
-    for (size_t f = 0; f < fields_.size(); ++f, a += 2, b += 2) {
-      const double spread = double{std::max(a[1], b[1])} - std::min(a[0], b[0]);
-      sum += scale_[f] * scale_[f] * spread * spread;
-    }
-    return sum;
-  }
-  // After the collapse v0 → v1: v1 stands for v0's values too.
-  void merge(uint32_t v0, uint32_t v1);
-
- private:
-  // data() + offset, not &intervals_[offset]: without cost fields the vector is empty.
-  const float* interval(uint32_t v, size_t k) const {
-    return intervals_.data() + ((size_t{v} * key_count_ + k) * fields_.size()) * 2;
-  }
-  float* interval(uint32_t v, size_t k) {
-    return intervals_.data() + ((size_t{v} * key_count_ + k) * fields_.size()) * 2;
-  }
-
-  struct Chosen {
-    size_t field;
-    FieldInfo info;
-    double weight;
-    double lo = HUGE_VAL, hi = -HUGE_VAL;  // over the key steps
-  };
-  std::vector<Chosen> fields_;
-  std::vector<double> scale_;     // per field: weight · diagonal / range
-  std::vector<float> intervals_;  // #V × #key steps × #fields × (lo, hi)
-  std::vector<float> values_;     // one step of one field, as read
-  size_t key_count_ = 0;
-};
 
 // Positions and quadrics of every vertex in every key step, vertex-major (one vertex's steps
 // together: rating an edge reads two short runs of memory).
@@ -118,8 +75,9 @@ class KeyStepQuadrics {
   // "reading key steps".
   Status load_key_steps(const FrameSource& frames, const Topology& input,
                         std::span<const size_t> key_steps, std::span<const CostField> fields,
-                        unsigned threads, const ProgressCallback& progress);
-  // The quadrics of the input mesh (phases at the top of this file).
+                        FieldForm form, FieldCombine combine, unsigned threads,
+                        const ProgressCallback& progress);
+  // The quadrics of the input mesh (phases at the top of this file), and the field term's.
   void build(const Topology& input, const CollapseMesh& mesh, std::span<const uint8_t> constrained,
              double boundary_weight, double regularize, unsigned threads);
 
@@ -175,6 +133,8 @@ class KeyStepQuadrics {
   std::vector<LocalQuadric> quadrics_;  // #V × #key steps, each around its own vertex
   double diagonal_ = 1;
   FieldTerm fields_;
+  FieldCombine combine_ = FieldCombine::kAdd;
+  std::vector<Vec3> offsets_, moves_;  // merge()'s, per key step
 };
 
 }  // namespace dynpm::simplification

@@ -137,8 +137,9 @@ Status Simplifier::load_key_steps(const FrameSource& frames) {
 
   auto fields = cost_fields(options_, frames);
   if (!fields) return fields.status();
-  return quadrics_.load_key_steps(frames, input_, key_steps_, *fields,
-                                  thread_count(options_.threads), options_.progress);
+  return quadrics_.load_key_steps(frames, input_, key_steps_, *fields, options_.field_form,
+                                  options_.field_combine, thread_count(options_.threads),
+                                  options_.progress);
 }
 
 double Simplifier::cost(uint32_t v0, uint32_t v1, Scratch& s) const {
