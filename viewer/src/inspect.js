@@ -297,7 +297,7 @@ class Inspect {
     const d = this.describe(last);
     const list = document.createElement('dl');
     const part = document.createElement('span');
-    part.id = 'pick-part-name';  // the parts branch puts the part's name here
+    part.id = 'pick-part-name';  // the name from the file, as text
     part.textContent = d.partName ?? '';
     const partRow = row('part', `${d.part} `);
     partRow[1].append(part);

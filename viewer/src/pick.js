@@ -230,7 +230,7 @@ export function describePick(mesh, face, vertex, t) {
     node: mesh.nodeId[vertex],
     element: mesh.elementId[face],
     part: mesh.partId[face],
-    partName: null,  // the parts branch (issue 21 item 1) names it from the file
+    partName: mesh.partNames?.get(mesh.partId[face]) ?? null,  // from the file's PART chunk
     vertex: mesh.vertexOriginal[vertex],  // 0-based, in the input's order (as `extract --full` writes)
     face: mesh.faceOriginal[face],
     position,

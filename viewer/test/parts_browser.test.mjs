@@ -110,6 +110,11 @@ test('a hidden part cannot be picked (inspect.js): the ray passes through it', a
     if (p) hit = { x: (w * i) / 16, y: (h * j) / 10, part: p.part };
   }
   assert.ok(hit, 'some pixel picks a part');
+  // The pick names the part as the file does, in the panel too.
+  assert.equal((await pickAt(hit.x, hit.y)).partName, NAMES.get(hit.part));
+  await page.evaluate(([x, y]) => window.dynpm.select(x, y), [hit.x, hit.y]);
+  assert.equal(await page.locator('#pick-part-name').textContent(), NAMES.get(hit.part));
+  await page.evaluate(() => window.dynpm.clearPicks());
   await setVisible([hit.part], false);
   const after = await pickAt(hit.x, hit.y);
   assert.ok(after === null || after.part !== hit.part, `part ${hit.part} hidden, picked ${after?.part}`);
