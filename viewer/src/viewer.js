@@ -368,7 +368,8 @@ function updateLabels() {
     : bytes(state.bytesLoaded);
   ui.stats.textContent =
     `vertices ${int(n)} · triangles ${int(nav.triangleCount)} · quads ${int(nav.quadCount)} · ` +
-    `step ${step.toFixed(2)} · time ${fmt(time)} · error ${fmt(nav.error)} · ` +
+    (h.stepCount > 1 ? `step ${step.toFixed(2)} · time ${fmt(time)} · ` : '') +  // a mesh has no time
+    `error ${fmt(nav.error)} · ` +
     `loaded ${loaded}${state.loading ? ' …' : ''}`;
   ui.stats.dataset.faces = String(nav.faceCount);
 }

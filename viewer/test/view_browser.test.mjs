@@ -440,6 +440,7 @@ test('a one-state model: no time controls, no displacement colouring, no deforma
   await p.evaluate(() => window.dynpm.ready.then(() => true));
   for (const id of ['#time-section', '#states', '#deformation']) assert.equal(await p.locator(id).isVisible(), false, id);
   assert.deepEqual(await p.locator('#colour option').evaluateAll((os) => os.map((o) => o.value)), ['part']);
+  assert.doesNotMatch(await p.locator('#stats').textContent(), /step|time/, 'no step or time in the status line');
   assert.equal(await p.evaluate(() => window.dynpm.setStep(0)), 0);
   const error = await p.evaluate(() => {
     try {
