@@ -121,6 +121,16 @@ export class PartView {
     this.surface.visible = true;
   }
 
+  // The shared vertex colours, which the element edges read (edge_lines.js): each vertex takes
+  // the colour of a face that holds it, so that the edges contrast with the part under them.
+  vertexColours(nav, colours) {
+    const part = this.mesh.partId, k = nav.corners;
+    for (let f = 0; f < nav.faceCount; f++) {
+      const c = this.colour(part[f]);
+      for (let i = 4 * f; i < 4 * f + 4; i++) if (k[i] >= 0) colours.set(c, 3 * k[i]);
+    }
+  }
+
   // The slots' positions at the current step.
   drawPositions(nav, positions) {
     const F = nav.faceCount;

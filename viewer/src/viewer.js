@@ -208,7 +208,7 @@ function updateLevel() {
       index.needsUpdate = true;
     }
   }
-  if (state.colour === 'part') parts.drawLevel(nav);
+  if (state.colour === 'part') drawParts(nav);
   updateTime();
 }
 
@@ -250,6 +250,14 @@ function stepLevel(now = false) {
 
 // ---------------------------------------------------------------------------------------------
 // Colours
+
+// Each face on its part's slots; the element edges read the shared vertex colours, which take
+// the part colours too (else they would keep the last scalar colouring's).
+function drawParts(nav) {
+  parts.drawLevel(nav);
+  parts.vertexColours(nav, colours);
+  uploadColours(0, nav.vertexCount);
+}
 
 // Parts shown or hidden (part_list.js): every present face's index entries, then the colours.
 function partsChanged() {
@@ -334,7 +342,7 @@ function setColour(mode) {
   if (mode === 'part') {
     fieldView?.hide();
     surface.visible = false;  // each face on its own slots (part_view.js)
-    parts.drawLevel(state.nav);
+    drawParts(state.nav);
     parts.drawPositions(state.nav, positions);
   } else {
     parts.hide();
