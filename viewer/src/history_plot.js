@@ -2,6 +2,8 @@
 // series over every step, the current step as a vertical line, value and time ends as text. Built
 // with DOM calls only (createElementNS, attributes, text nodes): labels come from the file and the
 // page runs under a CSP without inline styles.
+import { download as saveAs } from './images.js';
+
 const SVG = 'http://www.w3.org/2000/svg';
 const W = 280, H = 150;
 const PAD = { left: 46, right: 8, top: 8, bottom: 22 };
@@ -94,11 +96,6 @@ export function historyCsv(series, times) {
 // Saves text as a file through a temporary link (a blob: URL; no navigation, nothing inline).
 export function download(text, name, type = 'text/csv') {
   const url = URL.createObjectURL(new Blob([text], { type }));
-  const a = document.createElement('a');
-  a.href = url;
-  a.download = name;
-  document.body.append(a);
-  a.click();
-  a.remove();
+  saveAs(url, name);
   setTimeout(() => URL.revokeObjectURL(url), 1000);
 }

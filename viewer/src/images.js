@@ -8,8 +8,8 @@ export const WEBM = 'video/webm';
 const FPS = 30;
 const sleep = (ms) => new Promise((resolve) => setTimeout(resolve, Math.max(0, ms)));
 
-// Saves `href` (a data: or blob: URL) as a download named `name`.
-function download(href, name) {
+// Saves `href` (a data: or blob: URL) as a download named `name` (also the history's CSV).
+export function download(href, name) {
   const a = document.createElement('a');
   a.href = href;
   a.download = name;
