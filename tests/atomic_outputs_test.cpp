@@ -216,10 +216,16 @@ TEST(AtomicOutputs, AKilledBuildLeavesNoPartialModel) {
   const std::string input = make_animation(dir);
   const std::string model = dir.file("model.dpm");
 
-  // One run to the end: how long a build takes here, and what a complete model holds.
-  const auto start = Clock::now();
-  ASSERT_TRUE(finished_ok(start_dynpm({"build", input, "-o", model})));
-  const double full_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+  // Runs to the end: how long a build takes here (the fastest of three: the first pays for cold
+  // caches, and kill moments drawn from a slow run let most builds finish), and what a complete
+  // model holds.
+  double full_ms = 1e300;
+  for (int run = 0; run < 3; ++run) {
+    const auto start = Clock::now();
+    ASSERT_TRUE(finished_ok(start_dynpm({"build", input, "-o", model})));
+    full_ms =
+        std::min(full_ms, std::chrono::duration<double, std::milli>(Clock::now() - start).count());
+  }
   auto reference = read_dpm(model);
   ASSERT_TRUE(reference.ok()) << reference.message();
   const uint32_t splits = reference->split_count();
