@@ -210,6 +210,18 @@ function jsVerdictOrCrash(bytes) {
   }
 }
 
+// Both decoders on `files` ({name, bytes}) against the C++ verdicts given: none may differ.
+function expectSameVerdicts(files, verdicts) {
+  const differences = [];
+  files.forEach((f, k) => {
+    const js = jsVerdictOrCrash(f.bytes);
+    if (!same(verdicts[k], js))
+      differences.push(`${f.name}:\n  C++: ${JSON.stringify(verdicts[k])}\n  JS:  ${JSON.stringify(js)}`);
+  });
+  assert.equal(differences.length, 0,
+    `${differences.length} of ${files.length} files get different verdicts:\n` + differences.slice(0, 20).join('\n'));
+}
+
 const skip = (!CLI || !TOOL) && 'DYNPM_CLI or DYNPM_VERDICTS not set';
 test('the C++ reader and dpm.js give every file the same verdict', { skip }, async () => {
   const corpus = [
@@ -232,17 +244,8 @@ test('the C++ reader and dpm.js give every file the same verdict', { skip }, asy
   // The tool says what the CLI says.
   const again = toolVerdicts(files.slice(0, corpus.length).map((f) => f.path));
   corpus.forEach((f, k) => assert.ok(same(verdicts[k], again[k]), f.name));
-  const differences = [];
-  files.forEach((f, k) => {
-    const cpp = verdicts[k];
-    const js = jsVerdictOrCrash(f.bytes);
-    if (!same(cpp, js))
-      differences.push(`${f.name}:\n  C++: ${JSON.stringify(cpp)}\n  JS:  ${JSON.stringify(js)}`);
-  });
   rmSync(OUT, { recursive: true, force: true });
-  assert.equal(differences.length, 0,
-    `${differences.length} of ${files.length} files get different verdicts:\n` +
-      differences.slice(0, 20).join('\n'));
+  expectSameVerdicts(files, verdicts);
   const accepted = verdicts.filter((v) => v.counts).length;
   assert.ok(accepted >= 4 && accepted < files.length, `${accepted} of ${files.length} accepted`);
 });
@@ -331,15 +334,8 @@ test('files with fields: the C++ reader and dpm.js give the same verdict', async
   ].map((f, k) => ({ ...f, path: join(OUT, `fields-${k}.dpm`) }));
   for (const f of files) writeFileSync(f.path, f.bytes);
   const verdicts = toolVerdicts(files.map((f) => f.path));
-  const differences = [];
-  files.forEach((f, k) => {
-    const js = jsVerdictOrCrash(f.bytes);
-    if (!same(verdicts[k], js))
-      differences.push(`${f.name}:\n  C++: ${JSON.stringify(verdicts[k])}\n  JS:  ${JSON.stringify(js)}`);
-  });
   rmSync(OUT, { recursive: true, force: true });
-  assert.equal(differences.length, 0,
-    `${differences.length} of ${files.length} files get different verdicts:\n` + differences.slice(0, 20).join('\n'));
+  expectSameVerdicts(files, verdicts);
   assert.ok(verdicts.slice(0, fielded.length).every((v) => v.counts?.fields === 2), 'the fielded files are read');
 });
 
@@ -400,15 +396,8 @@ test('files with part names: the C++ reader and dpm.js give the same verdict', {
   mkdirSync(OUT, { recursive: true });
   for (const f of files) writeFileSync(f.path, f.bytes);
   const verdicts = toolVerdicts(files.map((f) => f.path));
-  const differences = [];
-  files.forEach((f, k) => {
-    const js = jsVerdictOrCrash(f.bytes);
-    if (!same(verdicts[k], js))
-      differences.push(`${f.name}:\n  C++: ${JSON.stringify(verdicts[k])}\n  JS:  ${JSON.stringify(js)}`);
-  });
   rmSync(OUT, { recursive: true, force: true });
-  assert.equal(differences.length, 0,
-    `${differences.length} of ${files.length} files get different verdicts:\n` + differences.slice(0, 20).join('\n'));
+  expectSameVerdicts(files, verdicts);
   const accepted = files.filter((f, k) => verdicts[k].counts).map((f) => f.name.replace(/^.*, /, ''));
   // The file itself, the 255-byte name, U+FFFD with an umlaut, a BOM (U+FEFF is no control
   // character) and the skipped optional chunk; every other damage is refused.
