@@ -13,12 +13,11 @@ import { chromium } from 'playwright-core';
 
 import { Navigator, readDpm, ShownValues } from '../src/dpm.js';
 import { Fringe } from '../src/fringe.js';
-import { CHROMIUM_ARGS, startServer } from './chromium.mjs';
+import { openViewer } from './chromium.mjs';
 import { DEMO_FIELDS, withFields } from './fields_fixture.mjs';
 
 const { DYNPM_CLI: cli, DYNPM_DPM: dpm, DYNPM_TEST_OUT: out } = process.env;
 if (!cli || !dpm || !out) throw new Error('fields_browser.test.mjs needs DYNPM_CLI, DYNPM_DPM, DYNPM_TEST_OUT');
-const CHROMIUM = process.env.DYNPM_CHROMIUM ?? '/usr/bin/chromium';
 const dir = join(out, 'fields-browser');
 mkdirSync(dir, { recursive: true });
 const file = join(dir, 'fields.dpm');
@@ -30,14 +29,7 @@ before(async () => {
   const bytes = withFields(new Uint8Array(readFileSync(dpm)), DEMO_FIELDS);
   writeFileSync(file, bytes);
   ({ mesh } = readDpm(bytes, file));
-  let url;
-  ({ server, url } = await startServer(cli, file));
-  browser = await chromium.launch({ executablePath: CHROMIUM, headless: true, args: CHROMIUM_ARGS });
-  page = await browser.newPage({ viewport: { width: 1100, height: 700 } });
-  page.on('console', (m) => m.type() === 'error' && !/404/.test(m.text()) && consoleErrors.push(m.text()));
-  page.on('pageerror', (e) => consoleErrors.push(String(e)));
-  await page.goto(url);
-  await page.waitForFunction(() => window.dpmViewer?.state().complete, null, { timeout: 30000 });
+  ({ server, browser, page } = await openViewer(chromium, cli, file, { viewport: { width: 1100, height: 700 }, errors: consoleErrors }));
 });
 
 after(async () => {

@@ -14,13 +14,12 @@ import { gunzipSync } from 'node:zlib';
 
 import { chromium } from 'playwright-core';
 
-import { CHROMIUM_ARGS, startServer } from './chromium.mjs';
+import { openViewer, startServer } from './chromium.mjs';
 import { DEMO_FIELDS, withFields } from './fields_fixture.mjs';
 import { readVtkLegacy } from './vtk_legacy.mjs';
 
 const { DYNPM_CLI: cli, DYNPM_DPM: sample, DYNPM_TEST_OUT: out } = process.env;
 if (!cli || !sample || !out) throw new Error('inspect_browser.test.mjs needs DYNPM_CLI, DYNPM_DPM and DYNPM_TEST_OUT');
-const CHROMIUM = process.env.DYNPM_CHROMIUM ?? '/usr/bin/chromium';
 const root = join(dirname(fileURLToPath(import.meta.url)), '..', '..');
 const dir = join(out, 'inspect-browser');
 mkdirSync(dir, { recursive: true });
@@ -37,14 +36,8 @@ before(async () => {
   execFileSync(cli, ['build', frd, '-o', dpm], { stdio: 'ignore' });
   execFileSync(cli, ['extract', dpm, '--full', '--ascii', '-o', join(dir, 'full_{:03d}.vtk')], { stdio: 'ignore' });
   for (let t = 0; t < STEPS; t++) full.push(readVtkLegacy(readFileSync(join(dir, `full_${String(t).padStart(3, '0')}.vtk`))));
-  let url;
-  ({ server, url } = await startServer(cli, dpm));
-  browser = await chromium.launch({ executablePath: CHROMIUM, headless: true, args: CHROMIUM_ARGS });
-  page = await browser.newPage({ viewport: { width: 1100, height: 760 } });
-  page.on('console', (m) => m.type() === 'error' && !/404/.test(m.text()) && consoleErrors.push(m.text()));
-  page.on('pageerror', (e) => consoleErrors.push(String(e)));
-  await page.goto(url);
-  await page.waitForFunction(() => window.dpmViewer?.state().complete && window.dynpm?.pick, null, { timeout: 60000 });
+  ({ server, browser, page } = await openViewer(chromium, cli, dpm, { viewport: { width: 1100, height: 760 }, errors: consoleErrors,
+    ready: () => window.dpmViewer?.state().complete && window.dynpm?.pick, timeout: 60000 }));
   await setStep(LAST);
 });
 

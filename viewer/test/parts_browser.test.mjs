@@ -12,11 +12,10 @@ import { after, before, test } from 'node:test';
 import { chromium } from 'playwright-core';
 
 import { Navigator, readDpm } from '../src/dpm.js';
-import { CHROMIUM_ARGS, startServer } from './chromium.mjs';
+import { openViewer } from './chromium.mjs';
 
 const { DYNPM_CLI: cli, DYNPM_PARTS_DPM: file } = process.env;
 if (!cli || !file) throw new Error('parts_browser.test.mjs needs DYNPM_CLI and DYNPM_PARTS_DPM');
-const CHROMIUM = process.env.DYNPM_CHROMIUM ?? '/usr/bin/chromium';
 
 // What make_parts.py writes.
 const NAMES = new Map([[101, 'Hat top'], [102, 'Hat top — hole patch'], [201, 'Wall left'],
@@ -27,14 +26,7 @@ const consoleErrors = [];
 
 before(async () => {
   ({ mesh } = readDpm(new Uint8Array(readFileSync(file)), file));
-  let url;
-  ({ server, url } = await startServer(cli, file));
-  browser = await chromium.launch({ executablePath: CHROMIUM, headless: true, args: CHROMIUM_ARGS });
-  page = await browser.newPage({ viewport: { width: 1100, height: 700 } });
-  page.on('console', (m) => m.type() === 'error' && !/404/.test(m.text()) && consoleErrors.push(m.text()));
-  page.on('pageerror', (e) => consoleErrors.push(String(e)));
-  await page.goto(url);
-  await page.waitForFunction(() => window.dpmViewer?.state().complete, null, { timeout: 30000 });
+  ({ server, browser, page } = await openViewer(chromium, cli, file, { viewport: { width: 1100, height: 700 }, errors: consoleErrors }));
 });
 
 after(async () => {
