@@ -162,8 +162,9 @@ int run_extract(std::span<char* const> arguments) {
   else
     nav.set_level(mesh->split_count());
 
-  // Fully refined: the input's order. Otherwise the navigator's (progressive) order.
-  const bool full = mesh->complete && nav.level() == mesh->full_split_count;
+  // Fully refined: the input's order. Otherwise the navigator's (progressive) order. (Reading
+  // only the steps up to --step leaves the mesh incomplete, yet every split is there.)
+  const bool full = nav.level() == mesh->full_split_count;
   Topology topology;
   std::vector<uint32_t> vertex_order;  // output vertex → navigator vertex
   std::optional<OriginalOrder> ordered;

@@ -241,6 +241,16 @@ TEST(Cli, BuildFromFrdExtractFullIsTheInputAndInfoDescribesTheModel) {
     const auto a = original->frames.step(t), b = back->frames.step(t);
     ASSERT_TRUE(std::equal(a.begin(), a.end(), b.begin(), b.end())) << "step " << t;
   }
+  // One step of the full mesh is in the input's order too (reading only the steps up to it
+  // once made the navigator's order come out).
+  auto one =
+      dynpm_cli("extract " + dir.file("rail.dpm") + " --full --step 3 -o " + dir.file("full3.ply"));
+  ASSERT_EQ(one.exit_code, 0) << one.output;
+  auto step3 = read_mesh(dir.file("full3.ply"));
+  ASSERT_TRUE(step3.ok()) << step3.message();
+  EXPECT_EQ(step3->topology.faces, original->topology.faces);
+  const auto a3 = original->frames.step(3), b3 = step3->frames.step(0);
+  EXPECT_TRUE(std::equal(a3.begin(), a3.end(), b3.begin(), b3.end()));
   auto info = dynpm_cli("info " + dir.file("rail.dpm") + " --json");
   ASSERT_EQ(info.exit_code, 0) << info.output;
   EXPECT_TRUE(contains(info.output, "\"splits\"")) << info.output;

@@ -168,8 +168,9 @@ Topology Navigator::topology() const {
 
 Result<OriginalOrder> original_order(const Navigator& full) {
   const ProgressiveMesh& m = full.mesh();
-  if (!m.complete || full.level() != m.full_split_count)
-    return Status::error("the input's order needs the complete, fully refined mesh");
+  // Every split applied is all it takes: a model read up to one step has every vertex and face.
+  if (full.level() != m.full_split_count)
+    return Status::error("the input's order needs the fully refined mesh");
   OriginalOrder out;
   Topology& t = out.topology;
   t.vertex_count = m.full_vertex_count;
