@@ -4,8 +4,10 @@
 // thread-count independence, and on a built model whose one hot vertex must stay the peak.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
+#include <random>
 
 #include "dynpm/lod.h"
 #include "dynpm/pipeline.h"
@@ -167,6 +169,80 @@ TEST(FieldError, AnElementFieldIsComparedFaceByFaceAndTheSameOnAnyThreadCount) {
     for (const FieldDistance& d : r->fields) errors.insert(errors.end(), {d.a_to_b, d.b_to_a});
   }
   for (size_t i = 4; i < errors.size(); ++i) EXPECT_EQ(errors[i], errors[i % 4]);
+}
+
+// Two sheets 0.01 apart, as in a crash fold's contact: the lower carries 0, the upper 1. `shift`
+// moves both down (B: A's positions within `shift` of the original's, as a stored bound allows).
+test::Mesh touching_sheets(float shift, std::vector<float>& values) {
+  test::Mesh m = grid(4, 0);
+  const uint32_t n = m.topology.vertex_count;
+  const size_t faces = m.topology.faces.size();
+  m.positions.resize(6 * size_t{n});
+  for (uint32_t v = 0; v < n; ++v) {
+    std::copy_n(&m.positions[3 * v], 3, &m.positions[3 * (n + v)]);
+    m.positions[3 * v + 2] = -shift, m.positions[3 * (n + v) + 2] = 0.01f - shift;
+  }
+  for (size_t f = 0; f < faces; ++f) {
+    Face upper = m.topology.faces[f];
+    for (uint32_t& c : upper.v)
+      if (c != kNoVertex) c += n;
+    m.topology.faces.push_back(upper);
+    m.topology.part_ids.push_back(m.topology.part_ids[f]);
+  }
+  m.topology.vertex_count = 2 * n;
+  m.topology.node_ids.clear(), m.topology.element_ids.clear();
+  values.assign(n, 0.f), values.resize(2 * size_t{n}, 1.f);
+  return m;
+}
+
+// Shifted by 0.006, each sheet of B is nearer the other sheet of A (0.004) than its own: the
+// closest point alone reads the wrong sheet's value. Within a tolerance of the shift the own
+// sheet is a match too, and the error is the true one, not hidden when the values differ.
+TEST(FieldError, WhereSheetsTouchTheToleranceFindsTheOwnSheet) {
+  std::vector<float> fa, fb;
+  const test::Mesh a_mesh = touching_sheets(0, fa), b_mesh = touching_sheets(0.006f, fb);
+  const auto a = prepare(a_mesh), b = prepare(b_mesh);
+  HausdorffOptions options;
+  options.threads = 1;
+  auto error_of = [&](double tolerance, const std::vector<float>& b_values) {
+    options.field_tolerance = tolerance;
+    const FieldPair pair{{FieldLocation::kNode, fa}, {FieldLocation::kNode, b_values}};
+    auto r = hausdorff(a->surface, b->surface, options, {&pair, 1});
+    EXPECT_TRUE(r.ok()) << r.message();
+    return r->fields[0].max;
+  };
+  EXPECT_NEAR(error_of(0, fb), 1, 1e-6);
+  EXPECT_NEAR(error_of(0.0061, fb), 0, 1e-6);
+  std::vector<float> lower_half = fb;  // B's lower sheet reads 0.5: a real error of 0.5
+  std::fill(lower_half.begin(), lower_half.begin() + lower_half.size() / 2, 0.5f);
+  EXPECT_NEAR(error_of(0.0061, lower_half), 0.5, 1e-6);
+}
+
+// within() finds exactly the triangles a brute-force pass finds closer than the radius.
+TEST(TriangleBvh, WithinIsEveryTriangleCloserThanTheRadius) {
+  const test::Mesh m = grid(9, 0.7);
+  const auto triangles = surface_triangles(m.topology, m.positions);
+  const TriangleBvh bvh(triangles, 1);
+  std::mt19937 random(5);
+  std::uniform_real_distribution<double> uniform(0, 1);
+  for (int i = 0; i < 200; ++i) {
+    const Point3 p{7 * uniform(random) - 0.5, 7 * uniform(random) - 0.5, 2 * uniform(random) - 1};
+    const double radius = 1.5 * uniform(random);
+    std::vector<TriangleBvh::Hit> hits;
+    bvh.within(p, radius * radius, hits);
+    std::vector<uint32_t> found, expected;
+    for (const auto& h : hits) found.push_back(h.triangle);
+    for (uint32_t t = 0; t < triangles.size(); ++t) {
+      const SurfaceTriangle& s = triangles[t];
+      const Point3 q = closest_point_on_triangle(
+          p, {s.a[0], s.a[1], s.a[2]}, {s.b[0], s.b[1], s.b[2]}, {s.c[0], s.c[1], s.c[2]});
+      const double d2 = (q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1]) +
+                        (q[2] - p[2]) * (q[2] - p[2]);
+      if (d2 < radius * radius) expected.push_back(t);
+    }
+    std::sort(found.begin(), found.end());
+    EXPECT_EQ(found, expected) << "query " << i;
+  }
 }
 
 TEST(FieldError, AFieldOfTheWrongSizeIsAnError) {

@@ -111,6 +111,10 @@ class TriangleBvh {
   // whether p can matter (a sample that cannot raise a maximum). The cursor is not moved.
   bool previous_closer_than(const Point3& p, double squared_distance, const Cursor& cursor) const;
 
+  // Every triangle closer to p than sqrt(max_squared_distance), with its closest point and
+  // weights, appended to `out` in no set order.
+  void within(const Point3& p, double max_squared_distance, std::vector<Hit>& out) const;
+
   size_t triangle_count() const { return triangles_.size(); }
   size_t node_count() const { return nodes_.size(); }
   bool empty() const { return triangles_.empty(); }
@@ -158,6 +162,12 @@ struct HausdorffOptions {
   double reference_diagonal = 0;
   // Worker threads; 0 means std::thread::hardware_concurrency().
   unsigned threads = 0;
+  // The field error's correspondence tolerance, absolute: points of the other surface within
+  // this distance of the closest one are as good a match for a sample, and its field error is
+  // the smallest difference among them. Where two sheets touch (a crash fold's contact), the
+  // closest point may lie on the wrong sheet by less than the positions' stored bound; pass that
+  // bound here. 0: the closest point alone.
+  double field_tolerance = 0;
 };
 
 // Distances from samples on one surface to the other surface.
@@ -173,8 +183,9 @@ struct OneSidedDistance {
 // the distance. For a sample p on one surface, the field's value at p (a node field
 // interpolated linearly over p's triangle, a quad's centroid carrying the mean of its corners;
 // an element field constant per face) against its value at p's closest point on the other
-// surface, interpolated there likewise from the closest point's barycentric coordinates. An
-// element field has no value at a vertex or on an edge, so its error uses the area samples only.
+// surface, interpolated there likewise from the closest point's barycentric coordinates (or
+// the best of the points within HausdorffOptions::field_tolerance of it). An element field has
+// no value at a vertex or on an edge, so its error uses the area samples only.
 struct SurfaceField {
   FieldLocation location = FieldLocation::kNode;
   std::span<const float> values;  // one per vertex (node) or per face (element) of the topology

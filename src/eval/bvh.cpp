@@ -504,6 +504,32 @@ TriangleBvh::Hit TriangleBvh::closest(const Point3& p, double max_squared_distan
   return hit(best);
 }
 
+void TriangleBvh::within(const Point3& p, double max_squared_distance,
+                         std::vector<Hit>& out) const {
+  std::array<uint32_t, kMaxDepth> stack;
+  size_t top = 0;
+  if (!nodes_.empty() && squared_distance_to_box(p, nodes_[0]) < max_squared_distance)
+    stack[top++] = 0;
+  while (top > 0) {  // depth first: at most one pending sibling per level
+    const uint32_t node = stack[--top];
+    const Node& n = nodes_[node];
+    if (n.count == 0) {
+      for (uint32_t child : {node + 1, n.first})
+        if (squared_distance_to_box(p, nodes_[child]) < max_squared_distance) {
+          assert(top < stack.size());
+          stack[top++] = child;
+        }
+      continue;
+    }
+    for (uint32_t i = n.first; i < n.first + n.count; ++i) {
+      const SurfaceTriangle& t = triangles_[i];
+      const Point3 q = closest_point_on_triangle(p, to_point(t.a), to_point(t.b), to_point(t.c));
+      const double d2 = squared_distance(p, q);
+      if (d2 < max_squared_distance) out.push_back(hit({d2, i, q}));
+    }
+  }
+}
+
 bool TriangleBvh::previous_closer_than(const Point3& p, double squared_distance,
                                        const Cursor& cursor) const {
   if (cursor.triangle == kNoIndex) return false;

@@ -182,6 +182,7 @@ struct Direction {
   double face_density = 0;  // area samples per unit area
   double edge_density = 0;  // edge samples per unit length
   std::vector<FieldSides> fields;
+  double field_tolerance = 0;  // HausdorffOptions::field_tolerance
 };
 
 struct Job {
@@ -246,6 +247,8 @@ Tally run_job(const Job& job, const Direction& d, uint64_t seed, size_t job_inde
   tally.field_max_at.resize(d.fields.size());
   TriangleBvh::Cursor cursor;  // consecutive samples are close: start where the last one ended
   const bool with_weights = !d.fields.empty();
+  const double tolerance = d.field_tolerance;
+  std::vector<TriangleBvh::Hit> near;  // the other surface's points within the tolerance
   // `own(k)`: field k's value at p on `from` (NaN: none there, an element field off a face).
   auto measure = [&](const Point3& p, uint64_t& counter, bool area_sample, const auto& own) {
     if (known_max >= 0 && !area_sample) {
@@ -261,11 +264,21 @@ Tally run_job(const Job& job, const Direction& d, uint64_t seed, size_t job_inde
     tally.all_sum += distance, tally.all_sum2 += distance * distance;
     if (area_sample) tally.area_sum += distance, tally.area_sum2 += distance * distance;
     ++counter;
+    near.clear();
     for (size_t k = 0; k < d.fields.size(); ++k) {
       const double value = own(k);
       if (std::isnan(value)) continue;
-      const double difference =
-          std::abs(value - interpolate((*d.fields[k].to_corners)[hit.triangle], hit.weights));
+      const CornerValues& to = *d.fields[k].to_corners;
+      double difference = std::abs(value - interpolate(to[hit.triangle], hit.weights));
+      if (difference <= tally.field_max[k]) continue;
+      // Only a sample that would raise the maximum pays for the tolerance's other matches.
+      if (tolerance > 0 && near.empty()) {
+        const double reach = distance + tolerance;
+        d.to->bvh.within(p, reach * reach, near);
+      }
+      for (const TriangleBvh::Hit& other : near)
+        difference =
+            std::min(difference, std::abs(value - interpolate(to[other.triangle], other.weights)));
       if (difference > tally.field_max[k])
         tally.field_max[k] = difference, tally.field_max_at[k] = p;
     }
@@ -393,6 +406,7 @@ Result<HausdorffResult> evaluate(const Surface& a, const Surface& b,
   std::vector<Job> jobs;
   for (uint32_t k = 0; k < 2; ++k) {
     Direction& d = directions[k];
+    d.field_tolerance = options.field_tolerance;
     const SurfaceTopology& from = *d.from->topology;
     if (d.from->area > 0 && area_samples > 0) {
       d.face_density = area_samples / d.from->area;
