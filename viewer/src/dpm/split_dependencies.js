@@ -1,0 +1,155 @@
+// What each vertex split depends on, derived from the split records as they arrive (no stored
+// form, no format change): docs/viewer.md "Selective refinement". C++: src/lod/split_dependencies.cpp.
+//
+// The splits are replayed once in stream order on a face array of their own. Split i (v1 its
+// parent) writes W(i): its moved faces and its wing faces; it reads R(i) = W(i) plus every face
+// that holds v1 right before it (v1's whole fan: the faces across its wing edges too). Per face:
+//   - i depends on the last writer of each face of R(i) (read after write);
+//   - a writer j of f depends on every reader of f since f's previous writer (write after read);
+//   - i depends on the split that created v1 (implied by the above; kept explicit and cheap).
+// Every dependency is an earlier split, so every prefix of the stream is closed under them, and a
+// set S closed under them, applied in ascending order, gives each split of S the faces of R(i)
+// exactly as the full sequence had them.
+import { Growable } from './bytes.js';
+import { applySplits, DirtyFaces, WING_WAS_TRIANGLE } from './progressive_mesh.js';
+
+export class SplitDependencies {
+  constructor(mesh) {
+    const { vertexCount: V, faceCount: F, splitCount: S, baseFaceCount: nf } = mesh.head;
+    this.mesh = mesh;
+    this.derived = 0;  // splits derived so far (a prefix of the loaded ones)
+    // The mesh as the derived splits left it: after the last split, the fully refined mesh.
+    this.corners = new Int32Array(4 * F).fill(-1);
+    this.corners.set(mesh.baseCorners);
+    // Dependencies as CSR: split i's are deps[depStart[i], depStart[i + 1]), ascending.
+    this.depStart = new Uint32Array(S + 1);
+    this.deps = new Growable(Int32Array, 4 * S);
+    this.lastWriter = new Int32Array(F).fill(-1);  // per face: the last split that wrote it
+    this.faceSplit = new Int32Array(F).fill(-1);  // per face: the split that creates it (−1: base)
+    // Per face, the splits that read it since its last writer: a list in a pool (head, next).
+    this.readerHead = new Int32Array(F).fill(-1);
+    this.readerSplit = new Growable(Int32Array, 4 * S);
+    this.readerNext = new Growable(Int32Array, 4 * S);
+    // Per vertex, the faces that hold it (unordered), grown as splits add faces to a fan.
+    this.fans = new Array(V);
+    for (let v = 0; v < mesh.head.baseVertexCount; v++) this.fans[v] = [];
+    for (let f = 0; f < nf; f++)
+      for (let k = 0; k < 4; k++) {
+        const v = this.corners[4 * f + k];
+        if (v >= 0) this.fans[v].push(f);
+      }
+    this.seen = new Int32Array(S).fill(-1);  // per split: the split whose dependencies hold it
+    this.dirty = new DirtyFaces(F);
+    this.maxCount = 0;
+  }
+
+  // Derives the dependencies of the splits loaded since the last call.
+  update() {
+    const { mesh } = this;
+    const to = mesh.splitsLoaded;
+    for (let i = this.derived; i < to; i++) this.derive(i);
+    this.derived = Math.max(this.derived, to);
+    return this;
+  }
+
+  // Split i's dependencies: deps.data[depStart[i], depStart[i + 1]).
+  of(i) {
+    return this.deps.data.subarray(this.depStart[i], this.depStart[i + 1]);
+  }
+  get count() {
+    return this.deps.length;
+  }
+  // Dependencies per split: mean and max (docs and the benchmark).
+  stats() {
+    const n = this.derived;
+    return { splits: n, dependencies: this.deps.length, mean: n ? this.deps.length / n : 0, max: this.maxCount };
+  }
+
+  derive(i) {
+    const { mesh, lastWriter, readerHead, seen, deps } = this;
+    const b = mesh.head.baseVertexCount;
+    const v0 = b + i;
+    const v1 = mesh.parent[i];
+    const start = deps.length;
+    const add = (j) => {
+      if (j >= 0 && seen[j] !== i) {
+        seen[j] = i;
+        deps.push(j);
+      }
+    };
+    if (v1 >= b) add(v1 - b);
+    const written = this.writtenFaces(i);
+    // Read after write: over v1's fan (moved faces and quad wings are in it; re-created
+    // triangles are new faces, never written before).
+    const fan = this.fans[v1];
+    for (let k = 0; k < fan.length; k++) add(lastWriter[fan[k]]);
+    // Write after read: the readers of each written face since its last writer.
+    for (const f of written)
+      for (let r = readerHead[f]; r >= 0; r = this.readerNext.data[r]) add(this.readerSplit.data[r]);
+    deps.data.subarray(start, deps.length).sort();
+    this.depStart[i + 1] = deps.length;
+    this.maxCount = Math.max(this.maxCount, deps.length - start);
+    // Now split i is the last writer of W(i) and a reader of the rest of v1's fan.
+    for (let k = 0; k < fan.length; k++) {
+      const f = fan[k];
+      if (written.includes(f)) continue;
+      this.readerSplit.push(i);
+      this.readerNext.push(readerHead[f]);
+      readerHead[f] = this.readerSplit.length - 1;
+    }
+    for (const f of written) (lastWriter[f] = i), (readerHead[f] = -1);
+    this.replay(i, v0, v1);
+  }
+
+  // W(i): the moved faces, then the wing faces (a quad's face or a re-created triangle's).
+  writtenFaces(i) {
+    const { mesh } = this;
+    const out = [];
+    for (let j = mesh.movedStart[i]; j < mesh.movedStart[i + 1]; j++) out.push(mesh.movedFaces.data[j]);
+    for (let j = mesh.wingStart[i]; j < mesh.wingStart[i + 1]; j++) out.push(mesh.wingFace.data[j]);
+    return out;
+  }
+
+  // Applies split i to this replay's faces and moves the faces between fans: moved faces leave
+  // v1's fan for v0's, quad wings join v0's, re-created triangles join v0's, v1's and w's.
+  replay(i, v0, v1) {
+    const { mesh, fans } = this;
+    applySplits(mesh, i, i + 1, this.corners, this.dirty);
+    this.dirty.clear();
+    const fan0 = (fans[v0] = []);
+    const fan1 = fans[v1];
+    for (let j = mesh.movedStart[i]; j < mesh.movedStart[i + 1]; j++) {
+      const f = mesh.movedFaces.data[j];
+      const at = fan1.indexOf(f);
+      fan1[at] = fan1[fan1.length - 1];
+      fan1.pop();
+      fan0.push(f);
+    }
+    for (let j = mesh.wingStart[i]; j < mesh.wingStart[i + 1]; j++) {
+      const f = mesh.wingFace.data[j];
+      fan0.push(f);
+      if (mesh.wingFlags.data[j] & WING_WAS_TRIANGLE) {
+        this.faceSplit[f] = i;
+        fan1.push(f);
+        fans[mesh.wingVertex.data[j]].push(f);
+      }
+    }
+  }
+
+  // The splits of T (indices, any order) and every split they depend on, transitively: marks
+  // set to 1 in `wanted` (Uint8Array per split), which may already hold a closed set.
+  close(T, wanted) {
+    const stack = [];
+    for (const i of T) if (!wanted[i]) (wanted[i] = 1), stack.push(i);
+    const { depStart } = this;
+    const deps = this.deps.data;
+    while (stack.length) {
+      const i = stack.pop();
+      for (let k = depStart[i], end = depStart[i + 1]; k < end; k++) {
+        const j = deps[k];
+        if (!wanted[j]) (wanted[j] = 1), stack.push(j);
+      }
+    }
+    return wanted;
+  }
+}
