@@ -1,3 +1,5 @@
+import assert from 'node:assert/strict';
+
 // What src/core/validate.cpp checks of a mesh, for the selective-refinement tests: (M3) every
 // face has 3 or 4 distinct corners that exist, (M1) every edge is used by at most 2 faces (the
 // T-joints a model has are counted separately), consistent orientation, (M2) inner vertices of
@@ -64,4 +66,26 @@ export function checkMesh({ vertexCount: n, faces, partIds }) {
   for (let v = 0; v < n; v++) if (used[v] && find(v) === v) components++;
   const parts = [...new Set(partIds)].sort((x, y) => x - y);
   return { problems, boundaryLoops, components, parts, tJoints };
+}
+
+// A small deterministic generator (tests repeat exactly).
+export function random(seed) {
+  let s = seed >>> 0;
+  return () => ((s = (Math.imul(s, 1664525) + 1013904223) >>> 0) / 2 ** 32);
+}
+
+export function checkNavigator(nav) {
+  const { vertices, faces, faceIds } = nav.activeMesh();
+  const partIds = Array.from(faceIds, (f) => nav.mesh.partId[f]);
+  return checkMesh({ vertexCount: vertices.length, faces, partIds });
+}
+
+// What must hold of every selective mesh: valid, with the original's boundary, parts, pieces.
+export function assertLikeOriginal(nav, original, what) {
+  const r = checkNavigator(nav);
+  assert.deepEqual(r.problems.slice(0, 5), [], what);
+  assert.equal(r.boundaryLoops, original.boundaryLoops, `${what}: boundary loops`);
+  assert.equal(r.components, original.components, `${what}: components`);
+  assert.deepEqual(r.parts, original.parts, `${what}: parts`);
+  assert.ok(r.tJoints === 0 || original.tJoints > 0, `${what}: ${r.tJoints} edges of 3 or more faces`);
 }

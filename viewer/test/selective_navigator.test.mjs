@@ -10,30 +10,8 @@ import { Navigator } from '../src/dpm.js';
 import { applySplits, DirtyFaces } from '../src/dpm/progressive_mesh.js';
 import { SelectiveNavigator } from '../src/dpm/selective_navigator.js';
 import { SplitDependencies } from '../src/dpm/split_dependencies.js';
-import { checkMesh } from './mesh_checks.mjs';
+import { assertLikeOriginal, checkNavigator, random } from './mesh_checks.mjs';
 import { crashbox, CRASHBOXES } from './selective_fixture.mjs';
-
-// A small deterministic generator (tests repeat exactly).
-export function random(seed) {
-  let s = seed >>> 0;
-  return () => ((s = (Math.imul(s, 1664525) + 1013904223) >>> 0) / 2 ** 32);
-}
-
-export function checkNavigator(nav) {
-  const { vertices, faces, faceIds } = nav.activeMesh();
-  const partIds = Array.from(faceIds, (f) => nav.mesh.partId[f]);
-  return checkMesh({ vertexCount: vertices.length, faces, partIds });
-}
-
-// What must hold of every selective mesh: valid, with the original's boundary, parts, pieces.
-export function assertLikeOriginal(nav, original, what) {
-  const r = checkNavigator(nav);
-  assert.deepEqual(r.problems.slice(0, 5), [], what);
-  assert.equal(r.boundaryLoops, original.boundaryLoops, `${what}: boundary loops`);
-  assert.equal(r.components, original.components, `${what}: components`);
-  assert.deepEqual(r.parts, original.parts, `${what}: parts`);
-  assert.ok(r.tJoints === 0 || original.tJoints > 0, `${what}: ${r.tJoints} edges of 3 or more faces`);
-}
 
 // Every active split's dependencies are active.
 function assertClosed(nav, what) {
