@@ -6,9 +6,10 @@
 import assert from 'node:assert/strict';
 import { test } from 'node:test';
 
-import { Navigator } from '../src/dpm.js';
+import { Navigator, ShownValues } from '../src/dpm.js';
 import { applySplits, DirtyFaces } from '../src/dpm/progressive_mesh.js';
 import { SelectiveNavigator } from '../src/dpm/selective_navigator.js';
+import { SelectiveShownValues } from '../src/dpm/selective_values.js';
 import { SplitDependencies } from '../src/dpm/split_dependencies.js';
 import { assertLikeOriginal, checkNavigator, random } from './mesh_checks.mjs';
 import { crashbox, CRASHBOXES } from './selective_fixture.mjs';
@@ -132,3 +133,35 @@ for (const name of CRASHBOXES) {
     assert.ok(checked > 1000, `${checked} faces checked`);
   });
 }
+
+test('shown field values: a prefix shows the level\'s, any set keeps the peak (crashbox-fields PEEQ)', () => {
+  const mesh = crashbox('crashbox-fields');
+  const deps = new SplitDependencies(mesh).update();
+  const S = mesh.splitsLoaded;
+  const field = mesh.fields.find((f) => f.name === 'PEEQ');
+  const nav = new SelectiveNavigator(mesh, deps);
+  const rand = random(3);
+  for (const aggregate of ['max', 'mean']) {
+    const level = new ShownValues(mesh, field, aggregate);
+    const selective = new SelectiveShownValues(mesh, field, aggregate, nav);
+    for (const [t, k] of [[14, 0], [14, 300], [7, 2000], [14, S]]) {
+      nav.setTarget(nav.wanted(k), k);
+      level.set(t, k);
+      selective.set(t, k);
+      const n = mesh.head.baseVertexCount + k;
+      assert.deepEqual(selective.values.subarray(0, n), level.values.subarray(0, n), `${aggregate}, step ${t}, level ${k}`);
+      assert.equal(selective.peak(), level.peak());
+    }
+  }
+  const shown = new SelectiveShownValues(mesh, field, 'max', nav);
+  for (let round = 0; round < 5; round++) {
+    const targets = Array.from({ length: 30 }, () => Math.floor(S * rand()));
+    nav.setTarget(nav.wanted(Math.floor(S * rand() ** 3), targets));
+    const t = Math.floor(rand() * mesh.head.stepCount);
+    shown.set(t, nav.level);
+    const raw = field.valuesAt(t, mesh.head.vertexCount);
+    const top = raw.reduce((a, x) => Math.max(a, Math.abs(x)), 0);
+    assert.equal(Math.abs(shown.values[shown.peak()]), top, `round ${round}: the peak is shown`);
+    for (let v = 0; v < nav.vertexCount; v++) if (nav.exists(v)) assert.ok(Math.abs(shown.values[v]) >= Math.abs(raw[v]), `round ${round}: vertex ${v}`);
+  }
+});
