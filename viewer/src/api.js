@@ -9,7 +9,7 @@ import { Navigator } from './dpm.js';
 export function installApi(viewer) {
   const { state, states, orientation, deformation, images } = viewer;
   const navigator = () => {
-    if (!(state.nav instanceof Navigator)) throw new Error('the model is not loaded yet: await dynpm.ready');
+    if (!(state.nav instanceof Navigator) && !state.nav?.selective) throw new Error('the model is not loaded yet: await dynpm.ready');
     return state.nav;
   };
   const number = (what, x) => {

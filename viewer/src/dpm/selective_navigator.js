@@ -9,7 +9,9 @@
 // navigator: a split's re-created triangles have their ids in the record (face_count_after(i)
 // on), so a split does the same to its faces whether it comes in order or not.
 import { DpmError } from './bytes.js';
-import { DirtyFaces, applySplits, undoSplits, WING_WAS_TRIANGLE } from './progressive_mesh.js';
+import { Navigator } from './navigator.js';
+import { DirtyFaces, applySplits, undoSplits } from './progressive_mesh.js';
+import { SelectiveShownValues } from './selective_values.js';
 
 export class SelectiveNavigator {
   // dependencies: a SplitDependencies of mesh (split_dependencies.js), derived as far as the
@@ -34,6 +36,13 @@ export class SelectiveNavigator {
 
   // Vertices [0, vertexCount) hold every existing vertex (some in between may not exist): the
   // prefix whose positions a renderer needs. Faces [0, faceCount) likewise.
+  get selective() {
+    return true;
+  }
+  // The shown values of a field on this navigator's faces (field_view.js).
+  get ShownValues() {
+    return SelectiveShownValues;
+  }
   get vertexCount() {
     return this.mesh.head.baseVertexCount + this.top;
   }
@@ -56,12 +65,6 @@ export class SelectiveNavigator {
   get error() {
     return this.mesh.levelError(this.level);
   }
-  fieldError(f) {
-    return this.mesh.fields[f].levelError(this.level);
-  }
-  takeDirty() {
-    return this.dirty.take();
-  }
   exists(v) {
     const i = v - this.mesh.head.baseVertexCount;
     return i < 0 || this.active[i] === 1;
@@ -69,12 +72,6 @@ export class SelectiveNavigator {
   faceActive(f) {
     const i = this.dependencies.faceSplit[f];
     return i < 0 || this.active[i] === 1;
-  }
-  face(f) {
-    return Array.from(this.corners.subarray(4 * f, 4 * f + this.degree(f)));
-  }
-  degree(f) {
-    return this.corners[4 * f + 3] < 0 ? 3 : 4;
   }
 
   // The splits wanted for a request: the first `level` splits (the level elsewhere) and the
@@ -154,3 +151,7 @@ export class SelectiveNavigator {
     return { vertices, faces, faceIds };
   }
 }
+
+// As the level navigator: a face's corners and degree, the faces changed since the last call,
+// a field's error at the level (here the level elsewhere).
+for (const name of ['face', 'degree', 'takeDirty', 'fieldError']) SelectiveNavigator.prototype[name] = Navigator.prototype[name];
