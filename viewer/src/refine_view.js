@@ -137,7 +137,7 @@ export class RefineView {
   // elsewhere. A request it cannot read is said in the label, and nothing changes.
   fromPanel() {
     const { mode, box, moved, elsewhere } = this.ui;
-    const texts = { off: [], box: [`box:${box.value}`], parts: [this.visibleParts()], moved: [`moved:>${moved.value}`] }[mode.value];
+    const texts = { off: [], box: [`box:${box.value.replace(/\s+/g, '')}`], parts: [this.visibleParts()], moved: [`moved:>${moved.value}`] }[mode.value];
     try {
       this.refine(texts, elsewhere.value.trim());
     } catch (e) {

@@ -87,7 +87,8 @@ test('sphere, part, error level: what they cover (crashbox-mixed-5k)', () => {
   // The one part: the full mesh; a part the model does not have: the level alone.
   refine(s, ['part:0'], '100', 0, nav);
   assert.deepEqual(nav.corners, s.full.corners);
-  refine(s, ['part:7,9'], '100', 0, nav);
+  assert.throws(() => refine(s, ['part:0,9'], '100', 0, nav), /the model has no part 9/);
+  refine(s, ['moved:>1000'], '100', 0, nav);
   assert.equal(nav.activeVertexCount, 100);
 });
 
@@ -117,7 +118,7 @@ test('field and displacement requests follow time (crashbox-fields, crashbox-mix
 });
 
 test('the request syntax: what it reads, and its errors', () => {
-  assert.deepEqual(parseRequest('box:1,2,3,0,5,-1'), { kind: 'box', min: [0, 2, -1], max: [1, 5, 3] });
+  assert.deepEqual(parseRequest('box:0,2,-1,1,5,3'), { kind: 'box', min: [0, 2, -1], max: [1, 5, 3] });
   assert.deepEqual(parseRequest('sphere:1,2,3,4'), { kind: 'sphere', centre: [1, 2, 3], radius: 4 });
   assert.deepEqual(parseRequest('part:3,7'), { kind: 'part', parts: [3, 7] });
   assert.deepEqual(parseRequest('field:PEEQ>0.05'), { kind: 'field', name: 'PEEQ', above: true, threshold: 0.05 });
@@ -129,6 +130,9 @@ test('the request syntax: what it reads, and its errors', () => {
   const bad = {
     'box:1,2,3': /box:X0,Y0,Z0,X1,Y1,Z1/,
     'box:1,2,3,4,5,x': /"x" is not a number/,
+    'box:1,2,3,0,5,6': /first corner must be its smallest/,
+    'box:1, 2,3,4,5,6': /" 2" is not a number/,
+    'sphere:0x10,0,0,1': /"0x10" is not a number/,
     'sphere:0,0,0,-1': /radius is negative/,
     'part:1.5': /integers/,
     'field:PEEQ=3': /field:NAME>V/,
@@ -137,7 +141,7 @@ test('the request syntax: what it reads, and its errors', () => {
     'cone:1': /unknown kind "cone"/,
   };
   for (const [text, message] of Object.entries(bad)) assert.throws(() => parseRequest(text), message, text);
-  for (const [text, message] of Object.entries({ '5': null, '150%': /\[0 %, 100 %\]/, '0.5': /whole number/, 'error:-1': /negative/, 'error:': /not a number/ }))
+  for (const [text, message] of Object.entries({ '5': null, '150%': /\(0, 100\]/, '0%': /\(0, 100\]/, '0': /whole number/, '0.5': /whole number/, 'error:-1': /negative/, 'error:': /not a number/ }))
     if (message) assert.throws(() => parseElsewhere(text), message, text);
   const mesh = crashbox('crashbox-fields');
   const deps = new SplitDependencies(mesh).update();

@@ -16,8 +16,10 @@
 // Several requests are a union. The navigator adds the "elsewhere" prefix and the closure.
 import { DpmError } from './bytes.js';
 
+// A decimal number as C++ std::from_chars reads one (no blanks, no '+', no hex), finite.
+const DECIMAL = /^-?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$/;
 const number = (text, what, request) => {
-  const x = text.trim() === '' ? NaN : Number(text);
+  const x = DECIMAL.test(text) ? Number(text) : NaN;
   if (!Number.isFinite(x)) throw new DpmError(`refine request "${request}": ${what} "${text}" is not a number`);
   return x;
 };
@@ -35,7 +37,9 @@ export function parseRequest(text) {
   switch (kind) {
     case 'box': {
       const x = numbers(rest, 6, 'a box is box:X0,Y0,Z0,X1,Y1,Z1', text);
-      return { kind, min: [0, 1, 2].map((c) => Math.min(x[c], x[c + 3])), max: [0, 1, 2].map((c) => Math.max(x[c], x[c + 3])) };
+      if (x[0] > x[3] || x[1] > x[4] || x[2] > x[5])
+        throw new DpmError(`refine request "${text}": the box's first corner must be its smallest (X0 ≤ X1, Y0 ≤ Y1, Z0 ≤ Z1)`);
+      return { kind, min: x.slice(0, 3), max: x.slice(3) };
     }
     case 'sphere': {
       const x = numbers(rest, 4, 'a sphere is sphere:X,Y,Z,R', text);
@@ -48,7 +52,7 @@ export function parseRequest(text) {
       return { kind, parts: ids };
     }
     case 'field': {
-      const op = Math.max(rest.lastIndexOf('>'), rest.lastIndexOf('<'));
+      const op = rest.search(/[<>]/);
       if (op <= 0) throw new DpmError(`refine request "${text}": a field request is field:NAME>V or field:NAME<V`);
       return { kind, name: rest.slice(0, op), above: rest[op] === '>', threshold: number(rest.slice(op + 1), 'threshold', text) };
     }
@@ -73,11 +77,11 @@ export function parseElsewhere(text) {
   }
   if (text.endsWith('%')) {
     const percent = number(text.slice(0, -1), 'ratio', where);
-    if (percent < 0 || percent > 100) throw new DpmError(`${where}: a ratio is in [0 %, 100 %]`);
+    if (percent <= 0 || percent > 100) throw new DpmError(`${where}: a ratio is a percentage in (0, 100]`);
     return { ratio: percent / 100 };
   }
   const vertices = number(text, 'vertex count', where);
-  if (!Number.isInteger(vertices) || vertices < 0) throw new DpmError(`${where}: a vertex count is a whole number ≥ 0 (or give N% or error:E)`);
+  if (!Number.isInteger(vertices) || vertices < 1) throw new DpmError(`${where}: a vertex count is a whole number ≥ 0 (or give N% or error:E)`);
   return { vertices };
 }
 
@@ -122,6 +126,7 @@ export function requestedSplits(mesh, dependencies, requests, t = 0) {
       }
     } else if (r.kind === 'part') {
       const ids = new Set(r.parts);
+      for (const id of ids) if (!mesh.partId.includes(id)) throw new DpmError(`refine request "part:${r.parts.join(',')}": the model has no part ${id}`);
       for (let f = 0; f < F; f++) if (ids.has(mesh.partId[f])) wantFace(f);
     } else if (r.kind === 'field') {
       const field = fieldNamed(mesh, r.name);
@@ -132,10 +137,9 @@ export function requestedSplits(mesh, dependencies, requests, t = 0) {
     } else if (r.kind === 'moved') {
       const at = positions();
       const p0 = mesh.positionsAt(0, n, new Float32Array(3 * n));
-      const d2 = r.distance * r.distance;
       for (let v = b; v < n; v++) {
         const dx = at[3 * v] - p0[3 * v], dy = at[3 * v + 1] - p0[3 * v + 1], dz = at[3 * v + 2] - p0[3 * v + 2];
-        if (dx * dx + dy * dy + dz * dz > d2) want[v - b] = 1;
+        if (Math.sqrt(dx * dx + dy * dy + dz * dz) > r.distance) want[v - b] = 1;  // as C++ compares
       }
     }
   }
