@@ -39,6 +39,7 @@ export class SplitDependencies {
         if (v >= 0) this.fans[v].push(f);
       }
     this.seen = new Int32Array(S).fill(-1);  // per split: the split whose dependencies hold it
+    this.writtenBy = new Int32Array(F).fill(-1);  // per face: the last split whose W holds it
     this.dirty = new DirtyFaces(F);
     this.maxCount = 0;
   }
@@ -66,48 +67,46 @@ export class SplitDependencies {
   }
 
   derive(i) {
-    const { mesh, lastWriter, readerHead, seen, deps } = this;
+    const { mesh, lastWriter, readerHead, writtenBy, deps } = this;
     const b = mesh.head.baseVertexCount;
-    const v0 = b + i;
     const v1 = mesh.parent[i];
     const start = deps.length;
-    const add = (j) => {
-      if (j >= 0 && seen[j] !== i) {
-        seen[j] = i;
-        deps.push(j);
-      }
-    };
-    if (v1 >= b) add(v1 - b);
-    const written = this.writtenFaces(i);
+    // W(i), marked: the moved faces, then the wing faces (a quad's face or a re-created triangle).
+    const movedFaces = mesh.movedFaces.data, wingFace = mesh.wingFace.data;
+    const [m0, m1, w0, w1] = [mesh.movedStart[i], mesh.movedStart[i + 1], mesh.wingStart[i], mesh.wingStart[i + 1]];
+    for (let j = m0; j < m1; j++) writtenBy[movedFaces[j]] = i;
+    for (let j = w0; j < w1; j++) writtenBy[wingFace[j]] = i;
+    if (v1 >= b) this.add(v1 - b, i);
     // Read after write: over v1's fan (moved faces and quad wings are in it; re-created
     // triangles are new faces, never written before).
     const fan = this.fans[v1];
-    for (let k = 0; k < fan.length; k++) add(lastWriter[fan[k]]);
+    for (let k = 0; k < fan.length; k++) this.add(lastWriter[fan[k]], i);
     // Write after read: the readers of each written face since its last writer.
-    for (const f of written)
-      for (let r = readerHead[f]; r >= 0; r = this.readerNext.data[r]) add(this.readerSplit.data[r]);
-    deps.data.subarray(start, deps.length).sort();
+    const readerSplit = this.readerSplit.data, readerNext = this.readerNext.data;
+    for (let j = m0; j < m1; j++) for (let r = readerHead[movedFaces[j]]; r >= 0; r = readerNext[r]) this.add(readerSplit[r], i);
+    for (let j = w0; j < w1; j++) for (let r = readerHead[wingFace[j]]; r >= 0; r = readerNext[r]) this.add(readerSplit[r], i);
+    if (deps.length - start > 1) deps.data.subarray(start, deps.length).sort();
     this.depStart[i + 1] = deps.length;
     this.maxCount = Math.max(this.maxCount, deps.length - start);
     // Now split i is the last writer of W(i) and a reader of the rest of v1's fan.
     for (let k = 0; k < fan.length; k++) {
       const f = fan[k];
-      if (written.includes(f)) continue;
+      if (writtenBy[f] === i) continue;
       this.readerSplit.push(i);
       this.readerNext.push(readerHead[f]);
       readerHead[f] = this.readerSplit.length - 1;
     }
-    for (const f of written) (lastWriter[f] = i), (readerHead[f] = -1);
-    this.replay(i, v0, v1);
+    for (let j = m0; j < m1; j++) (lastWriter[movedFaces[j]] = i), (readerHead[movedFaces[j]] = -1);
+    for (let j = w0; j < w1; j++) (lastWriter[wingFace[j]] = i), (readerHead[wingFace[j]] = -1);
+    this.replay(i, b + i, v1);
   }
 
-  // W(i): the moved faces, then the wing faces (a quad's face or a re-created triangle's).
-  writtenFaces(i) {
-    const { mesh } = this;
-    const out = [];
-    for (let j = mesh.movedStart[i]; j < mesh.movedStart[i + 1]; j++) out.push(mesh.movedFaces.data[j]);
-    for (let j = mesh.wingStart[i]; j < mesh.wingStart[i + 1]; j++) out.push(mesh.wingFace.data[j]);
-    return out;
+  // Split j (≥ 0) among split i's dependencies, once.
+  add(j, i) {
+    if (j >= 0 && this.seen[j] !== i) {
+      this.seen[j] = i;
+      this.deps.push(j);
+    }
   }
 
   // Applies split i to this replay's faces and moves the faces between fans: moved faces leave
