@@ -105,3 +105,28 @@ test('follow deformation through the panel: re-targeted as the time slider moves
   assert.equal(state.faces, mesh.head.faceCount);
   assert.deepEqual(consoleErrors, []);
 });
+
+test('a field on a refined mesh (crashbox-fields PEEQ): the largest value shown is the step\'s peak', async () => {
+  const file = crashboxDpm('crashbox-fields');
+  const fields = crashbox('crashbox-fields');
+  const errors = [];
+  const other = await openViewer(chromium, cli, file, { viewport: { width: 800, height: 600 }, errors });
+  try {
+    const k = fields.fields.findIndex((f) => f.name === 'PEEQ');
+    const last = fields.head.stepCount - 1;
+    await other.page.evaluate(() => window.dynpm.ready);
+    await other.page.locator('#colour').selectOption(`field:${k}`);
+    await other.page.evaluate((s) => window.dynpm.setStep(s), last);
+    const r = await other.page.evaluate(() => window.dynpm.refine(['box:-50,-40,200,0,40,260'], '5%'));
+    assert.ok(r.active && r.vertices < fields.head.vertexCount / 2, JSON.stringify(r));
+    const shown = await other.page.evaluate(() => window.dpmViewer.fringe());
+    const values = fields.fields[k].valuesAt(last, fields.head.vertexCount);
+    const peak = values.reduce((a, x) => Math.max(a, Math.abs(x)), 0);
+    assert.equal(Math.abs(shown.peak.value), peak, 'the peak is shown, wherever the box is');
+    assert.ok(Math.max(...shown.values.map(Math.abs)) <= peak);
+    assert.deepEqual(errors, []);
+  } finally {
+    await other.browser.close();
+    other.server.kill('SIGTERM');
+  }
+});

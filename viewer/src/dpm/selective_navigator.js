@@ -89,24 +89,33 @@ export class SelectiveNavigator {
   setTarget(wanted, level = this.level) {
     const L = Math.min(this.mesh.splitsLoaded, this.dependencies.derived);
     const { active, mesh, corners, dirty } = this;
-    const degenerate = this.dependencies.faceSplit;
+    const { faceCountAt } = mesh;
     let undone = 0, applied = 0;
+    // Runs of consecutive splits go to undoSplits()/applySplits() in one call each.
     for (let i = this.top - 1; i >= 0; i--) {
       if (!active[i] || wanted[i]) continue;
-      this.quads -= undoSplits(mesh, i + 1, i, corners, dirty);
-      this.faces -= this.hideCreated(i, degenerate);
-      active[i] = 0;
-      undone++;
+      let j = i;
+      while (j > 0 && active[j - 1] && !wanted[j - 1]) j--;
+      this.quads -= undoSplits(mesh, i + 1, j, corners, dirty);
+      this.hideCreated(faceCountAt[j], faceCountAt[i + 1]);
+      this.faces -= faceCountAt[i + 1] - faceCountAt[j];
+      active.fill(0, j, i + 1);
+      undone += i + 1 - j;
+      i = j;
     }
     let top = 0;
     for (let i = 0; i < L; i++) {
       if (!wanted[i]) continue;
+      if (!active[i]) {
+        let j = i + 1;
+        while (j < L && wanted[j] && !active[j]) j++;
+        this.quads += applySplits(mesh, i, j, corners, dirty);
+        this.faces += faceCountAt[j] - faceCountAt[i];
+        active.fill(1, i, j);
+        applied += j - i;
+        i = j - 1;
+      }
       top = i + 1;
-      if (active[i]) continue;
-      this.quads += applySplits(mesh, i, i + 1, corners, dirty);
-      this.faces += mesh.faceCountAt[i + 1] - mesh.faceCountAt[i];
-      active[i] = 1;
-      applied++;
     }
     this.top = top;
     this.activeCount += applied - undone;
@@ -114,16 +123,12 @@ export class SelectiveNavigator {
     return { applied, undone };
   }
 
-  // Split i's re-created triangles, undone, get three equal corners (vertex 0, which always
-  // exists), so that whatever draws faces [0, faceCount) draws nothing for them. Returns their
-  // count.
-  hideCreated(i, faceSplit) {
-    const { mesh, corners } = this;
-    for (let f = mesh.faceCountAt[i]; f < mesh.faceCountAt[i + 1]; f++) {
-      if (faceSplit[f] !== i) throw new DpmError(`face ${f} is not split ${i}'s`);
-      corners[4 * f] = corners[4 * f + 1] = corners[4 * f + 2] = 0;
-    }
-    return mesh.faceCountAt[i + 1] - mesh.faceCountAt[i];
+  // The re-created triangles of undone splits, faces [from, to), get three equal corners
+  // (vertex 0, which always exists), so that whatever draws faces [0, faceCount) draws nothing
+  // for them.
+  hideCreated(from, to) {
+    const { corners } = this;
+    for (let f = from; f < to; f++) corners[4 * f] = corners[4 * f + 1] = corners[4 * f + 2] = 0;
   }
 
   // The mesh as the two decoders give it (docs/viewer.md "Selective refinement", the same order

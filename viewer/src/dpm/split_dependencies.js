@@ -30,14 +30,15 @@ export class SplitDependencies {
     this.readerHead = new Int32Array(F).fill(-1);
     this.readerSplit = new Growable(Int32Array, 4 * S);
     this.readerNext = new Growable(Int32Array, 4 * S);
-    // Per vertex, the faces that hold it (unordered), grown as splits add faces to a fan.
-    this.fans = new Array(V);
-    for (let v = 0; v < mesh.head.baseVertexCount; v++) this.fans[v] = [];
+    // Per vertex, the faces that hold it (its fan, unordered): a list of (vertex, face) links
+    // from fanHead[v] on. A face that moves from v1 to v0 takes its link along, so there are at
+    // most 4 per face, allocated once.
+    this.fanHead = new Int32Array(V).fill(-1);
+    this.linkFace = new Int32Array(4 * F);
+    this.linkNext = new Int32Array(4 * F);
+    this.links = 0;
     for (let f = 0; f < nf; f++)
-      for (let k = 0; k < 4; k++) {
-        const v = this.corners[4 * f + k];
-        if (v >= 0) this.fans[v].push(f);
-      }
+      for (let k = 0; k < 4; k++) if (this.corners[4 * f + k] >= 0) this.link(this.corners[4 * f + k], f);
     this.seen = new Int32Array(S).fill(-1);  // per split: the split whose dependencies hold it
     this.writtenBy = new Int32Array(F).fill(-1);  // per face: the last split whose W holds it
     this.dirty = new DirtyFaces(F);
@@ -73,24 +74,24 @@ export class SplitDependencies {
     const start = deps.length;
     // W(i), marked: the moved faces, then the wing faces (a quad's face or a re-created triangle).
     const movedFaces = mesh.movedFaces.data, wingFace = mesh.wingFace.data;
-    const [m0, m1, w0, w1] = [mesh.movedStart[i], mesh.movedStart[i + 1], mesh.wingStart[i], mesh.wingStart[i + 1]];
+    const m0 = mesh.movedStart[i], m1 = mesh.movedStart[i + 1], w0 = mesh.wingStart[i], w1 = mesh.wingStart[i + 1];
     for (let j = m0; j < m1; j++) writtenBy[movedFaces[j]] = i;
     for (let j = w0; j < w1; j++) writtenBy[wingFace[j]] = i;
     if (v1 >= b) this.add(v1 - b, i);
     // Read after write: over v1's fan (moved faces and quad wings are in it; re-created
     // triangles are new faces, never written before).
-    const fan = this.fans[v1];
-    for (let k = 0; k < fan.length; k++) this.add(lastWriter[fan[k]], i);
+    const { fanHead, linkFace, linkNext } = this;
+    for (let n = fanHead[v1]; n >= 0; n = linkNext[n]) this.add(lastWriter[linkFace[n]], i);
     // Write after read: the readers of each written face since its last writer.
     const readerSplit = this.readerSplit.data, readerNext = this.readerNext.data;
     for (let j = m0; j < m1; j++) for (let r = readerHead[movedFaces[j]]; r >= 0; r = readerNext[r]) this.add(readerSplit[r], i);
     for (let j = w0; j < w1; j++) for (let r = readerHead[wingFace[j]]; r >= 0; r = readerNext[r]) this.add(readerSplit[r], i);
-    if (deps.length - start > 1) deps.data.subarray(start, deps.length).sort();
+    sortRun(deps.data, start, deps.length);
     this.depStart[i + 1] = deps.length;
     this.maxCount = Math.max(this.maxCount, deps.length - start);
     // Now split i is the last writer of W(i) and a reader of the rest of v1's fan.
-    for (let k = 0; k < fan.length; k++) {
-      const f = fan[k];
+    for (let n = fanHead[v1]; n >= 0; n = linkNext[n]) {
+      const f = linkFace[n];
       if (writtenBy[f] === i) continue;
       this.readerSplit.push(i);
       this.readerNext.push(readerHead[f]);
@@ -112,27 +113,34 @@ export class SplitDependencies {
   // Applies split i to this replay's faces and moves the faces between fans: moved faces leave
   // v1's fan for v0's, quad wings join v0's, re-created triangles join v0's, v1's and w's.
   replay(i, v0, v1) {
-    const { mesh, fans } = this;
+    const { mesh, fanHead, linkFace, linkNext } = this;
     applySplits(mesh, i, i + 1, this.corners, this.dirty);
     this.dirty.clear();
-    const fan0 = (fans[v0] = []);
-    const fan1 = fans[v1];
     for (let j = mesh.movedStart[i]; j < mesh.movedStart[i + 1]; j++) {
       const f = mesh.movedFaces.data[j];
-      const at = fan1.indexOf(f);
-      fan1[at] = fan1[fan1.length - 1];
-      fan1.pop();
-      fan0.push(f);
+      let n = fanHead[v1], before = -1;
+      while (linkFace[n] !== f) (before = n), (n = linkNext[n]);
+      if (before < 0) fanHead[v1] = linkNext[n];
+      else linkNext[before] = linkNext[n];
+      (linkNext[n] = fanHead[v0]), (fanHead[v0] = n);
     }
     for (let j = mesh.wingStart[i]; j < mesh.wingStart[i + 1]; j++) {
       const f = mesh.wingFace.data[j];
-      fan0.push(f);
+      this.link(v0, f);
       if (mesh.wingFlags.data[j] & WING_WAS_TRIANGLE) {
         this.faceSplit[f] = i;
-        fan1.push(f);
-        fans[mesh.wingVertex.data[j]].push(f);
+        this.link(v1, f);
+        this.link(mesh.wingVertex.data[j], f);
       }
     }
+  }
+
+  // Face f joins vertex v's fan.
+  link(v, f) {
+    const n = this.links++;
+    this.linkFace[n] = f;
+    this.linkNext[n] = this.fanHead[v];
+    this.fanHead[v] = n;
   }
 
   // The splits of T (indices, any order) and every split they depend on, transitively: marks
@@ -150,5 +158,15 @@ export class SplitDependencies {
       }
     }
     return wanted;
+  }
+}
+
+// Sorts a[from, to) ascending in place: a split's few dependencies (an insertion sort, no view).
+function sortRun(a, from, to) {
+  for (let k = from + 1; k < to; k++) {
+    const x = a[k];
+    let j = k - 1;
+    while (j >= from && a[j] > x) (a[j + 1] = a[j]), j--;
+    a[j + 1] = x;
   }
 }
