@@ -80,9 +80,13 @@ test('a box refine through window.dynpm: the vertices dpm/ computes, the status 
 });
 
 test('follow deformation through the panel: re-targeted as the time slider moves; off gives the level back', async () => {
-  await page.locator('#refine-moved').fill('20');
-  await page.locator('#refine-elsewhere').fill('2%');
   await page.locator('#refine-mode').selectOption('moved');
+  assert.equal(await page.locator('#refine-box').isVisible(), false, 'the box row hides');
+  // Typed, then committed (Enter or leaving the field fires 'change').
+  for (const [id, text] of [['#refine-moved', '20'], ['#refine-elsewhere', '2%']]) {
+    await page.locator(id).fill(text);
+    await page.locator(id).dispatchEvent('change');
+  }
   let r = await refinement();
   assert.deepEqual(r.requests, ['moved:>20']);
   assert.equal(r.vertices, expected(['moved:>20'], '2%', 0).vertices, 'nothing has moved at step 0');
