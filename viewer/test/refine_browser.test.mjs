@@ -46,7 +46,7 @@ const statusLine = () => page.locator('#resolution-label').textContent();
 test('a box refine through window.dynpm: the vertices dpm/ computes, the status line says why', async () => {
   const full = await picture();
   const box = 'box:-40,-60,150,10,60,260';
-  const r = await page.evaluate((b) => window.dynpm.refine([b], '5%'), box);
+  let r = await page.evaluate((b) => window.dynpm.refine([b], '5%'), box);
   const want = expected([box], '5%', 0);
   assert.equal(r.active, true);
   assert.deepEqual([r.vertices, r.faces, r.elsewhereVertices], [want.vertices, want.faces, want.elsewhere]);
@@ -74,6 +74,13 @@ test('a box refine through window.dynpm: the vertices dpm/ computes, the status 
   // The panel shows the request.
   assert.equal(await page.locator('#refine-mode').inputValue(), 'box');
   assert.equal(await page.locator('#refine-box').inputValue(), '-40, -60, 150, 10, 60, 260');
+  // While refined, the level (the slider, setLevel) is the level elsewhere.
+  const set = await page.evaluate(() => window.dynpm.setLevel({ vertices: 1000 }));
+  const at1000 = expected([box], '1000', 0);
+  assert.deepEqual(set.vertices, at1000.vertices);
+  r = await refinement();
+  assert.deepEqual([r.elsewhere, r.elsewhereVertices, r.vertices], ['1000', 1000, at1000.vertices]);
+  await page.evaluate((b) => window.dynpm.refine([b], '5%'), box);
   // A bad request is refused with the reason, and nothing changes.
   await assert.rejects(page.evaluate(() => window.dynpm.refine(['box:1,2'], '5%')), /a box is box:X0,Y0,Z0,X1,Y1,Z1/);
   assert.equal((await refinement()).vertices, want.vertices);
