@@ -137,8 +137,9 @@ export class RefineView {
   // elsewhere. A request it cannot read is said in the label, and nothing changes.
   fromPanel() {
     const { mode, box, moved, elsewhere } = this.ui;
-    const texts = { off: [], box: [`box:${box.value.replace(/\s+/g, '')}`], parts: [this.visibleParts()], moved: [`moved:>${moved.value}`] }[mode.value];
+    const texts = { off: [], box: [`box:${box.value.replace(/\s+/g, '')}`], parts: [this.visibleParts()], picked: [this.pickedParts()], moved: [`moved:>${moved.value}`] }[mode.value];
     try {
+      if (texts.includes(null)) throw new DpmError('pick an element first (a click on the model): its part is refined');
       this.refine(texts, elsewhere.value.trim());
     } catch (e) {
       if (!(e instanceof DpmError)) throw e;
@@ -149,7 +150,8 @@ export class RefineView {
   showInPanel() {
     const { ui } = this;
     const kinds = this.requests.map((r) => r.kind);
-    const mode = !kinds.length ? 'off' : kinds.includes('moved') ? 'moved' : kinds.includes('part') ? 'parts' : 'box';
+    const parts = ui.mode.value === 'picked' ? 'picked' : 'parts';
+    const mode = !kinds.length ? 'off' : kinds.includes('moved') ? 'moved' : kinds.includes('part') ? parts : 'box';
     ui.mode.value = mode;
     ui.boxRow.hidden = mode !== 'box';
     ui.movedRow.hidden = mode !== 'moved';
@@ -166,6 +168,12 @@ export class RefineView {
     const parts = this.viewer.partView();
     const ids = [...new Set(this.viewer.state.mesh.partId)].filter((id) => !parts?.hidden.has(id));
     return `part:${ids.join(',')}`;
+  }
+
+  // part:ids of the picked elements' parts (inspect.js), or null when nothing is picked.
+  pickedParts() {
+    const ids = [...new Set((window.dynpm.picks?.() ?? []).map((p) => p.part))];
+    return ids.length ? `part:${ids.join(',')}` : null;
   }
 
   // The box around the visible parts' vertices at the current step, into the box's numbers.

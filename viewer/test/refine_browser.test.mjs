@@ -108,6 +108,17 @@ test('follow deformation through the panel: re-targeted as the time slider moves
     counts.push(r.vertices);
   }
   assert.ok(counts[2] > counts[0] && counts[0] > counts[3], `the refined region grows with the crush: ${counts}`);
+  // The picked parts: nothing picked yet, then the part of the element under the model's centre.
+  await page.locator('#refine-mode').selectOption('picked');
+  assert.match(await page.locator('#refine-label').textContent(), /pick an element first/);
+  const box = await page.locator('#view').boundingBox();
+  assert.ok(await page.evaluate(([x, y]) => window.dynpm.select(x, y), [box.width / 2, box.height / 2]), 'a pick at the centre');
+  await page.locator('#refine-mode').selectOption('off');
+  await page.locator('#refine-mode').selectOption('picked');
+  r = await refinement();
+  assert.deepEqual(r.requests, ['part:0']);
+  assert.equal(r.vertices, mesh.head.vertexCount, 'the one part: every vertex');
+  await page.evaluate(() => window.dynpm.clearPicks());
   await page.locator('#refine-mode').selectOption('off');
   r = await refinement();
   assert.equal(r.active, false);
