@@ -9,7 +9,7 @@ import { Navigator } from './dpm.js';
 export function installApi(viewer) {
   const { state, states, orientation, deformation, images } = viewer;
   const navigator = () => {
-    if (!(state.nav instanceof Navigator)) throw new Error('the model is not loaded yet: await dynpm.ready');
+    if (!(state.nav instanceof Navigator) && !state.nav?.selective) throw new Error('the model is not loaded yet: await dynpm.ready');
     return state.nav;
   };
   const number = (what, x) => {
@@ -57,7 +57,7 @@ export function installApi(viewer) {
         n = h.baseVertexCount + nav.levelForError(spec.error);
       } else throw new TypeError('setLevel: {vertices}, {ratio} or {error}');
       viewer.setVertexCount(Math.max(h.baseVertexCount, Math.min(n, h.vertexCount)), true);
-      return { vertices: nav.vertexCount, error: nav.error };
+      return { vertices: nav.activeVertexCount ?? nav.vertexCount, error: nav.error };  // refined: the level elsewhere
     },
 
     // '+x', '-x', '+y', '-y', '+z', '-z' (the direction looked along), 'iso' or 'fit'.

@@ -59,8 +59,9 @@ export class FieldView {
     const field = mesh.fields[k];
     const step = Math.min(Math.max(Math.round(t), 0), mesh.head.stepCount - 1);
     let s = this.shown;
-    if (!s || s.field !== field || s.mean !== (options.aggregate === 'mean'))
-      s = this.shown = new ShownValues(mesh, field, options.aggregate);
+    const Shown = nav.ShownValues ?? ShownValues;  // a selective navigator's own (refine_view.js)
+    if (!s || s.field !== field || s.mean !== (options.aggregate === 'mean') || s.constructor !== Shown)
+      s = this.shown = new Shown(mesh, field, options.aggregate, nav);
     if (s.step !== step || s.splits !== mesh.splitsLoaded || !s.setLevel(nav.level)) s.set(step, nav.level);
     let [lo, hi] = options.range === 'step' ? [s.stepMin, s.stepMax] : [field.min, field.max];
     if (options.min !== null) lo = options.min;

@@ -26,6 +26,7 @@ import { grownBox, Orientation, upAxisOf } from './orientation.js';
 import { Panel } from './panel.js';
 import { addPartsApi, PartList } from './part_list.js';
 import { PartView } from './part_view.js';
+import { installRefine } from './refine_view.js';
 import { greySnapshot } from './snapshot.js';
 import { States } from './states.js';
 import { decodeInWorker, decodeOnPage } from './worker_decoder.js';
@@ -215,7 +216,7 @@ function updateLevel() {
 function setTime(t) {
   state.t = t;
   ui.time.value = String(t);
-  updateTime();
+  if (!refine.timeChanged()) updateTime();  // a refinement that follows time redraws itself
 }
 
 // Splits applied or undone per task when the slider (or the arriving file) moves the level far:
@@ -234,6 +235,7 @@ function setVertexCount(n, now = false) {
 
 function stepLevel(now = false) {
   const { nav, mesh } = state;
+  if (refine.levelChanged(state.targetVertices, state.follow)) return;  // the level elsewhere
   const n = Math.max(mesh.head.baseVertexCount, Math.min(state.follow ? Infinity : state.targetVertices, mesh.vertexCountLoaded));
   const from = nav.vertexCount;
   nav.setVertexCount(now ? n : Math.max(from - SPLITS_PER_STEP, Math.min(n, from + SPLITS_PER_STEP)));
@@ -364,8 +366,8 @@ function updateLabels() {
   const time = h.times[t0] + (h.times[t1] - h.times[t0]) * (t - t0);
   ui.timeLabel.textContent = `step ${step.toFixed(2)} / ${h.stepCount - 1}, time ${fmt(time)}`;
   const diag = Math.hypot(...h.bboxMax.map((x, c) => x - h.bboxMin[c]));
-  const n = nav.vertexCount;
-  ui.resolutionLabel.textContent =
+  const n = nav.activeVertexCount ?? nav.vertexCount;  // a selective navigator's prefix has gaps
+  ui.resolutionLabel.textContent = refine.active ? refine.describe() :
     `${int(n)} of ${int(h.vertexCount)} vertices (${((100 * n) / h.vertexCount).toFixed(1)}%), ` +
     `error ${fmt(nav.error)} model units (${fmt((100 * nav.error) / diag, 3)}% of the box diagonal): ` +
     `how far this level's surface may lie from the full mesh's, at any step` +
@@ -509,12 +511,13 @@ window.addEventListener('keydown', (e) => {
 // scripting API (api.js) see the page through `viewer`.
 const redraw = () => ((state.shownT = NaN), updateTime());
 const fitBox = () => grownBox(geometry.boundingBox, positions, state.nav?.vertexCount ?? 0);
-const viewer = { state, scene, camera, controls, canvas: renderer.domElement, requestRender, renderNow, setTime, setVertexCount, extendBase0, redraw, fitBox };
+const viewer = { state, scene, camera, controls, canvas: renderer.domElement, requestRender, renderNow, setTime, setVertexCount, extendBase0, redraw, fitBox, updateLevel, partView: () => parts };
 const panel = new Panel();
 const states = (viewer.states = new States(viewer));
 const orientation = (viewer.orientation = new Orientation(viewer));
 const deformation = (viewer.deformation = new Deformation(viewer));
 viewer.images = new Images(viewer);
+const refine = installRefine(viewer);  // selective refinement (refine_view.js)
 
 // For the browser tests and benchmarks: the state, the picture (snapshot.js), page times of the
 // first bytes (worker; else the fetch's responseStart), HEAD, BASE and the base mesh made.

@@ -64,17 +64,9 @@ export class Navigator {
     return this.setLevel(n - this.mesh.head.baseVertexCount);
   }
 
-  // The coarsest loaded level whose error is ≤ e (errors never increase along the stream).
+  // The coarsest loaded level whose error is ≤ e (ProgressiveMesh.levelForError()).
   levelForError(e) {
-    const { mesh } = this;
-    if (mesh.head.baseError <= e) return 0;
-    let lo = 0, hi = mesh.splitsLoaded;  // search the first split i with error[i] ≤ e
-    while (lo < hi) {
-      const mid = (lo + hi) >> 1;
-      if (mesh.error[mid] <= e) hi = mid;
-      else lo = mid + 1;
-    }
-    return Math.min(lo + 1, mesh.splitsLoaded);
+    return this.mesh.levelForError(e);
   }
 
   // Applies splits [level, k): split i re-creates v0 = b + i from its parent.

@@ -74,6 +74,17 @@ export class ProgressiveMesh {
   levelError(k) {
     return k === 0 ? this.head.baseError : this.error[k - 1];
   }
+  // The coarsest loaded level whose error is ≤ e (errors never increase along the stream).
+  levelForError(e) {
+    if (this.head.baseError <= e) return 0;
+    let lo = 0, hi = this.splitsLoaded;  // search the first split i with error[i] ≤ e
+    while (lo < hi) {
+      const mid = (lo + hi) >> 1;
+      if (this.error[mid] <= e) hi = mid;
+      else lo = mid + 1;
+    }
+    return Math.min(lo + 1, this.splitsLoaded);
+  }
   // Position of vertex v at integer step t, as the f32 the file means.
   position(v, t, out = [0, 0, 0]) {
     const q = this.q[t];

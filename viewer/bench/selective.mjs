@@ -1,0 +1,74 @@
+// Speed of selective refinement in dpm.js (Node, V8 as in Chromium; docs/viewer.md "Selective
+// refinement"): deriving the split dependencies from the records (what a page pays at load), and
+// moving the active front between two box requests (the splits applied and undone, the
+// wanted set with its closure, and the index entries the page rewrites), medians of 7 in wall
+// and CPU time with the load average.
+//   node bench/selective.mjs MODEL.dpm [--box-fraction F]
+import { readFileSync } from 'node:fs';
+import { loadavg } from 'node:os';
+
+import { readDpm, updateIndices } from '../src/dpm.js';
+import { elsewhereLevel, parseElsewhere, requestedSplits } from '../src/dpm/refine_targets.js';
+import { SelectiveNavigator } from '../src/dpm/selective_navigator.js';
+import { SplitDependencies } from '../src/dpm/split_dependencies.js';
+
+const file = process.argv[2];
+if (!file) {
+  console.error('usage: node bench/selective.mjs MODEL.dpm [--box-fraction F]');
+  process.exit(2);
+}
+const at = process.argv.indexOf('--box-fraction');
+const fraction = at > 0 ? Number(process.argv[at + 1]) : 0.1;
+const ms = (start) => Number(process.hrtime.bigint() - start) / 1e6;
+const median = (v) => v.slice().sort((a, b) => a - b)[v.length >> 1];
+const timed = (f) => {
+  const c = process.cpuUsage();
+  const s = process.hrtime.bigint();
+  const result = f();
+  const wall = ms(s);
+  const cpu = process.cpuUsage(c);
+  return { wall, cpu: (cpu.user + cpu.system) / 1e3, result };
+};
+const summary = (runs) => `${median(runs.map((r) => r.wall)).toFixed(1)} ms wall, ${median(runs.map((r) => r.cpu)).toFixed(1)} ms CPU`;
+
+const { mesh } = readDpm(readFileSync(file), file);
+const h = mesh.head;
+console.log(`${file}: ${h.vertexCount} vertices (base ${h.baseVertexCount}), ${h.faceCount} faces, ${h.splitCount} splits; load average ${loadavg().map((x) => x.toFixed(2)).join(' ')}`);
+
+// 1. The dependencies, derived from scratch 7 times.
+// Only the last is kept (the others' arrays would make the collector's work grow run by run).
+const derive = Array.from({ length: 7 }, () => timed(() => new SplitDependencies(mesh).update()));
+const deps = derive[6].result;
+for (const r of derive) r.result = null;
+const s = deps.stats();
+console.log(`dependencies: ${summary(derive)} (${(median(derive.map((r) => r.wall)) / (h.splitCount / 1e6)).toFixed(0)} ms per M splits); ` +
+  `${s.dependencies} in all, ${s.mean.toFixed(2)} per split (max ${s.max}); as CSR in memory ${((4 * s.dependencies + 4 * (h.splitCount + 1)) / h.vertexCount).toFixed(1)} B per vertex, none in the file`);
+
+// 2. Two boxes of `fraction` of the box's extent along its longest axis, at its two ends, and
+// the level elsewhere at 5 %: the front moves from one to the other and back.
+const axis = [0, 1, 2].reduce((a, c) => (h.bboxMax[c] - h.bboxMin[c] > h.bboxMax[a] - h.bboxMin[a] ? c : a), 0);
+const box = (end) => {
+  const lo = h.bboxMin.slice(), hi = h.bboxMax.slice();
+  const len = hi[axis] - lo[axis];
+  if (end) lo[axis] = hi[axis] - fraction * len;
+  else hi[axis] = lo[axis] + fraction * len;
+  return `box:${[...lo, ...hi].join(',')}`;
+};
+const level = elsewhereLevel(mesh, parseElsewhere('5%'));
+const nav = new SelectiveNavigator(mesh, deps);
+const tri = new Uint32Array(6 * h.faceCount), edges = new Uint32Array(8 * h.faceCount);
+const targets = [box(0), box(1)].map((b) => timed(() => nav.wanted(level, requestedSplits(mesh, deps, [b], 0))));
+nav.setTarget(targets[0].result, level);
+updateIndices(nav, tri, edges);
+const moves = [], indices = [];
+for (let r = 0; r < 7; r++)
+  for (const wanted of [targets[1].result, targets[0].result]) {
+    moves.push(timed(() => nav.setTarget(wanted, level)));
+    indices.push(timed(() => updateIndices(nav, tri, edges)));
+  }
+const changed = moves[0].result.applied + moves[0].result.undone;
+const per100k = (runs) => (median(runs.map((r) => r.wall)) * 1e5 / changed).toFixed(1);
+console.log(`targets (box → wanted splits, closure): ${targets.map((t) => `${t.wall.toFixed(1)} ms`).join(', ')}; ` +
+  `${nav.activeVertexCount} vertices active (level elsewhere ${h.baseVertexCount + level})`);
+console.log(`front move: ${changed} splits (${moves[0].result.applied} applied, ${moves[0].result.undone} undone): ${summary(moves)} = ${per100k(moves)} ms per 100 k splits`);
+console.log(`index entries after it: ${summary(indices)} = ${per100k(indices)} ms per 100 k splits`);

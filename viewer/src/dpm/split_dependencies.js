@@ -1,0 +1,172 @@
+// What each vertex split depends on, derived from the split records as they arrive (no stored
+// form, no format change): docs/viewer.md "Selective refinement". C++: src/lod/split_dependencies.cpp.
+//
+// The splits are replayed once in stream order on a face array of their own. Split i (v1 its
+// parent) writes W(i): its moved faces and its wing faces; it reads R(i) = W(i) plus every face
+// that holds v1 right before it (v1's whole fan: the faces across its wing edges too). Per face:
+//   - i depends on the last writer of each face of R(i) (read after write);
+//   - a writer j of f depends on every reader of f since f's previous writer (write after read);
+//   - i depends on the split that created v1 (implied by the above; kept explicit and cheap).
+// Every dependency is an earlier split, so every prefix of the stream is closed under them, and a
+// set S closed under them, applied in ascending order, gives each split of S the faces of R(i)
+// exactly as the full sequence had them.
+import { Growable } from './bytes.js';
+import { applySplits, DirtyFaces, WING_WAS_TRIANGLE } from './progressive_mesh.js';
+
+export class SplitDependencies {
+  constructor(mesh) {
+    const { vertexCount: V, faceCount: F, splitCount: S, baseFaceCount: nf } = mesh.head;
+    this.mesh = mesh;
+    this.derived = 0;  // splits derived so far (a prefix of the loaded ones)
+    // The mesh as the derived splits left it: after the last split, the fully refined mesh.
+    this.corners = new Int32Array(4 * F).fill(-1);
+    this.corners.set(mesh.baseCorners);
+    // Dependencies as CSR: split i's are deps[depStart[i], depStart[i + 1]), ascending.
+    this.depStart = new Uint32Array(S + 1);
+    this.deps = new Growable(Int32Array, 4 * S);
+    this.lastWriter = new Int32Array(F).fill(-1);  // per face: the last split that wrote it
+    this.faceSplit = new Int32Array(F).fill(-1);  // per face: the split that creates it (−1: base)
+    // Per face, the splits that read it since its last writer: a list in a pool (head, next).
+    this.readerHead = new Int32Array(F).fill(-1);
+    this.readerSplit = new Growable(Int32Array, 4 * S);
+    this.readerNext = new Growable(Int32Array, 4 * S);
+    // Per vertex, the faces that hold it (its fan, unordered): a list of (vertex, face) links
+    // from fanHead[v] on. A face that moves from v1 to v0 takes its link along, so there are at
+    // most 4 per face, allocated once.
+    this.fanHead = new Int32Array(V).fill(-1);
+    this.linkFace = new Int32Array(4 * F);
+    this.linkNext = new Int32Array(4 * F);
+    this.links = 0;
+    for (let f = 0; f < nf; f++)
+      for (let k = 0; k < 4; k++) if (this.corners[4 * f + k] >= 0) this.link(this.corners[4 * f + k], f);
+    this.seen = new Int32Array(S).fill(-1);  // per split: the split whose dependencies hold it
+    this.writtenBy = new Int32Array(F).fill(-1);  // per face: the last split whose W holds it
+    this.dirty = new DirtyFaces(F);
+    this.maxCount = 0;
+  }
+
+  // Derives the dependencies of the splits loaded since the last call.
+  update() {
+    const { mesh } = this;
+    const to = mesh.splitsLoaded;
+    for (let i = this.derived; i < to; i++) this.derive(i);
+    this.derived = Math.max(this.derived, to);
+    return this;
+  }
+
+  // Split i's dependencies: deps.data[depStart[i], depStart[i + 1]).
+  of(i) {
+    return this.deps.data.subarray(this.depStart[i], this.depStart[i + 1]);
+  }
+  get count() {
+    return this.deps.length;
+  }
+  // Dependencies per split: mean and max (docs and the benchmark).
+  stats() {
+    const n = this.derived;
+    return { splits: n, dependencies: this.deps.length, mean: n ? this.deps.length / n : 0, max: this.maxCount };
+  }
+
+  derive(i) {
+    const { mesh, lastWriter, readerHead, writtenBy, deps } = this;
+    const b = mesh.head.baseVertexCount;
+    const v1 = mesh.parent[i];
+    const start = deps.length;
+    // W(i), marked: the moved faces, then the wing faces (a quad's face or a re-created triangle).
+    const movedFaces = mesh.movedFaces.data, wingFace = mesh.wingFace.data;
+    const m0 = mesh.movedStart[i], m1 = mesh.movedStart[i + 1], w0 = mesh.wingStart[i], w1 = mesh.wingStart[i + 1];
+    for (let j = m0; j < m1; j++) writtenBy[movedFaces[j]] = i;
+    for (let j = w0; j < w1; j++) writtenBy[wingFace[j]] = i;
+    if (v1 >= b) this.add(v1 - b, i);
+    // Read after write: over v1's fan (moved faces and quad wings are in it; re-created
+    // triangles are new faces, never written before).
+    const { fanHead, linkFace, linkNext } = this;
+    for (let n = fanHead[v1]; n >= 0; n = linkNext[n]) this.add(lastWriter[linkFace[n]], i);
+    // Write after read: the readers of each written face since its last writer.
+    const readerSplit = this.readerSplit.data, readerNext = this.readerNext.data;
+    for (let j = m0; j < m1; j++) for (let r = readerHead[movedFaces[j]]; r >= 0; r = readerNext[r]) this.add(readerSplit[r], i);
+    for (let j = w0; j < w1; j++) for (let r = readerHead[wingFace[j]]; r >= 0; r = readerNext[r]) this.add(readerSplit[r], i);
+    sortRun(deps.data, start, deps.length);
+    this.depStart[i + 1] = deps.length;
+    this.maxCount = Math.max(this.maxCount, deps.length - start);
+    // Now split i is the last writer of W(i) and a reader of the rest of v1's fan.
+    for (let n = fanHead[v1]; n >= 0; n = linkNext[n]) {
+      const f = linkFace[n];
+      if (writtenBy[f] === i) continue;
+      this.readerSplit.push(i);
+      this.readerNext.push(readerHead[f]);
+      readerHead[f] = this.readerSplit.length - 1;
+    }
+    for (let j = m0; j < m1; j++) (lastWriter[movedFaces[j]] = i), (readerHead[movedFaces[j]] = -1);
+    for (let j = w0; j < w1; j++) (lastWriter[wingFace[j]] = i), (readerHead[wingFace[j]] = -1);
+    this.replay(i, b + i, v1);
+  }
+
+  // Split j (≥ 0) among split i's dependencies, once.
+  add(j, i) {
+    if (j >= 0 && this.seen[j] !== i) {
+      this.seen[j] = i;
+      this.deps.push(j);
+    }
+  }
+
+  // Applies split i to this replay's faces and moves the faces between fans: moved faces leave
+  // v1's fan for v0's, quad wings join v0's, re-created triangles join v0's, v1's and w's.
+  replay(i, v0, v1) {
+    const { mesh, fanHead, linkFace, linkNext } = this;
+    applySplits(mesh, i, i + 1, this.corners, this.dirty);
+    this.dirty.clear();
+    for (let j = mesh.movedStart[i]; j < mesh.movedStart[i + 1]; j++) {
+      const f = mesh.movedFaces.data[j];
+      let n = fanHead[v1], before = -1;
+      while (linkFace[n] !== f) (before = n), (n = linkNext[n]);
+      if (before < 0) fanHead[v1] = linkNext[n];
+      else linkNext[before] = linkNext[n];
+      (linkNext[n] = fanHead[v0]), (fanHead[v0] = n);
+    }
+    for (let j = mesh.wingStart[i]; j < mesh.wingStart[i + 1]; j++) {
+      const f = mesh.wingFace.data[j];
+      this.link(v0, f);
+      if (mesh.wingFlags.data[j] & WING_WAS_TRIANGLE) {
+        this.faceSplit[f] = i;
+        this.link(v1, f);
+        this.link(mesh.wingVertex.data[j], f);
+      }
+    }
+  }
+
+  // Face f joins vertex v's fan.
+  link(v, f) {
+    const n = this.links++;
+    this.linkFace[n] = f;
+    this.linkNext[n] = this.fanHead[v];
+    this.fanHead[v] = n;
+  }
+
+  // The splits of T (indices, any order) and every split they depend on, transitively: marks
+  // set to 1 in `wanted` (Uint8Array per split), which may already hold a closed set.
+  close(T, wanted) {
+    const stack = [];
+    for (const i of T) if (!wanted[i]) (wanted[i] = 1), stack.push(i);
+    const { depStart } = this;
+    const deps = this.deps.data;
+    while (stack.length) {
+      const i = stack.pop();
+      for (let k = depStart[i], end = depStart[i + 1]; k < end; k++) {
+        const j = deps[k];
+        if (!wanted[j]) (wanted[j] = 1), stack.push(j);
+      }
+    }
+    return wanted;
+  }
+}
+
+// Sorts a[from, to) ascending in place: a split's few dependencies (an insertion sort, no view).
+function sortRun(a, from, to) {
+  for (let k = from + 1; k < to; k++) {
+    const x = a[k];
+    let j = k - 1;
+    while (j >= from && a[j] > x) (a[j + 1] = a[j]), j--;
+    a[j + 1] = x;
+  }
+}

@@ -1,0 +1,210 @@
+// The panel's "Refine" section and window.dynpm.refine()/refinement() (docs/viewer.md "Selective
+// refinement"): full resolution in a box, in the visible parts, or where the model has moved more
+// than a distance at the current step (re-targeted as time moves), and a coarse level elsewhere.
+// While a refinement is on, the page draws a SelectiveNavigator (dpm/selective_navigator.js)
+// instead of the level Navigator; viewer.js only calls the hooks levelChanged(), timeChanged()
+// and describe().
+import { DpmError } from './dpm/bytes.js';
+import { Navigator } from './dpm/navigator.js';
+import { elsewhereLevel, parseElsewhere, parseRequest, requestedSplits } from './dpm/refine_targets.js';
+import { SelectiveNavigator } from './dpm/selective_navigator.js';
+import { SplitDependencies } from './dpm/split_dependencies.js';
+import { fmt, int } from './fringe.js';
+
+const $ = (id) => document.getElementById(id);
+
+// What each request kind refines, for the status line.
+const WHY = {
+  box: () => 'in the box',
+  sphere: () => 'in the sphere',
+  part: (r) => `in part${r.parts.length === 1 ? '' : 's'} ${r.parts.join(', ')}`,
+  field: (r) => `where ${r.name} ${r.above ? '>' : '<'} ${fmt(r.threshold)}`,
+  moved: (r) => `where moved > ${fmt(r.distance)}`,
+};
+
+export class RefineView {
+  // viewer: {state, updateLevel(), partView() (a PartView or null)} of viewer.js.
+  constructor(viewer) {
+    this.viewer = viewer;
+    this.ui = {
+      mode: $('refine-mode'), box: $('refine-box'), boxRow: $('refine-box-row'), fromParts: $('refine-box-parts'),
+      moved: $('refine-moved'), movedRow: $('refine-moved-row'), elsewhere: $('refine-elsewhere'), label: $('refine-label'),
+    };
+    this.dependencies = null;
+    this.selective = null;
+    this.levelNav = null;  // the level Navigator, while the selective one is drawn
+    this.requests = [];  // parsed
+    this.texts = [];  // as given
+    this.elsewhereText = '5%';
+    this.elsewhere = parseElsewhere(this.elsewhereText);
+    this.step = null;  // the step the targets were found at
+    for (const input of [this.ui.mode, this.ui.box, this.ui.moved, this.ui.elsewhere]) input.addEventListener('change', () => this.fromPanel());
+    this.ui.fromParts.addEventListener('click', () => this.boxOfVisibleParts());
+  }
+
+  get active() {
+    return this.requests.length > 0 && this.viewer.state.nav === this.selective;
+  }
+
+  // Requests (texts in the CLI's syntax: box:…, sphere:…, part:…, field:…, moved:>D) and the
+  // level elsewhere (5%, 20000 or error:0.01); no requests: the level navigator again.
+  refine(texts, elsewhere = this.elsewhereText) {
+    const { nav } = this.viewer.state;
+    if (!(nav instanceof Navigator) && nav !== this.selective) throw new Error('the model is not loaded yet: await dynpm.ready');
+    const requests = (texts ?? []).map((x) => parseRequest(String(x)));
+    const spec = parseElsewhere(String(elsewhere));
+    Object.assign(this, { requests, texts: (texts ?? []).map(String), elsewhere: spec, elsewhereText: String(elsewhere) });
+    this.showInPanel();
+    if (!requests.length) return this.off();
+    this.retarget();
+    return this.refinement();
+  }
+
+  off() {
+    const { state } = this.viewer;
+    if (state.nav === this.selective && this.levelNav) this.swap(this.levelNav);
+    this.ui.label.textContent = '';
+    return this.refinement();
+  }
+
+  // The targets at the current step, the elsewhere level, the closure: the selective navigator
+  // moves there (only the splits that change) and is drawn.
+  retarget() {
+    const { state } = this.viewer;
+    const { mesh } = state;
+    this.dependencies ??= new SplitDependencies(mesh);
+    this.dependencies.update();
+    this.selective ??= new SelectiveNavigator(mesh, this.dependencies);
+    const level = elsewhereLevel(mesh, this.elsewhere);
+    const targets = requestedSplits(mesh, this.dependencies, this.requests, state.t);
+    const nav = this.selective;
+    nav.setTarget(nav.wanted(level, targets), level);
+    this.step = state.t;
+    if (state.nav !== nav) {
+      this.levelNav = state.nav;
+      this.swap(nav);
+    } else this.viewer.updateLevel();
+  }
+
+  // Draws `nav` instead of the navigator drawn now: every face either drew is rewritten.
+  swap(nav) {
+    const { state } = this.viewer;
+    const F = Math.max(state.nav.faceCount, nav.faceCount);
+    for (let f = 0; f < F; f++) nav.dirty.add(f);
+    state.nav = nav;
+    this.viewer.updateLevel();
+  }
+
+  // Hooks of viewer.js. The resolution slider (or the arriving file) while refined: its vertex
+  // count is the level elsewhere. Returns whether it handled the change.
+  levelChanged(vertices, follow) {
+    if (!this.active) return false;
+    if (!follow) (this.elsewhere = { vertices }), (this.elsewhereText = String(vertices)), this.showInPanel();
+    this.retarget();
+    return true;
+  }
+  // Time moved: requests found at a step (all but parts) are found again. Returns whether it
+  // redrew.
+  timeChanged() {
+    if (!this.active || this.step === this.viewer.state.t || this.requests.every((r) => r.kind === 'part')) return false;
+    this.retarget();
+    return true;
+  }
+
+  // "41 200 vertices: 29 200 elsewhere at 5%, 12 000 more in the box".
+  describe() {
+    const { mesh } = this.viewer.state;
+    const nav = this.selective;
+    const elsewhere = mesh.head.baseVertexCount + nav.level;
+    const why = this.requests.map((r) => WHY[r.kind](r)).join(' or ');
+    return `${int(nav.activeVertexCount)} vertices: ${int(elsewhere)} elsewhere at ${this.elsewhereText}, ` +
+      `${int(nav.activeVertexCount - elsewhere)} more ${why}` + (this.requests.some((r) => r.kind !== 'part') ? ` at step ${this.step.toFixed(2)}` : '');
+  }
+
+  // window.dynpm.refinement(): what is refined and how many vertices and faces it took.
+  refinement() {
+    const nav = this.selective;
+    if (!this.active) return { active: false, requests: [], vertices: this.viewer.state.nav?.vertexCount ?? 0 };
+    const elsewhere = this.viewer.state.mesh.head.baseVertexCount + nav.level;
+    return {
+      active: true, requests: this.texts.slice(), elsewhere: this.elsewhereText, step: this.step,
+      vertices: nav.activeVertexCount, elsewhereVertices: elsewhere, refinedVertices: nav.activeVertexCount - elsewhere,
+      faces: nav.activeFaceCount, triangles: nav.triangleCount, quads: nav.quadCount, description: this.describe(),
+    };
+  }
+
+  // The panel: a mode (off, box, visible parts, follow deformation), its numbers, the level
+  // elsewhere. A request it cannot read is said in the label, and nothing changes.
+  fromPanel() {
+    const { mode, box, moved, elsewhere } = this.ui;
+    const texts = { off: [], box: [`box:${box.value.replace(/\s+/g, '')}`], parts: [this.visibleParts()], picked: [this.pickedParts()], moved: [`moved:>${moved.value}`] }[mode.value];
+    try {
+      if (texts.includes(null)) throw new DpmError('pick an element first (a click on the model): its part is refined');
+      this.refine(texts, elsewhere.value.trim());
+    } catch (e) {
+      if (!(e instanceof DpmError)) throw e;
+      this.ui.label.textContent = e.message;
+    }
+  }
+
+  showInPanel() {
+    const { ui } = this;
+    const kinds = this.requests.map((r) => r.kind);
+    const parts = ui.mode.value === 'picked' ? 'picked' : 'parts';
+    const mode = !kinds.length ? 'off' : kinds.includes('moved') ? 'moved' : kinds.includes('part') ? parts : 'box';
+    ui.mode.value = mode;
+    ui.boxRow.hidden = mode !== 'box';
+    ui.movedRow.hidden = mode !== 'moved';
+    ui.elsewhere.value = this.elsewhereText;
+    const box = this.requests.find((r) => r.kind === 'box');
+    if (box) ui.box.value = [...box.min, ...box.max].map((x) => fmt(x, 6)).join(', ');
+    const m = this.requests.find((r) => r.kind === 'moved');
+    if (m) ui.moved.value = String(m.distance);
+    if (!this.requests.length) ui.label.textContent = '';
+  }
+
+  // part:ids of the parts shown (all of them when none is hidden).
+  visibleParts() {
+    const parts = this.viewer.partView();
+    const ids = [...new Set(this.viewer.state.mesh.partId)].filter((id) => !parts?.hidden.has(id));
+    return `part:${ids.join(',')}`;
+  }
+
+  // part:ids of the picked elements' parts (inspect.js), or null when nothing is picked.
+  pickedParts() {
+    const ids = [...new Set((window.dynpm.picks?.() ?? []).map((p) => p.part))];
+    return ids.length ? `part:${ids.join(',')}` : null;
+  }
+
+  // The box around the visible parts' vertices at the current step, into the box's numbers.
+  boxOfVisibleParts() {
+    const { state } = this.viewer;
+    const { mesh } = state;
+    const parts = this.viewer.partView();
+    const n = mesh.vertexCountLoaded;
+    const p = mesh.positionsAt(state.t, n, new Float32Array(3 * n));
+    const lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity];
+    const corners = (this.dependencies ??= new SplitDependencies(mesh)).update().corners;
+    for (let f = 0; f < mesh.faceCountAt[this.dependencies.derived]; f++) {
+      if (parts?.hidden.has(mesh.partId[f])) continue;
+      for (let k = 0; k < 4; k++) {
+        const v = corners[4 * f + k];
+        if (v >= 0) for (let c = 0; c < 3; c++) (lo[c] = Math.min(lo[c], p[3 * v + c])), (hi[c] = Math.max(hi[c], p[3 * v + c]));
+      }
+    }
+    if (!(lo[0] <= hi[0])) return;
+    this.ui.mode.value = 'box';
+    this.ui.box.value = [...lo, ...hi].map((x) => fmt(x, 6)).join(', ');
+    this.fromPanel();
+  }
+}
+
+// window.dynpm.refine(requests, elsewhere) and refinement().
+export function installRefine(viewer) {
+  const view = new RefineView(viewer);
+  Object.assign((window.dynpm ??= {}), {
+    refine: (requests, elsewhere) => view.refine(requests, elsewhere),
+    refinement: () => view.refinement(),
+  });
+  return view;
+}

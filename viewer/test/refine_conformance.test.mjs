@@ -1,0 +1,80 @@
+// The two decoders on the same request, byte for byte (docs/viewer.md "Selective refinement",
+// "Output order"): `dynpm extract M.dpm --step T --refine … --elsewhere … -o out.obj` against the
+// OBJ body made here from SelectiveNavigator.activeMesh() (obj_text.mjs writes what
+// src/io/obj.cpp writes), on CalculiX crash boxes built lossless. A request without targets is a
+// level, which `extract --vertices N` gives in the same order; the refine requests run once the
+// CLI has --refine (skipped, saying so, before).
+import assert from 'node:assert/strict';
+import { execFileSync } from 'node:child_process';
+import { mkdirSync, readFileSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import { join } from 'node:path';
+import { test } from 'node:test';
+
+import { elsewhereLevel, parseElsewhere, requestedSplits } from '../src/dpm/refine_targets.js';
+import { SelectiveNavigator } from '../src/dpm/selective_navigator.js';
+import { SplitDependencies } from '../src/dpm/split_dependencies.js';
+import { objBody, withoutComments } from './obj_text.mjs';
+import { cli, crashbox, crashboxDpm } from './selective_fixture.mjs';
+
+const out = join(process.env.DYNPM_TEST_OUT ?? tmpdir(), 'refine-conformance');
+mkdirSync(out, { recursive: true });
+const refineInCli = cli && execFileSync(cli, ['extract', '--help'], { encoding: 'utf8' }).includes('--refine');
+
+const models = new Map();
+function model(name) {
+  if (!models.has(name)) {
+    const mesh = crashbox(name);
+    models.set(name, { mesh, deps: new SplitDependencies(mesh).update(), file: crashboxDpm(name) });
+  }
+  return models.get(name);
+}
+
+// The OBJ body dpm.js gives for a request at whole step t.
+function jsObj({ mesh, deps }, requests, elsewhere, t) {
+  const nav = new SelectiveNavigator(mesh, deps);
+  const level = elsewhereLevel(mesh, parseElsewhere(elsewhere));
+  nav.setTarget(nav.wanted(level, requestedSplits(mesh, deps, requests, t)), level);
+  const { vertices, faces, faceIds } = nav.activeMesh();
+  const all = mesh.positionsAt(t, mesh.head.vertexCount, new Float32Array(3 * mesh.head.vertexCount));
+  const positions = new Float32Array(3 * vertices.length);
+  vertices.forEach((v, k) => positions.set(all.subarray(3 * v, 3 * v + 3), 3 * k));
+  return objBody(positions, faces, Array.from(faceIds, (f) => mesh.partId[f]));
+}
+
+function cliObj({ file }, args, name) {
+  const path = join(out, name);
+  execFileSync(cli, ['extract', file, ...args, '-o', path], { stdio: 'pipe' });
+  return withoutComments(readFileSync(path, 'utf8'));
+}
+
+test('a level (no targets): extract --vertices N gives the same bytes (the part group line too)', () => {
+  for (const [name, steps] of [['crashbox-mixed-5k', [0, 20, 40]], ['crashbox-fields', [0, 14]]]) {
+  const m = model(name);
+  const h = m.mesh.head;
+  for (const n of [h.baseVertexCount, Math.round(0.37 * h.vertexCount), h.vertexCount - 1])
+    for (const t of steps) {
+      const js = jsObj(m, [], String(n), t);
+      assert.ok(js.split('\n').length > n, 'the body has the vertices and faces');
+      assert.equal(cliObj(m, ['--vertices', String(n), '--step', String(t)], `${name}_level_${n}_${t}.obj`), js, `${name}: ${n} vertices at step ${t}`);
+    }
+  }
+});
+
+const REQUESTS = [
+  ['crashbox-mixed-5k', ['box:-40,-60,150,10,60,260'], '5%', [0, 20, 40]],
+  ['crashbox-mixed-5k', ['sphere:0,0,220,25', 'moved:>20'], '2000', [10, 40]],
+  ['crashbox-mixed-5k', ['part:0'], 'error:1', [0]],
+  ['crashbox-fields', ['field:PEEQ>0.05'], '5%', [4, 14]],
+  ['crashbox-fields', ['field:S_MISES<1', 'box:-50,-40,80,0,40,170'], '20%', [0, 14]],
+];
+
+for (const [name, requests, elsewhere, steps] of REQUESTS)
+  test(`${name}: ${requests.join(' ')} --elsewhere ${elsewhere}: the same bytes as extract --refine`, { skip: !refineInCli && 'the CLI has no extract --refine yet' }, () => {
+    const m = model(name);
+    for (const t of steps) {
+      const args = [...requests.flatMap((r) => ['--refine', r]), '--elsewhere', elsewhere, '--step', String(t)];
+      const file = `${name}_${requests.join('_').replace(/[^\w.-]/g, '_')}_${t}.obj`;
+      assert.equal(cliObj(m, args, file), jsObj(m, requests, elsewhere, t), `step ${t}`);
+    }
+  });
