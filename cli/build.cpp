@@ -79,9 +79,17 @@ uint64_t key_step_count(const KeyStepRule& rule, uint64_t steps) {
 // The estimate before the work, and the refusal when it cannot fit: the message names the
 // memory the process can have (free memory, ulimit -v, the cgroup's limit) and the most key
 // steps that would fit. An error message, or "".
-std::string check_memory(uint32_t vertices, size_t steps, const KeyStepRule& rule, bool refuse) {
+std::string check_memory(const Topology& input, const FrameSource& frames, const KeyStepRule& rule,
+                         unsigned threads, bool refuse) {
+  const uint64_t vertices = input.vertex_count, steps = frames.step_count();
+  uint64_t field_values = 0;  // per step, of every result field
+  for (const FieldInfo& f : frames.fields())
+    field_values += f.location == FieldLocation::kElement ? input.faces.size() : vertices;
+  const auto estimate = [&](uint64_t keys) {
+    return build_memory_estimate(vertices, steps, keys, threads, field_values);
+  };
   const uint64_t keys = key_step_count(rule, steps);
-  const uint64_t need = build_memory_estimate(vertices, steps, keys);
+  const uint64_t need = estimate(keys);
   const uint64_t have = available_memory_bytes();
   if (!progress_quiet()) {
     clear_progress_line();
@@ -92,7 +100,7 @@ std::string check_memory(uint32_t vertices, size_t steps, const KeyStepRule& rul
   std::string message = "needs about " + memory_text(need) + ", have " + memory_text(have);
   uint64_t fits = 0;  // the most key steps that fit
   for (uint64_t k = keys; k-- > 1;)
-    if (build_memory_estimate(vertices, steps, k) <= have) {
+    if (estimate(k) <= have) {
       fits = k;
       break;
     }
@@ -132,7 +140,7 @@ int run_build(std::span<char* const> arguments) {
   const FrameSource& frames = *stream->frames;
   if (Status s = check_cost_fields(options.simplify, frames); !s.ok())
     return fail(kSpec.name, kExitUsage, s.message());
-  if (std::string refused = check_memory(input.vertex_count, frames.step_count(), key_rule,
+  if (std::string refused = check_memory(input, frames, key_rule, options.simplify.threads,
                                          !args.has("--no-memory-check"));
       !refused.empty())
     return fail(kSpec.name, kExitFailure, refused);
@@ -144,6 +152,7 @@ int run_build(std::span<char* const> arguments) {
   auto key_steps = choose_key_steps(frames, key_rule, options.simplify.threads, report);
   if (!key_steps) return fail(kSpec.name, kExitFailure, key_steps.message());
   options.simplify.key_steps = key_steps->steps;
+  options.all_steps_box = key_steps->all_steps_box;  // the last pass quantizes as it reads
   const bool json = args.has("--json");
   if (!json)
     for (const std::string& reason : key_steps->reasons)
@@ -152,14 +161,11 @@ int run_build(std::span<char* const> arguments) {
                  (args.positional.size() > 1 ? " …" : "");
   options.progress = report;
 
-  phase.emplace("simplifying and recording the vertex splits");
-  auto mesh = build_progressive_mesh(input, frames, options);
-  if (!mesh) return fail(kSpec.name, kExitFailure, mesh.message());
-  phase.emplace("encoding the .dpm file");
-  progress("encoding", 0, 1);
-  const auto bytes = encode_dpm(*mesh, options.simplify.threads);
-  if (!bytes) return fail(kSpec.name, kExitFailure, bytes.message());
-  progress("encoding", 1, 1);
+  phase.emplace("simplifying, recording and encoding");
+  auto built = build_dpm(input, frames, options);
+  if (!built) return fail(kSpec.name, kExitFailure, built.message());
+  const ProgressiveMesh* mesh = &built->mesh;
+  const std::string* bytes = &built->bytes;
   phase.emplace("writing the .dpm file");
   progress("writing", 0, 1);
   if (Status s = write_file_atomically(*output, *bytes); !s.ok())

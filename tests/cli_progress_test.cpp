@@ -48,10 +48,11 @@ std::string crashbox_frd(const test::TempDir& dir) {
   return std::system(unzip.c_str()) == 0 ? frd : "";
 }
 
-// Every phase of a build, in order (auto:K reads every step to choose, then the key steps).
+// Every phase of a build, in order (auto:K reads every step to choose, then the key steps, then
+// every step once more into the file's coder).
 const std::vector<std::string> kBuildPhases = {
-    "choosing key steps",   "checking the mesh",   "reading key steps", "quadrics", "collapsing",
-    "recording the splits", "gathering positions", "quantizing",        "encoding", "writing"};
+    "choosing key steps",   "checking the mesh", "reading key steps",  "quadrics", "collapsing",
+    "recording the splits", "coding the splits", "encoding positions", "encoding", "writing"};
 
 // How many digits stand between `before` at the start of `text` and `after`; 0 when the text
 // is not shaped so. (By hand: std::regex trips gcc 12's -Wmaybe-uninitialized under ASan.)
@@ -86,7 +87,7 @@ TEST(CliProgress, ARedirectedBuildPrintsALineAtTheEndOfEveryPhase) {
   const size_t collapsing = run.err.find("collapsing done: ");
   ASSERT_NE(collapsing, std::string::npos) << run.err;
   EXPECT_EQ(digits_between(run.err.substr(collapsing), "collapsing done: ", " in"), 4) << run.err;
-  EXPECT_NE(run.err.find("gathering positions done: 26 in"), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("encoding positions done: 26 in"), std::string::npos) << run.err;
   // stdout keeps its report only.
   EXPECT_EQ(run.out.find("done"), std::string::npos) << run.out;
 }

@@ -6,12 +6,15 @@
 // every collapse. Reversed, the collapses are the vertex splits; vertices are renumbered so the
 // base mesh holds 0…b−1 and split i creates vertex b+i, faces so the base holds the first ones
 // and each split's re-created triangles take the next numbers (docs/FORMAT.md). Every step's
-// positions are then read once through the FrameSource and stored in that order.
+// positions are then read once more through the FrameSource, in that order: kept in memory
+// (build_progressive_mesh) or coded into the file as they come (build_dpm, a few steps held at a
+// time).
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -33,21 +36,38 @@ struct BuildOptions {
   // "Fields"); lossless keeps them float32 exact.
   double field_bound = 0.001;
   std::string note;
-  // The simplifier's phases (SimplifyOptions::progress), then "recording the splits",
-  // "gathering positions" (steps) and "quantizing" (steps). May be empty. simplify.progress is
-  // ignored: this one is passed down.
+  // The bounding box of every step's positions, when the caller has it (choose_key_steps() with
+  // auto:K or paper measures it in its pass over the steps): the grid needs it before the last
+  // pass. Unset: the simplifier's, when every step is a key step, else a pass of its own.
+  std::optional<BoundingBox> all_steps_box;
+  // The simplifier's phases (SimplifyOptions::progress), then "recording the splits" (with the
+  // result fields), and "gathering positions" (steps; build_dpm: "coding the splits", then
+  // "encoding positions" (steps) and "encoding"). May be empty. simplify.progress is ignored:
+  // this one is passed down.
   ProgressCallback progress;
 };
 
-// About how many bytes build_progressive_mesh() and writing its file take at their peak, for
-// `vertices` vertices, `steps` steps and `key_steps` key steps, geometry only (result fields
-// add their own). Fitted to measured peaks (src/pipeline/build_memory.cpp says which).
-uint64_t build_memory_estimate(uint64_t vertices, uint64_t steps, uint64_t key_steps);
+// About how many bytes build_dpm() takes at its peak, for `vertices` vertices, `steps` steps,
+// `key_steps` key steps and `threads` (0: every core), with result fields holding
+// `field_values_per_step` values per step in all (a node field counts the vertices, an element
+// field the faces); a field in the cost adds the simplifier's own. Fitted to measured peaks
+// (src/pipeline/build_memory.cpp says which; docs/build.md).
+uint64_t build_memory_estimate(uint64_t vertices, uint64_t steps, uint64_t key_steps,
+                               unsigned threads = 0, uint64_t field_values_per_step = 0);
 
 // Simplifies the animation to the end and records the progressive mesh, with every step's
 // positions (read once each, through the FrameSource) and the source's scalar fields.
 Result<ProgressiveMesh> build_progressive_mesh(const Topology& topology, const FrameSource& frames,
                                                const BuildOptions& options);
+
+// build_progressive_mesh() and encode_dpm() in one, the steps' positions coded as they are read
+// instead of held: the same bytes, in the memory of a few steps (build_memory_estimate()).
+struct BuiltFile {
+  ProgressiveMesh mesh;  // all but the positions (empty): what a report of the build needs
+  std::string bytes;     // the .dpm file
+};
+Result<BuiltFile> build_dpm(const Topology& topology, const FrameSource& frames,
+                            const BuildOptions& options);
 
 // ---------------------------------------------------------------------------------------------
 // evaluate_levels(): the paper's Table 2 — a progressive mesh against the animation it was built

@@ -14,6 +14,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
@@ -144,6 +145,11 @@ uint32_t merge_undone_split(const ProgressiveMesh& mesh, uint32_t i, bool per_fa
 // Positions are quantized here (unless lossless), so that what the file holds and what the
 // navigator shows agree: call before use when the mesh did not come from read_dpm().
 void quantize_positions(ProgressiveMesh& mesh);
+// quantize_positions() in two parts, for a caller that streams the steps: the grid (quant_step
+// and max_error, from bbox_min, bbox_max and max_error; nothing when lossless), then one step's
+// positions onto it.
+void set_position_grid(ProgressiveMesh& mesh);
+void quantize_step(const ProgressiveMesh& mesh, std::span<float> xyz);
 
 // Rounds the split errors up onto the file's grid (never below the true error, never
 // increasing; the base's too) and lists each split's moved faces in ascending order, as the file
@@ -163,6 +169,30 @@ Status write_dpm(const std::string& path, const ProgressiveMesh& mesh);
 // fields are coded on up to `threads` threads (0: one per hardware thread); the bytes do not
 // depend on it.
 Result<std::string> encode_dpm(const ProgressiveMesh& mesh, unsigned threads = 0);
+// encode_dpm() with the positions given one step at a time, so that no caller need hold every
+// step's positions ('dynpm build' streams them from its input: docs/build.md). `mesh` holds all
+// else (its positions are not read; its grid and bounding box are set, as quantize_positions()
+// sets them) and outlives the encoder. The bytes are encode_dpm()'s on any thread count.
+class DpmStepEncoder {
+ public:
+  // The records' chunks, coded before the first step; an error as encode_dpm()'s.
+  static Result<DpmStepEncoder> start(const ProgressiveMesh& mesh, unsigned threads = 0);
+  // The next step's positions (steps 0, 1, … in order): every vertex, in the progressive
+  // numbering, on the grid (as quantize_positions() leaves them).
+  void add_step(std::span<const float> xyz);
+  // The file, once every step was given.
+  Result<std::string> finish();
+
+  DpmStepEncoder(DpmStepEncoder&&) noexcept;
+  DpmStepEncoder& operator=(DpmStepEncoder&&) noexcept;
+  ~DpmStepEncoder();
+
+ private:
+  struct State;
+  explicit DpmStepEncoder(std::unique_ptr<State> state);
+  std::unique_ptr<State> state_;
+};
+
 // What a reader needs of a file (docs/FORMAT.md "SPLT payload"): the splits up to one level and
 // the steps up to one step. The rest is not decoded, nor read from disk when it lies after the
 // last split needed. The level is known once HEAD is read: a vertex count, a fraction of the full

@@ -180,6 +180,7 @@ struct SimplifyResult {
   // Positions in every key step (xyz per vertex), only for Placement::kOptimal, where v1 moves.
   std::vector<std::vector<float>> key_step_positions;
   std::vector<size_t> key_steps;
+  BoundingBox key_step_box;  // of every key step's positions (the error's unit is its diagonal)
   size_t collapses = 0;
   double max_error = 0;         // largest collapse error done, in diagonals
   bool target_reached = false;  // false: no legal collapse remained first
@@ -229,6 +230,9 @@ Result<KeyStepRule> parse_key_step_rule(const std::string& text);
 struct KeyStepChoice {
   std::vector<size_t> steps;         // ascending
   std::vector<std::string> reasons;  // one line per chosen step, for the user
+  // The bounding box of every step's positions, when the choice read every step (auto:K and
+  // paper): the build needs it before its last pass (BuildOptions::all_steps_box).
+  std::optional<BoundingBox> all_steps_box;
 };
 
 // Reads the steps it needs through the FrameSource (each step once, whatever the rule; up to

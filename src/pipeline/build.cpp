@@ -1,7 +1,9 @@
 // build(): simplify to the end while recording every collapse, then reverse the record into
-// vertex splits in the progressive numbering and gather every step's positions in that order.
+// vertex splits in the progressive numbering, and read every step's positions once more, in that
+// order: into memory (build_progressive_mesh) or straight into the file's coder (build_dpm).
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <numeric>
 
 #include "build_fields.h"
@@ -39,20 +41,31 @@ class CollapseLog final : public CollapseListener {
   std::vector<uint32_t> moved_faces;
 };
 
-double key_step_diagonal(const FrameSource& frames, std::span<const size_t> key_steps,
-                         std::span<const BoundingBox> step_boxes) {
+// The simplifier's record in the progressive numbering: the mesh without its positions.
+struct Recorded {
+  ProgressiveMesh pm;
+  std::vector<uint32_t> new_vertex, new_face;  // input → progressive numbering
+};
+
+// The box of every step: the caller's, else the simplifier's when every step was a key step,
+// else a pass of its own over the steps.
+Result<BoundingBox> all_steps_box(const FrameSource& frames, const BuildOptions& options,
+                                  const SimplifyResult& simplified) {
+  if (options.all_steps_box) return *options.all_steps_box;
+  if (simplified.key_steps.size() == frames.step_count()) return simplified.key_step_box;
+  std::vector<size_t> every(frames.step_count());
+  std::iota(every.begin(), every.end(), size_t{0});
   BoundingBox box;
-  if (key_steps.empty())
-    for (const BoundingBox& b : step_boxes) box.extend(b);
-  for (size_t t : key_steps)
-    if (t < frames.step_count()) box.extend(step_boxes[t]);
-  return box.diagonal() > 0 ? box.diagonal() : 1.0;
+  DYNPM_RETURN_IF_ERROR(for_each_step(frames, every, options.simplify.threads,
+                                      [&](size_t, std::span<const float> step) {
+                                        box.extend(step);
+                                        return Status{};
+                                      }));
+  return box;
 }
 
-}  // namespace
-
-Result<ProgressiveMesh> build_progressive_mesh(const Topology& topology, const FrameSource& frames,
-                                               const BuildOptions& options) {
+Result<Recorded> record(const Topology& topology, const FrameSource& frames,
+                        const BuildOptions& options) {
   if (options.simplify.placement != Placement::kHalfEdge)
     return Status::error(
         "a progressive mesh is built with half-edge collapses (positions stay original); "
@@ -74,10 +87,13 @@ Result<ProgressiveMesh> build_progressive_mesh(const Topology& topology, const F
 
   const uint32_t n = topology.vertex_count;
   const uint32_t splits = static_cast<uint32_t>(log.entries.size());
-  ProgressiveMesh pm;
+  Recorded recorded;
+  ProgressiveMesh& pm = recorded.pm;
+  std::vector<uint32_t>& new_vertex = recorded.new_vertex;
+  std::vector<uint32_t>& new_face = recorded.new_face;
 
   // Vertices: never removed → base, in input order; the v0 of the last collapse → b, …
-  std::vector<uint32_t> new_vertex(n, kNoVertex);
+  new_vertex.assign(n, kNoVertex);
   std::vector<char> removed(n, 0);
   for (const auto& e : log.entries) removed[e.v0] = 1;
   uint32_t next = 0;
@@ -88,7 +104,7 @@ Result<ProgressiveMesh> build_progressive_mesh(const Topology& topology, const F
 
   // Faces: alive at the end → base, in input order; then each split's re-created triangles.
   const uint32_t face_total = static_cast<uint32_t>(topology.faces.size());
-  std::vector<uint32_t> new_face(face_total, kNoIndex);
+  new_face.assign(face_total, kNoIndex);
   std::vector<char> vanished(face_total, 0);
   for (const auto& e : log.entries)
     for (uint8_t k = 0; k < e.wing_count; ++k)
@@ -120,7 +136,6 @@ Result<ProgressiveMesh> build_progressive_mesh(const Topology& topology, const F
   std::vector<double> prefix_max(splits + 1, 0.0);
   for (uint32_t j = 0; j < splits; ++j)
     prefix_max[j + 1] = std::max(prefix_max[j], log.entries[j].error);
-  std::vector<BoundingBox> step_boxes(frames.step_count());
 
   pm.parent.reserve(splits);
   pm.error.reserve(splits);
@@ -158,40 +173,23 @@ Result<ProgressiveMesh> build_progressive_mesh(const Topology& topology, const F
     pm.element_ids[new_face[f]] = topology.element_ids[f];
   }
 
-  // Every step's positions, read once each (several at once where the source allows),
-  // permuted into the new order.
-  const size_t steps = frames.step_count();
-  std::vector<size_t> every(steps);
-  std::iota(every.begin(), every.end(), size_t{0});
-  pm.positions.resize(steps);
-  pm.times.resize(steps);
-  BoundingBox all;
-  if (options.progress) options.progress("gathering positions", 0, steps);
-  DYNPM_RETURN_IF_ERROR(for_each_step(
-      frames, every, options.simplify.threads, [&](size_t t, std::span<const float> step) {
-        pm.times[t] = frames.step_time(t);
-        for (float c : step)
-          if (!std::isfinite(c))
-            return Status::error("time step " + std::to_string(t) + " has a non-finite coordinate");
-        std::vector<float>& out = pm.positions[t];
-        out.resize(size_t{n} * 3);
-        for (uint32_t v = 0; v < n; ++v)
-          std::copy_n(&step[size_t{v} * 3], 3, &out[new_vertex[v] * size_t{3}]);
-        step_boxes[t].extend(step);
-        all.extend(step_boxes[t]);
-        if (options.progress) options.progress("gathering positions", t + 1, steps);
-        return Status{};
-      }));
+  // The grid: the box of every step (known before the positions are read, which are then
+  // quantized as they come).
+  auto box = all_steps_box(frames, options, *simplified);
+  if (!box) return box.status();
   for (int k = 0; k < 3; ++k) {
-    pm.bbox_min[k] = all.empty ? 0.0 : all.min[k];
-    pm.bbox_max[k] = all.empty ? 0.0 : all.max[k];
+    pm.bbox_min[k] = box->empty ? 0.0 : box->min[k];
+    pm.bbox_max[k] = box->empty ? 0.0 : box->max[k];
   }
+  pm.times.resize(frames.step_count());
+  for (size_t t = 0; t < pm.times.size(); ++t) pm.times[t] = frames.step_time(t);
 
   // Errors in absolute units: the simplifier measured them in key-step diagonals. Each level's
   // error is rounded to float32 once, the base's too (the file keeps a split's error as f32):
   // rounding the base's differently could put it a float ulp below the first split's, and level
   // errors must never increase along the stream (docs/FORMAT.md).
-  const double scale = key_step_diagonal(frames, simplified->key_steps, step_boxes);
+  const double diagonal = simplified->key_step_box.diagonal();
+  const double scale = diagonal > 0 ? diagonal : 1.0;
   auto absolute = [scale](double e) { return static_cast<float>(e * scale); };
   pm.base_error = absolute(prefix_max[splits]);
   for (uint32_t i = 0; i < splits; ++i) pm.error[i] = absolute(prefix_max[splits - 1 - i]);
@@ -199,14 +197,70 @@ Result<ProgressiveMesh> build_progressive_mesh(const Topology& topology, const F
   pm.lossless = options.lossless;
   pm.max_error = options.lossless ? 0.0 : options.max_position_error * pm.diagonal();
   pm.note = options.note;
-  if (options.progress) options.progress("quantizing", 0, steps);
-  quantize_positions(pm);
+  set_position_grid(pm);
   prepare_split_records(pm);  // errors on the file's grid, moved faces ascending (as read back)
-  if (options.progress) options.progress("quantizing", steps, steps);
   // Result fields, per vertex or per face, permuted like the positions (build_fields.cpp).
   DYNPM_RETURN_IF_ERROR(
       build_fields(frames, new_vertex, new_face, options.field_bound, options.lossless, pm));
-  return pm;
+  return recorded;
+}
+
+// The last pass: every step's positions, read once each (several at once where the source
+// allows), permuted into the progressive numbering and put on the grid, to use(t, xyz) in step
+// order. Reports `phase` (steps).
+Status for_each_progressive_step(const FrameSource& frames, const Recorded& r,
+                                 const BuildOptions& options, const char* phase,
+                                 const std::function<void(size_t, std::span<const float>)>& use) {
+  const size_t steps = frames.step_count();
+  std::vector<size_t> every(steps);
+  std::iota(every.begin(), every.end(), size_t{0});
+  const uint32_t n = static_cast<uint32_t>(r.new_vertex.size());
+  std::vector<float> out(size_t{n} * 3);
+  if (options.progress) options.progress(phase, 0, steps);
+  return for_each_step(
+      frames, every, options.simplify.threads, [&](size_t t, std::span<const float> step) {
+        for (float c : step)
+          if (!std::isfinite(c))
+            return Status::error("time step " + std::to_string(t) + " has a non-finite coordinate");
+        for (uint32_t v = 0; v < n; ++v)
+          std::copy_n(&step[size_t{v} * 3], 3, &out[r.new_vertex[v] * size_t{3}]);
+        quantize_step(r.pm, out);
+        use(t, out);
+        if (options.progress) options.progress(phase, t + 1, steps);
+        return Status{};
+      });
+}
+
+}  // namespace
+
+Result<ProgressiveMesh> build_progressive_mesh(const Topology& topology, const FrameSource& frames,
+                                               const BuildOptions& options) {
+  auto recorded = record(topology, frames, options);
+  if (!recorded) return recorded.status();
+  ProgressiveMesh& pm = recorded->pm;
+  pm.positions.resize(frames.step_count());
+  DYNPM_RETURN_IF_ERROR(for_each_progressive_step(frames, *recorded, options, "gathering positions",
+                                                  [&](size_t t, std::span<const float> xyz) {
+                                                    pm.positions[t].assign(xyz.begin(), xyz.end());
+                                                  }));
+  return std::move(pm);
+}
+
+Result<BuiltFile> build_dpm(const Topology& topology, const FrameSource& frames,
+                            const BuildOptions& options) {
+  auto recorded = record(topology, frames, options);
+  if (!recorded) return recorded.status();
+  if (options.progress) options.progress("coding the splits", 0, 1);  // ends at the next phase
+  auto encoder = DpmStepEncoder::start(recorded->pm, options.simplify.threads);
+  if (!encoder) return encoder.status();
+  DYNPM_RETURN_IF_ERROR(for_each_progressive_step(
+      frames, *recorded, options, "encoding positions",
+      [&](size_t, std::span<const float> xyz) { encoder->add_step(xyz); }));
+  if (options.progress) options.progress("encoding", 0, 1);
+  auto bytes = encoder->finish();
+  if (!bytes) return bytes.status();
+  if (options.progress) options.progress("encoding", 1, 1);
+  return BuiltFile{std::move(recorded->pm), std::move(bytes).value()};
 }
 
 }  // namespace dynpm

@@ -93,11 +93,11 @@ inline Grid grid_of(const ProgressiveMesh& mesh) {
   return {mesh.bbox_min, mesh.quant_step, mesh.lossless};
 }
 
-// The prediction of base vertex v's coordinate c at step t from values already known (FORMAT.md
-// "Positions", in BASE); split vertices are coded in position_coding.cpp.
-inline int64_t predict_base(const ProgressiveMesh& mesh, const Grid& g, uint32_t v, size_t t,
-                            int c) {
-  auto q = [&](uint32_t u, size_t s) { return g.q(mesh.positions[s][size_t{u} * 3 + c], c); };
+// The prediction of base vertex v's coordinate at step t from values already known (FORMAT.md
+// "Positions", in BASE), q(u, s) giving vertex u's q-value at step s; split vertices are coded
+// in position_coding.cpp.
+template <class Q>
+int64_t predict_base(uint32_t v, size_t t, Q q) {
   if (t > 0) return q(v, t - 1);
   return v > 0 ? q(v - 1, 0) : 0;
 }

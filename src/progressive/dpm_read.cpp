@@ -403,7 +403,10 @@ class Decoder {
     for (size_t t = 0; t < steps; ++t)
       for (uint32_t v = begin; v < end; ++v)
         for (int c = 0; c < 3; ++c) {
-          const int64_t q = g.add(predict_base(mesh_, g, v, t, c), r.svarint());
+          const auto known = [&](uint32_t u, size_t s) {
+            return g.q(mesh_.positions[s][size_t{u} * 3 + c], c);
+          };
+          const int64_t q = g.add(predict_base(v, t, known), r.svarint());
           if (!g.lossless && (q < -2 || double(q) > top[c]))
             return bad(r, "a position is far outside the bounding box");
           mesh_.positions[t][size_t{v} * 3 + c] = g.p(q, c);

@@ -3,6 +3,8 @@
 #include <zstd.h>
 
 #include <algorithm>
+#include <cassert>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -44,14 +46,22 @@ void put_chunk(std::string& out, std::string_view tag, std::string_view raw, boo
   out += stored;
 }
 
-// The base vertices' positions (svarints, as in version 1).
-void write_base_positions(ByteWriter& w, const ProgressiveMesh& mesh) {
-  const Grid g = grid_of(mesh);
-  for (size_t t = 0; t < mesh.step_count(); ++t)
-    for (uint32_t v = 0; v < mesh.base_vertex_count; ++v)
-      for (int c = 0; c < 3; ++c)
-        w.svarint(g.residual(g.q(mesh.positions[t][size_t{v} * 3 + c], c),
-                             predict_base(mesh, g, v, t, c)));
+// A stored q-value (GridValues' convention: 32 bits, signed unless lossless) as an integer.
+int64_t q_value(uint32_t stored, bool lossless) {
+  return lossless ? int64_t{stored} : int64_t{static_cast<int32_t>(stored)};
+}
+
+// The base vertices' positions (svarints, as in version 1) from their q-values, step by step.
+void write_base_positions(ByteWriter& w, const Grid& g,
+                          const std::vector<std::vector<uint32_t>>& base_q, uint32_t b) {
+  for (size_t t = 0; t < base_q.size(); ++t)
+    for (uint32_t v = 0; v < b; ++v)
+      for (int c = 0; c < 3; ++c) {
+        const auto q = [&](uint32_t u, size_t s) {
+          return q_value(base_q[s][size_t{u} * 3 + c], g.lossless);
+        };
+        w.svarint(g.residual(q(v, t), predict_base(v, t, q)));
+      }
 }
 
 void write_vertex_attributes(ByteWriter& w, const ProgressiveMesh& mesh, uint32_t v, Deltas& d) {
@@ -142,7 +152,68 @@ std::string head_payload(const ProgressiveMesh& mesh) {
 
 }  // namespace
 
-Result<std::string> encode_dpm(const ProgressiveMesh& mesh, unsigned threads) {
+// The records, chunk by chunk (each coded against the mesh the splits before it left, which the
+// records' models keep as the decoder has it, and which gives each split's stencil), made
+// before the first step; the positions as the steps come; the rest of the file at the end.
+struct DpmStepEncoder::State {
+  struct SplitChunk {
+    uint32_t first, last, first_face, end_face;
+    std::string records, attributes;
+  };
+  explicit State(const ProgressiveMesh& m) : mesh(m) {}
+  const ProgressiveMesh& mesh;
+  unsigned threads = 1;
+  std::vector<SplitChunk> chunks;
+  std::vector<std::pair<uint32_t, uint32_t>> ranges;  // the chunks' splits
+  ChunkStencils stencils;                             // every split's, in split order
+  std::optional<StepPositionEncoder> positions;
+  std::vector<std::vector<uint32_t>> base_q;  // per step, the base vertices' q-values
+  size_t steps_given = 0;
+};
+
+DpmStepEncoder::DpmStepEncoder(std::unique_ptr<State> state) : state_(std::move(state)) {}
+DpmStepEncoder::DpmStepEncoder(DpmStepEncoder&&) noexcept = default;
+DpmStepEncoder& DpmStepEncoder::operator=(DpmStepEncoder&&) noexcept = default;
+DpmStepEncoder::~DpmStepEncoder() = default;
+
+Result<DpmStepEncoder> DpmStepEncoder::start(const ProgressiveMesh& mesh, unsigned threads) {
+  auto state = std::make_unique<State>(mesh);
+  state->threads = thread_count(threads);
+  RecordModels records(mesh);
+  uint32_t chunk = kFirstChunkSplits;
+  for (uint32_t first = 0; first < mesh.split_count();
+       first += chunk, chunk = std::min(chunk * 2, kMaxChunkSplits)) {
+    const uint32_t last = std::min(mesh.split_count(), first + chunk);
+    const uint32_t first_face = records.face_count();
+    auto coded = encode_split_records(mesh, first, last, records, [&](uint32_t i) {
+      state->stencils.add(mesh, i, records.faces());
+    });
+    if (!coded.ok()) return coded.status();
+    state->chunks.push_back({first, last, first_face, records.face_count(), std::move(coded->first),
+                             std::move(coded->second)});
+    state->ranges.emplace_back(first, last);
+  }
+  state->positions.emplace(mesh, state->stencils, state->ranges, state->threads);
+  return DpmStepEncoder(std::move(state));
+}
+
+void DpmStepEncoder::add_step(std::span<const float> xyz) {
+  State& s = *state_;
+  assert(s.steps_given < s.mesh.step_count() && xyz.size() == size_t{s.mesh.vertex_count()} * 3);
+  const Grid g = grid_of(s.mesh);
+  std::vector<uint32_t> q(xyz.size());
+  for (size_t k = 0; k < xyz.size(); ++k)
+    q[k] = static_cast<uint32_t>(g.q(xyz[k], static_cast<int>(k % 3)));
+  s.base_q.emplace_back(q.begin(), q.begin() + size_t{s.mesh.base_vertex_count} * 3);
+  s.positions->add_step(std::move(q));
+  ++s.steps_given;
+}
+
+Result<std::string> DpmStepEncoder::finish() {
+  State& s = *state_;
+  const ProgressiveMesh& mesh = s.mesh;
+  assert(s.steps_given == mesh.step_count());
+  const std::vector<std::vector<std::string>> positions = s.positions->finish();
   std::string out(kMagic);
   ByteWriter version;
   version.put<uint32_t>(kVersion);
@@ -162,55 +233,18 @@ Result<std::string> encode_dpm(const ProgressiveMesh& mesh, unsigned threads) {
       for (int c = 0; c < face.degree(); ++c) w.varint(face.v[c]);
     }
     for (uint32_t f = 0; f < mesh.base_face_count; ++f) write_face_attributes(w, mesh, f, d);
-    write_base_positions(w, mesh);
+    write_base_positions(w, grid_of(mesh), s.base_q, mesh.base_vertex_count);
     put_chunk(out, "BASE", w.bytes, true);
   }
   if (fields) put_chunk(out, "FLDS", field_values(mesh, 0, 0, 0, mesh.base_face_count), true);
 
-  // The records, chunk by chunk: each is coded against the mesh the splits before it left, which
-  // the records' models keep as the decoder has it, and which gives each split's stencil.
-  struct SplitChunk {
-    uint32_t first, last, first_face, end_face;
-    std::string records, attributes;
-  };
-  std::vector<SplitChunk> chunks;
-  RecordModels records(mesh);
-  ChunkStencils stencils;  // every split's, in split order
-  uint32_t chunk = kFirstChunkSplits;
-  for (uint32_t first = 0; first < mesh.split_count();
-       first += chunk, chunk = std::min(chunk * 2, kMaxChunkSplits)) {
-    const uint32_t last = std::min(mesh.split_count(), first + chunk);
-    const uint32_t first_face = records.face_count();
-    auto coded = encode_split_records(mesh, first, last, records,
-                                      [&](uint32_t i) { stencils.add(mesh, i, records.faces()); });
-    if (!coded.ok()) return coded.status();
-    chunks.push_back({first, last, first_face, records.face_count(), std::move(coded->first),
-                      std::move(coded->second)});
-  }
-
-  // The positions: residuals first, then each step's sections on its own thread (a step's
-  // models run through every chunk in order; steps share nothing).
-  threads = thread_count(threads);
-  const size_t steps = mesh.step_count();
-  std::vector<std::vector<std::string>> positions(steps, std::vector<std::string>(chunks.size()));
-  {
-    GridValues q(grid_of(mesh), steps);
-    q.take(mesh, steps, 0, mesh.vertex_count());
-    turn_into_residuals(mesh, stencils, q, threads);
-    SplitPositionModels models(steps);
-    parallel_for(steps, steps, threads, [&](size_t begin, size_t end, size_t) {
-      for (size_t t = begin; t < end; ++t)
-        for (size_t k = 0; k < chunks.size(); ++k)
-          positions[t][k] =
-              encode_step_positions(mesh, chunks[k].first, chunks[k].last, q, t, models);
-    });
-  }
   // The fields of each chunk, compressed on every thread.
+  const auto& chunks = s.chunks;
   std::vector<std::string> field_chunks(fields ? chunks.size() : 0);
-  parallel_for(field_chunks.size(), field_chunks.size(), threads,
+  parallel_for(field_chunks.size(), field_chunks.size(), s.threads,
                [&](size_t begin, size_t end, size_t) {
                  for (size_t k = begin; k < end; ++k) {
-                   const SplitChunk& c = chunks[k];
+                   const auto& c = chunks[k];
                    put_chunk(field_chunks[k], "FLDS",
                              field_values(mesh, c.first, c.last, c.first_face, c.end_face), true);
                  }
@@ -218,18 +252,26 @@ Result<std::string> encode_dpm(const ProgressiveMesh& mesh, unsigned threads) {
 
   for (size_t k = 0; k < chunks.size(); ++k) {
     std::vector<std::string_view> sections{chunks[k].records, chunks[k].attributes};
-    for (size_t t = 0; t < steps; ++t) sections.push_back(positions[t][k]);
+    for (size_t t = 0; t < positions.size(); ++t) sections.push_back(positions[t][k]);
     ByteWriter w;
     w.put<uint32_t>(chunks[k].first);
     w.put<uint32_t>(chunks[k].last - chunks[k].first);
     w.put<uint32_t>(static_cast<uint32_t>(sections.size()));
-    for (std::string_view s : sections) w.put<uint32_t>(static_cast<uint32_t>(s.size()));
-    for (std::string_view s : sections) w.bytes += s;
+    for (std::string_view section : sections)
+      w.put<uint32_t>(static_cast<uint32_t>(section.size()));
+    for (std::string_view section : sections) w.bytes += section;
     put_chunk(out, "SPLT", w.bytes, false);  // range-coded bytes do not compress
     if (fields) out += field_chunks[k];
   }
   put_chunk(out, "END ", {}, false);
   return out;
+}
+
+Result<std::string> encode_dpm(const ProgressiveMesh& mesh, unsigned threads) {
+  auto encoder = DpmStepEncoder::start(mesh, threads);
+  if (!encoder) return encoder.status();
+  for (size_t t = 0; t < mesh.step_count(); ++t) encoder->add_step(mesh.positions[t]);
+  return encoder->finish();
 }
 
 Status write_dpm(const std::string& path, const ProgressiveMesh& mesh) {

@@ -131,53 +131,85 @@ void ChunkStencils::add(const ProgressiveMesh& mesh, uint32_t i, std::span<const
   splits.push_back(s);
 }
 
-void turn_into_residuals(const ProgressiveMesh& mesh, const ChunkStencils& all, GridValues& q,
-                         unsigned threads) {
-  const Grid g = grid_of(mesh);
-  const uint32_t b = mesh.base_vertex_count;
-  const size_t splits = all.splits.size(), parts = std::max<size_t>(1, splits / 4096);
-  // Each step's misses (the residual before the correction) into `out`, which then takes the
-  // step's place: later steps were done, earlier ones read only steps t − 1 and before.
-  std::vector<uint32_t> out;
-  for (size_t t = mesh.step_count(); t-- > 0;) {
-    out.assign(q.step_size(t), 0);
-    parallel_for(splits, parts, threads, [&](size_t begin, size_t end, size_t) {
+StepPositionEncoder::StepPositionEncoder(const ProgressiveMesh& mesh, const ChunkStencils& all,
+                                         std::span<const std::pair<uint32_t, uint32_t>> chunks,
+                                         unsigned threads)
+    : mesh_(mesh),
+      all_(all),
+      chunks_(chunks),
+      threads_(thread_count(threads)),
+      batch_steps_(std::min(threads_, kMaxBatchSteps)) {
+  sections_.reserve(mesh.step_count());
+}
+
+void StepPositionEncoder::add_step(std::vector<uint32_t> q) {
+  batch_.push_back(std::move(q));
+  if (batch_.size() == batch_steps_) code_batch();
+}
+
+std::vector<std::vector<std::string>> StepPositionEncoder::finish() {
+  if (!batch_.empty()) code_batch();
+  return std::move(sections_);
+}
+
+// Each step's misses (the residual before the correction) on every thread, then the corrections
+// in step order (a residual's own recurrence), then each step's sections on a thread of its own
+// (a step's models run through every chunk in order).
+void StepPositionEncoder::code_batch() {
+  const Grid g = grid_of(mesh_);
+  const uint32_t b = mesh_.base_vertex_count;
+  const size_t splits = all_.splits.size(), parts = std::max<size_t>(1, splits / 4096);
+  const size_t first = steps_done_, count = batch_.size();
+  const auto step_q = [&](size_t s) -> const std::vector<uint32_t>& {
+    return s >= first ? batch_[s - first] : last_q_;
+  };
+  std::vector<std::vector<int32_t>> r(count, std::vector<int32_t>(splits * 3));
+  for (size_t j = 0; j < count; ++j) {
+    const size_t t = first + j;
+    parallel_for(splits, parts, threads_, [&](size_t begin, size_t end, size_t) {
       for (size_t k = begin; k < end; ++k) {
         const uint32_t v = b + static_cast<uint32_t>(k);
         for (int c = 0; c < 3; ++c) {
-          const auto qc = [&](uint32_t u, size_t s) { return q.at(u, s, c); };
+          const auto qc = [&](uint32_t u, size_t s) {
+            const uint32_t value = step_q(s)[size_t{u} * 3 + c];
+            return g.lossless ? int64_t{value} : int64_t{static_cast<int32_t>(value)};
+          };
           const int64_t miss =
-              g.residual(q.at(v, t, c), uncorrected_guess(all, all.splits[k], g, v, t, qc));
-          out[size_t{v} * 3 + c] = static_cast<uint32_t>(miss);  // |miss| < 2^31: q < 2^23
+              g.residual(qc(v, t), uncorrected_guess(all_, all_.splits[k], g, v, t, qc));
+          r[j][k * 3 + c] = static_cast<int32_t>(miss);  // |miss| < 2^31: q < 2^23
         }
       }
     });
-    q.swap_step(t, out);
   }
-  if (g.lossless) return;
-  // The correction follows each vertex's own residuals from step to step.
-  parallel_for(splits, parts, threads, [&](size_t begin, size_t end, size_t) {
-    for (size_t k = begin; k < end; ++k) {
-      const uint32_t v = b + static_cast<uint32_t>(k);
-      for (int c = 0; c < 3; ++c)
-        for (size_t t = 2; t < mesh.step_count(); ++t)
-          q.set(v, t, c, q.at(v, t, c) - correction(g, t, q.at(v, t - 1, c)));
+  const auto before = [&](size_t j) -> const std::vector<int32_t>& {
+    return j > 0 ? r[j - 1] : last_r_;
+  };
+  if (!g.lossless)
+    parallel_for(splits, parts, threads_, [&](size_t begin, size_t end, size_t) {
+      for (size_t j = 0; j < count; ++j)
+        if (const size_t t = first + j; t >= 2)
+          for (size_t i = begin * 3; i < end * 3; ++i)
+            r[j][i] = static_cast<int32_t>(r[j][i] - correction(g, t, before(j)[i]));
+    });
+  sections_.resize(first + count);
+  parallel_for(count, count, threads_, [&](size_t begin, size_t end, size_t) {
+    for (size_t j = begin; j < end; ++j) {
+      const size_t t = first + j;
+      std::array<std::array<SignedModel, kPositionContexts>, 3> m;  // step t's, chunk to chunk
+      for (const auto& [from, to] : chunks_) {
+        RangeEncoder coder;
+        for (uint32_t k = from; k < to; ++k)
+          for (int c = 0; c < 3; ++c)
+            m[c][t > 0 ? bucket(before(j)[size_t{k} * 3 + c]) : 0].encode(coder,
+                                                                          r[j][size_t{k} * 3 + c]);
+        sections_[t].push_back(coder.finish());
+      }
     }
   });
-}
-
-std::string encode_step_positions(const ProgressiveMesh& mesh, uint32_t first, uint32_t last,
-                                  const GridValues& residuals, size_t t,
-                                  SplitPositionModels& models) {
-  auto& m = models.step(t);
-  // Residuals are signed 32-bit also where q-values are float bits (lossless).
-  const auto r = [&](uint32_t v, size_t s, int c) {
-    return int64_t{static_cast<int32_t>(static_cast<uint32_t>(residuals.at(v, s, c)))};
-  };
-  RangeEncoder coder;
-  for (uint32_t v = mesh.base_vertex_count + first; v < mesh.base_vertex_count + last; ++v)
-    for (int c = 0; c < 3; ++c) m[c][t > 0 ? bucket(r(v, t - 1, c)) : 0].encode(coder, r(v, t, c));
-  return coder.finish();
+  steps_done_ += count;
+  last_q_ = std::move(batch_.back());
+  last_r_ = std::move(r.back());
+  batch_.clear();
 }
 
 std::string decode_split_positions(ProgressiveMesh& mesh, uint32_t first,

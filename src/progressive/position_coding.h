@@ -15,6 +15,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "dpm_format.h"
@@ -64,9 +65,6 @@ class GridValues {
   void set(uint32_t v, size_t t, int c, int64_t q) {
     q_[t][size_t{v} * 3 + c] = static_cast<uint32_t>(q);
   }
-  // Step t's values for `values` (of the same size): the encoder turns q-values into residuals.
-  void swap_step(size_t t, std::vector<uint32_t>& values) { q_[t].swap(values); }
-  size_t step_size(size_t t) const { return q_[t].size(); }
   // Room for `vertices` vertices at steps [0, steps).
   void resize(size_t steps, uint32_t vertices) {
     for (size_t t = 0; t < steps; ++t) q_[t].resize(size_t{vertices} * 3);
@@ -82,22 +80,37 @@ class GridValues {
   std::vector<std::vector<uint32_t>> q_;
 };
 
-// The encoder's side, in passes that each keep every thread busy and give exactly the bytes of
-// the decoder's walk (the specification): the residuals do not depend on the models, and each
-// step's models see only that step's residuals, so steps are coded apart.
-//
-// Every split vertex's residual at every step, in place of its q-values in `q` (which holds the
-// whole mesh: GridValues::take). `all` holds every split's stencil, in split order. Steps go
-// from the last down, so a step's q-values are replaced once no later step reads them; the
-// 3/8 correction (a residual's own recurrence over the steps) is applied last.
-void turn_into_residuals(const ProgressiveMesh& mesh, const ChunkStencils& all, GridValues& q,
-                         unsigned threads);
+// The encoder's side, one step after the other, so that only a few steps' values are held at
+// once and every thread is busy: the residuals do not depend on the models, and each step's
+// models see only that step's residuals, so a batch of steps is coded in parallel (one step a
+// thread) and gives exactly the bytes of the decoder's walk (the specification).
+class StepPositionEncoder {
+ public:
+  // `all` holds every split's stencil, in split order; `chunks` the SPLTs' split ranges
+  // [first, last), in order. Both must outlive the encoder.
+  StepPositionEncoder(const ProgressiveMesh& mesh, const ChunkStencils& all,
+                      std::span<const std::pair<uint32_t, uint32_t>> chunks, unsigned threads);
+  // Steps coded at once, at most: each holds 24 B per vertex (its q-values and residuals).
+  static constexpr unsigned kMaxBatchSteps = 4;
+  // The next step's q-values (every vertex, xyz, in the progressive numbering): steps 0, 1, …
+  // in order. Batches of min(threads, kMaxBatchSteps) steps are coded as they fill.
+  void add_step(std::vector<uint32_t> q);
+  // Every step's position section of every chunk: sections[t][k].
+  std::vector<std::vector<std::string>> finish();
 
-// The position section of step t for splits [first, last), from turn_into_residuals()'s
-// values, continuing step t's models.
-std::string encode_step_positions(const ProgressiveMesh& mesh, uint32_t first, uint32_t last,
-                                  const GridValues& residuals, size_t t,
-                                  SplitPositionModels& models);
+ private:
+  void code_batch();
+
+  const ProgressiveMesh& mesh_;
+  const ChunkStencils& all_;
+  std::span<const std::pair<uint32_t, uint32_t>> chunks_;
+  unsigned threads_, batch_steps_;
+  size_t steps_done_ = 0;
+  std::vector<uint32_t> last_q_;  // the step before the batch, every vertex
+  std::vector<int32_t> last_r_;   // its residuals, split vertices (v − b), xyz
+  std::vector<std::vector<uint32_t>> batch_;
+  std::vector<std::vector<std::string>> sections_;
+};
 
 // Decodes the sections given (steps 0 … sections.size() − 1) into `q` (sized for the new
 // vertices), which holds the earlier vertices' values. Empty, or what is wrong.

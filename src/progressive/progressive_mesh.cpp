@@ -146,6 +146,11 @@ void undo_split(const ProgressiveMesh& mesh, uint32_t i, std::span<Face> faces,
 }
 
 void quantize_positions(ProgressiveMesh& mesh) {
+  set_position_grid(mesh);
+  for (auto& xyz : mesh.positions) quantize_step(mesh, xyz);
+}
+
+void set_position_grid(ProgressiveMesh& mesh) {
   if (mesh.lossless) {
     mesh.quant_step = 0;
     mesh.max_error = 0;
@@ -161,12 +166,16 @@ void quantize_positions(ProgressiveMesh& mesh) {
   if (!(step > 0)) step = 1.0;  // every position is the same point
   mesh.quant_step = step;
   mesh.max_error = step * std::sqrt(3.0) / 2;
-  for (auto& xyz : mesh.positions)
-    for (size_t j = 0; j < xyz.size(); ++j) {
-      const double origin = mesh.bbox_min[j % 3];
-      const double q = std::nearbyint((xyz[j] - origin) / step);
-      xyz[j] = static_cast<float>(origin + q * step);
-    }
+}
+
+void quantize_step(const ProgressiveMesh& mesh, std::span<float> xyz) {
+  if (mesh.lossless) return;
+  const double step = mesh.quant_step;
+  for (size_t j = 0; j < xyz.size(); ++j) {
+    const double origin = mesh.bbox_min[j % 3];
+    const double q = std::nearbyint((xyz[j] - origin) / step);
+    xyz[j] = static_cast<float>(origin + q * step);
+  }
 }
 
 void quantize_fields(ProgressiveMesh& mesh, double bound, bool lossless) {

@@ -97,13 +97,16 @@ Result<KeyStepChoice> choose_key_steps(const FrameSource& frames, const KeyStepR
   std::iota(every.begin(), every.end(), size_t{0});
   if (progress) progress("choosing key steps", 0, steps);
   size_t done = 0;
+  BoundingBox box;
   DYNPM_RETURN_IF_ERROR(
       for_each_step(frames, every, threads, [&](size_t t, std::span<const float> xyz) {
+        box.extend(xyz);
         for (uint32_t v = 0; v < n; v += stride)
           probes[t].insert(probes[t].end(), &xyz[size_t{v} * 3], &xyz[size_t{v} * 3] + 3);
         if (progress) progress("choosing key steps", ++done, steps);
         return Status{};
       }));
+  choice.all_steps_box = box;
 
   if (rule.kind == Kind::kPaper) {
     choice.steps = {0};
@@ -152,6 +155,7 @@ Result<KeyStepChoice> choose_key_steps(const FrameSource& frames, const KeyStepR
   std::sort(order.begin(), order.end(),
             [&](size_t a, size_t b) { return choice.steps[a] < choice.steps[b]; });
   KeyStepChoice sorted;
+  sorted.all_steps_box = choice.all_steps_box;
   for (size_t i : order) {
     sorted.steps.push_back(choice.steps[i]);
     sorted.reasons.push_back(choice.reasons[i]);

@@ -49,6 +49,7 @@ Status KeyStepQuadrics::load_key_steps(const FrameSource& frames, const Topology
         if (loaded.ok() && progress) progress("reading key steps", ++done, key_count_);
         return loaded;
       }));
+  box_ = box;
   diagonal_ = box.diagonal() > 0 ? box.diagonal() : 1.0;
   fields_.finish(diagonal_);
   return {};

@@ -83,6 +83,7 @@ class KeyStepQuadrics {
 
   size_t key_count() const { return key_count_; }
   double diagonal() const { return diagonal_; }
+  const BoundingBox& box() const { return box_; }  // of the key steps' positions
   Vec3 position(uint32_t v, size_t k) const { return load(position_data(v, k)); }
   const float* position_data(uint32_t v, size_t k) const {
     return &positions_[(size_t{v} * key_count_ + k) * 3];
@@ -132,6 +133,7 @@ class KeyStepQuadrics {
   std::vector<float> positions_;        // #V × #key steps × xyz
   std::vector<LocalQuadric> quadrics_;  // #V × #key steps, each around its own vertex
   double diagonal_ = 1;
+  BoundingBox box_;
   FieldTerm fields_;
   FieldCombine combine_ = FieldCombine::kAdd;
   std::vector<Vec3> offsets_, moves_;  // merge()'s, per key step

@@ -349,6 +349,7 @@ Result<SimplifyResult> Simplifier::run(Adjacency adjacency) {
   report("collapsing", collapses_, collapses_);
   result.topology = mesh_.to_topology(input_, result.original_vertex);
   result.key_steps = key_steps_;
+  result.key_step_box = quadrics_.box();
   result.collapses = collapses_;
   result.max_error = max_error_done_;
   if (optimal()) {

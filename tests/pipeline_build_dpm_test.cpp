@@ -1,0 +1,157 @@
+// build_dpm(): the build that codes each step's positions as it reads it, instead of holding
+// every step. Its file must be the in-memory build's (build_progressive_mesh + encode_dpm) byte
+// for byte, on any thread count and whichever way the grid's box is found; the CLI's files must
+// be those main wrote before the change; and a sequence whose later file has other faces is
+// refused, naming that file and the face.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "dynpm/io.h"
+#include "dynpm/pipeline.h"
+#include "field_sources.h"
+#include "fixtures.h"
+
+namespace dynpm {
+namespace {
+
+std::string slurp(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), {});
+}
+
+// The real crash box (CalculiX, 3,003 nodes, 26 steps) unpacked into `dir` as `name`.
+std::string unpacked(const test::TempDir& dir, const std::string& data, const std::string& name) {
+  const std::string path = dir.file(name);
+  const std::string unzip = "zcat '" + test::shared_data() + "/" + data + "' > " + path;
+  return std::system(unzip.c_str()) == 0 ? path : "";
+}
+
+// The in-memory build's file and the streamed one, with `threads` for both.
+void expect_same_bytes(const Topology& topology, const FrameSource& frames, BuildOptions options,
+                       unsigned threads) {
+  options.simplify.threads = threads;
+  auto in_memory = build_progressive_mesh(topology, frames, options);
+  ASSERT_TRUE(in_memory.ok()) << in_memory.message();
+  const std::string expected = encode_dpm(*in_memory, 1).value();
+  auto streamed = build_dpm(topology, frames, options);
+  ASSERT_TRUE(streamed.ok()) << streamed.message();
+  EXPECT_TRUE(streamed->bytes == expected) << threads << " threads";
+  EXPECT_TRUE(streamed->mesh.positions.empty());
+  EXPECT_EQ(streamed->mesh.split_count(), in_memory->split_count());
+  EXPECT_EQ(streamed->mesh.quant_step, in_memory->quant_step);
+}
+
+TEST(BuildDpm, TheStreamedFileIsTheInMemoryBuildsOnAnyThreadCount) {
+  test::TempDir dir;
+  const std::string frd = unpacked(dir, "crashbox-s/crashbox-s.frd.gz", "crashbox-s.frd");
+  ASSERT_FALSE(frd.empty());
+  auto stream = open_input(std::vector<std::string>{frd});
+  ASSERT_TRUE(stream.ok()) << stream.message();
+  const FrameSource& frames = *stream->frames;
+  // auto:3 with the box of choose_key_steps()' pass, every step (the simplifier's box), a list
+  // (a pass of its own for the box), paper lossless.
+  for (const char* rule_text : {"auto:3", "all", "0,5,20", "paper"}) {
+    SCOPED_TRACE(rule_text);
+    const KeyStepRule rule = parse_key_step_rule(rule_text).value();
+    auto choice = choose_key_steps(frames, rule);
+    ASSERT_TRUE(choice.ok()) << choice.message();
+    const bool read_every_step =
+        rule.kind == KeyStepRule::Kind::kAuto || rule.kind == KeyStepRule::Kind::kPaper;
+    EXPECT_EQ(choice->all_steps_box.has_value(), read_every_step);
+    BuildOptions options;
+    options.simplify.key_steps = choice->steps;
+    options.all_steps_box = choice->all_steps_box;
+    options.lossless = rule.kind == KeyStepRule::Kind::kPaper;
+    for (unsigned threads : {1u, 2u, 3u})
+      expect_same_bytes(stream->topology, frames, options, threads);
+  }
+}
+
+TEST(BuildDpm, FieldsAndLosslessStreamToTheSameBytes) {
+  auto paths = expand_inputs(std::vector<std::string>{test::sample_dir() + "/frame_00*.obj"});
+  ASSERT_TRUE(paths.ok()) << paths.message();
+  auto a = read_animation(*paths);
+  ASSERT_TRUE(a.ok()) << a.message();
+  test::WithFields source(a->frames, a->topology);
+  source.add_node_field("PEEQ", [](const float* p, size_t t) {
+    return std::max(0.0f, std::sin(0.05f * p[0]) * float(t) * 0.1f);
+  });
+  source.add_element_mean("S_MISES_elem", 0);
+  for (bool lossless : {false, true}) {
+    BuildOptions options;
+    options.lossless = lossless;
+    options.simplify.key_steps = {0, a->step_count() - 1};
+    expect_same_bytes(a->topology, source, options, 2);
+  }
+}
+
+// FNV-1a, 64 bits: a file's fingerprint.
+uint64_t fingerprint(const std::string& bytes) {
+  uint64_t h = 0xcbf29ce484222325ull;
+  for (unsigned char c : bytes) h = (h ^ c) * 0x100000001b3ull;
+  return h;
+}
+
+// The files of main's `dynpm build` before the build streamed its steps (2026-12-02, commit
+// 1986465): the same bytes now.
+TEST(BuildDpm, TheCrashBoxFilesAreTheOnesBuiltBefore) {
+  test::TempDir dir;
+  struct Case {
+    std::string input, flags;
+    uint64_t fnv;
+    size_t size;
+  };
+  const std::vector<Case> cases = {
+      {unpacked(dir, "crashbox-s/crashbox-s.frd.gz", "s.frd"), "--key-steps auto:3",
+       0xb223308bf60e38acull, 116271},
+      {dir.file("s.frd"), "--key-steps all", 0x2a72f5bb41296733ull, 116095},
+      {unpacked(dir, "crashbox-fields/crashbox-fields.frd.gz", "fields.frd"), "--key-steps auto:3",
+       0x683ae17987aeb327ull, 329666},
+      {"'" + test::shared_data() + "/crashbox-mixed-5k/obj/frame_*.obj'", "--key-steps auto:3",
+       0xe4a436a2b2e56984ull, 244284}};
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.input + " " + c.flags);
+    const std::string out = dir.file("m.dpm");
+    const std::string command = std::string(DYNPM_CLI) + " build " + c.input + " " + c.flags +
+                                " --quiet -o " + out + " > /dev/null";
+    ASSERT_EQ(std::system(command.c_str()), 0);
+    const std::string bytes = slurp(out);
+    EXPECT_EQ(bytes.size(), c.size);
+    EXPECT_EQ(fingerprint(bytes), c.fnv);
+  }
+}
+
+// A later OBJ file of a sequence with one face rewired: the build stops before writing, naming
+// that file, its line and the face.
+TEST(BuildDpm, ASequenceWhoseLaterFileHasOtherFacesIsRefusedNamingIt) {
+  test::TempDir dir;
+  const std::string from = test::shared_data() + "/crashbox-s/obj";
+  for (const auto& entry : std::filesystem::directory_iterator(from))
+    std::filesystem::copy_file(entry.path(), dir.path() / entry.path().filename());
+  const std::string changed = dir.file("frame_012.obj");
+  std::string text = slurp(changed);
+  const size_t face = text.find("\nf ");
+  ASSERT_NE(face, std::string::npos);
+  const size_t first = face + 3, end = text.find(' ', first);
+  const std::string corner = text.substr(first, end - first);
+  text.replace(first, end - first, corner == "1" ? "2" : "1");  // the first face's first corner
+  std::ofstream(changed, std::ios::binary) << text;
+  const std::string out = dir.file("m.dpm"), err = dir.file("err.txt");
+  const std::string command = std::string(DYNPM_CLI) + " build '" + dir.file("frame_*.obj") +
+                              "' --key-steps auto:3 -o " + out + " > /dev/null 2> " + err;
+  const int status = std::system(command.c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 1);
+  const std::string message = slurp(err);
+  EXPECT_NE(message.find(changed + ":"), std::string::npos) << message;
+  EXPECT_NE(message.find(": face 0 is ("), std::string::npos) << message;
+  EXPECT_NE(message.find("every time step must have the same faces"), std::string::npos) << message;
+  EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+}  // namespace
+}  // namespace dynpm
