@@ -226,8 +226,9 @@ class Inspect {
       for (const f of state.mesh.fields) this.ui.quantity.add(new Option(`${f.name} (${f.perFace ? 'element' : 'node'})`, f.name));
       this.populated = true;
     }
-    const geometry = this.surface.geometry;
-    this.cut?.update(state.nav, geometry.attributes.position.array, geometry.attributes.position.version);
+    const geometry = this.surface.geometry, position = geometry.attributes.position;
+    // The index buffer changes when a part is shown or hidden (its faces leave it).
+    this.cut?.update(state.nav, position.array, `${position.version} ${geometry.index.version}`, this.partHidden);
     this.plot.mark(state.t);
     const key = `${state.t} ${this.scale()} ${this.picks.length} ${this.picks.at(-1)?.vertex}`;
     if (key === this.shownKey) return;
