@@ -283,6 +283,34 @@ const pixelAt = (x, y) =>
     return [...c.getContext('2d').getImageData(Math.round(x * devicePixelRatio), Math.round(y * devicePixelRatio), 1, 1).data];
   }, [x, y]);
 
+test('keys f (fit) and r (reset: iso), the Reset view button, ?up=z in the address', async () => {
+  const s3 = 1 / Math.sqrt(3);
+  await api(() => window.dynpm.setView('+z'));
+  await api(() => document.activeElement?.blur());  // keys to the page, not to a control
+  await page.keyboard.press('r');
+  assert.ok(near((await view()).look, [-s3, -s3, -s3], 1e-9), 'r: the iso view');
+  const canvas = await page.locator('#view').boundingBox();
+  await page.mouse.move(canvas.width * 0.8, canvas.height * 0.5);
+  for (let i = 0; i < 3; i++) await page.mouse.wheel(0, -120), await page.waitForTimeout(30);
+  const zoomed = await view();
+  await page.keyboard.press('f');
+  const fitted = await view();
+  assert.ok(near(fitted.look, zoomed.look, 1e-6), 'f keeps the direction');
+  const distance = (v) => new THREE.Vector3(...v.camera).distanceTo(new THREE.Vector3(...v.target));
+  assert.ok(distance(fitted) > distance(zoomed), 'f: the whole model again');
+  await api(() => window.dynpm.setView('-x'));
+  await page.locator('#reset').click();
+  assert.ok(near((await view()).look, [-s3, -s3, -s3], 1e-9), 'Reset view: iso');
+  const zUp = await browser.newPage({ viewport: { width: 900, height: 700 } });
+  await zUp.goto(`${url}?up=z`);
+  await zUp.evaluate(() => window.dynpm.ready.then(() => true));
+  const v = await zUp.evaluate(() => window.dynpm.view());
+  assert.equal(v.up, 'z');
+  assert.equal(await zUp.locator('#up-axis').inputValue(), 'z');
+  assert.ok(near(v.look, [-s3, s3, -s3], 1e-9) && v.screenUp[2] > 0.5, `?up=z: z up, iso: ${JSON.stringify(v)}`);
+  await zUp.close();
+});
+
 test('the axis triad: a click on an axis looks along it, a second click the other way', async () => {
   const { width, height } = await page.locator('#view').boundingBox();
   // Where the triad draws axis c's arrow head (orientation.js: 90 px in the bottom-right corner,
@@ -413,6 +441,24 @@ test('images: PNG of the view (with the axis triad) and the animation as WebM', 
   assert.ok(file.length > 2000, `a second recording has frames too: ${file.length} bytes`);
   execFileSync('cp', [await video.path(), join(dir, 'rail-parts.webm')]);
   assert.equal((await view()).mode, 'loop', 'the play mode the user had');
+  // Stop ends a recording early: the video so far, at the state shown (slowly, to be early).
+  await page.locator('#play-speed').selectOption('0.25');
+  const [early] = await Promise.all([
+    page.waitForEvent('download', { timeout: 150000 }),
+    (async () => {
+      await page.locator('#record-webm').click();
+      await page.waitForFunction(() => window.dynpm.view().step >= 3, null, { timeout: 60000 });
+      assert.equal(await page.locator('#record-webm').textContent(), '■ Stop');
+      // Forced: while frames are drawn one by one, playwright's wait for a still button (two
+      // animation frames alike) timed out here.
+      await page.locator('#record-webm').click({ force: true });
+    })(),
+  ]);
+  const stoppedAt = await stepNow();
+  assert.ok(stoppedAt >= 3 && stoppedAt < 30, `stopped at step ${stoppedAt}`);
+  const part = readFileSync(await early.path());
+  assert.deepEqual([...part.subarray(0, 4)], [0x1a, 0x45, 0xdf, 0xa3], 'a video until Stop');
+  assert.match(await page.locator('#record-webm').textContent(), /Record WebM/);
   await page.locator('#play-speed').selectOption('1');
 });
 
