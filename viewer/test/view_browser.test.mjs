@@ -508,6 +508,10 @@ test('the panel collapses, and starts collapsed in a small window', async () => 
   assert.equal(await page.locator('#time').isVisible(), false);
   await toggle.click();
   assert.equal(await page.locator('#time').isVisible(), true);
+  // Taller than the window, the open panel scrolls and ends above the status line, which would
+  // otherwise cover its last rows.
+  const [panel, stats] = [await page.locator('#panel').boundingBox(), await page.locator('#stats').boundingBox()];
+  assert.ok(panel.y + panel.height <= stats.y, `the panel (${panel.y}…${panel.y + panel.height}) ends above the status line (${stats.y})`);
   const small = await browser.newPage({ viewport: { width: 560, height: 420 } });
   await small.goto(url);
   await small.evaluate(() => window.dynpm.ready.then(() => true));
