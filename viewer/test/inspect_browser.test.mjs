@@ -278,6 +278,13 @@ test('section cut: the plane clips the model, the outline lies on it and crosses
   assert.ok(Math.abs(Math.hypot(...s.normal) - 1) < 1e-9);
   assert.ok(s.normal[2] < -0.8, `flipped z normal ${s.normal}`);
   assert.equal(Number(await page.locator('#section-tilt').inputValue()), 20);
+  // The flip box and the tilt and turn sliders: the normal turns back, then square to z again.
+  await page.locator('#section-flip').uncheck();
+  assert.ok((await api('section')).normal[2] > 0.8, 'unflipped');
+  await page.locator('#section-tilt').fill('0');
+  await page.locator('#section-turn').fill('0');
+  assert.deepEqual((await api('section')).normal.map((x) => Math.round(x * 1e9) / 1e9 + 0), [0, 0, 1]);
+  s = await api('setSection', { tilt: 20, turn: -10, flip: true });
   await setStep(12);
   s = await api('section');
   assert.equal(s.segments, facesCut(12, s.normal, s.constant));
