@@ -460,6 +460,19 @@ test('images: PNG of the view (with the axis triad) and the animation as WebM', 
   assert.deepEqual([...part.subarray(0, 4)], [0x1a, 0x45, 0xdf, 0xa3], 'a video until Stop');
   assert.match(await page.locator('#record-webm').textContent(), /Record WebM/);
   await page.locator('#play-speed').selectOption('1');
+  // Here the page draws about one frame a second for a few seconds after a recording (the
+  // software encoder catching up on a loaded machine): the clicks that follow wait for the
+  // frames to come back (playwright waits for a button to stay still over two frames).
+  await page.waitForFunction(
+    () => new Promise((resolve) => {
+      let n = 0;
+      const start = performance.now();
+      const count = () => (++n, performance.now() - start < 500 ? requestAnimationFrame(count) : resolve(n >= 10));
+      requestAnimationFrame(count);
+    }),
+    null,
+    { timeout: 60000 },
+  );
 });
 
 test('details: select labels not cut off, edges that read over every colour of the scales', async () => {
