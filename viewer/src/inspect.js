@@ -7,13 +7,13 @@
 // (the scene's onBeforeRender, chained): no other hook in viewer.js.
 import * as THREE from 'three';
 
+import { onCanvasClick } from './canvas_click.js';
 import { HistoryPlot, SERIES_COLOURS, download, historyCsv } from './history_plot.js';
 import { Ids, OriginalMesh, describePick, historyOf, rayCrossing, vertexAt } from './pick.js';
 import { SectionCut } from './section_cut.js';
 import { fmt } from './fringe.js';
 
 const MAX_PICKS = 8;
-const CLICK_SLOP = 4;  // CSS pixels a click may move and still be a click, not a drag
 
 const $ = (id) => document.getElementById(id);
 
@@ -67,14 +67,8 @@ class Inspect {
   }
 
   listen() {
-    const canvas = this.renderer.domElement;
-    let down = null;
-    canvas.addEventListener('pointerdown', (e) => (down = { x: e.clientX, y: e.clientY, button: e.button }));
-    canvas.addEventListener('pointerup', (e) => {
-      if (!down || down.button !== 0 || Math.hypot(e.clientX - down.x, e.clientY - down.y) > CLICK_SLOP) return;
-      const r = canvas.getBoundingClientRect();
-      this.select(e.clientX - r.left, e.clientY - r.top);
-    });
+    // Prevented: a click on the axis triad (orientation.js), not on the model.
+    onCanvasClick(this.renderer.domElement, (x, y, e) => e.defaultPrevented || this.select(x, y));
     this.ui.clear.addEventListener('click', () => this.clear());
     this.ui.quantity.addEventListener('change', () => this.setPlot(this.ui.quantity.value));
     this.ui.csv.addEventListener('click', () => this.picks.length && download(this.csv(), `${this.state.name.replace(/\.dpm$/, '')}-${this.quantity()}.csv`));
@@ -226,8 +220,9 @@ class Inspect {
       for (const f of state.mesh.fields) this.ui.quantity.add(new Option(`${f.name} (${f.perFace ? 'element' : 'node'})`, f.name));
       this.populated = true;
     }
-    const geometry = this.surface.geometry;
-    this.cut?.update(state.nav, geometry.attributes.position.array, geometry.attributes.position.version);
+    const geometry = this.surface.geometry, position = geometry.attributes.position;
+    // The index buffer changes when a part is shown or hidden (its faces leave it).
+    this.cut?.update(state.nav, position.array, `${position.version} ${geometry.index.version}`, this.partHidden);
     this.plot.mark(state.t);
     const key = `${state.t} ${this.scale()} ${this.picks.length} ${this.picks.at(-1)?.vertex}`;
     if (key === this.shownKey) return;

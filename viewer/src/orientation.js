@@ -1,8 +1,11 @@
 // Where the camera looks from (docs/viewer.md "Orientation"): the standard views along ±X, ±Y,
 // ±Z and an isometric one, fit all, which axis is up (y or z: chosen from the model, with a
 // toggle), the wheel zooming toward the cursor, and the axis triad drawn in the corner of the
-// canvas (so that it is in saved images and recordings too).
+// canvas (so that it is in saved images and recordings too); a click on one of its axes looks
+// along that axis (again: the other way).
 import * as THREE from 'three';
+
+import { onCanvasClick } from './canvas_click.js';
 
 const $ = (id) => document.getElementById(id);
 
@@ -50,6 +53,20 @@ export class Orientation {
     for (const b of this.ui.views) b.addEventListener('click', () => this.setView(b.dataset.view));
     this.ui.up.addEventListener('change', () => this.setUp(this.ui.up.value));
     this.triad = new Triad();
+    this.listen(viewer.canvas);
+  }
+
+  // A click (not a drag) on an arrow of the triad: the view along that axis, or, when already
+  // looking along it, the other way. It marks the event handled (preventDefault) so that the
+  // pick on pointerup (inspect.js) leaves it alone.
+  listen(canvas) {
+    onCanvasClick(canvas, (x, y, e) => {
+      const axis = this.triad.axisAt(x, y, canvas.clientWidth, canvas.clientHeight);
+      if (!axis) return;
+      e.preventDefault();
+      const along = this.describe().look[AXES[axis]] > 0.99;
+      this.setView(`${along ? '-' : '+'}${axis}`);
+    });
   }
 
   // The unit vector of the up axis, and "north": screen-up in views along the up axis.
@@ -157,7 +174,23 @@ class Triad {
     });
     this.scene.add(this.group);
     this.size = 90;  // CSS pixels
+    this.margin = { right: 6, bottom: 34 };
     this.viewport = new THREE.Vector4();
+  }
+
+  // The axis ('x', 'y' or 'z') whose arrow head or letter is nearest CSS pixel (x, y) of a canvas
+  // of width × height, within 15 px; null elsewhere. The arrows as last drawn.
+  axisAt(x, y, width, height) {
+    const left = width - this.size - this.margin.right, top = height - this.margin.bottom - this.size;
+    const toPixels = this.size / (this.camera.right - this.camera.left);
+    let best = null, nearest = 15;
+    for (const [axis, c] of Object.entries(AXES))
+      for (const along of [0.82, 1.1]) {  // the cone's middle, the letter
+        const p = new THREE.Vector3().setComponent(c, along).applyQuaternion(this.group.quaternion);
+        const d = Math.hypot(left + (p.x - this.camera.left) * toPixels - x, top + (this.camera.top - p.y) * toPixels - y);
+        if (d < nearest) (nearest = d), (best = axis);
+      }
+    return best;
   }
 
   render(renderer, camera) {
@@ -166,7 +199,7 @@ class Triad {
     renderer.getViewport(this.viewport);
     renderer.autoClear = false;
     renderer.clearDepth();
-    renderer.setViewport(width - this.size - 6, 34, this.size, this.size);
+    renderer.setViewport(width - this.size - this.margin.right, this.margin.bottom, this.size, this.size);
     renderer.render(this.scene, this.camera);
     renderer.setViewport(this.viewport);
     renderer.autoClear = true;

@@ -12,7 +12,7 @@ import { gatherSlotPositions } from './face_slots.js';
 // The k-th part (ascending id): hues spaced by the golden angle, so that parts next in the list
 // differ clearly whatever their ids (ids 102 and 301 could fall on one hue); high saturation at
 // mid lightness, so that a part reads as one colour under the lights.
-function partColour(k) {
+export function partColour(k) {
   return new THREE.Color().setHSL((0.58 + k * 0.618033988749895) % 1, 0.9, 0.5);
 }
 

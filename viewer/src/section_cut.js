@@ -8,14 +8,16 @@ import * as THREE from 'three';
 // Where the plane cuts faces [0, F) (corners: 4 slots per face, −1 in slot 3 of a triangle) at
 // flat positions p: 2 points per segment into out (grown as needed); returns {out, count} with
 // count the number of floats written. A face whose corners lie on both sides gives one segment
-// per pair of crossings (two for a convex face).
-export function cutSegments(plane, corners, F, p, out = new Float32Array(3 * 512)) {
+// per pair of crossings (two for a convex face); faces for which skip(f) holds (a hidden part's)
+// give none.
+export function cutSegments(plane, corners, F, p, out = new Float32Array(3 * 512), skip = null) {
   const { x: nx, y: ny, z: nz } = plane.normal;
   const w = plane.constant;
   let count = 0;
   const side = [0, 0, 0, 0];
   const crossing = [];
   for (let f = 0; f < F; f++) {
+    if (skip?.(f)) continue;
     const c = 4 * f;
     const d = corners[c + 3] < 0 ? 3 : 4;
     let below = 0;
@@ -97,14 +99,15 @@ export class SectionCut {
     return 1e-5 * this.box.getSize(new THREE.Vector3()).length();
   }
 
-  // The outline of the level on screen (nav) at flat positions p, redone when the plane, the
-  // level or the positions changed (`version`: the position buffer's).
-  update(nav, p, version) {
+  // The outline of the level on screen (nav) at flat positions p, leaving out the faces for
+  // which skip(f) holds (hidden parts), redone when the plane, the level, the positions or the
+  // faces drawn changed (`version`: of the position and index buffers).
+  update(nav, p, version, skip = null) {
     if (!this.settings.enabled || !nav) return;
     const key = `${nav.level ?? 0} ${nav.faceCount} ${version} ${this.plane.normal.toArray()} ${this.plane.constant}`;
     if (key === this.key) return;
     this.key = key;
-    const { out, count } = cutSegments(this.plane, nav.corners, nav.faceCount, p, this.positions);
+    const { out, count } = cutSegments(this.plane, nav.corners, nav.faceCount, p, this.positions, skip);
     const n = this.plane.normal, e = 2 * this.slack();  // just on the kept side
     for (let i = 0; i < count; i += 3) (out[i] += n.x * e), (out[i + 1] += n.y * e), (out[i + 2] += n.z * e);
     const g = this.outline.geometry;

@@ -34,20 +34,22 @@ export function startServer(cli, file, extra = []) {
   });
 }
 
-// `dynpm view FILE` and a headless Chromium page on it (`chromium` from playwright-core), its
-// console errors (404s aside) and page errors pushed to `errors`; resolves once `ready` (run in
-// the page) holds: by default, when the whole file is loaded.
-export async function openViewer(chromium, cli, file, { viewport, errors, ready, timeout = 30000 }) {
-  const { server, url } = await startServer(cli, file);
+// `dynpm view FILE [serverArgs]` and a headless Chromium page on it (`chromium` from
+// playwright-core), its console errors (404s aside) and page errors pushed to `errors`; resolves
+// with the server, browser, page and address once `ready` (run in the page) holds: by default,
+// when the whole file is loaded; `ready: false` returns as soon as the page's HTML is in
+// (`waitUntil`, playwright's, default 'load'), to see its first moments.
+export async function openViewer(chromium, cli, file, { viewport, errors, ready, timeout = 30000, serverArgs = [], acceptDownloads = true, waitUntil = 'load' }) {
+  const { server, url } = await startServer(cli, file, serverArgs);
   const browser = await chromium.launch({
     executablePath: process.env.DYNPM_CHROMIUM ?? '/usr/bin/chromium',
     headless: true,
     args: CHROMIUM_ARGS,
   });
-  const page = await browser.newPage({ viewport });
+  const page = await browser.newPage({ viewport, acceptDownloads });
   page.on('console', (m) => m.type() === 'error' && !/404/.test(m.text()) && errors.push(m.text()));
   page.on('pageerror', (e) => errors.push(String(e)));
-  await page.goto(url);
-  await page.waitForFunction(ready ?? (() => window.dpmViewer?.state().complete), null, { timeout });
-  return { server, browser, page };
+  await page.goto(url, { waitUntil });
+  if (ready !== false) await page.waitForFunction(ready ?? (() => window.dpmViewer?.state().complete), null, { timeout });
+  return { server, browser, page, url };
 }

@@ -1,9 +1,10 @@
 // The view's controls in Debian's headless Chromium (docs/viewer.md "States", "Orientation",
 // "Deformation", "Images", "First moments", "Scripting API"): each through window.dynpm and
-// through the visible control, on the sample's .dpm (31 states, served throttled so that the
-// first moments are seen) and on a one-state model (the sample's first frame). The page's
-// levels are compared with dpm.js run here; the edge colour rule is checked on every colour of
-// the scales.
+// through the visible control, on the multi-part model with named parts (the hat rail as six
+// named Exodus blocks, scripts/sample/make_parts.py, 31 states, served throttled so that the
+// first moments are seen) and on a one-state model (the sample's first frame: no time). The
+// page's levels are compared with dpm.js run here; the edge colour rule is checked on every
+// colour of the scales and every part colour the page gives.
 //
 // If Chromium cannot start, this fails: it never skips.
 import assert from 'node:assert/strict';
@@ -20,12 +21,12 @@ import { Navigator, readDpm } from '../src/dpm.js';
 import { contrast, edgeColour } from '../src/edge_lines.js';
 import { SCHEMES, schemeColour } from '../src/fringe.js';
 import { upAxisOf } from '../src/orientation.js';
+import { partColour } from '../src/part_view.js';
 import { advance } from '../src/states.js';
-import { CHROMIUM_ARGS, startServer } from './chromium.mjs';
+import { openViewer, startServer } from './chromium.mjs';
 
-const { DYNPM_CLI: cli, DYNPM_DPM: dpm, DYNPM_TEST_OUT: out } = process.env;
-if (!cli || !dpm || !out) throw new Error('view_browser.test.mjs needs DYNPM_CLI, DYNPM_DPM, DYNPM_TEST_OUT');
-const CHROMIUM = process.env.DYNPM_CHROMIUM ?? '/usr/bin/chromium';
+const { DYNPM_CLI: cli, DYNPM_PARTS_DPM: dpm, DYNPM_TEST_OUT: out } = process.env;
+if (!cli || !dpm || !out) throw new Error('view_browser.test.mjs needs DYNPM_CLI, DYNPM_PARTS_DPM, DYNPM_TEST_OUT');
 const dir = join(out, 'view-browser');
 mkdirSync(dir, { recursive: true });
 
@@ -35,14 +36,12 @@ const consoleErrors = [];
 
 before(async () => {
   ({ mesh } = readDpm(new Uint8Array(readFileSync(dpm)), dpm));
-  // About 3 s for the sample: the first moments (loading screen, "…") last long enough to see.
-  const served = await startServer(cli, dpm, ['--throttle', '40']);
-  servers.push(served.server);
-  url = served.url;
-  browser = await chromium.launch({ executablePath: CHROMIUM, headless: true, args: CHROMIUM_ARGS });
-  page = await browser.newPage({ viewport: { width: 1100, height: 760 }, acceptDownloads: true });
-  page.on('console', (m) => m.type() === 'error' && consoleErrors.push(m.text()));
-  page.on('pageerror', (e) => consoleErrors.push(String(e)));
+  assert.equal(mesh.partNames.size, 6, 'the model has six named parts');
+  // About 6 s for the model: the first moments (loading screen, "…") last long enough to see.
+  let server;
+  ({ server, browser, page, url } = await openViewer(chromium, cli, dpm, { viewport: { width: 1100, height: 760 }, errors: consoleErrors,
+    serverArgs: ['--throttle', '40'], ready: false, waitUntil: 'domcontentloaded' }));
+  servers.push(server);
 });
 
 after(async () => {
@@ -62,7 +61,6 @@ const thrown = (f) =>
   page.evaluate(`(() => { try { (${f.toString()})(); return null; } catch (e) { return e.name + ': ' + e.message; } })()`);
 
 test('first moments: a loading screen and "…" until the model is loaded, then dynpm.ready', async () => {
-  await page.goto(url, { waitUntil: 'domcontentloaded' });
   const early = await api(() => ({
     screen: !document.getElementById('loading-screen').hidden,
     text: document.getElementById('loading-screen').textContent,
@@ -273,6 +271,78 @@ test('orientation: the ±X/±Y/±Z and iso views, up axis, fit all, zoom toward 
   await page.screenshot({ path: join(dir, 'view-orientation.png') });
 });
 
+// The colour of CSS pixel (x, y) of the canvas in dynpm.screenshot().
+const pixelAt = (x, y) =>
+  page.evaluate(async ([x, y]) => {
+    const image = new Image();
+    image.src = window.dynpm.screenshot();
+    await image.decode();
+    const c = document.createElement('canvas');
+    [c.width, c.height] = [image.width, image.height];
+    c.getContext('2d').drawImage(image, 0, 0);
+    return [...c.getContext('2d').getImageData(Math.round(x * devicePixelRatio), Math.round(y * devicePixelRatio), 1, 1).data];
+  }, [x, y]);
+
+test('keys f (fit) and r (reset: iso), the Reset view button, ?up=z in the address', async () => {
+  const s3 = 1 / Math.sqrt(3);
+  await api(() => window.dynpm.setView('+z'));
+  await api(() => document.activeElement?.blur());  // keys to the page, not to a control
+  await page.keyboard.press('r');
+  assert.ok(near((await view()).look, [-s3, -s3, -s3], 1e-9), 'r: the iso view');
+  const canvas = await page.locator('#view').boundingBox();
+  await page.mouse.move(canvas.width * 0.8, canvas.height * 0.5);
+  for (let i = 0; i < 3; i++) await page.mouse.wheel(0, -120), await page.waitForTimeout(30);
+  const zoomed = await view();
+  await page.keyboard.press('f');
+  const fitted = await view();
+  assert.ok(near(fitted.look, zoomed.look, 1e-6), 'f keeps the direction');
+  const distance = (v) => new THREE.Vector3(...v.camera).distanceTo(new THREE.Vector3(...v.target));
+  assert.ok(distance(fitted) > distance(zoomed), 'f: the whole model again');
+  await api(() => window.dynpm.setView('-x'));
+  await page.locator('#reset').click();
+  assert.ok(near((await view()).look, [-s3, -s3, -s3], 1e-9), 'Reset view: iso');
+  const zUp = await browser.newPage({ viewport: { width: 900, height: 700 } });
+  await zUp.goto(`${url}?up=z`);
+  await zUp.evaluate(() => window.dynpm.ready.then(() => true));
+  const v = await zUp.evaluate(() => window.dynpm.view());
+  assert.equal(v.up, 'z');
+  assert.equal(await zUp.locator('#up-axis').inputValue(), 'z');
+  assert.ok(near(v.look, [-s3, s3, -s3], 1e-9) && v.screenUp[2] > 0.5, `?up=z: z up, iso: ${JSON.stringify(v)}`);
+  await zUp.close();
+});
+
+test('the axis triad: a click on an axis looks along it, a second click the other way', async () => {
+  const { width, height } = await page.locator('#view').boundingBox();
+  // Where the triad draws axis c's arrow head (orientation.js: 90 px in the bottom-right corner,
+  // 6 px from the right, 34 from the bottom, an orthographic view of ±1.25 turned as the camera).
+  const head = async (c) => {
+    const v = await view();
+    const up = new THREE.Vector3(...v.screenUp), right = new THREE.Vector3(...v.look).cross(up);
+    const tip = new THREE.Vector3().setComponent(c, 0.82), px = 90 / 2.5;
+    return [width - 96 + (tip.dot(right) + 1.25) * px, height - 124 + (1.25 - tip.dot(up)) * px];
+  };
+  const RED = [0xd0, 0x30, 0x2a], GREEN = [0x2f, 0x9a, 0x3a], BLUE = [0x2d, 0x62, 0xc8];
+  await api(() => window.dynpm.setView('iso'));
+  await api(() => window.dynpm.clearPicks());
+  for (const [c, name, colour] of [[0, 'x', RED], [1, 'y', GREEN], [2, 'z', BLUE]]) {
+    await api(() => window.dynpm.setView('iso'));
+    const [x, y] = await head(c);
+    const drawn = await pixelAt(x, y);
+    assert.ok(drawn.slice(0, 3).every((v, i) => Math.abs(v - colour[i]) < 60), `the ${name} arrow is drawn at (${x}, ${y}): ${drawn}`);
+    await page.mouse.click(x, y);
+    const along = await view();
+    const look = [0, 0, 0].map((_, i) => (i === c ? 1 : 0));
+    assert.ok(near(along.look, look, 1e-3), `a click on ${name}: looks along +${name}: ${along.look}`);
+    await page.mouse.click(...(await head(c)));
+    assert.ok(near((await view()).look, look.map((v) => -v), 1e-3), `a second click: along -${name}`);
+  }
+  assert.deepEqual(await api(() => window.dynpm.picks()), [], 'a click on the triad picks nothing');
+  // The model, not the triad: a click beside it is left to picking and orbiting.
+  const before = await view();
+  await page.mouse.click(width - 200, height - 80);
+  assert.deepEqual((await view()).look, before.look);
+});
+
 test('deformation scale ×0 … ×10 and the undeformed ghost (API and controls)', async () => {
   await api(() => window.dynpm.setView('iso'));
   await api(() => window.dynpm.setStep(0));
@@ -349,7 +419,7 @@ test('images: PNG of the view (with the axis triad) and the animation as WebM', 
   assert.deepEqual([facts.width, facts.height], facts.canvas);
   for (const [colour, n] of Object.entries(facts.count)) assert.ok(n > 20, `the triad's ${colour} axis: ${n} pixels`);
   const [download] = await Promise.all([page.waitForEvent('download'), page.locator('#save-png').click()]);
-  assert.equal(download.suggestedFilename(), 'hat-rail-step30.png');
+  assert.equal(download.suggestedFilename(), 'rail-parts-step30.png');
   const saved = readFileSync(await download.path());
   assert.deepEqual([...saved.subarray(0, 4)], [0x89, 0x50, 0x4e, 0x47]);
   // WebM: an EBML header, a WebM doc type, some frames.
@@ -365,13 +435,44 @@ test('images: PNG of the view (with the axis triad) and the animation as WebM', 
   assert.equal(await stepNow(), 30, 'recorded to the last state');
   // Frame by frame: slow where the machine is loaded (SwiftShader draws every frame).
   const [video] = await Promise.all([page.waitForEvent('download', { timeout: 150000 }), page.locator('#record-webm').click()]);
-  assert.equal(video.suggestedFilename(), 'hat-rail.webm');
+  assert.equal(video.suggestedFilename(), 'rail-parts.webm');
   const file = readFileSync(await video.path());
   assert.deepEqual([...file.subarray(0, 4)], [0x1a, 0x45, 0xdf, 0xa3]);
   assert.ok(file.length > 2000, `a second recording has frames too: ${file.length} bytes`);
-  execFileSync('cp', [await video.path(), join(dir, 'hat-rail.webm')]);
+  execFileSync('cp', [await video.path(), join(dir, 'rail-parts.webm')]);
   assert.equal((await view()).mode, 'loop', 'the play mode the user had');
+  // Stop ends a recording early: the video so far, at the state shown (slowly, to be early).
+  await page.locator('#play-speed').selectOption('0.25');
+  const [early] = await Promise.all([
+    page.waitForEvent('download', { timeout: 150000 }),
+    (async () => {
+      await page.locator('#record-webm').click();
+      await page.waitForFunction(() => window.dynpm.view().step >= 3, null, { timeout: 60000 });
+      assert.equal(await page.locator('#record-webm').textContent(), '■ Stop');
+      // Forced: while frames are drawn one by one, playwright's wait for a still button (two
+      // animation frames alike) timed out here.
+      await page.locator('#record-webm').click({ force: true });
+    })(),
+  ]);
+  const stoppedAt = await stepNow();
+  assert.ok(stoppedAt >= 3 && stoppedAt < 30, `stopped at step ${stoppedAt}`);
+  const part = readFileSync(await early.path());
+  assert.deepEqual([...part.subarray(0, 4)], [0x1a, 0x45, 0xdf, 0xa3], 'a video until Stop');
+  assert.match(await page.locator('#record-webm').textContent(), /Record WebM/);
   await page.locator('#play-speed').selectOption('1');
+  // Here the page draws about one frame a second for a few seconds after a recording (the
+  // software encoder catching up on a loaded machine): the clicks that follow wait for the
+  // frames to come back (playwright waits for a button to stay still over two frames).
+  await page.waitForFunction(
+    () => new Promise((resolve) => {
+      let n = 0;
+      const start = performance.now();
+      const count = () => (++n, performance.now() - start < 500 ? requestAnimationFrame(count) : resolve(n >= 10));
+      requestAnimationFrame(count);
+    }),
+    null,
+    { timeout: 60000 },
+  );
 });
 
 test('details: select labels not cut off, edges that read over every colour of the scales', async () => {
@@ -399,7 +500,11 @@ test('details: select labels not cut off, edges that read over every colour of t
       schemeColour(stops, i / 100, c, 0);
       colours.push(c);
     }
-  for (let id = 0; id < 64; id++) colours.push(new THREE.Color().setHSL((0.58 + id * 0.618033988749895) % 1, 0.35, 0.66).toArray());
+  for (let k = 0; k < 64; k++) colours.push(partColour(k).toArray());
+  // The part colours on the canvas are those (the model's six, in its list's order).
+  const shown = await api(() => window.dpmViewer.partSlots());
+  const drawnColours = new Set(shown.drawn.map((f) => shown.slotColours.slice(12 * f, 12 * f + 3).join()));
+  assert.deepEqual(drawnColours, new Set([0, 1, 2, 3, 4, 5].map((k) => [...new Float32Array(partColour(k).toArray())].join())));
   const worst = Math.min(...colours.map((c) => contrast(c, edgeColour(c))));
   assert.ok(worst >= 2.4, `worst contrast ${worst}`);
   const old = (c) => c.map((x, i) => 0.45 * x + 0.55 * [0x1b, 0x23, 0x30][i] / 255);
@@ -416,6 +521,10 @@ test('the panel collapses, and starts collapsed in a small window', async () => 
   assert.equal(await page.locator('#time').isVisible(), false);
   await toggle.click();
   assert.equal(await page.locator('#time').isVisible(), true);
+  // Taller than the window, the open panel scrolls and ends above the status line, which would
+  // otherwise cover its last rows.
+  const [panel, stats] = [await page.locator('#panel').boundingBox(), await page.locator('#stats').boundingBox()];
+  assert.ok(panel.y + panel.height <= stats.y, `the panel (${panel.y}…${panel.y + panel.height}) ends above the status line (${stats.y})`);
   const small = await browser.newPage({ viewport: { width: 560, height: 420 } });
   await small.goto(url);
   await small.evaluate(() => window.dynpm.ready.then(() => true));
