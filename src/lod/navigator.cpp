@@ -54,13 +54,15 @@ void Navigator::set_vertex_count(uint32_t n) {
   set_level(n > mesh_->base_vertex_count ? n - mesh_->base_vertex_count : 0);
 }
 
-void Navigator::set_error(double e) {
+uint32_t level_of_error(const ProgressiveMesh& mesh, double e) {
   // Level errors never increase along the stream: binary search for the first level ≤ e.
-  if (mesh_->base_error <= e) return set_level(0);
-  const auto& err = mesh_->error;
+  if (mesh.base_error <= e) return 0;
+  const auto& err = mesh.error;
   const auto it = std::partition_point(err.begin(), err.end(), [e](float x) { return x > e; });
-  set_level(static_cast<uint32_t>(it - err.begin()) + 1);
+  return static_cast<uint32_t>(it - err.begin()) + 1;
 }
+
+void Navigator::set_error(double e) { set_level(level_of_error(*mesh_, e)); }
 
 void Navigator::positions(double t, std::span<float> out) const {
   const size_t steps = mesh_->step_count();
