@@ -41,9 +41,10 @@ std::array<double, 3> position(const ProgressiveMesh& m, uint32_t v, double t) {
   const size_t t0 = static_cast<size_t>(std::floor(t)), t1 = std::min(t0 + 1, last);
   const double a = t - double(t0);
   std::array<double, 3> p;
+  // Steps after a fractional t are not read (DpmReadLimits::last_step) when t is whole.
   for (int c = 0; c < 3; ++c) {
-    const double p0 = m.positions[t0][size_t{v} * 3 + c], p1 = m.positions[t1][size_t{v} * 3 + c];
-    p[c] = a == 0 ? p0 : p0 + a * (p1 - p0);
+    const double p0 = m.positions[t0][size_t{v} * 3 + c];
+    p[c] = a == 0 ? p0 : p0 + a * (m.positions[t1][size_t{v} * 3 + c] - p0);
   }
   return p;
 }
