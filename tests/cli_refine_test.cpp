@@ -151,6 +151,16 @@ TEST(CliRefine, BadRequestsNameTheArgumentAndWriteNothing) {
     EXPECT_NE(r.output.find(message), std::string::npos) << arguments << "\n" << r.output;
     EXPECT_FALSE(std::filesystem::exists(out)) << arguments;
   }
+  // A prefix of the file holds too few splits for full resolution anywhere.
+  const std::string prefix = dir.file("prefix.dpm");
+  std::filesystem::copy_file(model->dpm, prefix);
+  std::filesystem::resize_file(prefix, std::filesystem::file_size(prefix) / 4);
+  auto r = dynpm_cli("extract " + prefix + " --step 1 --refine box:0,0,0,1,1,1 --elsewhere 5% -o " +
+                     out);
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("is a prefix of a file"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("--refine needs the whole file"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(out));
 }
 
 }  // namespace

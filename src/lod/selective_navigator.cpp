@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "dynpm/lod.h"
+#include "shown_merge.h"
 
 namespace dynpm {
 
@@ -96,30 +97,15 @@ std::vector<float> SelectiveNavigator::field_values(size_t field, size_t t,
   const ProgressiveField& f = m.fields[field];
   const bool per_face = f.info.location == FieldLocation::kElement;
   const std::vector<float>& values = f.values[t];
-  std::vector<double> value(values.begin(), values.end());
-  std::vector<uint32_t> count(values.size(), 1);
+  ShownMerge merged(values, aggregate);
   // FORMAT.md's pass over the missing splits only, from the last down: a missing vertex (the
   // faces a missing split creates) merges into its parent (their heirs), which may be missing
   // too and merge further on.
-  for (uint32_t i = m.split_count(); i-- > 0;) {
-    if (split_active_[i]) continue;
-    merge_undone_split(m, i, per_face, deps_->faces_after[i + 1],
-                       [&](uint32_t into, uint32_t from) {
-                         if (aggregate == FieldAggregate::kMean) {
-                           value[into] += value[from];
-                         } else {
-                           const double a = std::abs(value[into]), b = std::abs(value[from]);
-                           if (b > a || (b == a && value[from] > value[into]))
-                             value[into] = value[from];
-                         }
-                         count[into] += count[from];
-                       });
-  }
+  for (uint32_t i = m.split_count(); i-- > 0;)
+    if (!split_active_[i]) merge_undone_split(m, i, per_face, deps_->faces_after[i + 1], merged);
   const std::vector<uint32_t>& ids = per_face ? shown.faces : shown.vertices;
   std::vector<float> out(ids.size());
-  for (size_t k = 0; k < ids.size(); ++k)
-    out[k] = static_cast<float>(aggregate == FieldAggregate::kMean ? value[ids[k]] / count[ids[k]]
-                                                                   : value[ids[k]]);
+  for (size_t k = 0; k < ids.size(); ++k) out[k] = merged.shown(ids[k]);
   return out;
 }
 
