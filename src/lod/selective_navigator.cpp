@@ -93,16 +93,14 @@ SelectiveMesh SelectiveNavigator::active_mesh() const {
 std::vector<float> SelectiveNavigator::field_values(size_t field, size_t t,
                                                     const SelectiveMesh& shown,
                                                     FieldAggregate aggregate) const {
-  const ProgressiveMesh& m = *mesh_;
-  const ProgressiveField& f = m.fields[field];
-  const bool per_face = f.info.location == FieldLocation::kElement;
-  const std::vector<float>& values = f.values[t];
-  ShownMerge merged(values, aggregate);
+  const bool per_face = mesh_->fields[field].info.location == FieldLocation::kElement;
+  ShownMerge merged(mesh_->fields[field].values[t], aggregate);
   // FORMAT.md's pass over the missing splits only, from the last down: a missing vertex (the
   // faces a missing split creates) merges into its parent (their heirs), which may be missing
   // too and merge further on.
-  for (uint32_t i = m.split_count(); i-- > 0;)
-    if (!split_active_[i]) merge_undone_split(m, i, per_face, deps_->faces_after[i + 1], merged);
+  for (uint32_t i = mesh_->split_count(); i-- > 0;)
+    if (!split_active_[i])
+      merge_undone_split(*mesh_, i, per_face, deps_->faces_after[i + 1], merged);
   const std::vector<uint32_t>& ids = per_face ? shown.faces : shown.vertices;
   std::vector<float> out(ids.size());
   for (size_t k = 0; k < ids.size(); ++k) out[k] = merged.shown(ids[k]);
