@@ -8,6 +8,7 @@
 #include "commands.h"
 #include "dynpm/io.h"
 #include "dynpm/lod.h"
+#include "extract_refined.h"
 #include "json.h"
 #include "outputs.h"
 #include "report.h"
@@ -19,7 +20,8 @@ namespace {
 const VerbSpec kSpec{
     "extract",
     "dynpm extract MODEL.dpm (--vertices N | --ratio R | --max-error E | --full) [--step T]\n"
-    "                     -o OUTPUT [--ascii] [--json]",
+    "                     -o OUTPUT [--ascii] [--json]\n"
+    "       dynpm extract MODEL.dpm --step T --refine REQUEST... --elsewhere LEVEL -o OUTPUT",
     "Writes the progressive mesh at one resolution: N vertices, a fraction R of the full\n"
     "vertex count, or the coarsest level whose simplification error is at most E (absolute,\n"
     "or '0.5%' of the bounding-box diagonal). --step T picks a time step; a fractional T\n"
@@ -31,7 +33,9 @@ const VerbSpec kSpec{
     "VTK and VTU, and as vertex and face properties in PLY: at a coarse level each vertex or\n"
     "face shows the aggregate of the original ones it stands for (--aggregate).\n"
     "Only what the output needs is decoded: the splits up to its level and the steps up to\n"
-    "--step (with result fields, every split: a coarse face shows the peak of finer ones).",
+    "--step (with result fields, every split: a coarse face shows the peak of finer ones).\n"
+    "With --refine (docs/selective.md) the requested regions are at full resolution at step T\n"
+    "and the rest at the --elsewhere level; vertices come in progressive order, faces too.",
     {{"--output", "-o", true, "OUTPUT", "mesh file (.obj .ply .vtk .vtu) or pattern with {:03d}"},
      {"--vertices", "", true, "N", "resolution as a vertex count"},
      {"--ratio", "", true, "R", "resolution as a fraction of the full vertex count"},
@@ -41,6 +45,8 @@ const VerbSpec kSpec{
      {"--aggregate", "", true, "max|mean",
       "what a coarse vertex or face shows of the ones it stands for: the value of largest\n"
       "magnitude (max, default: a peak is never hidden) or their mean"},
+     kRefineFlag,
+     kElsewhereFlag,
      {"--ascii", "", false, "", "write PLY and VTK as text"},
      {"--json", "", false, "", "print what was written as JSON"}}};
 
@@ -91,9 +97,6 @@ int run_extract(std::span<char* const> arguments) {
   const auto output = args.value("--output");
   if (args.positional.size() != 1 || !output)
     return fail(kSpec.name, kExitUsage, "needs one MODEL.dpm and -o OUTPUT", help_text(kSpec));
-  const int choices =
-      args.has("--vertices") + args.has("--ratio") + args.has("--max-error") + args.has("--full");
-  if (choices != 1) return fail_usage("give one of --vertices, --ratio, --max-error, --full");
   if (!can_write(format_from_extension(*output)))
     return fail_usage(*output + ": use .obj, .ply, .vtk or .vtu");
   FieldAggregate aggregate = FieldAggregate::kMaxAbs;
@@ -110,6 +113,11 @@ int run_extract(std::span<char* const> arguments) {
     if (!r) return fail_usage(r.message());
     step = *r;
   }
+  if (args.has("--refine") || args.has("--elsewhere"))
+    return run_refined_extract(args, kSpec.name, *output, step, aggregate);
+  const int choices =
+      args.has("--vertices") + args.has("--ratio") + args.has("--max-error") + args.has("--full");
+  if (choices != 1) return fail_usage("give one of --vertices, --ratio, --max-error, --full");
   if (!step && !has_step_field(*output))
     return fail_usage(
         "without --step every step is written; give a pattern such as "

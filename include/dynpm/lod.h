@@ -4,9 +4,18 @@
 // between the old and the new level in place, so changing resolution costs time proportional
 // to the change. Positions need no work per level: half-edge collapses keep original positions,
 // so vertex v has the same position at every level where it exists.
+//
+// Selective refinement (docs/selective.md): SplitDependencies says which earlier splits each
+// split needs, derived from the split records alone; SelectiveNavigator holds any set of splits
+// closed under them (out of stream order), and RefineTargets turns a request — a box, a sphere,
+// parts, a field threshold, a displacement threshold, at one step — into the splits it wants.
 #pragma once
 
+#include <array>
+#include <optional>
 #include <span>
+#include <string>
+#include <string_view>
 #include <vector>
 
 #include "dynpm/progressive.h"
@@ -69,5 +78,142 @@ struct OriginalOrder {
   std::vector<uint32_t> face_of_original;    // input face index → progressive face
 };
 Result<OriginalOrder> original_order(const Navigator& full);
+
+// The number of splits of the coarsest level whose error is ≤ e (absolute units).
+uint32_t level_of_error(const ProgressiveMesh& mesh, double e);
+
+// ---------------------------------------------------------------------------------------------
+// Selective refinement
+
+// What each split needs before it (docs/selective.md "Dependencies"): split i reads the faces
+// holding its parent right before it in the stream (the parent's whole fan) and writes its moved
+// and wing faces; i depends on the last earlier writer of each face it reads, a writer on every
+// reader of the face since its previous writer, and i on the split that made its parent. Every
+// dependency is an earlier split, so every prefix of the stream is closed, and so is any union
+// of closed sets.
+struct SplitDependencies {
+  std::vector<uint32_t> dep_start{0};  // #splits + 1: split i's are deps[dep_start[i], [i+1])
+  std::vector<uint32_t> deps;          // ascending within a split, each smaller than it
+  std::vector<uint32_t> faces_after;   // #splits + 1: face_count_after(i) for every i
+  std::vector<uint32_t> last_writer;   // per face: the last split changing it, or kNoIndex
+
+  uint32_t split_count() const { return static_cast<uint32_t>(dep_start.size() - 1); }
+  std::span<const uint32_t> of(uint32_t i) const {
+    return {deps.data() + dep_start[i], deps.data() + dep_start[i + 1]};
+  }
+  size_t max_count() const;
+  double mean_count() const;
+};
+// What split i is taken to read besides the faces it writes: the parent's whole fan (the agreed
+// design), only the fan's faces on a wing edge (v1, w) (Hoppe's neighbour faces), or nothing
+// more (then i also needs the splits that made its wing vertices).
+enum class SplitReads : uint8_t { kFan, kWingEdges, kWritten };
+// One pass over the splits in stream order (works on a prefix of a file as well).
+SplitDependencies derive_split_dependencies(const ProgressiveMesh& mesh,
+                                            SplitReads reads = SplitReads::kFan);
+// Adds to `splits` (one flag per split) everything its flagged splits depend on, transitively.
+// Splits below `closed_prefix` count as flagged and closed already (a prefix is closed).
+void close_under_dependencies(const SplitDependencies& deps, std::vector<uint8_t>& splits,
+                              uint32_t closed_prefix = 0);
+
+// The mesh of a SelectiveNavigator in the agreed output order (docs/selective.md "Output"):
+// existing vertices ascending by progressive id, active faces ascending by progressive face id,
+// each face's corners in slot order, renumbered to the compact vertex order.
+struct SelectiveMesh {
+  std::vector<uint32_t> vertices;  // progressive vertex ids, ascending
+  std::vector<uint32_t> faces;     // progressive face ids, ascending
+  Topology topology;               // over vertices.size() vertices, with part/element/node ids
+};
+
+// A progressive mesh with any dependency-closed set of splits applied. Changing the set undoes
+// the splits leaving it (descending) and applies those joining it (ascending): time proportional
+// to the change plus one pass over the split flags.
+class SelectiveNavigator {
+ public:
+  // Starts at the base mesh. Both must outlive the navigator.
+  SelectiveNavigator(const ProgressiveMesh& mesh, const SplitDependencies& deps);
+
+  const ProgressiveMesh& mesh() const { return *mesh_; }
+  // `wanted`: one flag per split, closed under the dependencies (asserted in debug builds).
+  void set_active(std::span<const uint8_t> wanted);
+  bool split_active(uint32_t i) const { return split_active_[i] != 0; }
+  bool face_active(uint32_t f) const { return face_active_[f] != 0; }
+  bool vertex_exists(uint32_t v) const {
+    return v < mesh_->base_vertex_count || split_active_[v - mesh_->base_vertex_count];
+  }
+  uint32_t vertex_count() const { return mesh_->base_vertex_count + active_splits_; }
+  uint32_t face_count() const { return active_faces_; }
+  // Splits applied and undone by the last set_active().
+  uint32_t last_applied() const { return last_applied_; }
+  uint32_t last_undone() const { return last_undone_; }
+  // Every face slot by progressive id; only those with face_active() are in the mesh.
+  std::span<const Face> face_slots() const { return faces_; }
+  SelectiveMesh active_mesh() const;
+  // The values field `field` shows at step t, one per vertex (node field) or face (element
+  // field) of active_mesh(): a missing vertex's values merge into its nearest existing ancestor,
+  // a missing face's into its heir (FORMAT.md "Shown values"), so no peak is hidden.
+  std::vector<float> field_values(size_t field, size_t t, const SelectiveMesh& shown,
+                                  FieldAggregate aggregate = FieldAggregate::kMaxAbs) const;
+
+ private:
+  void apply(uint32_t i);
+  void undo(uint32_t i);
+
+  const ProgressiveMesh* mesh_;
+  const SplitDependencies* deps_;
+  std::vector<Face> faces_;  // by progressive face id
+  std::vector<uint8_t> split_active_, face_active_;
+  uint32_t active_splits_ = 0, active_faces_ = 0;
+  uint32_t last_applied_ = 0, last_undone_ = 0;
+};
+
+// One refine request (docs/selective.md "Requests"), as the CLI's --refine and the viewer write
+// it: box:X0,Y0,Z0,X1,Y1,Z1  sphere:X,Y,Z,R  part:3,7  field:NAME>V  field:NAME<V  moved:>D
+struct RefineTarget {
+  enum class Kind : uint8_t { kBox, kSphere, kPart, kField, kMoved };
+  Kind kind = Kind::kBox;
+  std::array<double, 6> box{};  // kBox: min xyz, max xyz; kSphere: centre xyz, radius
+  std::vector<int32_t> parts;   // kPart
+  std::string field;            // kField: the field's name
+  bool above = true;            // kField: value > threshold (else <)
+  double threshold = 0;         // kField: the value; kMoved: the distance from step 0
+};
+// Errors name the request and what is wrong with it.
+Result<RefineTarget> parse_refine_target(std::string_view text);
+
+// The resolution outside the refined regions: a fraction of the vertices ("5%"), a vertex count
+// ("20000") or the coarsest level with error at most E ("error:0.01", absolute).
+struct ElsewhereLevel {
+  std::optional<double> ratio;
+  std::optional<uint64_t> vertices;
+  std::optional<double> error;
+};
+Result<ElsewhereLevel> parse_elsewhere(std::string_view text);
+// The number of stream splits that level applies.
+uint32_t elsewhere_splits(const ProgressiveMesh& mesh, const ElsewhereLevel& level);
+
+// Turns targets into wanted splits at a (fractional) step, on a complete progressive mesh.
+class RefineTargets {
+ public:
+  RefineTargets(const ProgressiveMesh& mesh, const SplitDependencies& deps);
+  // Flags (in `splits`, one per split) the splits `target` wants at step t: those creating a
+  // vertex it selects, and the last writer of every face all of whose corners it selects, so
+  // that such a face has its original corners. Not closed: see close_under_dependencies().
+  // Fails when the target names a field or a part the mesh does not have.
+  Status mark(const RefineTarget& target, double t, std::vector<uint8_t>& splits) const;
+  // The vertices and faces of the fully refined mesh a target selects at step t (flags by
+  // progressive id): a region's faces are those with every corner selected, a part's or an
+  // element field's vertices the corners of its faces.
+  Status select(const RefineTarget& target, double t, std::vector<uint8_t>& vertices,
+                std::vector<uint8_t>& faces) const;
+  // prefix(elsewhere) ∪ closure(targets): what SelectiveNavigator::set_active() takes.
+  Result<std::vector<uint8_t>> request(const ElsewhereLevel& elsewhere,
+                                       std::span<const RefineTarget> targets, double t) const;
+
+ private:
+  const ProgressiveMesh* mesh_;
+  const SplitDependencies* deps_;
+  std::vector<Face> full_faces_;  // the fully refined mesh, by progressive face id
+};
 
 }  // namespace dynpm

@@ -119,6 +119,9 @@ struct ProgressiveMesh {
 // the current faces (the vector holds room for every face of the mesh); undo_split() is its
 // inverse. With `problem` set, apply_split() first checks that the record fits the faces and
 // returns false with a description instead of changing them (decoders of untrusted files).
+// `face_count` is also where the split's re-created triangles go (their progressive face ids
+// follow it): out of stream order (SelectiveNavigator, lod.h) the caller passes
+// face_count_after(i), so one definition of a split serves both orders.
 bool apply_split(const ProgressiveMesh& mesh, uint32_t i, std::span<Face> faces,
                  uint32_t& face_count, std::string* problem = nullptr);
 void undo_split(const ProgressiveMesh& mesh, uint32_t i, std::span<Face> faces,

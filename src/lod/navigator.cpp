@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "dynpm/lod.h"
+#include "shown_merge.h"
 
 namespace dynpm {
 
@@ -54,13 +55,15 @@ void Navigator::set_vertex_count(uint32_t n) {
   set_level(n > mesh_->base_vertex_count ? n - mesh_->base_vertex_count : 0);
 }
 
-void Navigator::set_error(double e) {
+uint32_t level_of_error(const ProgressiveMesh& mesh, double e) {
   // Level errors never increase along the stream: binary search for the first level ≤ e.
-  if (mesh_->base_error <= e) return set_level(0);
-  const auto& err = mesh_->error;
+  if (mesh.base_error <= e) return 0;
+  const auto& err = mesh.error;
   const auto it = std::partition_point(err.begin(), err.end(), [e](float x) { return x > e; });
-  set_level(static_cast<uint32_t>(it - err.begin()) + 1);
+  return static_cast<uint32_t>(it - err.begin()) + 1;
 }
+
+void Navigator::set_error(double e) { set_level(level_of_error(*mesh_, e)); }
 
 void Navigator::positions(double t, std::span<float> out) const {
   const size_t steps = mesh_->step_count();
@@ -79,17 +82,6 @@ void Navigator::positions(double t, std::span<float> out) const {
   for (size_t j = 0; j < n; ++j) out[j] = p0[j] + a * (p1[j] - p0[j]);
 }
 
-namespace {
-
-// max |value| with its sign; of two with equal magnitude the larger: the max of a total order,
-// so the order of merging never changes the result (docs/FORMAT.md, "Shown values").
-float larger_magnitude(float a, float b) {
-  const float ma = std::abs(a), mb = std::abs(b);
-  return ma > mb || (ma == mb && a >= b) ? a : b;
-}
-
-}  // namespace
-
 void Navigator::field_values(size_t field, size_t t, std::span<float> out,
                              FieldAggregate aggregate) const {
   const ProgressiveMesh& m = *mesh_;
@@ -101,25 +93,11 @@ void Navigator::field_values(size_t field, size_t t, std::span<float> out,
   // The pass of FORMAT.md run from the last split present down to this level: each undone split
   // merges what its new vertex (the faces it creates) stands for into the parent (their heirs).
   // Merge order: faces of a split in reverse creation order, as the file's pass.
-  auto each_merge = [&](auto&& merge) {
-    uint32_t face_end = static_cast<uint32_t>(values.size());  // faces after split i
-    for (uint32_t i = m.split_count(); i-- > level_;)
-      face_end = merge_undone_split(m, i, per_face, face_end, merge);
-  };
-  if (aggregate == FieldAggregate::kMaxAbs) {
-    std::vector<float> cur(values.begin(), values.end());
-    each_merge(
-        [&](uint32_t into, uint32_t from) { cur[into] = larger_magnitude(cur[into], cur[from]); });
-    std::copy_n(cur.begin(), shown, out.begin());
-    return;
-  }
-  std::vector<double> sum(values.begin(), values.end());
-  std::vector<uint32_t> count(values.size(), 1);
-  each_merge([&](uint32_t into, uint32_t from) {
-    sum[into] += sum[from];
-    count[into] += count[from];
-  });
-  for (uint32_t i = 0; i < shown; ++i) out[i] = static_cast<float>(sum[i] / count[i]);
+  ShownMerge merged(values, aggregate);
+  uint32_t face_end = static_cast<uint32_t>(values.size());  // faces after split i
+  for (uint32_t i = m.split_count(); i-- > level_;)
+    face_end = merge_undone_split(m, i, per_face, face_end, merged);
+  for (uint32_t i = 0; i < shown; ++i) out[i] = merged.shown(i);
 }
 
 double Navigator::field_error(size_t field) const {

@@ -1,0 +1,162 @@
+// Split dependencies derived from the split records (docs/selective.md "Dependencies"): one
+// replay of the stream that tracks which faces hold each vertex, and per face its last writer
+// and the readers since.
+#include <algorithm>
+
+#include "dynpm/lod.h"
+
+namespace dynpm {
+namespace {
+
+// The faces holding each vertex as the replay goes; small lists, edited in place.
+class VertexFans {
+ public:
+  explicit VertexFans(const ProgressiveMesh& mesh) : fans_(mesh.vertex_count()) {
+    for (uint32_t f = 0; f < mesh.base_faces.size(); ++f)
+      for (uint32_t c : mesh.base_faces[f].v)
+        if (c != kNoVertex) fans_[c].push_back(f);
+  }
+  const std::vector<uint32_t>& of(uint32_t v) const { return fans_[v]; }
+  void add(uint32_t v, uint32_t f) { fans_[v].push_back(f); }
+  void move(uint32_t f, uint32_t from, uint32_t to) {
+    auto& list = fans_[from];
+    const auto it = std::find(list.begin(), list.end(), f);
+    if (it != list.end()) {
+      *it = list.back();
+      list.pop_back();
+    }
+    fans_[to].push_back(f);
+  }
+
+ private:
+  std::vector<std::vector<uint32_t>> fans_;
+};
+
+// Per face: its last writer and the splits that read it since, as a singly linked list in one
+// pool (a writer empties the list; the pool never shrinks, it holds at most every read).
+class FaceAccess {
+ public:
+  explicit FaceAccess(uint32_t faces) : last_writer_(faces, kNoIndex), readers_(faces, kNoIndex) {}
+
+  // Split i reads f: it needs f's last writer.
+  void read(uint32_t f, uint32_t i, std::vector<uint32_t>& needs) {
+    if (last_writer_[f] != kNoIndex) needs.push_back(last_writer_[f]);
+    pool_.push_back({i, readers_[f]});
+    readers_[f] = static_cast<uint32_t>(pool_.size() - 1);
+  }
+  // Split i writes f (and reads it): it needs f's last writer and every reader since.
+  void write(uint32_t f, uint32_t i, std::vector<uint32_t>& needs) {
+    if (last_writer_[f] != kNoIndex) needs.push_back(last_writer_[f]);
+    for (uint32_t r = readers_[f]; r != kNoIndex; r = pool_[r].next)
+      needs.push_back(pool_[r].split);
+    readers_[f] = kNoIndex;
+    last_writer_[f] = i;
+  }
+  std::vector<uint32_t> take_last_writers() { return std::move(last_writer_); }
+
+ private:
+  struct Reader {
+    uint32_t split, next;
+  };
+  std::vector<uint32_t> last_writer_, readers_;
+  std::vector<Reader> pool_;
+};
+
+}  // namespace
+
+SplitDependencies derive_split_dependencies(const ProgressiveMesh& mesh, SplitReads reads) {
+  const uint32_t n = mesh.split_count(), b = mesh.base_vertex_count;
+  SplitDependencies out;
+  out.faces_after.resize(n + 1);
+  out.faces_after[0] = mesh.base_face_count;
+  for (uint32_t i = 0; i < n; ++i) {
+    uint32_t created = 0;
+    for (uint32_t k = mesh.wing_start[i]; k < mesh.wing_start[i + 1]; ++k)
+      created += mesh.wings[k].was_triangle();
+    out.faces_after[i + 1] = out.faces_after[i] + created;
+  }
+  VertexFans fans(mesh);
+  std::vector<Face> faces(mesh.base_faces);  // the stream's faces, for kWingEdges
+  faces.resize(out.faces_after[n]);
+  auto faces_hold = [&](uint32_t f, uint32_t v) { return faces[f].contains(v); };
+  FaceAccess access(out.faces_after[n]);
+  std::vector<uint32_t> written_by(out.faces_after[n], kNoIndex);  // == i: f is in W(i)
+  std::vector<uint32_t> needs;
+  out.dep_start.reserve(n + 1);
+  for (uint32_t i = 0; i < n; ++i) {
+    const uint32_t v0 = b + i, v1 = mesh.parent[i];
+    needs.clear();
+    if (v1 >= b) needs.push_back(v1 - b);
+    for (uint32_t m = mesh.moved_start[i]; m < mesh.moved_start[i + 1]; ++m)
+      written_by[mesh.moved_faces[m]] = i;
+    for (uint32_t k = mesh.wing_start[i]; k < mesh.wing_start[i + 1]; ++k)
+      if (!mesh.wings[k].was_triangle()) written_by[mesh.wings[k].face] = i;
+    // R(i): v1's fan right before i; W(i) ⊂ R(i) except the faces i creates.
+    for (uint32_t f : fans.of(v1)) {
+      if (written_by[f] == i) {
+        access.write(f, i, needs);
+        continue;
+      }
+      bool wing_edge = false;
+      for (uint32_t k = mesh.wing_start[i]; k < mesh.wing_start[i + 1]; ++k)
+        wing_edge = wing_edge || faces_hold(f, mesh.wings[k].vertex);
+      if (reads == SplitReads::kFan || (reads == SplitReads::kWingEdges && wing_edge))
+        access.read(f, i, needs);
+    }
+    if (reads != SplitReads::kFan)
+      for (uint32_t k = mesh.wing_start[i]; k < mesh.wing_start[i + 1]; ++k)
+        if (mesh.wings[k].vertex >= b) needs.push_back(mesh.wings[k].vertex - b);
+    uint32_t next = out.faces_after[i];
+    for (uint32_t k = mesh.wing_start[i]; k < mesh.wing_start[i + 1]; ++k) {
+      const SplitWing& w = mesh.wings[k];
+      if (w.was_triangle()) {
+        access.write(next, i, needs);
+        fans.add(v0, next);
+        fans.add(v1, next);
+        fans.add(w.vertex, next);
+        ++next;
+      } else {
+        fans.add(v0, w.face);
+      }
+    }
+    for (uint32_t m = mesh.moved_start[i]; m < mesh.moved_start[i + 1]; ++m)
+      fans.move(mesh.moved_faces[m], v1, v0);
+    uint32_t count = out.faces_after[i];
+    if (reads == SplitReads::kWingEdges) apply_split(mesh, i, faces, count);
+    std::sort(needs.begin(), needs.end());
+    needs.erase(std::unique(needs.begin(), needs.end()), needs.end());
+    out.deps.insert(out.deps.end(), needs.begin(), needs.end());
+    out.dep_start.push_back(static_cast<uint32_t>(out.deps.size()));
+  }
+  out.last_writer = access.take_last_writers();
+  return out;
+}
+
+size_t SplitDependencies::max_count() const {
+  size_t most = 0;
+  for (uint32_t i = 0; i < split_count(); ++i) most = std::max<size_t>(most, of(i).size());
+  return most;
+}
+
+double SplitDependencies::mean_count() const {
+  return split_count() ? double(deps.size()) / split_count() : 0.0;
+}
+
+void close_under_dependencies(const SplitDependencies& deps, std::vector<uint8_t>& splits,
+                              uint32_t closed_prefix) {
+  std::fill_n(splits.begin(), closed_prefix, uint8_t{1});
+  std::vector<uint32_t> stack;
+  for (uint32_t i = closed_prefix; i < deps.split_count(); ++i)
+    if (splits[i]) stack.push_back(i);
+  while (!stack.empty()) {
+    const uint32_t i = stack.back();
+    stack.pop_back();
+    for (uint32_t d : deps.of(i))
+      if (d >= closed_prefix && !splits[d]) {
+        splits[d] = 1;
+        stack.push_back(d);
+      }
+  }
+}
+
+}  // namespace dynpm
