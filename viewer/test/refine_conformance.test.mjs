@@ -2,8 +2,7 @@
 // "Output order"): `dynpm extract M.dpm --step T --refine … --elsewhere … -o out.obj` against the
 // OBJ body made here from SelectiveNavigator.activeMesh() (obj_text.mjs writes what
 // src/io/obj.cpp writes), on CalculiX crash boxes built lossless. A request without targets is a
-// level, which `extract --vertices N` gives in the same order; the refine requests run once the
-// CLI has --refine (skipped, saying so, before).
+// level, which `extract --vertices N` gives in the same order.
 import assert from 'node:assert/strict';
 import { execFileSync } from 'node:child_process';
 import { mkdirSync, readFileSync } from 'node:fs';
@@ -19,7 +18,6 @@ import { cli, crashbox, crashboxDpm } from './selective_fixture.mjs';
 
 const out = join(process.env.DYNPM_TEST_OUT ?? tmpdir(), 'refine-conformance');
 mkdirSync(out, { recursive: true });
-const refineInCli = cli && execFileSync(cli, ['extract', '--help'], { encoding: 'utf8' }).includes('--refine');
 
 const models = new Map();
 function model(name) {
@@ -70,7 +68,7 @@ const REQUESTS = [
 ];
 
 for (const [name, requests, elsewhere, steps] of REQUESTS)
-  test(`${name}: ${requests.join(' ')} --elsewhere ${elsewhere}: the same bytes as extract --refine`, { skip: !refineInCli && 'the CLI has no extract --refine yet' }, () => {
+  test(`${name}: ${requests.join(' ')} --elsewhere ${elsewhere}: the same bytes as extract --refine`, () => {
     const m = model(name);
     for (const t of steps) {
       const args = [...requests.flatMap((r) => ['--refine', r]), '--elsewhere', elsewhere, '--step', String(t)];
