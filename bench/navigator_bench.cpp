@@ -10,26 +10,11 @@
 #include <vector>
 
 #include "dynpm/lod.h"
+#include "timing.h"
 
-namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
-// This thread's CPU time in seconds.
-double cpu_now() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
-
-}  // namespace
+using dynpm::bench::cpu_now;
+using dynpm::bench::median;
+using dynpm::bench::seconds_since;
 
 int main(int argc, char** argv) {
   if (argc < 2) {

@@ -11,22 +11,15 @@
 #include <vector>
 
 #include "dynpm/lod.h"
+#include "timing.h"
 
 namespace {
 
+using dynpm::bench::cpu_now;
+using dynpm::bench::median;
+
 double wall_now() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
-
-double cpu_now() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
 }
 
 double load_average() {

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "dynpm/io.h"
+#include "dynpm/lod.h"
 #include "dynpm/pipeline.h"
 #include "dynpm/progressive.h"
 #include "fixtures.h"
@@ -86,6 +87,26 @@ inline const ProgressiveMesh* crashbox_in_parts(const std::string& name, int ban
   EXPECT_TRUE(back.ok()) << back.message();
   if (!back.ok()) return nullptr;
   return (built[key] = std::make_unique<ProgressiveMesh>(std::move(back).value())).get();
+}
+
+// The read set under test: the design's (the parent's fan) unless DYNPM_SPLIT_READS names
+// another (wing, written), to compare them (docs/selective.md "Which faces a split reads").
+inline SplitReads test_reads() {
+  const char* r = std::getenv("DYNPM_SPLIT_READS");
+  const std::string name = r ? r : "fan";
+  return name == "wing"      ? SplitReads::kWingEdges
+         : name == "written" ? SplitReads::kWritten
+                             : SplitReads::kFan;
+}
+
+// The original's boundary loops, components and parts, which a refined mesh keeps.
+struct PartsShape {
+  size_t boundary_loops = 0, components = 0, parts = 0;
+  bool operator==(const PartsShape&) const = default;
+};
+inline PartsShape parts_shape(const Topology& t) {
+  const TopologyStats s = topology_stats(t, Adjacency::build(t));
+  return {s.boundary_loops, s.components, s.parts};
 }
 
 }  // namespace dynpm::test

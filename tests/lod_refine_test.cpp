@@ -18,24 +18,9 @@
 namespace dynpm {
 namespace {
 
-// The read set under test: the design's (the parent's fan) unless DYNPM_SPLIT_READS names
-// another (wing, written), to compare them (docs/selective.md "Which faces a split reads").
-SplitReads test_reads() {
-  const char* r = std::getenv("DYNPM_SPLIT_READS");
-  const std::string name = r ? r : "fan";
-  return name == "wing"      ? SplitReads::kWingEdges
-         : name == "written" ? SplitReads::kWritten
-                             : SplitReads::kFan;
-}
-
-struct Shape {
-  size_t boundary_loops = 0, components = 0, parts = 0;
-  bool operator==(const Shape&) const = default;
-};
-Shape shape(const Topology& t) {
-  const TopologyStats s = topology_stats(t, Adjacency::build(t));
-  return {s.boundary_loops, s.components, s.parts};
-}
+using test::parts_shape;
+using test::PartsShape;
+using test::test_reads;
 
 // One model with its dependencies, targets, fully refined mesh and vertex neighbours.
 class Refinement {
@@ -45,7 +30,7 @@ class Refinement {
     Navigator full(m);
     full.set_level(m.split_count());
     full_ = full.topology();
-    original_ = shape(full_);
+    original_ = parts_shape(full_);
     neighbours_.resize(m.vertex_count());
     for (const Face& f : full_.faces)
       for (int a = 0; a < f.degree(); ++a)
@@ -62,7 +47,7 @@ class Refinement {
     nav_.set_active(*wanted);
     const SelectiveMesh mesh = nav_.active_mesh();
     test::expect_clean(mesh.topology, "refined");
-    ASSERT_EQ(shape(mesh.topology), original_);
+    ASSERT_EQ(parts_shape(mesh.topology), original_);
 
     // The region: every vertex the target selects exists, every face it selects is there
     // with its original corners.
@@ -131,7 +116,7 @@ class Refinement {
   RefineTargets targets_;
   SelectiveNavigator nav_;
   Topology full_;
-  Shape original_;
+  PartsShape original_;
   std::vector<std::vector<uint32_t>> neighbours_;
 };
 

@@ -17,6 +17,10 @@
 namespace dynpm {
 namespace {
 
+using test::parts_shape;
+using test::PartsShape;
+using test::test_reads;
+
 const char* const kBoxes[] = {"crashbox-mixed-5k", "crashbox-fields"};
 
 // Every face's states in the stream: (writer split, the face right after it), writer order.
@@ -37,25 +41,6 @@ struct FaceHistory {
     }
   }
 };
-
-// The read set under test: the design's (the parent's fan) unless DYNPM_SPLIT_READS names
-// another (wing, written), to compare them (docs/selective.md "Which faces a split reads").
-SplitReads test_reads() {
-  const char* r = std::getenv("DYNPM_SPLIT_READS");
-  const std::string name = r ? r : "fan";
-  return name == "wing"      ? SplitReads::kWingEdges
-         : name == "written" ? SplitReads::kWritten
-                             : SplitReads::kFan;
-}
-
-struct Shape {
-  size_t boundary_loops = 0, components = 0, parts = 0;
-  bool operator==(const Shape&) const = default;
-};
-Shape shape(const Topology& t) {
-  const TopologyStats s = topology_stats(t, Adjacency::build(t));
-  return {s.boundary_loops, s.components, s.parts};
-}
 
 TEST(SplitDependencies, PointToEarlierSplitsOnTheCrashBoxes) {
   for (const char* name : kBoxes) {
@@ -157,7 +142,7 @@ TEST(SelectiveNavigator, RandomRegionWalksStayValid) {
     const RefineTargets targets(m, deps);
     Navigator full(m);
     full.set_level(m.split_count());
-    const Shape original = shape(full.topology());
+    const PartsShape original = parts_shape(full.topology());
     SelectiveNavigator nav(m, deps);
     std::mt19937 rng(2212);
     std::uniform_real_distribution<double> unit(0, 1);
@@ -186,7 +171,7 @@ TEST(SelectiveNavigator, RandomRegionWalksStayValid) {
                                std::to_string(nav.vertex_count()) + " vertices)";
       const SelectiveMesh mesh = nav.active_mesh();
       test::expect_clean(mesh.topology, what);
-      ASSERT_EQ(shape(mesh.topology), original) << what;
+      ASSERT_EQ(parts_shape(mesh.topology), original) << what;
       SelectiveNavigator fresh(m, deps);
       fresh.set_active(*wanted);
       ASSERT_EQ(fresh.active_mesh().topology.faces, mesh.topology.faces) << what;
