@@ -76,9 +76,18 @@ SplitDependencies derive_split_dependencies(const ProgressiveMesh& mesh, SplitRe
     out.faces_after[i + 1] = out.faces_after[i] + created;
   }
   VertexFans fans(mesh);
-  std::vector<Face> faces(mesh.base_faces);  // the stream's faces, for kWingEdges
-  faces.resize(out.faces_after[n]);
-  auto faces_hold = [&](uint32_t f, uint32_t v) { return faces[f].contains(v); };
+  // The stream's faces, kept only for kWingEdges (which faces of the fan hold a wing vertex).
+  const bool wing_edges = reads == SplitReads::kWingEdges;
+  std::vector<Face> faces;
+  if (wing_edges) {
+    faces = mesh.base_faces;
+    faces.resize(out.faces_after[n]);
+  }
+  auto on_wing_edge = [&](uint32_t f, uint32_t i) {
+    for (uint32_t k = mesh.wing_start[i]; k < mesh.wing_start[i + 1]; ++k)
+      if (faces[f].contains(mesh.wings[k].vertex)) return true;
+    return false;
+  };
   FaceAccess access(out.faces_after[n]);
   std::vector<uint32_t> written_by(out.faces_after[n], kNoIndex);  // == i: f is in W(i)
   std::vector<uint32_t> needs;
@@ -97,11 +106,7 @@ SplitDependencies derive_split_dependencies(const ProgressiveMesh& mesh, SplitRe
         access.write(f, i, needs);
         continue;
       }
-      bool wing_edge = false;
-      for (uint32_t k = mesh.wing_start[i]; k < mesh.wing_start[i + 1]; ++k)
-        wing_edge = wing_edge || faces_hold(f, mesh.wings[k].vertex);
-      if (reads == SplitReads::kFan || (reads == SplitReads::kWingEdges && wing_edge))
-        access.read(f, i, needs);
+      if (reads == SplitReads::kFan || (wing_edges && on_wing_edge(f, i))) access.read(f, i, needs);
     }
     if (reads != SplitReads::kFan)
       for (uint32_t k = mesh.wing_start[i]; k < mesh.wing_start[i + 1]; ++k)
@@ -121,8 +126,7 @@ SplitDependencies derive_split_dependencies(const ProgressiveMesh& mesh, SplitRe
     }
     for (uint32_t m = mesh.moved_start[i]; m < mesh.moved_start[i + 1]; ++m)
       fans.move(mesh.moved_faces[m], v1, v0);
-    uint32_t count = out.faces_after[i];
-    if (reads == SplitReads::kWingEdges) apply_split(mesh, i, faces, count);
+    if (uint32_t count = out.faces_after[i]; wing_edges) apply_split(mesh, i, faces, count);
     std::sort(needs.begin(), needs.end());
     needs.erase(std::unique(needs.begin(), needs.end()), needs.end());
     out.deps.insert(out.deps.end(), needs.begin(), needs.end());
