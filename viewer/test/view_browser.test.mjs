@@ -333,6 +333,8 @@ test('the axis triad: a click on an axis looks along it, a second click the othe
     const along = await view();
     const look = [0, 0, 0].map((_, i) => (i === c ? 1 : 0));
     assert.ok(near(along.look, look, 1e-3), `a click on ${name}: looks along +${name}: ${along.look}`);
+    // The triad answers clicks where it was last drawn: wait for the frame that turns it.
+    await page.evaluate(() => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r))));
     await page.mouse.click(...(await head(c)));
     assert.ok(near((await view()).look, look.map((v) => -v), 1e-3), `a second click: along -${name}`);
   }
