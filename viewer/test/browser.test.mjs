@@ -13,7 +13,7 @@ import { after, before, test } from 'node:test';
 
 import { chromium } from 'playwright-core';
 
-import { CHROMIUM_ARGS, startServer } from './chromium.mjs';
+import { allShown, CHROMIUM_ARGS, startServer } from './chromium.mjs';
 
 const { DYNPM_CLI: cli, DYNPM_DPM: dpm, DYNPM_TEST_OUT: out } = process.env;
 if (!cli || !dpm || !out) throw new Error('browser.test.mjs needs DYNPM_CLI, DYNPM_DPM, DYNPM_TEST_OUT');
@@ -63,7 +63,7 @@ test('shows the base mesh before the file has arrived, then refines to the full 
   assert.ok(variance(picture) > 20, `canvas is not blank (variance ${variance(picture)})`);
   await page.screenshot({ path: join(out, 'viewer-base.png') });
 
-  await page.waitForFunction(() => window.dpmViewer.state().complete, null, { timeout: 30000 });
+  await page.waitForFunction(allShown, null, { timeout: 30000 });
   const full = await page.evaluate(() => window.dpmViewer.state());
   assert.ok(full.vertices > first.vertices, `refined from ${first.vertices} to ${full.vertices}`);
   assert.equal(full.vertices, full.loadedVertices);
@@ -153,7 +153,7 @@ test('--export writes a folder that a plain static server can host', async () =>
   try {
     const exported = await browser.newPage({ viewport: { width: 800, height: 600 } });
     await exported.goto(`http://127.0.0.1:${files.address().port}/`);
-    await exported.waitForFunction(() => window.dpmViewer?.state().complete, null, { timeout: 30000 });
+    await exported.waitForFunction(allShown, null, { timeout: 30000 });
     const s = await exported.evaluate(() => window.dpmViewer.state());
     assert.equal(s.error, null);
     assert.equal(s.vertices, s.loadedVertices);

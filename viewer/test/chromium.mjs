@@ -34,10 +34,14 @@ export function startServer(cli, file, extra = []) {
   });
 }
 
+// The whole file decoded and shown: the page steps the level up over a few frames after the
+// last splits, so `complete` alone can be seen while the base is still on screen.
+export const allShown = () => ((s) => s?.complete && s.navigator && s.vertices === s.loadedVertices)(window.dpmViewer?.state());
+
 // `dynpm view FILE [serverArgs]` and a headless Chromium page on it (`chromium` from
 // playwright-core), its console errors (404s aside) and page errors pushed to `errors`; resolves
 // with the server, browser, page and address once `ready` (run in the page) holds: by default,
-// when the whole file is loaded; `ready: false` returns as soon as the page's HTML is in
+// when the whole file is loaded and shown; `ready: false` returns as soon as the page's HTML is in
 // (`waitUntil`, playwright's, default 'load'), to see its first moments.
 export async function openViewer(chromium, cli, file, { viewport, errors, ready, timeout = 30000, serverArgs = [], acceptDownloads = true, waitUntil = 'load' }) {
   const { server, url } = await startServer(cli, file, serverArgs);
@@ -50,6 +54,6 @@ export async function openViewer(chromium, cli, file, { viewport, errors, ready,
   page.on('console', (m) => m.type() === 'error' && !/404/.test(m.text()) && errors.push(m.text()));
   page.on('pageerror', (e) => errors.push(String(e)));
   await page.goto(url, { waitUntil });
-  if (ready !== false) await page.waitForFunction(ready ?? (() => window.dpmViewer?.state().complete), null, { timeout });
+  if (ready !== false) await page.waitForFunction(ready ?? allShown, null, { timeout });
   return { server, browser, page, url };
 }
