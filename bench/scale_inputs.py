@@ -12,8 +12,9 @@ between two frames is their linear interpolation. OUT_DIR must lie outside the r
 data is made here, never committed.
 
 `run` times `dynpm info`, `dynpm build --key-steps auto:3` and `--key-steps all` on each input
-with /usr/bin/time (wall seconds, peak RSS), `--runs` times each (the median is shown), and
-prints a markdown table with the ratio build / info (issue 20: auto:3 at 1 M × 25 within 4×).
+with /usr/bin/time (wall and CPU seconds, peak RSS), `--runs` times each (the median is shown),
+and prints the load average and a markdown table with the ratio build / info in CPU time
+(issue 20: auto:3 at 1 M × 25 within 4×).
 Needs Debian's python3-netcdf4 and python3-numpy (hence /usr/bin/python3).
 """
 import argparse
@@ -150,24 +151,30 @@ def write(args):
 
 
 def timed(command):
-    """Wall seconds and peak RSS in MB of one run (GNU time)."""
+    """Wall seconds, CPU seconds (user + sys) and peak RSS in MB of one run (GNU time)."""
     with tempfile.NamedTemporaryFile("r", suffix=".time") as report:
-        done = subprocess.run(["/usr/bin/time", "-f", "%e %M", "-o", report.name] + command,
+        done = subprocess.run(["/usr/bin/time", "-f", "%e %U %S %M", "-o", report.name] + command,
                               stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
         if done.returncode != 0:
             sys.exit("%s failed:\n%s" % (" ".join(command), done.stderr))
-        seconds, kb = report.read().split()[-2:]
-    return float(seconds), float(kb) / 1024
+        wall, user, system, kb = report.read().split()[-4:]
+    return float(wall), float(user) + float(system), float(kb) / 1024
 
 
 def median_of(runs, command):
+    """The median of each measure over `runs` runs (a loaded machine: CPU is the steadier one)."""
     results = [timed(command) for _ in range(runs)]
-    return statistics.median(r[0] for r in results), statistics.median(r[1] for r in results)
+    return tuple(statistics.median(r[k] for r in results) for k in range(3))
+
+
+def load_text():
+    return "%.1f / %.1f / %.1f" % os.getloadavg()
 
 
 def run(args):
     rows = []
     threads = ["--threads", str(args.threads)] if args.threads else []
+    load_before = load_text()
     for label, _, steps in parse_sizes(args.sizes):
         path = os.path.join(args.out_dir, file_name(label, steps))
         if not os.path.exists(path):
@@ -181,13 +188,16 @@ def run(args):
         os.remove(out)
         rows.append((label.replace(":", " × "), info, auto, every))
         print("done  %s" % path, file=sys.stderr)
+    print("Wall / CPU (user + sys) seconds, medians of %d runs; load average (1 / 5 / 15 min) "
+          "%s before, %s after." % (args.runs, load_before, load_text()))
+    print()
     print("| input | `info` | build auto:3 | build all | peak memory auto:3 / all | "
-          "auto:3 / info |")
+          "auto:3 / info, CPU |")
     print("|---|---:|---:|---:|---:|---:|")
     for name, info, auto, every in rows:
-        print("| %s | %.1f s | %.1f s | %.1f s | %.2f / %.2f GB | %.1f× |" %
-              (name, info[0], auto[0], every[0], auto[1] / 1024, every[1] / 1024,
-               auto[0] / info[0]))
+        print("| %s | %.1f / %.1f s | %.1f / %.1f s | %.1f / %.1f s | %.2f / %.2f GB | %.1f× |" %
+              (name, info[0], info[1], auto[0], auto[1], every[0], every[1], auto[2] / 1024,
+               every[2] / 1024, auto[1] / info[1]))
 
 
 def main():
