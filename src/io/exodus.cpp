@@ -260,17 +260,18 @@ class ExodusSource final : public FrameSource {
   // One value per face: its element's, each block's values read once.
   Status read_element(const ElementVariable& variable, size_t t, std::span<float> out) const {
     assert(out.size() == elements_.origins.size());
-    std::vector<std::vector<double>> blocks(elements_.block_sizes.size());
+    thread_local std::vector<std::vector<double>> blocks;  // reused, as read_nodal's
+    blocks.resize(elements_.block_sizes.size());
+    for (auto& block : blocks) block.clear();
     std::vector<bool> used(blocks.size(), false);
     for (const FaceOrigin& o : elements_.origins) used[o.block] = true;
     for (size_t b = 0; b < blocks.size(); ++b) {
       if (!used[b] || variable.block_var[b] < 0) continue;
       const size_t start[2] = {t, 0}, count[2] = {1, elements_.block_sizes[b]};
-      auto values = file_->doubles(
+      DYNPM_RETURN_IF_ERROR(file_->read_doubles(
           variable.block_var[b],
-          "vals_elem_var eb" + std::to_string(b + 1) + " (" + variable.name + ")", start, count);
-      if (!values) return values.status();
-      blocks[b] = std::move(values).value();
+          "vals_elem_var eb" + std::to_string(b + 1) + " (" + variable.name + ")", start, count,
+          blocks[b]));
     }
     for (size_t i = 0; i < out.size(); ++i) {
       const FaceOrigin o = elements_.origins[i];
