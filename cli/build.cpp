@@ -91,11 +91,11 @@ std::string check_memory(const Topology& input, const FrameSource& frames, const
   const uint64_t keys = key_step_count(rule, steps);
   const uint64_t need = estimate(keys);
   const uint64_t have = available_memory_bytes();
-  if (!progress_quiet()) {
-    clear_progress_line();
-    std::fprintf(stderr, "dynpm build: needs about %s (have %s)\n", memory_text(need).c_str(),
-                 have ? memory_text(have).c_str() : "unknown");
-  }
+  progress_remark("needs about " + memory_text(need) + " (have " +
+                      (have ? memory_text(have) : std::string("unknown")) + ")",
+                  "{\"memory_estimate_bytes\":" + std::to_string(need) +
+                      ",\"memory_available_bytes\":" + (have ? std::to_string(have) : "null") +
+                      "}");
   if (!refuse || have == 0 || need <= have) return "";
   std::string message = "needs about " + memory_text(need) + ", have " + memory_text(have);
   uint64_t fits = 0;  // the most key steps that fit

@@ -65,10 +65,6 @@ class Reporter {
     form_ = form;
     verb_ = verb;
   }
-  bool quiet() {
-    const std::lock_guard<std::mutex> lock(mutex_);
-    return form_ == Form::kNone;
-  }
 
   void update(std::string_view phase, size_t done, size_t total) {
     const std::lock_guard<std::mutex> lock(mutex_);
@@ -94,6 +90,16 @@ class Reporter {
   void clear_line() {
     const std::lock_guard<std::mutex> lock(mutex_);
     clear_live_line();
+  }
+
+  void remark(const std::string& text, const std::string& json) {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    if (form_ == Form::kNone) return;
+    clear_live_line();
+    if (form_ == Form::kJson)
+      std::fprintf(stderr, "%s\n", json.c_str());
+    else
+      std::fprintf(stderr, "dynpm %s: %s\n", verb_.c_str(), text.c_str());
   }
 
  private:
@@ -241,12 +247,14 @@ Status configure_progress(const Args& args, const std::string& verb) {
   return {};
 }
 
-bool progress_quiet() { return reporter().quiet(); }
-
 void progress(std::string_view phase, size_t done, size_t total) {
   reporter().update(phase, done, total);
 }
 
 void clear_progress_line() { reporter().clear_line(); }
+
+void progress_remark(const std::string& text, const std::string& json) {
+  reporter().remark(text, json);
+}
 
 }  // namespace dynpm::cli

@@ -30,12 +30,14 @@ inline const FlagSpec kQuietFlag{"--quiet", "-q", false, "",
 // message. Without them: auto.
 Status configure_progress(const Args& args, const std::string& verb);
 
-// --quiet was given (or --progress none): remarks that are not errors are left out too.
-bool progress_quiet();
-
 // The phase, the items done and the items in all (done == total ends the phase). A new phase
 // name ends the one before.
 void progress(std::string_view phase, size_t done, size_t total);
+
+// A remark that is not an error, such as the build's memory estimate: "dynpm VERB: TEXT", or
+// with --progress json the object `json` on a line of its own (every line stays JSON); nothing
+// with --quiet.
+void progress_remark(const std::string& text, const std::string& json);
 
 // Before anything else is written to stderr: the live line is cleared (it is drawn again at the
 // next progress()).
