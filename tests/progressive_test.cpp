@@ -189,12 +189,12 @@ TEST(Progressive, DamagedFilesAreRefusedWithThePlace) {
   ASSERT_FALSE(wrong.ok());
   EXPECT_NE(wrong.message().find("not a .dpm file"), std::string::npos);
   std::string future = bytes;
-  future[8] = 4;
+  future[8] = 5;
   EXPECT_NE(
-      decode_dpm(future, "v4.dpm").message().find("v4.dpm: byte 8: version 4 is not supported"),
+      decode_dpm(future, "v5.dpm").message().find("v5.dpm: byte 8: version 5 is not supported"),
       std::string::npos);
-  // Versions 1 and 2 coded SPLT differently (docs/FORMAT.md): refused with what to do about it.
-  for (char version : {1, 2}) {
+  // Versions 1 to 3 coded SPLT differently (docs/FORMAT.md): refused with what to do about it.
+  for (char version : {1, 2, 3}) {
     std::string old = bytes;
     old[8] = version;
     const std::string name = "v" + std::to_string(version) + ".dpm";

@@ -36,7 +36,7 @@ class Decoder {
       return fail(0, "not a .dpm file (no DPM signature)");
     uint32_t version;
     std::memcpy(&version, bytes_.data() + kMagic.size(), 4);
-    if (version == 1 || version == 2)
+    if (version >= 1 && version < kVersion)
       return fail(kMagic.size(), "written by an older dynpm (version " + std::to_string(version) +
                                      "): build it again");
     if (version != kVersion)

@@ -11,8 +11,23 @@
 namespace dynpm::progressive {
 namespace {
 
-// The parts of the coding, for measurements: each may go to its own stream.
-enum Part { kParent, kWings, kMoved, kErrors, kVertexIds, kFaceIds };
+// The parts of the coding, for measurements (kRecordPartNames): each may go to its own stream.
+enum Part {
+  kParent,
+  kWingCount,
+  kWingKind,
+  kQuadFace,
+  kQuadBits,
+  kTriangleVertex,
+  kTriangleBits,
+  kMoved,
+  kErrors,
+  kVertexIndex,
+  kNodeId,
+  kFaceIndex,
+  kFacePart,
+  kElementId
+};
 
 // Encodes values it is given, or decodes and returns them: one code path for both directions.
 template <bool kDecode>
@@ -75,15 +90,50 @@ std::vector<uint32_t> neighbours(const RecordModels& st, uint32_t v) {
 
 // A re-created triangle's orientation, predicted from a face of v1 on the edge v1–w: a mesh
 // oriented alike runs the edge the other way in the new face. 0: no such face; else 1 + guess.
-int orientation_guess(const RecordModels& st, uint32_t v1, uint32_t w) {
+// A moved face holds the edge v0–w after the split: it says the other way round.
+template <class Moved>
+int orientation_guess(const RecordModels& st, uint32_t v1, uint32_t w, const Moved& moved) {
+  int guess = 0;
   for (uint32_t f : st.vertex_faces_[v1]) {
     const Face& face = st.faces_[f];
     const int n = face.degree(), a = corner_of(face, v1);
-    if (face.v[(a + 1) % n] == w) return 1 + 0;  // v1 → w there: w → v1 here, v1 before v0
-    if (face.v[(a + n - 1) % n] == w) return 1 + 1;
+    int g = 0;
+    if (face.v[(a + 1) % n] == w) g = 1 + 0;  // v1 → w there: w → v1 here, v1 before v0
+    if (face.v[(a + n - 1) % n] == w) g = 1 + 1;
+    if (g == 0) continue;
+    if (!moved(f)) return g;
+    if (guess == 0) guess = 3 - g;
   }
-  return 0;
+  return guess;
 }
+
+// What a split's moved faces say about its wings: v1's edges in moved faces by their far end
+// and how many moved faces hold them. A wing vertex ends an edge that one moved face holds (the
+// frontier between v0's faces and v1's) and is not yet a wing vertex of this split.
+struct MovedFan {
+  std::vector<uint32_t> edge_ends, edge_uses, used;
+
+  void add(const Face& face, uint32_t v1) {
+    const int n = face.degree(), a = corner_of(face, v1);
+    for (uint32_t v : {face.v[(a + 1) % n], face.v[(a + n - 1) % n]}) {
+      const auto it = std::find(edge_ends.begin(), edge_ends.end(), v);
+      if (it == edge_ends.end())
+        edge_ends.push_back(v), edge_uses.push_back(1);
+      else
+        ++edge_uses[static_cast<size_t>(it - edge_ends.begin())];
+    }
+  }
+  bool frontier(uint32_t v) const {
+    const auto it = std::find(edge_ends.begin(), edge_ends.end(), v);
+    return it != edge_ends.end() && edge_uses[static_cast<size_t>(it - edge_ends.begin())] == 1 &&
+           std::find(used.begin(), used.end(), v) == used.end();
+  }
+  // A triangle of v1 whose edge from v1 ends on the frontier.
+  bool frontier_triangle(const Face& face, uint32_t v1) const {
+    const int a = corner_of(face, v1);
+    return frontier(face.v[(a + 1) % 3]) || frontier(face.v[(a + 2) % 3]);
+  }
+};
 
 std::string at_split(uint32_t i, const std::string& what) {
   return "split " + std::to_string(i) + ": " + what;
@@ -102,6 +152,7 @@ std::string code_record(Coder<kDecode>& c, RecordModels& st, uint32_t i, uint32_
   // v0's old faces then say where its wings are: each wing vertex is a corner of a moved face.
   c.part = kMoved;
   std::vector<uint32_t> moved;
+  MovedFan edges;
   st.near_v0_.clear();
   auto near_v0 = [&](uint32_t v) { return st.near_v0_.contains(v); };
   size_t next = 0;  // encoder: r.moved is ascending
@@ -115,6 +166,7 @@ std::string code_record(Coder<kDecode>& c, RecordModels& st, uint32_t i, uint32_
     moved.push_back(f), next += is_moved;
     for (uint32_t v : st.faces_[f].v)
       if (v != kNoVertex && v != v1) st.near_v0_.insert(v);
+    edges.add(st.faces_[f], v1);
   }
   if (!kDecode && moved.size() != r.moved.size())
     return at_split(i, "a moved face is not a face of the parent, or they are not ascending");
@@ -123,32 +175,38 @@ std::string code_record(Coder<kDecode>& c, RecordModels& st, uint32_t i, uint32_
     return std::binary_search(r.moved.begin(), r.moved.end(), f);
   };
 
-  c.part = kWings;
+  c.part = kWingCount;
   const uint64_t wings = c.u(st.wing_count, r.wing_count);
   if (wings > 4) return at_split(i, "more than 4 wings");
   r.wing_count = static_cast<uint32_t>(wings);
-  std::vector<uint32_t>
-      near;  // v1's neighbours, those near v0 first, once a triangle wing needs them
-  bool near_known = false;
   uint32_t created = 0;
   std::vector<uint32_t> quads;  // this split's quad wings so far
   for (uint32_t k = 0; k < r.wing_count; ++k) {
     SplitWing& w = r.wings[k];
-    const size_t ctx = 4 * (r.wing_count - 1) + k;  // wings come in patterns: by count, by place
+    // A quad wing's face: an index into v1's free triangles (not moved, not a wing yet) that
+    // hold a corner of a moved face, or into all of them when none does; those on the frontier
+    // first, each part ascending. Whether there are any, on the frontier or not, predicts the
+    // wing's kind.
+    std::vector<uint32_t> triangles, beside;
+    bool on_frontier = false;
+    for (uint32_t f : fan) {
+      const Face& face = st.faces_[f];
+      if (!face.is_triangle() || taken(f) ||
+          std::find(quads.begin(), quads.end(), f) != quads.end())
+        continue;
+      triangles.push_back(f);
+      if (near_v0(face.v[0]) || near_v0(face.v[1]) || near_v0(face.v[2])) beside.push_back(f);
+      on_frontier |= edges.frontier_triangle(face, v1);
+    }
+    if (!beside.empty()) triangles.swap(beside);
+    std::stable_partition(triangles.begin(), triangles.end(),
+                          [&](uint32_t f) { return edges.frontier_triangle(st.faces_[f], v1); });
+    const size_t candidates = triangles.empty() ? 0 : on_frontier ? 2 : 1;
+    const size_t ctx = 16 * candidates + 4 * (r.wing_count - 1) + k;  // and by count, by place
+    c.part = kWingKind;
     const int triangle = c.bit(st.was_triangle[ctx], w.was_triangle());
     if (!triangle) {
-      // The face: an index into v1's free triangles (not moved, not a wing yet) that hold a
-      // corner of a moved face, ascending; or into all of v1's free triangles when none does.
-      std::vector<uint32_t> triangles, beside;
-      for (uint32_t f : fan) {
-        const Face& face = st.faces_[f];
-        if (!face.is_triangle() || taken(f) ||
-            std::find(quads.begin(), quads.end(), f) != quads.end())
-          continue;
-        triangles.push_back(f);
-        if (near_v0(face.v[0]) || near_v0(face.v[1]) || near_v0(face.v[2])) beside.push_back(f);
-      }
-      if (!beside.empty()) triangles.swap(beside);
+      c.part = kQuadFace;
       uint64_t index = 0;
       if constexpr (!kDecode) {
         const auto it = std::find(triangles.begin(), triangles.end(), w.face);
@@ -166,6 +224,7 @@ std::string code_record(Coder<kDecode>& c, RecordModels& st, uint32_t i, uint32_
       const uint32_t after = face.v[(a + 1) % 3], before = face.v[(a + 2) % 3];
       if (!kDecode && w.vertex != after && w.vertex != before)
         return at_split(i, "a quad wing's vertex is not in its face");
+      c.part = kQuadBits;
       const bool guess_before = near_v0(before) && !near_v0(after);
       const bool is_before =
           c.bit(st.quad_side, (w.vertex == before) != guess_before) != guess_before;
@@ -181,14 +240,15 @@ std::string code_record(Coder<kDecode>& c, RecordModels& st, uint32_t i, uint32_
       const int flag = c.bit(st.quad_follows, w.v1_follows_v0() != follows) ^ follows;
       w.flags = static_cast<uint8_t>((flag ? SplitWing::kV1FollowsV0 : 0) |
                                      (slot << SplitWing::kSlotShift));
+      edges.used.push_back(w.vertex);
       continue;
     }
-    // A triangle wing: w as an index into v1's neighbours (those near v0 first), or the escape
-    // and v0 − 1 − w.
-    if (!near_known) {
-      near = neighbours(st, v1), near_known = true;
-      std::stable_partition(near.begin(), near.end(), near_v0);
-    }
+    // A triangle wing: w as an index into v1's neighbours (those on the frontier first, then the
+    // others near v0, then the rest), or the escape and v0 − 1 − w.
+    std::vector<uint32_t> near = neighbours(st, v1);
+    std::stable_partition(near.begin(), near.end(), near_v0);
+    std::stable_partition(near.begin(), near.end(), [&](uint32_t v) { return edges.frontier(v); });
+    c.part = kTriangleVertex;
     uint64_t index = near.size();
     if constexpr (!kDecode) {
       const auto it = std::find(near.begin(), near.end(), w.vertex);
@@ -204,7 +264,9 @@ std::string code_record(Coder<kDecode>& c, RecordModels& st, uint32_t i, uint32_
       w.vertex = static_cast<uint32_t>(v0 - 1 - dv);
     }
     w.face = st.face_count_ + created++;
-    const int guess = orientation_guess(st, v1, w.vertex);
+    edges.used.push_back(w.vertex);
+    c.part = kTriangleBits;
+    const int guess = orientation_guess(st, v1, w.vertex, taken);
     const int expected = guess == 2;
     const int follows = c.bit(st.tri_follows[guess != 0], w.v1_follows_v0() != expected) ^ expected;
     int slot = c.bit(st.tri_slot[0], w.v0_slot() != 0);
@@ -258,7 +320,7 @@ std::string code_attributes(Coder<kDecode>& c, RecordModels& st, ProgressiveMesh
   const uint32_t v0 = mesh.base_vertex_count + i, v1 = mesh.parent[i];
   // The original index by its rank among the free ones, from the parent's (neighbours in the
   // mesh are often neighbours in the input's order); the node id moves with it.
-  c.part = kVertexIds;
+  c.part = kVertexIndex;
   const int64_t index_guess = mesh.vertex_original_index[v1];
   const int64_t node_guess = mesh.node_ids[v1];
   FreeIndices& free = st.free_vertices_;
@@ -275,6 +337,7 @@ std::string code_attributes(Coder<kDecode>& c, RecordModels& st, ProgressiveMesh
     return at_split(i, "a vertex's original index is out of range");
   index = free.nth(static_cast<uint32_t>(rank));
   free.take(static_cast<uint32_t>(index));
+  c.part = kNodeId;
   node = node_guess + (index - index_guess) +
          c.s(st.node_id, node - node_guess - (index - index_guess));
   if constexpr (kDecode) {
@@ -284,7 +347,6 @@ std::string code_attributes(Coder<kDecode>& c, RecordModels& st, ProgressiveMesh
 
   // Created faces: like their neighbour (the quad wing, else the first moved face, else a
   // face v1 had before).
-  c.part = kFaceIds;
   uint32_t created = 0;
   for (uint32_t k = mesh.wing_start[i]; k < mesh.wing_start[i + 1]; ++k)
     created += mesh.wings[k].was_triangle();
@@ -309,14 +371,17 @@ std::string code_attributes(Coder<kDecode>& c, RecordModels& st, ProgressiveMesh
         return at_split(i, "a face's original index is given twice");
       face_rank = free_faces.below(static_cast<uint32_t>(face));
     }
+    c.part = kFacePart;
     if (c.bit(st.same_part, part != part_guess))
       part = part_guess + c.s(st.part, part - part_guess);
+    c.part = kFaceIndex;
     face_rank = rank_guess_face + c.s(st.face_index, face_rank - rank_guess_face);
     if (face_rank < 0 || face_rank >= free_faces.count())
       return at_split(i, "a face's original index is out of range");
     face = free_faces.nth(static_cast<uint32_t>(face_rank));
     free_faces.take(static_cast<uint32_t>(face));
     const int64_t step = face - face_guess;
+    c.part = kElementId;
     element = element_guess + step + c.s(st.element_id, element - element_guess - step);
     if constexpr (kDecode) {
       if (part < INT32_MIN || part > INT32_MAX) return at_split(i, "a part id is out of range");

@@ -3,7 +3,8 @@
 // mesh as the earlier splits left it. The decoder applies each split as it decodes it, keeping
 // every vertex's faces, so that
 //   a quad wing is an index into its parent's triangles, and a bit for its wing vertex,
-//   a triangle wing's vertex an index into the parent's neighbours (rarely: an escape),
+//   a triangle wing's vertex an index into the parent's neighbours, those on the frontier
+//   between the moved faces and the others first (rarely: an escape),
 //   the moved faces a bit per face of the parent,
 //   the error a step down a grid of 16 values per octave,
 //   ids and original indices a difference from those of the split's neighbourhood.
@@ -50,7 +51,7 @@ class RecordModels {
 
   // Records.
   UnsignedModel parent, wing_count, quad_face, neighbour, far_vertex, error_step;
-  std::array<BitModel, 16> was_triangle{};  // by wing count and wing number
+  std::array<BitModel, 48> was_triangle{};  // by candidates, wing count and wing number
   BitModel quad_side, quad_slot_end, quad_follows;
   std::array<BitModel, 2> tri_follows{};  // no face to predict from / one
   std::array<BitModel, 2> tri_slot{};     // slot 0? then slot 1 or 2
@@ -90,9 +91,13 @@ std::optional<PayloadError> decode_split_records(std::string_view records,
                                                  RecordModels& models,
                                                  const AfterSplit& after_split);
 
-// Bytes each part of the coding takes over all splits (one stream per part, the same models):
-// parent, wings, moved faces, errors, vertex ids, face ids. For measurements.
-inline constexpr int kRecordParts = 6;
+// Bytes each part of the coding takes over all splits (one stream per part, the same models),
+// in the order of kRecordPartNames. For measurements (tests/split_records_dump).
+inline constexpr int kRecordParts = 14;
+inline constexpr std::array<const char*, kRecordParts> kRecordPartNames = {
+    "parent",          "wing count",    "wing kind", "quad wing face", "quad wing bits",
+    "triangle vertex", "triangle bits", "moved",     "errors",         "vertex index",
+    "node id",         "face index",    "face part", "element id"};
 Result<std::array<size_t, kRecordParts>> split_record_part_bytes(const ProgressiveMesh& mesh);
 
 }  // namespace dynpm::progressive

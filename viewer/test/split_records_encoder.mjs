@@ -4,9 +4,11 @@
 import {
   applyToModels,
   errorCodeAtLeast,
-  neighbours,
+  MovedFan,
   orientationGuess,
+  quadWingCandidates,
   slotOf,
+  triangleWingCandidates,
 } from '../src/dpm/split_records.js';
 import { WING_SLOT_SHIFT, WING_V1_FOLLOWS_V0, WING_WAS_TRIANGLE } from '../src/dpm/progressive_mesh.js';
 import { encodeSigned, encodeUnsigned, RangeEncoder } from './range_encoder.mjs';
@@ -18,20 +20,21 @@ function encodeRecord(e, st, mesh, i, split) {
   mesh.parent[i] = v1;
   const fan = st.vertexFaces[v1];
   const moved = [];
-  const movedCorners = new Set();
+  const fanMoved = new MovedFan();
   for (const f of fan) {
     let beside = false;
     for (let k = 0; k < 4; k++) {
       const v = c[4 * f + k];
-      if (v >= 0 && v !== v1 && movedCorners.has(v)) beside = true;
+      if (v >= 0 && v !== v1 && fanMoved.corners.has(v)) beside = true;
     }
     const ctx = (c[4 * f + 3] < 0 ? 6 : 0) + (beside ? 3 : 0) + Math.min(moved.length, 2);
     const isMoved = split.moved.includes(f) ? 1 : 0;
     e.bit(st.moved, ctx, isMoved);
     if (!isMoved) continue;
     moved.push(f);
-    for (let k = 0; k < 4; k++) if (c[4 * f + k] >= 0 && c[4 * f + k] !== v1) movedCorners.add(c[4 * f + k]);
+    fanMoved.add(c, f, v1);
   }
+  const movedSet = new Set(moved);
   if (moved.length !== split.moved.length) throw new Error(`split ${i}: a moved face is not v1's`);
   mesh.movedStart[i] = mesh.movedFaces.length;
   moved.forEach((f) => mesh.movedFaces.push(f));
@@ -40,47 +43,36 @@ function encodeRecord(e, st, mesh, i, split) {
   const wings = split.wings;
   encodeUnsigned(e, st.wingCount, wings.length);
   const faces = [];
-  let near = null;
   let created = 0;
   wings.forEach((w, k) => {
     const triangle = w.flags & WING_WAS_TRIANGLE ? 1 : 0;
     const slot = w.flags >> WING_SLOT_SHIFT;
     const v1Follows = w.flags & WING_V1_FOLLOWS_V0 ? 1 : 0;
-    e.bit(st.wasTriangle, 4 * (wings.length - 1) + k, triangle);
+    const { triangles, kind } = quadWingCandidates(st, fan, v1, movedSet, fanMoved, faces);
+    e.bit(st.wasTriangle, 16 * kind + 4 * (wings.length - 1) + k, triangle);
     if (!triangle) {
-      let triangles = [];
-      const beside = [];
-      for (const f of fan) {
-        if (c[4 * f + 3] >= 0 || moved.includes(f) || faces.includes(f)) continue;
-        triangles.push(f);
-        if ([0, 1, 2].some((j) => movedCorners.has(c[4 * f + j]))) beside.push(f);
-      }
-      if (beside.length > 0) triangles = beside;
       const index = triangles.indexOf(w.face);
       if (index < 0) throw new Error(`split ${i}: a quad wing is not a free triangle of v1`);
       encodeUnsigned(e, st.quadFace, index);
       const a = slotOf(c, w.face, v1);
       const after = c[4 * w.face + ((a + 1) % 3)], before = c[4 * w.face + ((a + 2) % 3)];
-      const guessBefore = movedCorners.has(before) && !movedCorners.has(after) ? 1 : 0;
+      const guessBefore = fanMoved.corners.has(before) && !fanMoved.corners.has(after) ? 1 : 0;
       e.bit(st.quad, 0, (w.vertex === before ? 1 : 0) ^ guessBefore);
       const b = slotOf(c, w.face, w.vertex);
       if (Math.min(a, b) === 0 && Math.max(a, b) === 2) e.bit(st.quad, 1, slot === 3 ? 1 : 0);
       e.bit(st.quad, 2, v1Follows ^ ((b + 1) % 3 === a ? 1 : 0));
-      faces.push(w.face);
+      faces.push(w.face), fanMoved.used.push(w.vertex);
       return;
     }
-    if (!near) {
-      const all = neighbours(st, v1);
-      near = all.filter((v) => movedCorners.has(v)).concat(all.filter((v) => !movedCorners.has(v)));
-    }
+    const near = triangleWingCandidates(st, v1, fanMoved);
     const index = near.indexOf(w.vertex);
     encodeUnsigned(e, st.neighbour, index < 0 ? near.length : index);
     if (index < 0) encodeUnsigned(e, st.farVertex, v0 - 1 - w.vertex);
-    const guess = orientationGuess(st, v1, w.vertex);
+    const guess = orientationGuess(st, v1, w.vertex, movedSet);
     e.bit(st.triFollows, guess !== 0 ? 1 : 0, v1Follows ^ (guess === 2 ? 1 : 0));
     e.bit(st.triSlot, 0, slot !== 0 ? 1 : 0);
     if (slot) e.bit(st.triSlot, 1, slot === 2 ? 1 : 0);
-    faces.push(st.faceCount + created++);
+    faces.push(st.faceCount + created++), fanMoved.used.push(w.vertex);
   });
   mesh.wingStart[i] = mesh.wingFlags.length;
   wings.forEach((w, k) => {

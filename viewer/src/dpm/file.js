@@ -17,7 +17,7 @@ import { HEAD_FLAG_LOSSLESS, ProgressiveMesh } from './progressive_mesh.js';
 import { decodeSplitRecords, RecordModels } from './split_records.js';
 
 export const MAGIC = Uint8Array.of(0x89, 0x44, 0x50, 0x4d, 0x0d, 0x0a, 0x1a, 0x0a);
-const VERSION = 3;
+const VERSION = 4;
 const CHUNK_HEADER_BYTES = 24;
 const FLAG_ZSTD = 1;
 const TAGS = ['HEAD', 'FDEF', 'PART', 'BASE', 'FLDS', 'SPLT', 'END '];
@@ -133,7 +133,7 @@ export class DpmDecoder {
           if (b[i] !== MAGIC[i]) this.fail(0, 'not a .dpm file (wrong magic)');
         if (available < 12) return;
         const version = new DataView(b.buffer, b.byteOffset + 8, 4).getUint32(0, true);
-        if (version === 1 || version === 2)
+        if (version >= 1 && version < VERSION)
           this.fail(8, `written by an older dynpm (version ${version}): build it again`);
         if (version !== VERSION)
           this.fail(8, `version ${version} is not supported (this reader reads version ${VERSION})`);

@@ -90,7 +90,7 @@ export class RecordModels {
     this.neighbour = new UnsignedModel();
     this.farVertex = new UnsignedModel();
     this.errorStep = new UnsignedModel();
-    this.wasTriangle = bitModels(16);  // by wing count and wing number
+    this.wasTriangle = bitModels(48);  // by quad wing candidates, wing count and wing number
     this.quad = bitModels(3);  // [0] side, [1] slot at the end, [2] follows
     this.triFollows = bitModels(2);
     this.triSlot = bitModels(2);
@@ -146,15 +146,78 @@ export function neighbours(st, v) {
   return out.filter((x, k) => k === 0 || x !== out[k - 1]);
 }
 
-// 0: no face of v1 on the edge v1–w; 1: one runs v1 → w (v1 not after v0); 2: w → v1.
-export function orientationGuess(st, v1, w) {
+// 0: no face of v1 on the edge v1–w; 1: one runs v1 → w (v1 not after v0); 2: w → v1. A face
+// that is not moved decides; a moved one holds the edge v0–w after the split, so it says the
+// other way round and only counts when no other face has the edge.
+export function orientationGuess(st, v1, w, movedSet) {
   const c = st.corners;
+  let guess = 0;
   for (const f of st.vertexFaces[v1]) {
     const n = degree(c, f), a = slotOf(c, f, v1);
-    if (c[4 * f + ((a + 1) % n)] === w) return 1;
-    if (c[4 * f + ((a + n - 1) % n)] === w) return 2;
+    let g = 0;
+    if (c[4 * f + ((a + 1) % n)] === w) g = 1;
+    if (c[4 * f + ((a + n - 1) % n)] === w) g = 2;
+    if (g === 0) continue;
+    if (!movedSet.has(f)) return g;
+    if (guess === 0) guess = 3 - g;
   }
-  return 0;
+  return guess;
+}
+
+// What the moved faces of a split say about its wings (C++ code_record): the corners near v0,
+// and v1's edges in moved faces by their far end and how many moved faces hold them. A wing
+// vertex ends an edge only one moved face holds (the frontier between v0's and v1's faces)
+// and is not yet a wing vertex of this split.
+export class MovedFan {
+  constructor() {
+    this.corners = new Set();
+    this.edgeUses = new Map();
+    this.used = [];
+  }
+  add(c, f, v1) {
+    const n = degree(c, f), a = slotOf(c, f, v1);
+    for (let k = 0; k < 4; k++) if (c[4 * f + k] >= 0 && c[4 * f + k] !== v1) this.corners.add(c[4 * f + k]);
+    for (const v of [c[4 * f + ((a + 1) % n)], c[4 * f + ((a + n - 1) % n)]])
+      this.edgeUses.set(v, (this.edgeUses.get(v) ?? 0) + 1);
+  }
+  frontier(v) {
+    return this.edgeUses.get(v) === 1 && !this.used.includes(v);
+  }
+  // A triangle of v1 whose edge from v1 ends on the frontier.
+  frontierTriangle(c, f, v1) {
+    const a = slotOf(c, f, v1);
+    return this.frontier(c[4 * f + ((a + 1) % 3)]) || this.frontier(c[4 * f + ((a + 2) % 3)]);
+  }
+}
+
+function partition(list, test) {
+  return list.filter(test).concat(list.filter((x) => !test(x)));
+}
+
+// A quad wing's candidates: v1's free triangles (not moved, not a wing yet) that hold a corner
+// near v0, or all of them when none does; those on the frontier first, each part ascending.
+// Also the wing kind's context: 0 no candidate, 1 none on the frontier, 2 some.
+export function quadWingCandidates(st, fan, v1, movedSet, moved, quads) {
+  const c = st.corners;
+  let triangles = [];
+  const beside = [];
+  let onFrontier = false;
+  for (const f of fan) {
+    if (c[4 * f + 3] >= 0 || movedSet.has(f) || quads.includes(f)) continue;
+    triangles.push(f);
+    if ([0, 1, 2].some((j) => moved.corners.has(c[4 * f + j]))) beside.push(f);
+    if (moved.frontierTriangle(c, f, v1)) onFrontier = true;
+  }
+  if (beside.length > 0) triangles = beside;
+  triangles = partition(triangles, (f) => moved.frontierTriangle(c, f, v1));
+  return { triangles, kind: triangles.length === 0 ? 0 : onFrontier ? 2 : 1 };
+}
+
+// A triangle wing's candidates: v1's neighbours on the frontier, then the other ones near v0,
+// then the rest, each part ascending.
+export function triangleWingCandidates(st, v1, moved) {
+  const near = partition(neighbours(st, v1), (v) => moved.corners.has(v));
+  return partition(near, (v) => moved.frontier(v));
 }
 
 // Split i's record into mesh's arrays; a problem, or null.
@@ -170,21 +233,18 @@ function decodeRecord(d, st, mesh, i) {
   // corner with a face moved before it, and how many moved so far.
   mesh.movedStart[i] = mesh.movedFaces.length;
   const movedList = [];
-  const movedCorners = new Set();
+  const moved = new MovedFan();
   for (const f of fan) {
     let beside = false;
     for (let k = 0; k < 4; k++) {
       const v = c[4 * f + k];
-      if (v >= 0 && v !== v1 && movedCorners.has(v)) beside = true;
+      if (v >= 0 && v !== v1 && moved.corners.has(v)) beside = true;
     }
     const ctx = (c[4 * f + 3] < 0 ? 6 : 0) + (beside ? 3 : 0) + Math.min(movedList.length, 2);
     if (!d.bit(st.moved, ctx)) continue;
     movedList.push(f);
     mesh.movedFaces.push(f);
-    for (let k = 0; k < 4; k++) {
-      const v = c[4 * f + k];
-      if (v >= 0 && v !== v1) movedCorners.add(v);
-    }
+    moved.add(c, f, v1);
   }
   mesh.movedStart[i + 1] = mesh.movedFaces.length;
   const movedSet = new Set(movedList);
@@ -192,39 +252,27 @@ function decodeRecord(d, st, mesh, i) {
   const wings = st.wingCount.decode(d);
   if (wings > 4) return `split ${i}: more than 4 wings`;
   const wingVertex = [], wingFace = [], wingFlags = [];
-  let near = null;
   let created = 0;
   for (let k = 0; k < wings; k++) {
-    if (!d.bit(st.wasTriangle, 4 * (wings - 1) + k)) {
-      let triangles = [];
-      const beside = [];
-      for (const f of fan) {
-        if (c[4 * f + 3] >= 0 || movedSet.has(f) || wingFace.includes(f)) continue;
-        triangles.push(f);
-        if (movedCorners.has(c[4 * f]) || movedCorners.has(c[4 * f + 1]) || movedCorners.has(c[4 * f + 2]))
-          beside.push(f);
-      }
-      if (beside.length > 0) triangles = beside;
+    const { triangles, kind } = quadWingCandidates(st, fan, v1, movedSet, moved, wingFace);
+    if (!d.bit(st.wasTriangle, 16 * kind + 4 * (wings - 1) + k)) {
       const index = st.quadFace.decode(d);
       if (index >= triangles.length) return `split ${i}: quad wing face out of range`;
       const f = triangles[index];
       const a = slotOf(c, f, v1);
       const after = c[4 * f + ((a + 1) % 3)], before = c[4 * f + ((a + 2) % 3)];
-      const guessBefore = movedCorners.has(before) && !movedCorners.has(after);
+      const guessBefore = moved.corners.has(before) && !moved.corners.has(after);
       const w = d.bit(st.quad, 0) !== (guessBefore ? 1 : 0) ? before : after;
       const b = slotOf(c, f, w);
       let slot = Math.max(a, b);
       if (Math.min(a, b) === 0 && slot === 2) slot = d.bit(st.quad, 1) ? 3 : 0;
       const follows = (b + 1) % 3 === a ? 1 : 0;
       const flag = d.bit(st.quad, 2) ^ follows;
-      wingVertex.push(w), wingFace.push(f);
+      wingVertex.push(w), wingFace.push(f), moved.used.push(w);
       wingFlags.push((flag ? WING_V1_FOLLOWS_V0 : 0) | (slot << WING_SLOT_SHIFT));
       continue;
     }
-    if (!near) {
-      const all = neighbours(st, v1);
-      near = all.filter((v) => movedCorners.has(v)).concat(all.filter((v) => !movedCorners.has(v)));
-    }
+    const near = triangleWingCandidates(st, v1, moved);
     const index = st.neighbour.decode(d);
     if (index > near.length) return `split ${i}: wing vertex out of range`;
     let w;
@@ -235,11 +283,11 @@ function decodeRecord(d, st, mesh, i) {
       if (dv >= v0) return `split ${i}: wing vertex out of range`;
       w = v0 - 1 - dv;
     }
-    const guess = orientationGuess(st, v1, w);
+    const guess = orientationGuess(st, v1, w, movedSet);
     const follows = d.bit(st.triFollows, guess !== 0 ? 1 : 0) ^ (guess === 2 ? 1 : 0);
     let slot = d.bit(st.triSlot, 0);
     if (slot) slot += d.bit(st.triSlot, 1);
-    wingVertex.push(w), wingFace.push(st.faceCount + created++);
+    wingVertex.push(w), wingFace.push(st.faceCount + created++), moved.used.push(w);
     wingFlags.push(WING_WAS_TRIANGLE | (follows ? WING_V1_FOLLOWS_V0 : 0) | (slot << WING_SLOT_SHIFT));
   }
   mesh.wingStart[i] = mesh.wingFlags.length;
