@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -92,10 +93,16 @@ std::vector<std::string> build_flags(const Args& args, size_t jobs) {
     for (const std::string& value : args.values(flag->name))
       flags.push_back(flag->name + "=" + value);
   }
-  // N builds at once share the cores instead of each taking them all.
-  if (!args.has("--threads") && jobs > 1)
+  if (args.has("--threads")) return flags;
+  // A Slurm task has the CPUs Slurm gave it, not the node's; N builds at once share the cores
+  // instead of each taking them all.
+  if (const char* slurm_cpus = std::getenv("SLURM_CPUS_ON_NODE"); slurm_cpus && jobs == 1) {
+    if (auto cpus = parse_whole("SLURM_CPUS_ON_NODE", slurm_cpus, 1, kMaxThreads))
+      flags.push_back("--threads=" + std::to_string(*cpus));
+  } else if (jobs > 1) {
     flags.push_back("--threads=" + std::to_string(std::max<size_t>(
                                        1, std::thread::hardware_concurrency() / jobs)));
+  }
   return flags;
 }
 

@@ -92,9 +92,11 @@ Status submit_to_slurm(const SlurmRequest& r) {
     std::cout << joined_for_shell(submit_catalogue) << "\n";
     return {};
   }
-  std::error_code ec;
-  std::filesystem::create_directories(slurm, ec);
-  if (ec) return Status::error(slurm.string() + ": cannot make the folder: " + ec.message());
+  for (const std::string& folder : {slurm.string(), logs}) {  // Slurm writes no log into a
+    std::error_code ec;                                       // folder that is not there
+    std::filesystem::create_directories(folder, ec);
+    if (ec) return Status::error(folder + ": cannot make the folder: " + ec.message());
+  }
   DYNPM_RETURN_IF_ERROR(write_file_atomically(frozen_list, frozen));
   DYNPM_RETURN_IF_ERROR(write_file_atomically(build_sh, array_script(r, frozen_list)));
   DYNPM_RETURN_IF_ERROR(write_file_atomically(catalogue_sh, catalogue_script(r)));
