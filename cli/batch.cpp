@@ -82,8 +82,9 @@ struct Job {
   std::string message;
 };
 
-// The flags for every build, as "--name=value" (one word each, whatever the value holds).
-std::vector<std::string> build_flags(const Args& args, size_t jobs) {
+// The flags for every build, as "--name=value" (one word each, whatever the value holds); with
+// `share_cores`, --threads for `jobs` builds at once on this machine or in this Slurm task.
+std::vector<std::string> build_flags(const Args& args, size_t jobs, bool share_cores) {
   std::vector<std::string> flags;
   for (const FlagSpec* flag : kBuildFlags) {
     if (!flag->takes_value) {
@@ -93,7 +94,7 @@ std::vector<std::string> build_flags(const Args& args, size_t jobs) {
     for (const std::string& value : args.values(flag->name))
       flags.push_back(flag->name + "=" + value);
   }
-  if (args.has("--threads")) return flags;
+  if (args.has("--threads") || !share_cores) return flags;
   // A Slurm task has the CPUs Slurm gave it, not the node's; N builds at once share the cores
   // instead of each taking them all.
   if (const char* slurm_cpus = std::getenv("SLURM_CPUS_ON_NODE"); slurm_cpus && jobs == 1) {
@@ -205,7 +206,7 @@ int submit(const Args& args, const std::string& out, std::vector<BatchInput> inp
   request.dynpm = *self;
   request.out = std::filesystem::absolute(out).lexically_normal().string();
   request.inputs = std::move(inputs);
-  request.build_flags = build_flags(args, 1);
+  request.build_flags = build_flags(args, 1, false);
   request.partition = args.value("--partition").value_or("");
   request.time = args.value("--time").value_or("");
   request.mem = args.value("--mem").value_or("");
@@ -273,7 +274,8 @@ int run_batch(std::span<char* const> arguments) {
   if (ec)
     return fail(kSpec.name, kExitFailure, logs.string() + ": cannot make it: " + ec.message());
   const bool quiet = args.has("--quiet");
-  if (Status s = run_jobs(jobs, *jobs_at_once, build_flags(args, *jobs_at_once), quiet); !s.ok())
+  if (Status s = run_jobs(jobs, *jobs_at_once, build_flags(args, *jobs_at_once, true), quiet);
+      !s.ok())
     return fail(kSpec.name, kExitFailure, s.message());
   for (Job& job : jobs)
     if (job.outcome == Outcome::kBuilt) describe_output(job);
