@@ -100,11 +100,7 @@ Status add_entry(Json& j, const std::filesystem::path& dir, const std::string& r
   j.begin_array("fields");
   for (const ProgressiveField& f : m.fields) {
     j.begin_object();
-    j.value("name", f.info.name);
-    j.value("location", to_string(f.info.location));
-    j.value("unit", f.info.unit);
-    j.value("min", f.min);
-    j.value("max", f.max);
+    json_field_range(j, f);
     j.end_object();
   }
   j.end_array();
