@@ -207,6 +207,7 @@ int submit(const Args& args, const std::string& out, std::vector<BatchInput> inp
   request.out = std::filesystem::absolute(out).lexically_normal().string();
   request.inputs = std::move(inputs);
   request.build_flags = build_flags(args, 1, false);
+  if (args.has("--force")) request.build_flags.push_back("--force");  // each task rebuilds
   request.partition = args.value("--partition").value_or("");
   request.time = args.value("--time").value_or("");
   request.mem = args.value("--mem").value_or("");

@@ -15,7 +15,7 @@ struct SlurmRequest {
   std::string dynpm;                     // the program the jobs run (absolute)
   std::string out;                       // the output folder (absolute)
   std::vector<BatchInput> inputs;        // in task order
-  std::vector<std::string> build_flags;  // passed on to every build ("--key-steps=paper", …)
+  std::vector<std::string> build_flags;  // passed on to every task ("--key-steps=paper", …)
   std::string partition, time, mem;      // "" when not given
   size_t max_running = 0;                // 0: no limit on tasks at once
   bool dry_run = false;
