@@ -37,9 +37,9 @@ const VerbSpec kSpec{
     "goes to stderr: a live line on a terminal, a line every 5 s otherwise (docs/build.md).",
     {{"--output", "-o", true, "MODEL.dpm", "the progressive mesh file to write"},
      kKeyStepsFlag,
-     {"--lossless", "", false, "", "store positions and fields bit-exactly (larger file)"},
-     {"--position-error", "", true, "E", "largest position error, in diagonals (3.8e-6)"},
-     {"--field-bound", "", true, "F", "largest field value error, in % of its range (0.1)"},
+     kLosslessFlag,
+     kPositionErrorFlag,
+     kFieldBoundFlag,
      kBoundaryWeightFlag,
      kFieldFlag,
      kFieldWeightFlag,
@@ -48,8 +48,7 @@ const VerbSpec kSpec{
      kIgnorePartsFlag,
      kThreadsFlag,
      {"--json", "", false, "", "print the result as JSON"},
-     {"--no-memory-check", "", false, "",
-      "build even when the memory estimate exceeds the memory available"},
+     kNoMemoryCheckFlag,
      kSplitPolygonsFlag,
      kIntegrationPointFlag,
      kProgressFlag,
@@ -116,20 +115,11 @@ int run_build(std::span<char* const> arguments) {
   if (auto exit_code = require_inputs_and_output(args, kSpec, "MODEL.dpm")) return *exit_code;
   const auto output = args.value("--output");
   BuildOptions options;
-  options.lossless = args.has("--lossless");
-  if (auto v = args.value("--position-error")) {
-    // In diagonals: above one the grid keeps nothing of the shape (and inf cannot be stored).
-    auto r = parse_number("--position-error", *v, kFraction);
-    if (!r) return fail(kSpec.name, kExitUsage, r.message());
-    options.max_position_error = *r;
-  }
-  if (auto v = args.value("--field-bound")) {
-    // In % of each field's range: 0 would be lossless (--lossless says so), above 100 keeps
-    // nothing.
-    auto r = parse_number("--field-bound", *v, NumberRange{0, 100, true});
-    if (!r) return fail(kSpec.name, kExitUsage, r.message());
-    options.field_bound = *r / 100;
-  }
+  auto quantization = parse_quantization_flags(args);
+  if (!quantization) return fail(kSpec.name, kExitUsage, quantization.message());
+  options.lossless = quantization->lossless;
+  if (quantization->position_error) options.max_position_error = *quantization->position_error;
+  if (quantization->field_bound) options.field_bound = *quantization->field_bound;
   KeyStepRule key_rule;
   if (Status s = parse_simplify_flags(args, options.simplify, key_rule); !s.ok())
     return fail(kSpec.name, kExitUsage, s.message());

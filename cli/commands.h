@@ -19,5 +19,7 @@ int run_build(std::span<char* const> arguments);
 int run_extract(std::span<char* const> arguments);
 int run_eval(std::span<char* const> arguments);
 int run_view(std::span<char* const> arguments);
+int run_batch(std::span<char* const> arguments);
+int run_catalogue(std::span<char* const> arguments);
 
 }  // namespace dynpm::cli

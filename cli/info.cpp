@@ -308,11 +308,7 @@ int print_dpm_info(const std::string& path, bool json) {
     j.begin_array("fields");
     for (const ProgressiveField& f : m.fields) {
       j.begin_object();
-      j.value("name", f.info.name);
-      j.value("location", to_string(f.info.location));
-      j.value("unit", f.info.unit);
-      j.value("min", f.min);
-      j.value("max", f.max);
+      json_field_range(j, f);
       j.value("lossless", f.lossless);
       j.value("value_error", f.max_error);
       j.value("base_field_error_pct", 100.0 * f.base_error);

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "dynpm/progressive.h"
+
 namespace dynpm::cli {
 
 void Json::key(std::string_view k) {
@@ -112,6 +114,14 @@ Json& Json::value(std::string_view k, bool flag) {
   key(k);
   out_ += flag ? "true" : "false";
   return *this;
+}
+
+void json_field_range(Json& j, const ProgressiveField& field) {
+  j.value("name", field.info.name);
+  j.value("location", to_string(field.info.location));
+  j.value("unit", field.info.unit);
+  j.value("min", field.min);
+  j.value("max", field.max);
 }
 
 }  // namespace dynpm::cli

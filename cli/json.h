@@ -6,6 +6,10 @@
 #include <string_view>
 #include <vector>
 
+namespace dynpm {
+struct ProgressiveField;
+}
+
 namespace dynpm::cli {
 
 class Json {
@@ -35,5 +39,9 @@ class Json {
   std::string out_;
   std::vector<bool> first_;  // per open container: no element written yet
 };
+
+// A .dpm's field as 'info --json' and the catalogue show it: "name", "location", "unit", "min",
+// "max" (into the object the caller has begun).
+void json_field_range(Json& j, const ProgressiveField& field);
 
 }  // namespace dynpm::cli

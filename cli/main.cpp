@@ -31,6 +31,8 @@ constexpr Verb kVerbs[] = {
     {"extract", run_extract, "a .dpm at a chosen resolution and time step, as OBJ/PLY/VTK"},
     {"eval", run_eval, "Hausdorff error of a .dpm against the original, per resolution and step"},
     {"view", run_view, "browse a .dpm in the web browser (time and resolution sliders)"},
+    {"batch", run_batch, "build many variants into one folder, here or as a Slurm job array"},
+    {"catalogue", run_catalogue, "index.json of every .dpm below a folder (name, counts, fields)"},
 };
 
 std::string usage() {

@@ -119,4 +119,23 @@ Status parse_sampling_flags(const Args& args, HausdorffOptions& options) {
   return {};
 }
 
+Result<QuantizationFlags> parse_quantization_flags(const Args& args) {
+  QuantizationFlags flags;
+  flags.lossless = args.has("--lossless");
+  if (auto v = args.value("--position-error")) {
+    // In diagonals: above one the grid keeps nothing of the shape (and inf cannot be stored).
+    auto r = parse_number("--position-error", *v, kFraction);
+    if (!r) return r.status();
+    flags.position_error = *r;
+  }
+  if (auto v = args.value("--field-bound")) {
+    // In % of each field's range: 0 would be lossless (--lossless says so), above 100 keeps
+    // nothing.
+    auto r = parse_number("--field-bound", *v, NumberRange{0, 100, true});
+    if (!r) return r.status();
+    flags.field_bound = *r / 100;
+  }
+  return flags;
+}
+
 }  // namespace dynpm::cli

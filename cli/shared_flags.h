@@ -47,6 +47,24 @@ Status parse_simplify_flags(const Args& args, SimplifyOptions& options, KeyStepR
 // The fields --field names exist in the input (cost_fields()); the error is the usage message.
 Status check_cost_fields(const SimplifyOptions& options, const FrameSource& frames);
 
+// ---- How exactly a build stores positions and fields (build, and batch that passes them on).
+inline const FlagSpec kLosslessFlag{"--lossless", "", false, "",
+                                    "store positions and fields bit-exactly (larger file)"};
+inline const FlagSpec kPositionErrorFlag{"--position-error", "", true, "E",
+                                         "largest position error, in diagonals (3.8e-6)"};
+inline const FlagSpec kFieldBoundFlag{"--field-bound", "", true, "F",
+                                      "largest field value error, in % of its range (0.1)"};
+inline const FlagSpec kNoMemoryCheckFlag{
+    "--no-memory-check", "", false, "",
+    "build even when the memory estimate exceeds the memory available"};
+struct QuantizationFlags {
+  bool lossless = false;
+  std::optional<double> position_error;  // in diagonals
+  std::optional<double> field_bound;     // a fraction of each field's range
+};
+// The error is the usage message, without the verb.
+Result<QuantizationFlags> parse_quantization_flags(const Args& args);
+
 // ---- A level of detail (simplify's targets, extract's resolution).
 struct LevelFlags {
   std::optional<double> ratio;        // --ratio, a fraction of the vertices in (0, 1]
