@@ -14,17 +14,20 @@ const normalized = (a) => {
 const scaledPlus = (a, s, b) => [a[0] * s + b[0], a[1] * s + b[1], a[2] * s + b[2]];
 const negated = (a) => [-a[0], -a[1], -a[2]];
 
-// The smallest sphere around spheres a and b of `s` (x, y, z, r at 4a, 4b), into s at 4o.
+// The smallest sphere around spheres a and b of `s` (x, y, z, r from 4a, 4b), into s from 4o.
 function enclose(s, a, b, o) {
-  a *= 4, b *= 4, o *= 4;
-  const dx = s[b] - s[a], dy = s[b + 1] - s[a + 1], dz = s[b + 2] - s[a + 2];
-  const d = Math.sqrt(dx * dx + dy * dy + dz * dz), ra = s[a + 3], rb = s[b + 3];
-  if (d + rb <= ra) return s.copyWithin(o, a, a + 4);
-  if (d + ra <= rb) return s.copyWithin(o, b, b + 4);
-  const r = (d + ra + rb) / 2, k = (r - ra) / d;
-  const x = s[a] + dx * k, y = s[a + 1] + dy * k, z = s[a + 2] + dz * k;
-  s[o] = x, s[o + 1] = y, s[o + 2] = z, s[o + 3] = r;
+  const i = 4 * a, j = 4 * b, k = 4 * o;
+  const dx = s[j] - s[i], dy = s[j + 1] - s[i + 1], dz = s[j + 2] - s[i + 2];
+  const d = Math.sqrt(dx * dx + dy * dy + dz * dz), ra = s[i + 3], rb = s[j + 3];
+  if (d + rb <= ra) copy4(s, i, k);
+  else if (d + ra <= rb) copy4(s, j, k);
+  else {
+    const r = (d + ra + rb) / 2, f = (r - ra) / d;
+    const x = s[i] + dx * f, y = s[i + 1] + dy * f, z = s[i + 2] + dz * f;
+    s[k] = x, s[k + 1] = y, s[k + 2] = z, s[k + 3] = r;
+  }
 }
+const copy4 = (s, from, to) => ((s[to] = s[from]), (s[to + 1] = s[from + 1]), (s[to + 2] = s[from + 2]), (s[to + 3] = s[from + 3]));
 
 // Spheres (x, y, z, r per split, Float32Array) of the first L splits' final descendants at
 // fractional step t, over the vertices they make.
@@ -39,7 +42,7 @@ export function splitSpheres(mesh, L, t) {
   const { parent } = mesh;
   for (let i = L - 1; i >= 0; i--) {
     enclose(s, parent[i], b + i, n + i);
-    s.copyWithin(4 * parent[i], 4 * (n + i), 4 * (n + i + 1));
+    copy4(s, 4 * (n + i), 4 * parent[i]);
   }
   return s.subarray(4 * n);
 }
