@@ -249,10 +249,11 @@ TEST(ViewRefine, BudgetIsRespectedUpToOneClosure) {
     const auto wanted = walk.targets().view_splits(view, 0);
     // The largest closure one split adds to the level.
     uint32_t largest = 0;
+    std::vector<uint32_t> stack;
     for (const auto& [error, i] : wanted) {
       std::vector<uint8_t> prefix(m.split_count(), 0);
       std::fill_n(prefix.begin(), k, uint8_t{1});
-      largest = std::max(largest, add_with_dependencies(walk.deps(), prefix, i));
+      largest = std::max(largest, add_with_dependencies(walk.deps(), prefix, i, stack));
     }
     for (uint64_t budget : {uint64_t{m.base_vertex_count + k + 10},
                             uint64_t{(m.base_vertex_count + k + unbounded) / 2}, uint64_t{100}}) {

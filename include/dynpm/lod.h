@@ -117,9 +117,9 @@ SplitDependencies derive_split_dependencies(const ProgressiveMesh& mesh,
 void close_under_dependencies(const SplitDependencies& deps, std::vector<uint8_t>& splits,
                               uint32_t closed_prefix = 0);
 // Flags split i and everything it depends on that `splits` (closed) lacks; returns how many
-// splits it flagged.
+// splits it flagged. `stack`: scratch space, reused between calls.
 uint32_t add_with_dependencies(const SplitDependencies& deps, std::vector<uint8_t>& splits,
-                               uint32_t i);
+                               uint32_t i, std::vector<uint32_t>& stack);
 
 // The mesh of a SelectiveNavigator in the agreed output order (docs/selective.md "Output"):
 // existing vertices ascending by progressive id, active faces ascending by progressive face id,
@@ -251,6 +251,13 @@ class RefineTargets {
   std::vector<std::pair<double, uint32_t>> view_splits(const ViewRequest& view, double t) const;
 
  private:
+  // The order a budget takes the view's splits in: larger screen error first, then lower index.
+  static bool before(const std::pair<double, uint32_t>& a, const std::pair<double, uint32_t>& b) {
+    return a.first > b.first || (a.first == b.first && a.second < b.second);
+  }
+  std::vector<std::pair<double, uint32_t>> view_candidates(const ViewRequest& view, double t) const;
+  // Adds a view's splits to the closed set `splits`, within its budget.
+  void add_view(const ViewRequest& view, double t, std::vector<uint8_t>& splits) const;
   const ProgressiveMesh* mesh_;
   const SplitDependencies* deps_;
   std::vector<Face> full_faces_;  // the fully refined mesh, by progressive face id

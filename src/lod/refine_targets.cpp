@@ -298,16 +298,8 @@ Result<std::vector<uint8_t>> RefineTargets::request(const ElsewhereLevel& elsewh
   close_under_dependencies(*deps_, splits, elsewhere_splits(*mesh_, elsewhere));
   // Views last, by decreasing screen error, each split with its closure: a budget stops them
   // when the vertices reach it (the last closure may pass it).
-  uint64_t vertices = mesh_->base_vertex_count;
-  for (uint8_t s : splits) vertices += s;
-  for (const RefineTarget& target : targets) {
-    if (target.kind != RefineTarget::Kind::kView) continue;
-    const uint64_t budget = target.view.budget;
-    for (const auto& [error, i] : view_splits(target.view, t)) {
-      if (budget && vertices >= budget) break;
-      vertices += add_with_dependencies(*deps_, splits, i);
-    }
-  }
+  for (const RefineTarget& target : targets)
+    if (target.kind == RefineTarget::Kind::kView) add_view(target.view, t, splits);
   return splits;
 }
 

@@ -178,10 +178,10 @@ void close_under_dependencies(const SplitDependencies& deps, std::vector<uint8_t
 }
 
 uint32_t add_with_dependencies(const SplitDependencies& deps, std::vector<uint8_t>& splits,
-                               uint32_t i) {
+                               uint32_t i, std::vector<uint32_t>& stack) {
   if (splits[i]) return 0;
   splits[i] = 1;
-  std::vector<uint32_t> stack{i};
+  stack.assign(1, i);
   return 1 + flag_dependencies(deps, splits, stack, 0);
 }
 

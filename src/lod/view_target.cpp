@@ -86,8 +86,8 @@ double ViewFrustum::screen_error(const float* sphere, double error) const {
   return error / distance * scale_;
 }
 
-std::vector<std::pair<double, uint32_t>> RefineTargets::view_splits(const ViewRequest& view,
-                                                                    double t) const {
+std::vector<std::pair<double, uint32_t>> RefineTargets::view_candidates(const ViewRequest& view,
+                                                                        double t) const {
   const ProgressiveMesh& m = *mesh_;
   if (spheres_step_ != t || spheres_.empty()) {
     spheres_ = split_spheres(m, t);
@@ -101,10 +101,35 @@ std::vector<std::pair<double, uint32_t>> RefineTargets::view_splits(const ViewRe
     const double e = frustum.screen_error(&spheres_[size_t{i} * 4], m.level_error(i));
     if (e > view.pixels) out.emplace_back(e, i);
   }
-  std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) {
-    return a.first > b.first || (a.first == b.first && a.second < b.second);
-  });
   return out;
+}
+
+std::vector<std::pair<double, uint32_t>> RefineTargets::view_splits(const ViewRequest& view,
+                                                                    double t) const {
+  auto out = view_candidates(view, t);
+  std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return before(a, b); });
+  return out;
+}
+
+void RefineTargets::add_view(const ViewRequest& view, double t,
+                             std::vector<uint8_t>& splits) const {
+  auto wanted = view_candidates(view, t);
+  if (!view.budget) {
+    for (const auto& [error, i] : wanted) splits[i] = 1;
+    close_under_dependencies(*deps_, splits);
+    return;
+  }
+  uint64_t vertices = mesh_->base_vertex_count;
+  for (uint8_t s : splits) vertices += s;
+  // By decreasing screen error: a heap, popped only as far as the budget goes.
+  auto lower = [](const auto& a, const auto& b) { return before(b, a); };
+  std::make_heap(wanted.begin(), wanted.end(), lower);
+  std::vector<uint32_t> stack;
+  while (!wanted.empty() && vertices < view.budget) {
+    std::pop_heap(wanted.begin(), wanted.end(), lower);
+    vertices += add_with_dependencies(*deps_, splits, wanted.back().second, stack);
+    wanted.pop_back();
+  }
 }
 
 }  // namespace dynpm

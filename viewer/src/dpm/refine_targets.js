@@ -201,14 +201,21 @@ function withViews(mesh, dependencies, views, others, t, level) {
   const closed = new Uint8Array(mesh.head.splitCount);
   closed.fill(1, 0, Math.max(0, Math.min(level, L)));
   dependencies.close(others, closed);
-  let vertices = mesh.head.baseVertexCount;
-  for (let i = 0; i < L; i++) vertices += closed[i];
+  let vertices;
   const spheres = cachedSpheres(mesh, dependencies, t);
-  for (const view of views)
-    for (const [, i] of viewSplits(mesh, spheres, L, view)) {
-      if (view.budget && vertices >= view.budget) break;
+  for (const view of views) {
+    const wanted = viewSplits(mesh, spheres, L, view, view.budget > 0);
+    if (!view.budget) {
+      dependencies.close(wanted.map(([, i]) => i), closed);
+      continue;
+    }
+    vertices = mesh.head.baseVertexCount;
+    for (let i = 0; i < L; i++) vertices += closed[i];
+    for (const [, i] of wanted) {
+      if (vertices >= view.budget) break;
       vertices += dependencies.addWithDependencies(i, closed);
     }
+  }
   const out = [];
   for (let i = Math.max(0, Math.min(level, L)); i < L; i++) if (closed[i]) out.push(i);
   return out;

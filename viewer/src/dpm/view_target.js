@@ -73,14 +73,15 @@ export class ViewFrustum {
   }
 }
 
-// The splits (of the first L) a view wants: [screen error, split] by decreasing error, ties by
-// index. A split's error is the level's before it (errors never increase along the stream).
-export function viewSplits(mesh, spheres, L, view) {
+// The splits (of the first L) a view wants: [screen error, split], `sorted` by decreasing error,
+// ties by index (the order a budget takes them in). A split's error is the level's before it
+// (errors never increase along the stream).
+export function viewSplits(mesh, spheres, L, view, sorted = true) {
   const frustum = new ViewFrustum(view);
   const out = [];
   for (let i = 0; i < L; i++) {
     const e = frustum.screenError(spheres, i, mesh.levelError(i));
     if (e > view.pixels) out.push([e, i]);
   }
-  return out.sort((a, b) => b[0] - a[0] || a[1] - b[1]);
+  return sorted ? out.sort((a, b) => b[0] - a[0] || a[1] - b[1]) : out;
 }
