@@ -2,8 +2,9 @@
 // records at load, and moving the active front — set_active() between two dependency-closed sets
 // — by about 100 k splits and collapses. Median of repeated runs in wall time and in this
 // thread's CPU time (_cpu), with the load average before and after (the machine is shared).
-//   selective_bench MODEL.dpm [repeats]
+//   selective_bench MODEL.dpm [repeats] [view tolerance in pixels, default 0.005]
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -42,12 +43,68 @@ struct Timing {
   }
 };
 
+// A view re-targeted (docs/selective.md "View-dependent"): the spheres once per step, then per
+// camera the request (screen errors, their order, the closure) and set_active(), for a camera
+// low over one corner looking at the model's centre and the same camera moved by a twentieth of
+// the model, without and with a budget of 200 k vertices. `pixels`: the tolerance (the plate is
+// gently bent, its split errors small: 0.005 px refines about half of it from there).
+void view_retarget(const dynpm::ProgressiveMesh& m, const dynpm::SplitDependencies& deps,
+                   const dynpm::RefineTargets& targets, dynpm::SelectiveNavigator& nav, int repeats,
+                   double pixels) {
+  using namespace dynpm;
+  Timing spheres;
+  for (int r = 0; r < repeats; ++r) spheres.run([&] { (void)split_spheres(m, 0); });
+  std::array<double, 3> c, size;
+  for (int k = 0; k < 3; ++k) {
+    c[k] = (m.bbox_min[k] + m.bbox_max[k]) / 2;
+    size[k] = m.bbox_max[k] - m.bbox_min[k];
+  }
+  const double across = std::max(size[0], size[1]);
+  auto camera = [&](double shift, uint64_t budget) {
+    RefineTarget v;
+    v.kind = RefineTarget::Kind::kView;
+    v.view.eye = {m.bbox_min[0] + (0.1 + shift) * across, m.bbox_min[1] + 0.1 * across,
+                  c[2] + 0.06 * across};
+    v.view.at = {c[0] + shift * across, c[1], c[2]};
+    v.view.fov = 45;
+    v.view.width = 1920;
+    v.view.height = 1080;
+    v.view.pixels = pixels;
+    v.view.budget = budget;
+    return v;
+  };
+  ElsewhereLevel one;
+  one.ratio = 0.01;
+  std::printf("view re-targeted (1920×1080, 45°, %g px, 1 %% elsewhere), camera moved by 1/20:\n",
+              pixels);
+  spheres.print("  spheres (once per step)", 1e3, "ms");
+  for (uint64_t budget : {uint64_t{0}, uint64_t{200000}}) {
+    const RefineTarget a = camera(0, budget), b = camera(0.05, budget);
+    std::vector<uint8_t> first = targets.request(one, std::span(&a, 1), 0).value(), second;
+    nav.set_active(first);
+    const uint32_t at_first = nav.vertex_count();
+    Timing request, there, back;
+    uint32_t changed = 0;
+    for (int r = 0; r < repeats; ++r) {
+      request.run([&] { second = targets.request(one, std::span(&b, 1), 0).value(); });
+      there.run([&] { nav.set_active(second); });
+      changed = nav.last_applied() + nav.last_undone();
+      back.run([&] { nav.set_active(first); });
+    }
+    nav.set_active(second);
+    std::printf("  budget %s: %u → %u vertices, %u splits + collapses\n", budget ? "200 k" : "none",
+                at_first, nav.vertex_count(), changed);
+    request.print("    request (errors, order, closure)", 1e3, "ms");
+    there.print("    set_active", 1e3, "ms");
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   using namespace dynpm;
   if (argc < 2) {
-    std::fprintf(stderr, "usage: selective_bench MODEL.dpm [repeats]\n");
+    std::fprintf(stderr, "usage: selective_bench MODEL.dpm [repeats] [view_pixels]\n");
     return 2;
   }
   const int repeats = argc > 2 ? std::max(1, std::atoi(argv[2])) : 7;
@@ -129,6 +186,7 @@ int main(int argc, char** argv) {
   request.print("  request (select + closure)", 1e3, "ms");
   there.print("  set_active there", 1e3, "ms");
   back.print("  set_active back", 1e3, "ms");
+  view_retarget(m, deps, targets, nav, repeats, argc > 3 ? std::atof(argv[3]) : 0.005);
   std::printf("load average %.2f before, %.2f after; %d runs, medians\n", load_before,
               load_average(), repeats);
   return 0;

@@ -35,7 +35,9 @@ const VerbSpec kSpec{
     "Only what the output needs is decoded: the splits up to its level and the steps up to\n"
     "--step (with result fields, every split: a coarse face shows the peak of finer ones).\n"
     "With --refine (docs/selective.md) the requested regions are at full resolution at step T\n"
-    "and the rest at the --elsewhere level; vertices come in progressive order, faces too.",
+    "(a view: wherever a camera would see an error above PX pixels, within a BUDGET of\n"
+    "vertices) and the rest at the --elsewhere level; vertices come in progressive order,\n"
+    "faces too.",
     {{"--output", "-o", true, "OUTPUT", "mesh file (.obj .ply .vtk .vtu) or pattern with {:03d}"},
      {"--vertices", "", true, "N", "resolution as a vertex count"},
      {"--ratio", "", true, "R", "resolution as a fraction of the full vertex count"},

@@ -136,8 +136,8 @@ int run_refined_extract(const Args& args, const std::string& verb, const std::st
     std::cout << j.str();
   } else {
     std::printf(
-        "%u vertices, %zu faces (%zu quads, %zu triangles): %zu request(s) at full "
-        "resolution, elsewhere the level of %u vertices\nwrote %s\n",
+        "%u vertices, %zu faces (%zu quads, %zu triangles): %zu request(s) refined, "
+        "elsewhere the level of %u vertices\nwrote %s\n",
         nav.vertex_count(), shown.topology.faces.size(), shown.topology.quad_count(),
         shown.topology.triangle_count(), targets.size(), mesh->base_vertex_count + elsewhere_level,
         output.c_str());

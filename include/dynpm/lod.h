@@ -16,6 +16,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "dynpm/progressive.h"
@@ -115,6 +116,10 @@ SplitDependencies derive_split_dependencies(const ProgressiveMesh& mesh,
 // Splits below `closed_prefix` count as flagged and closed already (a prefix is closed).
 void close_under_dependencies(const SplitDependencies& deps, std::vector<uint8_t>& splits,
                               uint32_t closed_prefix = 0);
+// Flags split i and everything it depends on that `splits` (closed) lacks; returns how many
+// splits it flagged. `stack`: scratch space, reused between calls.
+uint32_t add_with_dependencies(const SplitDependencies& deps, std::vector<uint8_t>& splits,
+                               uint32_t i, std::vector<uint32_t>& stack);
 
 // The mesh of a SelectiveNavigator in the agreed output order (docs/selective.md "Output"):
 // existing vertices ascending by progressive id, active faces ascending by progressive face id,
@@ -167,16 +172,46 @@ class SelectiveNavigator {
   uint32_t last_applied_ = 0, last_undone_ = 0;
 };
 
+// A camera and a pixel tolerance (docs/selective.md "View-dependent"): the request
+// view:EYE=x,y,z;AT=x,y,z;UP=x,y,z;FOV=deg;W=px;H=px;PX=p;BUDGET=n (UP, W, BUDGET optional).
+struct ViewRequest {
+  std::array<double, 3> eye{}, at{}, up{0, 0, 1};
+  double fov = 45;       // vertical field of view, degrees
+  double width = 0;      // viewport, pixels (0: as high as wide)
+  double height = 1080;  // viewport, pixels
+  double pixels = 1;     // tolerance: splits whose screen error exceeds it are wanted
+  uint64_t budget = 0;   // at most this many vertices (0: no budget), up to one closure
+};
+// Bounding spheres of each split's final descendants at fractional step t (x, y, z, r per
+// split), bottom-up over the vertex hierarchy (Hoppe 1997): once per step.
+std::vector<float> split_spheres(const ProgressiveMesh& mesh, double t);
+// The camera's frustum and projection, normalised once per request.
+class ViewFrustum {
+ public:
+  explicit ViewFrustum(const ViewRequest& view);
+  // The screen-space error in pixels of leaving a split with error `error` and bounding sphere
+  // (x, y, z, r) unapplied: error / distance · H / (2 tan(fov/2)), the distance from the eye to
+  // the sphere's surface (infinite inside it); −1 when the sphere is outside the frustum.
+  double screen_error(const float* sphere, double error) const;
+
+ private:
+  std::array<double, 3> eye_;
+  std::array<std::array<double, 3>, 5> inward_;  // near (at the eye), top, bottom, right, left
+  double scale_;                                 // H / (2 tan(fov/2))
+};
+
 // One refine request (docs/selective.md "Requests"), as the CLI's --refine and the viewer write
 // it: box:X0,Y0,Z0,X1,Y1,Z1  sphere:X,Y,Z,R  part:3,7  field:NAME>V  field:NAME<V  moved:>D
+// view:EYE=…;AT=…;FOV=…;H=…;PX=…
 struct RefineTarget {
-  enum class Kind : uint8_t { kBox, kSphere, kPart, kField, kMoved };
+  enum class Kind : uint8_t { kBox, kSphere, kPart, kField, kMoved, kView };
   Kind kind = Kind::kBox;
   std::array<double, 6> box{};  // kBox: min xyz, max xyz; kSphere: centre xyz, radius
   std::vector<int32_t> parts;   // kPart
   std::string field;            // kField: the field's name
   bool above = true;            // kField: value > threshold (else <)
   double threshold = 0;         // kField: the value; kMoved: the distance from step 0
+  ViewRequest view;             // kView
 };
 // Errors name the request and what is wrong with it.
 Result<RefineTarget> parse_refine_target(std::string_view text);
@@ -206,14 +241,29 @@ class RefineTargets {
   // element field's vertices the corners of its faces.
   Status select(const RefineTarget& target, double t, std::vector<uint8_t>& vertices,
                 std::vector<uint8_t>& faces) const;
-  // prefix(elsewhere) ∪ closure(targets): what SelectiveNavigator::set_active() takes.
+  // prefix(elsewhere) ∪ closure(targets): what SelectiveNavigator::set_active() takes. A view
+  // with a budget comes last: its splits join by decreasing screen error, each with its closure,
+  // while the vertices are fewer than the budget.
   Result<std::vector<uint8_t>> request(const ElsewhereLevel& elsewhere,
                                        std::span<const RefineTarget> targets, double t) const;
+  // The splits a view wants at step t and their screen errors, by decreasing error (ties by
+  // index): those whose sphere meets the frustum with a screen error above the tolerance.
+  std::vector<std::pair<double, uint32_t>> view_splits(const ViewRequest& view, double t) const;
 
  private:
+  // The order a budget takes the view's splits in: larger screen error first, then lower index.
+  static bool before(const std::pair<double, uint32_t>& a, const std::pair<double, uint32_t>& b) {
+    return a.first > b.first || (a.first == b.first && a.second < b.second);
+  }
+  std::vector<std::pair<double, uint32_t>> view_candidates(const ViewRequest& view, double t) const;
+  // Adds a view's splits to the closed set `splits`, within its budget.
+  void add_view(const ViewRequest& view, double t, std::vector<uint8_t>& splits) const;
   const ProgressiveMesh* mesh_;
   const SplitDependencies* deps_;
   std::vector<Face> full_faces_;  // the fully refined mesh, by progressive face id
+  // split_spheres() of the last step a view asked for (not thread-safe, as the navigator).
+  mutable std::vector<float> spheres_;
+  mutable double spheres_step_ = -1;
 };
 
 }  // namespace dynpm

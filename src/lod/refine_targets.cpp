@@ -6,6 +6,7 @@
 #include <cstdint>
 
 #include "dynpm/lod.h"
+#include "step_position.h"
 
 namespace dynpm {
 namespace {
@@ -34,21 +35,6 @@ Status bad(std::string_view text, const std::string& problem) {
   return Status::error("'" + std::string(text) + "': " + problem);
 }
 
-// A vertex's position at fractional step t (as Navigator::positions()).
-std::array<double, 3> position(const ProgressiveMesh& m, uint32_t v, double t) {
-  const size_t last = m.positions.size() - 1;
-  t = std::clamp(t, 0.0, double(last));
-  const size_t t0 = static_cast<size_t>(std::floor(t)), t1 = std::min(t0 + 1, last);
-  const double a = t - double(t0);
-  std::array<double, 3> p;
-  // Steps after a fractional t are not read (DpmReadLimits::last_step) when t is whole.
-  for (int c = 0; c < 3; ++c) {
-    const double p0 = m.positions[t0][size_t{v} * 3 + c];
-    p[c] = a == 0 ? p0 : p0 + a * (m.positions[t1][size_t{v} * 3 + c] - p0);
-  }
-  return p;
-}
-
 double value_at(const ProgressiveField& f, size_t i, double t) {
   const size_t last = f.values.size() - 1;
   t = std::clamp(t, 0.0, double(last));
@@ -57,12 +43,76 @@ double value_at(const ProgressiveField& f, size_t i, double t) {
   return a == 0 ? x0 : x0 + a * (f.values[t1][i] - x0);
 }
 
+// view:KEY=VALUE;… (docs/selective.md "View-dependent").
+Result<RefineTarget> parse_view(std::string_view text, std::string_view rest) {
+  RefineTarget r;
+  r.kind = RefineTarget::Kind::kView;
+  ViewRequest& view = r.view;
+  std::vector<std::string_view> seen;
+  const std::string syntax =
+      "a view is view:EYE=x,y,z;AT=x,y,z;FOV=deg;H=px;PX=p (and UP=x,y,z, W=px, BUDGET=vertices)";
+  while (!rest.empty()) {
+    const size_t end = rest.find(';');
+    const std::string_view item = rest.substr(0, end);
+    rest = end == std::string_view::npos ? std::string_view() : rest.substr(end + 1);
+    const size_t eq = item.find('=');
+    if (eq == std::string_view::npos)
+      return bad(text, "'" + std::string(item) + "' is not KEY=VALUE: " + syntax);
+    const std::string_view key = item.substr(0, eq), value = item.substr(eq + 1);
+    if (std::find(seen.begin(), seen.end(), key) != seen.end())
+      return bad(text, std::string(key) + " is given twice");
+    seen.push_back(key);
+    const auto xs = number_list(value);
+    std::array<double, 3>* point = key == "EYE"  ? &view.eye
+                                   : key == "AT" ? &view.at
+                                   : key == "UP" ? &view.up
+                                                 : nullptr;
+    if (point) {
+      if (!xs || xs->size() != 3) return bad(text, std::string(key) + " needs 3 numbers x,y,z");
+      std::copy(xs->begin(), xs->end(), point->begin());
+      continue;
+    }
+    double* number = key == "FOV"  ? &view.fov
+                     : key == "W"  ? &view.width
+                     : key == "H"  ? &view.height
+                     : key == "PX" ? &view.pixels
+                                   : nullptr;
+    if (!number && key != "BUDGET")
+      return bad(text, "unknown key '" + std::string(key) + "': " + syntax);
+    if (!xs || xs->size() != 1) return bad(text, std::string(key) + " needs one number");
+    const double x = xs->front();
+    if (key == "BUDGET") {
+      if (x < 1 || x != std::floor(x) || x > double(UINT32_MAX))
+        return bad(text, "BUDGET is a vertex count, a whole number ≥ 1");
+      view.budget = static_cast<uint64_t>(x);
+    } else {
+      *number = x;
+    }
+  }
+  for (std::string_view key : {"EYE", "AT", "FOV", "H", "PX"})
+    if (std::find(seen.begin(), seen.end(), key) == seen.end())
+      return bad(text, "no " + std::string(key) + ": " + syntax);
+  if (!(view.fov > 0 && view.fov < 180)) return bad(text, "FOV is in degrees, in (0, 180)");
+  if (view.height < 1 || view.width < 0 || (view.width > 0 && view.width < 1))
+    return bad(text, "W and H are pixels, at least 1");
+  if (!(view.pixels > 0)) return bad(text, "PX, the tolerance in pixels, must be > 0");
+  const std::array<double, 3> d = {view.at[0] - view.eye[0], view.at[1] - view.eye[1],
+                                   view.at[2] - view.eye[2]};
+  const std::array<double, 3>& u = view.up;
+  const double cx = d[1] * u[2] - d[2] * u[1], cy = d[2] * u[0] - d[0] * u[2],
+               cz = d[0] * u[1] - d[1] * u[0];
+  if (d[0] == 0 && d[1] == 0 && d[2] == 0) return bad(text, "EYE and AT are the same point");
+  if (cx == 0 && cy == 0 && cz == 0)
+    return bad(text, "UP is along the view direction (or zero): give another UP");
+  return r;
+}
+
 }  // namespace
 
 Result<RefineTarget> parse_refine_target(std::string_view text) {
   const size_t colon = text.find(':');
   if (colon == std::string_view::npos)
-    return bad(text, "a request is KIND:VALUES, KIND one of box, sphere, part, field, moved");
+    return bad(text, "a request is KIND:VALUES, KIND one of box, sphere, part, field, moved, view");
   const std::string_view kind = text.substr(0, colon), rest = text.substr(colon + 1);
   RefineTarget r;
   if (kind == "box" || kind == "sphere") {
@@ -109,8 +159,9 @@ Result<RefineTarget> parse_refine_target(std::string_view text) {
     r.threshold = *x;
     return r;
   }
-  return bad(text,
-             "unknown kind '" + std::string(kind) + "': use box, sphere, part, field or moved");
+  if (kind == "view") return parse_view(text, rest);
+  return bad(text, "unknown kind '" + std::string(kind) +
+                       "': use box, sphere, part, field, moved or view");
 }
 
 Result<ElsewhereLevel> parse_elsewhere(std::string_view text) {
@@ -155,11 +206,13 @@ Status RefineTargets::select(const RefineTarget& target, double t, std::vector<u
   faces.assign(full_faces_.size(), 0);
   bool by_face = false;  // the target picks faces (their corners follow), else vertices
   switch (target.kind) {
+    case RefineTarget::Kind::kView:
+      return Status::error("a view request selects splits, not vertices: see view_splits()");
     case RefineTarget::Kind::kBox:
     case RefineTarget::Kind::kSphere: {
       const auto& b = target.box;
       for (uint32_t v = 0; v < m.vertex_count(); ++v) {
-        const auto p = position(m, v, t);
+        const auto p = position_at(m, v, t);
         if (target.kind == RefineTarget::Kind::kBox) {
           vertices[v] = p[0] >= b[0] && p[1] >= b[1] && p[2] >= b[2] && p[0] <= b[3] &&
                         p[1] <= b[4] && p[2] <= b[5];
@@ -172,7 +225,7 @@ Status RefineTargets::select(const RefineTarget& target, double t, std::vector<u
     }
     case RefineTarget::Kind::kMoved:
       for (uint32_t v = 0; v < m.vertex_count(); ++v) {
-        const auto p = position(m, v, t), q = position(m, v, 0);
+        const auto p = position_at(m, v, t), q = position_at(m, v, 0);
         const double dx = p[0] - q[0], dy = p[1] - q[1], dz = p[2] - q[2];
         vertices[v] = std::sqrt(dx * dx + dy * dy + dz * dz) > target.threshold;
       }
@@ -222,6 +275,10 @@ Status RefineTargets::select(const RefineTarget& target, double t, std::vector<u
 
 Status RefineTargets::mark(const RefineTarget& target, double t,
                            std::vector<uint8_t>& splits) const {
+  if (target.kind == RefineTarget::Kind::kView) {
+    for (const auto& [error, i] : view_splits(target.view, t)) splits[i] = 1;
+    return {};
+  }
   std::vector<uint8_t> vertices, faces;
   DYNPM_RETURN_IF_ERROR(select(target, t, vertices, faces));
   const uint32_t b = mesh_->base_vertex_count;
@@ -236,8 +293,13 @@ Result<std::vector<uint8_t>> RefineTargets::request(const ElsewhereLevel& elsewh
                                                     std::span<const RefineTarget> targets,
                                                     double t) const {
   std::vector<uint8_t> splits(mesh_->split_count(), 0);
-  for (const RefineTarget& target : targets) DYNPM_RETURN_IF_ERROR(mark(target, t, splits));
+  for (const RefineTarget& target : targets)
+    if (target.kind != RefineTarget::Kind::kView) DYNPM_RETURN_IF_ERROR(mark(target, t, splits));
   close_under_dependencies(*deps_, splits, elsewhere_splits(*mesh_, elsewhere));
+  // Views last, by decreasing screen error, each split with its closure: a budget stops them
+  // when the vertices reach it (the last closure may pass it).
+  for (const RefineTarget& target : targets)
+    if (target.kind == RefineTarget::Kind::kView) add_view(target.view, t, splits);
   return splits;
 }
 

@@ -146,21 +146,43 @@ double SplitDependencies::mean_count() const {
   return split_count() ? double(deps.size()) / split_count() : 0.0;
 }
 
-void close_under_dependencies(const SplitDependencies& deps, std::vector<uint8_t>& splits,
-                              uint32_t closed_prefix) {
-  std::fill_n(splits.begin(), closed_prefix, uint8_t{1});
-  std::vector<uint32_t> stack;
-  for (uint32_t i = closed_prefix; i < deps.split_count(); ++i)
-    if (splits[i]) stack.push_back(i);
+namespace {
+
+// Flags what the splits on `stack` depend on, transitively (splits below `closed_prefix` count
+// as flagged); returns how many it flagged.
+uint32_t flag_dependencies(const SplitDependencies& deps, std::vector<uint8_t>& splits,
+                           std::vector<uint32_t>& stack, uint32_t closed_prefix) {
+  uint32_t flagged = 0;
   while (!stack.empty()) {
     const uint32_t i = stack.back();
     stack.pop_back();
     for (uint32_t d : deps.of(i))
       if (d >= closed_prefix && !splits[d]) {
         splits[d] = 1;
+        ++flagged;
         stack.push_back(d);
       }
   }
+  return flagged;
+}
+
+}  // namespace
+
+void close_under_dependencies(const SplitDependencies& deps, std::vector<uint8_t>& splits,
+                              uint32_t closed_prefix) {
+  std::fill_n(splits.begin(), closed_prefix, uint8_t{1});
+  std::vector<uint32_t> stack;
+  for (uint32_t i = closed_prefix; i < deps.split_count(); ++i)
+    if (splits[i]) stack.push_back(i);
+  flag_dependencies(deps, splits, stack, closed_prefix);
+}
+
+uint32_t add_with_dependencies(const SplitDependencies& deps, std::vector<uint8_t>& splits,
+                               uint32_t i, std::vector<uint32_t>& stack) {
+  if (splits[i]) return 0;
+  splits[i] = 1;
+  stack.assign(1, i);
+  return 1 + flag_dependencies(deps, splits, stack, 0);
 }
 
 }  // namespace dynpm

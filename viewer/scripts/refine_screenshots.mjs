@@ -1,7 +1,9 @@
 // The screenshots of docs/viewer.md "Selective refinement", made reproducibly: `dynpm view`
 // serves a crash box (crashbox-mixed-5k of ../shared/data, built lossless), headless Chromium
 // (as in the browser tests) refines a box at the crush's last step, then follows the deformation
-// (moved more than 20 mm) at a middle step, displacement colours, element edges, saved as PNG.
+// (moved more than 20 mm) at a middle step, then the view-dependent mode (1 px, 2 % elsewhere)
+// with the camera zoomed toward the tube's crushed end; displacement colours, element edges,
+// saved as PNG.
 //   node scripts/refine_screenshots.mjs DYNPM MODEL.dpm OUT_DIR
 import { mkdirSync } from 'node:fs';
 import { join } from 'node:path';
@@ -29,6 +31,18 @@ try {
   };
   await shot('viewer-refine-box.png', 40, ['box:-40,-60,150,10,60,260'], '5%');
   await shot('viewer-refine-follow.png', 25, ['moved:>20'], '5%');
+  // The view-dependent mode: the camera zooms toward a point, the front follows it once it stops.
+  await page.evaluate(() => (window.dynpm.setStep(40), window.dynpm.refine([]), window.dynpm.setView('iso')));
+  await page.locator('#refine-elsewhere').fill('2%');
+  await page.locator('#refine-mode').selectOption('view');
+  const box = await page.locator('#view').boundingBox();
+  await page.mouse.move(box.x + box.width * 0.42, box.y + box.height * 0.4);
+  for (let k = 0; k < 3; k++) await page.mouse.wheel(0, -300);
+  await page.evaluate(() => new Promise((r) => setTimeout(r, 600)));
+  await page.waitForFunction(() => !window.dynpm.refinement().following);
+  await page.evaluate(() => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r))));
+  await page.screenshot({ path: join(out, 'viewer-refine-view.png') });
+  console.log(`viewer-refine-view.png: ${(await page.evaluate(() => window.dynpm.refinement())).description}`);
   if (errors.length) throw new Error(errors.join('\n'));
 } finally {
   await browser.close();

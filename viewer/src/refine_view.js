@@ -1,6 +1,8 @@
 // The panel's "Refine" section and window.dynpm.refine()/refinement() (docs/viewer.md "Selective
 // refinement"): full resolution in a box, in the visible parts, or where the model has moved more
-// than a distance at the current step (re-targeted as time moves), and a coarse level elsewhere.
+// than a distance at the current step (re-targeted as time moves), or where the camera would see
+// an error above a number of pixels (re-targeted as the camera moves), and a coarse level
+// elsewhere.
 // While a refinement is on, the page draws a SelectiveNavigator (dpm/selective_navigator.js)
 // instead of the level Navigator; viewer.js only calls the hooks levelChanged(), timeChanged()
 // and describe().
@@ -20,7 +22,11 @@ const WHY = {
   part: (r) => `in part${r.parts.length === 1 ? '' : 's'} ${r.parts.join(', ')}`,
   field: (r) => `where ${r.name} ${r.above ? '>' : '<'} ${fmt(r.threshold)}`,
   moved: (r) => `where moved > ${fmt(r.distance)}`,
+  view: (r) => `in view with error > ${fmt(r.pixels)} px` + (r.budget ? ` (budget ${int(r.budget)})` : ''),
 };
+
+// While the camera moves, a view is re-targeted at most this often (ms), and once it stops.
+const FOLLOW_MS = 200;
 
 export class RefineView {
   // viewer: {state, updateLevel(), partView() (a PartView or null)} of viewer.js.
@@ -29,6 +35,8 @@ export class RefineView {
     this.ui = {
       mode: $('refine-mode'), box: $('refine-box'), boxRow: $('refine-box-row'), fromParts: $('refine-box-parts'),
       moved: $('refine-moved'), movedRow: $('refine-moved-row'), elsewhere: $('refine-elsewhere'), label: $('refine-label'),
+      viewRow: $('refine-view-row'), pixels: $('refine-pixels'), pixelsLabel: $('refine-pixels-label'),
+      budgetRow: $('refine-budget-row'), budget: $('refine-budget'),
     };
     this.dependencies = null;
     this.selective = null;
@@ -38,8 +46,33 @@ export class RefineView {
     this.elsewhereText = '5%';
     this.elsewhere = parseElsewhere(this.elsewhereText);
     this.step = null;  // the step the targets were found at
-    for (const input of [this.ui.mode, this.ui.box, this.ui.moved, this.ui.elsewhere]) input.addEventListener('change', () => this.fromPanel());
+    for (const input of [this.ui.mode, this.ui.box, this.ui.moved, this.ui.elsewhere, this.ui.budget]) input.addEventListener('change', () => this.fromPanel());
+    this.ui.pixels.addEventListener('input', () => this.fromPanel());
     this.ui.fromParts.addEventListener('click', () => this.boxOfVisibleParts());
+    this.followTimer = null;
+    this.retargetMs = 0;  // the page's time in the last re-target (main thread)
+    viewer.controls.addEventListener('change', () => this.cameraMoved());
+  }
+
+  // A view request with the camera's EYE, AT, UP, FOV and viewport filled in: `text` is "view"
+  // or "view:PX=…[;BUDGET=…]" (or a whole view request, whose camera is replaced).
+  withCamera(text) {
+    if (text !== 'view' && !text.startsWith('view:')) return text;
+    const keep = text.slice(5).split(';').filter((item) => /^(PX|BUDGET)=/.test(item));
+    if (!keep.some((item) => item.startsWith('PX='))) keep.push('PX=1');
+    const { camera, controls, canvas } = this.viewer;
+    const xyz = (v) => `${v.x},${v.y},${v.z}`;
+    const w = Math.max(1, canvas.clientWidth), h = Math.max(1, canvas.clientHeight);
+    return `view:EYE=${xyz(camera.position)};AT=${xyz(controls.target)};UP=${xyz(camera.up)};FOV=${camera.fov};W=${w};H=${h};${keep.join(';')}`;
+  }
+
+  // The camera moved: a view follows it, throttled (the last position always counts).
+  cameraMoved() {
+    if (!this.active || !this.requests.some((r) => r.kind === 'view') || this.followTimer) return;
+    this.followTimer = setTimeout(() => {
+      this.followTimer = null;
+      if (this.active) this.refine(this.texts, this.elsewhereText);
+    }, FOLLOW_MS);
   }
 
   get active() {
@@ -51,9 +84,10 @@ export class RefineView {
   refine(texts, elsewhere = this.elsewhereText) {
     const { nav } = this.viewer.state;
     if (!(nav instanceof Navigator) && nav !== this.selective) throw new Error('the model is not loaded yet: await dynpm.ready');
-    const requests = (texts ?? []).map((x) => parseRequest(String(x)));
+    const given = (texts ?? []).map((x) => this.withCamera(String(x)));
+    const requests = given.map((x) => parseRequest(x));
     const spec = parseElsewhere(String(elsewhere));
-    Object.assign(this, { requests, texts: (texts ?? []).map(String), elsewhere: spec, elsewhereText: String(elsewhere) });
+    Object.assign(this, { requests, texts: given, elsewhere: spec, elsewhereText: String(elsewhere) });
     this.showInPanel();
     if (!requests.length) return this.off();
     this.retarget();
@@ -70,16 +104,18 @@ export class RefineView {
   // The targets at the current step, the elsewhere level, the closure: the selective navigator
   // moves there (only the splits that change) and is drawn.
   retarget() {
+    const start = performance.now();
     const { state } = this.viewer;
     const { mesh } = state;
     this.dependencies ??= new SplitDependencies(mesh);
     this.dependencies.update();
     this.selective ??= new SelectiveNavigator(mesh, this.dependencies);
     const level = elsewhereLevel(mesh, this.elsewhere);
-    const targets = requestedSplits(mesh, this.dependencies, this.requests, state.t);
+    const targets = requestedSplits(mesh, this.dependencies, this.requests, state.t, level);
     const nav = this.selective;
     nav.setTarget(nav.wanted(level, targets), level);
     this.step = state.t;
+    this.retargetMs = performance.now() - start;
     if (state.nav !== nav) {
       this.levelNav = state.nav;
       this.swap(nav);
@@ -130,6 +166,7 @@ export class RefineView {
       active: true, requests: this.texts.slice(), elsewhere: this.elsewhereText, step: this.step,
       vertices: nav.activeVertexCount, elsewhereVertices: elsewhere, refinedVertices: nav.activeVertexCount - elsewhere,
       faces: nav.activeFaceCount, triangles: nav.triangleCount, quads: nav.quadCount, description: this.describe(),
+      retargetMs: this.retargetMs, following: Boolean(this.followTimer),
     };
   }
 
@@ -137,7 +174,7 @@ export class RefineView {
   // elsewhere. A request it cannot read is said in the label, and nothing changes.
   fromPanel() {
     const { mode, box, moved, elsewhere } = this.ui;
-    const texts = { off: [], box: [`box:${box.value.replace(/\s+/g, '')}`], parts: [this.visibleParts()], picked: [this.pickedParts()], moved: [`moved:>${moved.value}`] }[mode.value];
+    const texts = { off: [], box: [`box:${box.value.replace(/\s+/g, '')}`], parts: [this.visibleParts()], picked: [this.pickedParts()], moved: [`moved:>${moved.value}`], view: [this.viewFromPanel()] }[mode.value];
     try {
       if (texts.includes(null)) throw new DpmError('pick an element first (a click on the model): its part is refined');
       this.refine(texts, elsewhere.value.trim());
@@ -147,14 +184,27 @@ export class RefineView {
     }
   }
 
+  // "view:PX=…[;BUDGET=…]" from the slider and the budget (the camera is added by refine()).
+  viewFromPanel() {
+    const budget = Math.max(0, Math.round(Number(this.ui.budget.value) || 0));
+    return `view:PX=${this.ui.pixels.value}` + (budget ? `;BUDGET=${budget}` : '');
+  }
+
   showInPanel() {
     const { ui } = this;
     const kinds = this.requests.map((r) => r.kind);
     const parts = ui.mode.value === 'picked' ? 'picked' : 'parts';
-    const mode = !kinds.length ? 'off' : kinds.includes('moved') ? 'moved' : kinds.includes('part') ? parts : 'box';
+    const mode = !kinds.length ? 'off' : kinds.includes('view') ? 'view' : kinds.includes('moved') ? 'moved' : kinds.includes('part') ? parts : 'box';
     ui.mode.value = mode;
     ui.boxRow.hidden = mode !== 'box';
     ui.movedRow.hidden = mode !== 'moved';
+    ui.viewRow.hidden = ui.budgetRow.hidden = mode !== 'view';
+    const view = this.requests.find((r) => r.kind === 'view');
+    if (view) {
+      ui.pixels.value = String(view.pixels);
+      ui.pixelsLabel.textContent = `${fmt(view.pixels)} px`;
+      ui.budget.value = String(view.budget);
+    }
     ui.elsewhere.value = this.elsewhereText;
     const box = this.requests.find((r) => r.kind === 'box');
     if (box) ui.box.value = [...box.min, ...box.max].map((x) => fmt(x, 6)).join(', ');

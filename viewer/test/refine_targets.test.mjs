@@ -124,6 +124,10 @@ test('the request syntax: what it reads, and its errors', () => {
   assert.deepEqual(parseRequest('field:PEEQ>0.05'), { kind: 'field', name: 'PEEQ', above: true, threshold: 0.05 });
   assert.deepEqual(parseRequest('field:S<-1e3'), { kind: 'field', name: 'S', above: false, threshold: -1000 });
   assert.deepEqual(parseRequest('moved:>5'), { kind: 'moved', distance: 5 });
+  assert.deepEqual(parseRequest('view:EYE=1,2,3;AT=0,0,-1.5;UP=0,1,0;FOV=35;W=900;H=700;PX=0.5;BUDGET=2000'),
+    { kind: 'view', eye: [1, 2, 3], at: [0, 0, -1.5], up: [0, 1, 0], fov: 35, width: 900, height: 700, pixels: 0.5, budget: 2000 });
+  assert.deepEqual(parseRequest('view:EYE=1,0,0;AT=0,0,0;FOV=45;H=1080;PX=1'),
+    { kind: 'view', eye: [1, 0, 0], at: [0, 0, 0], up: [0, 0, 1], fov: 45, width: 0, height: 1080, pixels: 1, budget: 0 });
   assert.deepEqual(parseElsewhere('5%'), { ratio: 0.05 });
   assert.deepEqual(parseElsewhere('20000'), { vertices: 20000 });
   assert.deepEqual(parseElsewhere('error:0.01'), { error: 0.01 });
@@ -139,6 +143,15 @@ test('the request syntax: what it reads, and its errors', () => {
     'field:>3': /field:NAME>V/,
     'moved:5': /moved:>D/,
     'cone:1': /unknown kind "cone"/,
+    'view:EYE=1,0,0;AT=0,0,0;FOV=45;H=1080': /no PX/,
+    'view:EYE=1,0,0;AT=1,0,0;FOV=45;H=9;PX=1': /EYE and AT are the same point/,
+    'view:EYE=0,0,0;AT=0,0,1;FOV=45;H=9;PX=1': /UP is along the view direction/,
+    'view:EYE=1,0,0;AT=0,0,0;FOV=190;H=9;PX=1': /FOV is in degrees/,
+    'view:EYE=1,0,0;AT=0,0,0;FOV=45;H=9;PX=0': /PX, the tolerance/,
+    'view:EYE=1,0;AT=0,0,0;FOV=45;H=9;PX=1': /EYE needs 3 numbers/,
+    'view:EYE=1,0,0;EYE=1,0,0': /EYE is given twice/,
+    'view:EYE=1,0,0;AT=0,0,0;FOV=45;H=9;PX=1;ZOOM=2': /unknown key "ZOOM"/,
+    'view:EYE=1,0,0;AT=0,0,0;FOV=45;H=9;PX=1;BUDGET=1.5': /BUDGET is a vertex count/,
   };
   for (const [text, message] of Object.entries(bad)) assert.throws(() => parseRequest(text), message, text);
   for (const [text, message] of Object.entries({ '5': null, '150%': /\(0, 100\]/, '0%': /\(0, 100\]/, '0': /whole number/, '0.5': /whole number/, 'error:-1': /negative/, 'error:': /not a number/ }))

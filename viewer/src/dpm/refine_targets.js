@@ -3,6 +3,7 @@
 // on this side; C++: src/lod/refine_targets.cpp.
 //
 //   box:X0,Y0,Z0,X1,Y1,Z1   sphere:X,Y,Z,R   part:3,7   field:NAME>V | field:NAME<V   moved:>D
+//   view:EYE=x,y,z;AT=x,y,z;FOV=deg;H=px;PX=p[;UP=x,y,z][;W=px][;BUDGET=vertices]
 //   elsewhere: 5% (a ratio of the vertices) | 20000 (vertices) | error:0.01 (absolute error)
 //
 // What a target wants, at (fractional) step t:
@@ -12,9 +13,12 @@
 //   part: the splits of the fully refined corners of the parts' faces, and their last writers;
 //   field: per node, the splits of the nodes beyond the threshold; per element, as part: for
 //     the faces beyond it;
-//   moved: the splits of the vertices with |p(t) − p(0)| > D.
+//   moved: the splits of the vertices with |p(t) − p(0)| > D;
+//   view: the splits whose screen error exceeds PX pixels (view_target.js), after the others
+//     and the level elsewhere, by decreasing error while the vertices are under BUDGET.
 // Several requests are a union. The navigator adds the "elsewhere" prefix and the closure.
 import { DpmError } from './bytes.js';
+import { splitSpheres, viewSplits } from './view_target.js';
 
 // A decimal number as C++ std::from_chars reads one (no blanks, no '+', no hex), finite.
 const DECIMAL = /^-?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$/;
@@ -62,9 +66,47 @@ export function parseRequest(text) {
       if (d < 0) throw new DpmError(`refine request "${text}": the distance is negative`);
       return { kind, distance: d };
     }
+    case 'view':
+      return parseView(rest, text);
     default:
-      throw new DpmError(`refine request "${text}": unknown kind "${kind}" (box, sphere, part, field, moved)`);
+      throw new DpmError(`refine request "${text}": unknown kind "${kind}" (box, sphere, part, field, moved, view)`);
   }
+}
+
+const VIEW_SYNTAX = 'a view is view:EYE=x,y,z;AT=x,y,z;FOV=deg;H=px;PX=p (and UP=x,y,z, W=px, BUDGET=vertices)';
+const VIEW_KEYS = { EYE: 'eye', AT: 'at', UP: 'up', FOV: 'fov', W: 'width', H: 'height', PX: 'pixels', BUDGET: 'budget' };
+
+// view:KEY=VALUE;… → {kind: 'view', eye, at, up, fov, width, height, pixels, budget (0: none)}.
+function parseView(rest, text) {
+  const fail = (problem) => {
+    throw new DpmError(`refine request "${text}": ${problem}`);
+  };
+  const r = { kind: 'view', up: [0, 0, 1], width: 0, budget: 0 };
+  const seen = new Set();
+  for (const item of rest ? rest.split(';') : []) {
+    const eq = item.indexOf('=');
+    if (eq < 0) fail(`"${item}" is not KEY=VALUE: ${VIEW_SYNTAX}`);
+    const key = item.slice(0, eq);
+    if (!Object.hasOwn(VIEW_KEYS, key)) fail(`unknown key "${key}": ${VIEW_SYNTAX}`);
+    if (seen.has(key)) fail(`${key} is given twice`);
+    seen.add(key);
+    const values = item.slice(eq + 1).split(',');
+    const point = key === 'EYE' || key === 'AT' || key === 'UP';
+    if (values.length !== (point ? 3 : 1)) fail(point ? `${key} needs 3 numbers x,y,z` : `${key} needs one number`);
+    const x = values.map((v) => number(v, key, text));
+    r[VIEW_KEYS[key]] = point ? x : x[0];
+  }
+  for (const key of ['EYE', 'AT', 'FOV', 'H', 'PX']) if (!seen.has(key)) fail(`no ${key}: ${VIEW_SYNTAX}`);
+  if (seen.has('BUDGET') && !(Number.isInteger(r.budget) && r.budget >= 1 && r.budget <= 0xffffffff)) fail('BUDGET is a vertex count, a whole number ≥ 1');
+  if (!(r.fov > 0 && r.fov < 180)) fail('FOV is in degrees, in (0, 180)');
+  if (r.height < 1 || r.width < 0 || (r.width > 0 && r.width < 1)) fail('W and H are pixels, at least 1');
+  if (!(r.pixels > 0)) fail('PX, the tolerance in pixels, must be > 0');
+  const d = [r.at[0] - r.eye[0], r.at[1] - r.eye[1], r.at[2] - r.eye[2]];
+  const u = r.up;
+  if (d.every((x) => x === 0)) fail('EYE and AT are the same point');
+  if (d[1] * u[2] - d[2] * u[1] === 0 && d[2] * u[0] - d[0] * u[2] === 0 && d[0] * u[1] - d[1] * u[0] === 0)
+    fail('UP is along the view direction (or zero): give another UP');
+  return r;
 }
 
 // The "elsewhere" level's text → {ratio} | {vertices} | {error}.
@@ -96,8 +138,9 @@ export function elsewhereLevel(mesh, elsewhere) {
 }
 
 // The splits the requests want (parsed, or their text), at step t: an array of split indices,
-// each once. dependencies: a SplitDependencies derived as far as the splits to consider.
-export function requestedSplits(mesh, dependencies, requests, t = 0) {
+// each once. dependencies: a SplitDependencies derived as far as the splits to consider. level:
+// the level elsewhere, which a view's budget counts (the others do not need it).
+export function requestedSplits(mesh, dependencies, requests, t = 0, level = 0) {
   const L = dependencies.derived;
   const b = mesh.head.baseVertexCount;
   const n = b + L;
@@ -113,7 +156,8 @@ export function requestedSplits(mesh, dependencies, requests, t = 0) {
   };
   let p = null;
   const positions = () => (p ??= mesh.positionsAt(t, n, new Float32Array(3 * n)));
-  for (const r of requests.map((x) => (typeof x === 'string' ? parseRequest(x) : x))) {
+  const parsed = requests.map((x) => (typeof x === 'string' ? parseRequest(x) : x));
+  for (const r of parsed) {
     if (r.kind === 'box' || r.kind === 'sphere') {
       const inside = new Uint8Array(n);
       const at = positions();
@@ -145,7 +189,47 @@ export function requestedSplits(mesh, dependencies, requests, t = 0) {
   }
   const out = [];
   for (let i = 0; i < L; i++) if (want[i]) out.push(i);
+  const views = parsed.filter((r) => r.kind === 'view');
+  return views.length ? withViews(mesh, dependencies, views, out, t, level) : out;
+}
+
+// The other requests' splits and the level, closed; then each view's splits by decreasing
+// screen error, each with its closure, while the vertices are fewer than its budget (the last
+// closure may pass it). Returns the closed set's splits above the level.
+function withViews(mesh, dependencies, views, others, t, level) {
+  const L = dependencies.derived;
+  const closed = new Uint8Array(mesh.head.splitCount);
+  closed.fill(1, 0, Math.max(0, Math.min(level, L)));
+  dependencies.close(others, closed);
+  let vertices;
+  const spheres = cachedSpheres(mesh, dependencies, t);
+  for (const view of views) {
+    const wanted = viewSplits(mesh, spheres, L, view, view.budget > 0);
+    if (!view.budget) {
+      dependencies.close(wanted.map(([, i]) => i), closed);
+      continue;
+    }
+    vertices = mesh.head.baseVertexCount;
+    for (let i = 0; i < L; i++) vertices += closed[i];
+    for (const [, i] of wanted) {
+      if (vertices >= view.budget) break;
+      vertices += dependencies.addWithDependencies(i, closed);
+    }
+  }
+  const out = [];
+  for (let i = Math.max(0, Math.min(level, L)); i < L; i++) if (closed[i]) out.push(i);
   return out;
+}
+
+// The spheres of the last step asked, per dependencies (re-made when the step or the splits
+// derived change): one bottom-up pass per step, not per camera.
+const sphereCache = new WeakMap();
+function cachedSpheres(mesh, dependencies, t) {
+  const c = sphereCache.get(dependencies);
+  if (c && c.t === t && c.L === dependencies.derived) return c.spheres;
+  const spheres = splitSpheres(mesh, dependencies.derived, t);
+  sphereCache.set(dependencies, { t, L: dependencies.derived, spheres });
+  return spheres;
 }
 
 const boxTest = ({ min, max }) => (x, y, z) =>

@@ -148,16 +148,30 @@ export class SplitDependencies {
   close(T, wanted) {
     const stack = [];
     for (const i of T) if (!wanted[i]) (wanted[i] = 1), stack.push(i);
+    this.flagDependencies(stack, wanted);
+    return wanted;
+  }
+
+  // Split i and what it depends on into `wanted` (a closed set): how many splits it flagged.
+  addWithDependencies(i, wanted) {
+    if (wanted[i]) return 0;
+    wanted[i] = 1;
+    return 1 + this.flagDependencies([i], wanted);
+  }
+
+  // Flags what the splits on `stack` depend on, transitively; returns how many it flagged.
+  flagDependencies(stack, wanted) {
     const { depStart } = this;
     const deps = this.deps.data;
+    let flagged = 0;
     while (stack.length) {
       const i = stack.pop();
       for (let k = depStart[i], end = depStart[i + 1]; k < end; k++) {
         const j = deps[k];
-        if (!wanted[j]) (wanted[j] = 1), stack.push(j);
+        if (!wanted[j]) (wanted[j] = 1), flagged++, stack.push(j);
       }
     }
-    return wanted;
+    return flagged;
   }
 }
 
