@@ -94,9 +94,10 @@ inline const ProgressiveMesh* crashbox_in_parts(const std::string& name, int ban
 inline SplitReads test_reads() {
   const char* r = std::getenv("DYNPM_SPLIT_READS");
   const std::string name = r ? r : "fan";
-  return name == "wing"      ? SplitReads::kWingEdges
-         : name == "written" ? SplitReads::kWritten
-                             : SplitReads::kFan;
+  return name == "wing"       ? SplitReads::kWingEdges
+         : name == "written"  ? SplitReads::kWritten
+         : name == "creators" ? SplitReads::kFaceCreators
+                              : SplitReads::kFan;
 }
 
 // The original's boundary loops, components and parts, which a refined mesh keeps.

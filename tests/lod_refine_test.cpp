@@ -26,7 +26,11 @@ using test::test_reads;
 class Refinement {
  public:
   explicit Refinement(const ProgressiveMesh& m, SplitReads reads = test_reads())
-      : m_(m), deps_(derive_split_dependencies(m, reads)), targets_(m, deps_), nav_(m, deps_) {
+      : m_(m),
+        deps_(derive_split_dependencies(m, reads)),
+        targets_(m, deps_),
+        nav_(m, deps_),
+        max_ratio_(reads == SplitReads::kFaceCreators ? 1.7 : 2.5) {
     Navigator full(m);
     full.set_level(m.split_count());
     full_ = full.topology();
@@ -72,10 +76,11 @@ class Refinement {
     size_t level_outside = 0;
     for (uint32_t v = 0; v < m_.vertex_count(); ++v) level_outside += v < b + k && !region[v];
     const size_t budget = region_vertices + level_outside;
-    std::cout << "[ refine ] step " << t << ": " << nav_.vertex_count() << " vertices ("
-              << region_vertices << " in the region, " << region_faces
-              << " region faces; region + level elsewhere " << budget << ", ratio "
-              << double(nav_.vertex_count()) / double(budget) << "); vertices / the level's";
+    std::cout << "[ refine ] " << (max_ratio_ < 2 ? "face creators" : "read set") << ", step " << t
+              << ": " << nav_.vertex_count() << " vertices (" << region_vertices
+              << " in the region, " << region_faces << " region faces; region + level elsewhere "
+              << budget << ", ratio " << double(nav_.vertex_count()) / double(budget)
+              << "); vertices / the level's";
     for (uint32_t h : {4u, 8u, 16u, 24u}) {
       size_t selective = 0, level = 0;
       for (uint32_t v = 0; v < m_.vertex_count(); ++v)
@@ -85,9 +90,9 @@ class Refinement {
     std::cout << "\n";
     // The issue asks for ≤ 1.3 × and, beyond a band of a few rows, the level's count within
     // 10 %: not met by derived dependencies (docs/selective.md "Measured"; up to 2.35 × with the
-    // fan, 1.75 × with the written faces only, and far more than the level 4–16 rows out). This
-    // bound keeps what is measured from getting worse.
-    EXPECT_LE(nav_.vertex_count(), 2.5 * double(budget));
+    // fan, 1.65 × with the face creators, and more than the level 4–16 rows out). These bounds
+    // keep what is measured from getting worse.
+    EXPECT_LE(nav_.vertex_count(), max_ratio_ * double(budget));
   }
 
   // The largest |value| of a field the refined mesh shows at step t, and the original's.
@@ -118,7 +123,11 @@ class Refinement {
   Topology full_;
   PartsShape original_;
   std::vector<std::vector<uint32_t>> neighbours_;
+  double max_ratio_;
 };
+
+// The read sets measured: DYNPM_SPLIT_READS's (the fan by default) and the face creators' rule.
+const SplitReads kRules[] = {test_reads(), SplitReads::kFaceCreators};
 
 // A box over the crushed end of the tube at the last step: a quarter of its length.
 TEST(Refine, BoxAtTheLastStep) {
@@ -126,20 +135,22 @@ TEST(Refine, BoxAtTheLastStep) {
     SCOPED_TRACE(name);
     DYNPM_CRASHBOX_OR_SKIP(model, name);
     const ProgressiveMesh& m = model->mesh;
-    Refinement r(m);
-    int axis = 0;
-    for (int c = 1; c < 3; ++c)
-      if (m.bbox_max[c] - m.bbox_min[c] > m.bbox_max[axis] - m.bbox_min[axis]) axis = c;
-    RefineTarget box;
-    for (int c = 0; c < 3; ++c) {
-      box.box[c] = m.bbox_min[c];
-      box.box[c + 3] = m.bbox_max[c];
+    for (SplitReads reads : kRules) {
+      Refinement r(m, reads);
+      int axis = 0;
+      for (int c = 1; c < 3; ++c)
+        if (m.bbox_max[c] - m.bbox_min[c] > m.bbox_max[axis] - m.bbox_min[axis]) axis = c;
+      RefineTarget box;
+      for (int c = 0; c < 3; ++c) {
+        box.box[c] = m.bbox_min[c];
+        box.box[c + 3] = m.bbox_max[c];
+      }
+      box.box[axis + 3] = m.bbox_max[axis] - 0.75 * (m.bbox_max[axis] - m.bbox_min[axis]);
+      r.check(box, double(m.step_count() - 1), "5%");
+      box.box[axis] = m.bbox_min[axis] + 0.4 * (m.bbox_max[axis] - m.bbox_min[axis]);
+      box.box[axis + 3] = m.bbox_min[axis] + 0.6 * (m.bbox_max[axis] - m.bbox_min[axis]);
+      r.check(box, double(m.step_count() - 1), "5%");
     }
-    box.box[axis + 3] = m.bbox_max[axis] - 0.75 * (m.bbox_max[axis] - m.bbox_min[axis]);
-    r.check(box, double(m.step_count() - 1), "5%");
-    box.box[axis] = m.bbox_min[axis] + 0.4 * (m.bbox_max[axis] - m.bbox_min[axis]);
-    box.box[axis + 3] = m.bbox_min[axis] + 0.6 * (m.bbox_max[axis] - m.bbox_min[axis]);
-    r.check(box, double(m.step_count() - 1), "5%");
   }
 }
 
@@ -147,29 +158,33 @@ TEST(Refine, BoxAtTheLastStep) {
 TEST(Refine, PartAtEveryStep) {
   const ProgressiveMesh* m = test::crashbox_in_parts("crashbox-mixed-5k", 4);
   if (!m) GTEST_SKIP() << "../shared/data/crashbox-mixed-5k is missing";
-  Refinement r(*m);
   const RefineTarget part = parse_refine_target("part:2").value();
-  for (size_t t = 0; t < m->step_count(); t += 5) r.check(part, double(t), "5%");
+  for (SplitReads reads : kRules) {
+    Refinement r(*m, reads);
+    for (size_t t = 0; t < m->step_count(); t += 5) r.check(part, double(t), "5%");
+  }
 }
 
 // Plastic strain above 0.05 at every step: the region follows the buckle as it grows.
 TEST(Refine, FieldAtEveryStep) {
   DYNPM_CRASHBOX_OR_SKIP(model, "crashbox-fields");
-  Refinement r(model->mesh);
-  const RefineTarget peeq = parse_refine_target("field:PEEQ>0.05").value();
-  const auto& fields = model->mesh.fields;
-  const size_t peeq_field =
-      size_t(std::find_if(fields.begin(), fields.end(),
-                          [](const auto& f) { return f.info.name == "PEEQ"; }) -
-             fields.begin());
-  ASSERT_LT(peeq_field, fields.size());
-  for (size_t t = 0; t < model->mesh.step_count(); ++t) {
-    r.check(peeq, double(t), "5%");
-    // Missing vertices merge into existing ancestors: the peak is still shown.
-    const auto [shown, original] = r.peaks(peeq_field, t);
-    EXPECT_EQ(shown, original) << "step " << t;
-    if (t > 0) {
-      EXPECT_GT(original, 0.0f) << "step " << t;
+  for (SplitReads reads : kRules) {
+    Refinement r(model->mesh, reads);
+    const RefineTarget peeq = parse_refine_target("field:PEEQ>0.05").value();
+    const auto& fields = model->mesh.fields;
+    const size_t peeq_field =
+        size_t(std::find_if(fields.begin(), fields.end(),
+                            [](const auto& f) { return f.info.name == "PEEQ"; }) -
+               fields.begin());
+    ASSERT_LT(peeq_field, fields.size());
+    for (size_t t = 0; t < model->mesh.step_count(); ++t) {
+      r.check(peeq, double(t), "5%");
+      // Missing vertices merge into existing ancestors: the peak is still shown.
+      const auto [shown, original] = r.peaks(peeq_field, t);
+      EXPECT_EQ(shown, original) << "step " << t;
+      if (t > 0) {
+        EXPECT_GT(original, 0.0f) << "step " << t;
+      }
     }
   }
 }

@@ -108,7 +108,13 @@ struct SplitDependencies {
 // What split i is taken to read besides the faces it writes: the parent's whole fan (the agreed
 // design), only the fan's faces on a wing edge (v1, w) (Hoppe's neighbour faces), or nothing
 // more (then i also needs the splits that made its wing vertices).
-enum class SplitReads : uint8_t { kFan, kWingEdges, kWritten };
+// kFaceCreators drops the read-after-write order on whole faces (a split moves a corner by
+// value, so the corner moves of one face commute): i needs the splits that made its parent and
+// wing vertices, of every face it writes the split that created it and the one that made it a
+// quad, and of every face on a wing edge (a quad wing's triangle's sides at v1) its creator
+// (docs/selective.md "Face creators"). Dependencies then point to earlier splits too, but a
+// closed set no longer leaves every face as the stream did (only as its applied writers make it).
+enum class SplitReads : uint8_t { kFan, kWingEdges, kWritten, kFaceCreators };
 // One pass over the splits in stream order (works on a prefix of a file as well).
 SplitDependencies derive_split_dependencies(const ProgressiveMesh& mesh,
                                             SplitReads reads = SplitReads::kFan);

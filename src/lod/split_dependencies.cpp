@@ -2,6 +2,7 @@
 // replay of the stream that tracks which faces hold each vertex, and per face its last writer
 // and the readers since.
 #include <algorithm>
+#include <array>
 
 #include "dynpm/lod.h"
 
@@ -62,6 +63,83 @@ class FaceAccess {
   std::vector<Reader> pool_;
 };
 
+// Appends split i's sorted, unique dependencies to the CSR.
+void close_split(std::vector<uint32_t>& needs, SplitDependencies& out) {
+  std::sort(needs.begin(), needs.end());
+  needs.erase(std::unique(needs.begin(), needs.end()), needs.end());
+  out.deps.insert(out.deps.end(), needs.begin(), needs.end());
+  out.dep_start.push_back(static_cast<uint32_t>(out.deps.size()));
+}
+
+// kFaceCreators: a split moves a corner by value and a quad wing inserts a corner by slot, so
+// the writes of one face commute and each face's state depends only on which of its writers are
+// applied, not on their order. Split i needs what makes its own step legal: its parent and wing
+// vertices; every face it writes existing (its creator) and, if a quad wing made it a quad, as a
+// quad (without it a moved quad side opens a crack: 9 boundary loops instead of 5, measured);
+// and the faces on its wing edges existing (Hoppe's fn0..fn3).
+SplitDependencies derive_face_creators(const ProgressiveMesh& mesh, SplitDependencies out) {
+  const uint32_t n = mesh.split_count(), b = mesh.base_vertex_count, total = out.faces_after[n];
+  VertexFans fans(mesh);
+  std::vector<Face> faces = mesh.base_faces;
+  faces.resize(total);
+  std::vector<uint32_t> created_by(total, kNoIndex), quad_by(total, kNoIndex);
+  out.last_writer.assign(total, kNoIndex);
+  std::vector<uint32_t> needs;
+  auto need = [&](uint32_t split) {
+    if (split != kNoIndex) needs.push_back(split);
+  };
+  auto need_vertex = [&](uint32_t v) { need(v >= b ? v - b : kNoIndex); };
+  auto need_face = [&](uint32_t f) {
+    need(created_by[f]);
+    need(quad_by[f]);
+  };
+  for (uint32_t i = 0; i < n; ++i) {
+    const uint32_t v0 = b + i, v1 = mesh.parent[i];
+    needs.clear();
+    need_vertex(v1);
+    for (uint32_t m = mesh.moved_start[i]; m < mesh.moved_start[i + 1]; ++m)
+      need_face(mesh.moved_faces[m]);
+    // The faces on the wing edges (v1, w), and for a quad wing on its triangle's sides at v1.
+    for (uint32_t k = mesh.wing_start[i]; k < mesh.wing_start[i + 1]; ++k) {
+      const SplitWing& w = mesh.wings[k];
+      need_vertex(w.vertex);
+      // A triangle wing's edge ends at w; a quad wing's triangle has two sides at v1.
+      std::array<uint32_t, 4> ends = {w.vertex, kNoVertex, kNoVertex, kNoVertex};
+      if (!w.was_triangle()) {
+        need_face(w.face);
+        ends = faces[w.face].v;
+      }
+      // Hoppe's fn0..fn3: these faces must exist (their quad or triangle shape does not
+      // matter); without them a vertex can end up with two faces (measured: (M2) fails).
+      for (uint32_t f : fans.of(v1))
+        for (uint32_t e : ends)
+          if (e != kNoVertex && e != v1 && faces[f].contains(e)) need(created_by[f]);
+    }
+    uint32_t next = out.faces_after[i];
+    for (uint32_t k = mesh.wing_start[i]; k < mesh.wing_start[i + 1]; ++k) {
+      const SplitWing& w = mesh.wings[k];
+      if (w.was_triangle()) {
+        created_by[next] = out.last_writer[next] = i;
+        fans.add(v0, next);
+        fans.add(v1, next);
+        fans.add(w.vertex, next);
+        ++next;
+      } else {
+        quad_by[w.face] = out.last_writer[w.face] = i;
+        fans.add(v0, w.face);
+      }
+    }
+    for (uint32_t m = mesh.moved_start[i]; m < mesh.moved_start[i + 1]; ++m) {
+      out.last_writer[mesh.moved_faces[m]] = i;
+      fans.move(mesh.moved_faces[m], v1, v0);
+    }
+    uint32_t count = out.faces_after[i];
+    apply_split(mesh, i, faces, count);
+    close_split(needs, out);
+  }
+  return out;
+}
+
 }  // namespace
 
 SplitDependencies derive_split_dependencies(const ProgressiveMesh& mesh, SplitReads reads) {
@@ -75,6 +153,7 @@ SplitDependencies derive_split_dependencies(const ProgressiveMesh& mesh, SplitRe
       created += mesh.wings[k].was_triangle();
     out.faces_after[i + 1] = out.faces_after[i] + created;
   }
+  if (reads == SplitReads::kFaceCreators) return derive_face_creators(mesh, std::move(out));
   VertexFans fans(mesh);
   // The stream's faces, kept only for kWingEdges (which faces of the fan hold a wing vertex).
   const bool wing_edges = reads == SplitReads::kWingEdges;
@@ -127,10 +206,7 @@ SplitDependencies derive_split_dependencies(const ProgressiveMesh& mesh, SplitRe
     for (uint32_t m = mesh.moved_start[i]; m < mesh.moved_start[i + 1]; ++m)
       fans.move(mesh.moved_faces[m], v1, v0);
     if (uint32_t count = out.faces_after[i]; wing_edges) apply_split(mesh, i, faces, count);
-    std::sort(needs.begin(), needs.end());
-    needs.erase(std::unique(needs.begin(), needs.end()), needs.end());
-    out.deps.insert(out.deps.end(), needs.begin(), needs.end());
-    out.dep_start.push_back(static_cast<uint32_t>(out.deps.size()));
+    close_split(needs, out);
   }
   out.last_writer = access.take_last_writers();
   return out;
