@@ -119,6 +119,7 @@ void fields_json(Json& j, const std::vector<std::string>& fields, const LevelDis
     j.value("peak_ratio", cell.peak_ratio[f]);
     j.value("peak_gap_pct", cell.peak_gap_pct[f]);
     j.value("field_error_nearest_pct", cell.field_error_nearest_pct[f]);
+    j.value("field_error_mean_pct", cell.field_error_mean_pct[f]);
     j.value("field_error_node_pct", cell.field_error_node_pct[f]);  // null: an element field
     j.begin_array("field_error_at");
     for (double c : cell.field_error_at[f]) j.item(c);

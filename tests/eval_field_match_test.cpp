@@ -89,6 +89,10 @@ TEST(FieldMatch, AFacingMatchDoesNotMixTheSheetsOfAFold) {
   EXPECT_NEAR(facing.a_to_b, 0, 1e-6);
   EXPECT_NEAR(facing.b_to_a, 0, 1e-6);
   EXPECT_NEAR(facing.nearest, 1, 1e-6);  // the old measure, reported beside
+  // The mean over the area samples: half of them land on the wrong sheet by the closest point.
+  EXPECT_NEAR(facing.mean, 0, 1e-6);
+  EXPECT_GT(nearest.mean, 0.3);
+  EXPECT_LT(nearest.mean, 0.7);
   EXPECT_NEAR(measure(0.0015, fb).max, 1, 1e-6);
   std::vector<float> lower_half = fb;  // B's lower sheet reads 0.5: a real error of 0.5
   std::fill(lower_half.begin(), lower_half.begin() + lower_half.size() / 2, 0.5f);

@@ -208,6 +208,10 @@ struct FieldDistance {
   double max = 0;          // the two-sided field error: max(a_to_b, b_to_a)
   Point3 max_at{0, 0, 0};  // the sample where it was found
   double nearest_a_to_b = 0, nearest_b_to_a = 0, nearest = 0;
+  // The mean |difference| over the area samples of both directions (an area-weighted mean, as
+  // HausdorffResult::mean), at the facing match (the closest point without a facing reach),
+  // without the position tolerance's search.
+  double mean = 0;
 };
 
 struct HausdorffResult {

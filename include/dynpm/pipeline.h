@@ -129,6 +129,9 @@ struct LevelDistance {
   // alone (the measure before the facing correspondence), and per original node against the
   // value its representative at the level shows (Navigator::ancestor; NaN for element fields).
   std::vector<double> field_error_nearest_pct, field_error_node_pct;
+  // The mean field error over the surface (FieldDistance::mean), % of the range; in max the
+  // largest over the steps.
+  std::vector<double> field_error_mean_pct;
   std::vector<Point3> field_error_at;  // the sample of field_error_pct (in max: its step's)
 };
 

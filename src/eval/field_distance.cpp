@@ -71,7 +71,11 @@ Point3 triangle_normal(const SurfaceTriangle& t) {
 }
 
 FieldTally::FieldTally(size_t fields)
-    : facing(fields, -1), nearest(fields, -1), facing_at(fields), nearest_at(fields) {}
+    : facing(fields, -1),
+      nearest(fields, -1),
+      facing_at(fields),
+      nearest_at(fields),
+      area_sum(fields, 0) {}
 
 void FieldTally::merge(const FieldTally& t) {
   for (auto [max, at, other, other_at] :
@@ -81,6 +85,9 @@ void FieldTally::merge(const FieldTally& t) {
     for (size_t k = 0; k < other->size(); ++k)
       if ((*other)[k] > (*max)[k]) (*max)[k] = (*other)[k], (*at)[k] = (*other_at)[k];
   }
+  area_sum.resize(t.area_sum.size(), 0);
+  for (size_t k = 0; k < t.area_sum.size(); ++k) area_sum[k] += t.area_sum[k];
+  area_samples += t.area_samples;
 }
 
 FieldSampler::FieldSampler(const Surface& to, std::span<const FieldSides> fields, double tolerance,
@@ -109,7 +116,7 @@ double FieldSampler::smallest_difference(size_t k, double value, double start, d
 }
 
 void FieldSampler::measure(const Point3& p, const Point3& normal, const TriangleBvh::Hit& hit,
-                           std::span<const double> values, FieldTally& tally) {
+                           std::span<const double> values, bool area_sample, FieldTally& tally) {
   p_ = p, normal_ = normal, near_radius2_ = -1;
   const double distance = std::sqrt(hit.squared_distance);
   auto square = [](double x) { return x * x; };
@@ -121,6 +128,7 @@ void FieldSampler::measure(const Point3& p, const Point3& normal, const Triangle
   // closest facing point within the reach, else (none) the closest point.
   TriangleBvh::Hit match = hit;
   bool match_known = facing_reach_ <= 0 || faces(hit.triangle), match_faces = match_known;
+  if (area_sample) ++tally.area_samples;
   for (size_t k = 0; k < fields_.size(); ++k) {
     const double value = values[k];
     if (std::isnan(value)) continue;
@@ -134,7 +142,10 @@ void FieldSampler::measure(const Point3& p, const Point3& normal, const Triangle
                                       : at_hit;
       if (d > tally.nearest[k]) tally.nearest[k] = d, tally.nearest_at[k] = p;
     }
-    if (facing_reach_ <= 0) continue;
+    if (facing_reach_ <= 0) {
+      if (area_sample) tally.area_sum[k] += at_hit;
+      continue;
+    }
     if (!match_known) {
       const double reach2 = square(distance + facing_reach_);
       if (reach2 != near_radius2_) {
@@ -151,6 +162,7 @@ void FieldSampler::measure(const Point3& p, const Point3& normal, const Triangle
     double at_match = match.triangle == hit.triangle
                           ? at_hit
                           : std::abs(value - interpolate(to[match.triangle], match.weights));
+    if (area_sample) tally.area_sum[k] += at_match;
     if (at_match > tally.facing[k] && tolerance_ > 0)
       at_match = smallest_difference(
           k, value, at_match, square(std::sqrt(match.squared_distance) + tolerance_), match_faces);

@@ -45,6 +45,8 @@ struct FieldSides {
 struct FieldTally {
   std::vector<double> facing, nearest;
   std::vector<Point3> facing_at, nearest_at;
+  std::vector<double> area_sum;  // of the area samples' differences at the facing match
+  uint64_t area_samples = 0;
   explicit FieldTally(size_t fields = 0);
   void merge(const FieldTally& t);  // in job order, so ties keep the earlier sample
 };
@@ -59,7 +61,7 @@ class FieldSampler {
   // p with its own normal (zero: unknown, any triangle faces it), `hit` its closest point on
   // `to` with weights, values[k] field k's value at p (NaN: none there).
   void measure(const Point3& p, const Point3& normal, const TriangleBvh::Hit& hit,
-               std::span<const double> values, FieldTally& tally);
+               std::span<const double> values, bool area_sample, FieldTally& tally);
 
  private:
   // The smallest |value − field k| over the hits closer to p than sqrt(radius2), only facing

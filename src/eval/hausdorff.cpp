@@ -257,7 +257,7 @@ Tally run_job(const Job& job, const Direction& d, uint64_t seed, size_t job_inde
     ++counter;
     if (d.fields.empty()) return;
     for (size_t k = 0; k < d.fields.size(); ++k) values[k] = own(k);
-    sampler.measure(p, normal, hit, values, tally.fields);
+    sampler.measure(p, normal, hit, values, area_sample, tally.fields);
   };
   const std::vector<float>& positions = d.from->positions;
   auto vertex = [&](uint32_t v) {
@@ -453,6 +453,10 @@ Result<HausdorffResult> evaluate(const Surface& a, const Surface& b,
     f.a_to_b = facing ? std::max(ab.facing[k], 0.0) : f.nearest_a_to_b;
     f.b_to_a = facing ? std::max(ba.facing[k], 0.0) : f.nearest_b_to_a;
     f.max = std::max(f.a_to_b, f.b_to_a);
+    auto mean = [&](const FieldTally& t) {
+      return t.area_samples > 0 ? t.area_sum[k] / double(t.area_samples) : 0.0;
+    };
+    f.mean = 0.5 * (mean(ab) + mean(ba));
     const bool from_b = f.b_to_a > f.a_to_b;
     f.max_at = facing ? (from_b ? ba.facing_at[k] : ab.facing_at[k])
                       : (from_b ? ba.nearest_at[k] : ab.nearest_at[k]);

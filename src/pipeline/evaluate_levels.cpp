@@ -127,6 +127,7 @@ Result<LevelsTable> evaluate_levels(const Topology& original, const FrameSource&
     row.max.peak_gap_pct.assign(field_count, -std::numeric_limits<double>::infinity());
     row.max.field_error_nearest_pct.assign(field_count, 0);
     row.max.field_error_node_pct.assign(field_count, 0);
+    row.max.field_error_mean_pct.assign(field_count, 0);
     row.max.field_error_at.assign(field_count, Point3{0, 0, 0});
     table.rows.push_back(std::move(row));
     level_faces.push_back(nav.topology());
@@ -219,6 +220,9 @@ Result<LevelsTable> evaluate_levels(const Topology& original, const FrameSource&
         auto pct = [&](double error) { return range > 0 ? 100 * error / range : 0.0; };
         cell.field_error_pct.push_back(pct(r->fields[f].max));
         cell.field_error_nearest_pct.push_back(pct(r->fields[f].nearest));
+        cell.field_error_mean_pct.push_back(pct(r->fields[f].mean));
+        row.max.field_error_mean_pct[f] =
+            std::max(row.max.field_error_mean_pct[f], cell.field_error_mean_pct[f]);
         cell.field_error_node_pct.push_back(
             source_fields[source_index[f]].location == FieldLocation::kNode
                 ? pct(node_error(model, representatives[i], original_values[f], level_values[f]))
