@@ -23,7 +23,7 @@ namespace {
 const VerbSpec kSpec{
     "eval",
     "dynpm eval ORIGINAL... --dpm MODEL.dpm --ratios 1,2,4,11 [--steps 0,12,24]\n"
-    "                  [--field NAME,…] [--aggregate max|mean]\n"
+    "                  [--field NAME,…] [--aggregate max|mean] [--facing-reach PCT]\n"
     "                  [--samples N] [--seed S] [--threads T] [--json OUT.json] [--plot OUT.svg]",
     "Measures a progressive mesh against the animation it was built from, as the paper's\n"
     "Table 2 does: for each resolution (--ratios, in % of the full vertex count) and each\n"
@@ -45,6 +45,9 @@ const VerbSpec kSpec{
      {"--field", "", true, "NAME,…", "result fields to measure (field error, peak ratio)"},
      {"--aggregate", "", true, "max|mean",
       "the value a coarse vertex or face shows (default max: the largest |value|)"},
+     {"--facing-reach", "", true, "PCT",
+      "field error: a sample matches the closest point facing its way if one is within PCT %\n"
+      "of the diagonal farther than the closest point (default 1; 0: the closest point alone)"},
      kSamplesFlag,
      kSeedFlag,
      kThreadsFlag,
@@ -115,6 +118,12 @@ void fields_json(Json& j, const std::vector<std::string>& fields, const LevelDis
     j.value("field_error_pct", cell.field_error_pct[f]);
     j.value("peak_ratio", cell.peak_ratio[f]);
     j.value("peak_gap_pct", cell.peak_gap_pct[f]);
+    j.value("field_error_nearest_pct", cell.field_error_nearest_pct[f]);
+    j.value("field_error_mean_pct", cell.field_error_mean_pct[f]);
+    j.value("field_error_node_pct", cell.field_error_node_pct[f]);  // null: an element field
+    j.begin_array("field_error_at");
+    for (double c : cell.field_error_at[f]) j.item(c);
+    j.end_array();
     j.end_object();
   }
   j.end_object();
@@ -141,6 +150,7 @@ std::string table_json(const std::vector<std::string>& files, const FrameSource&
   j.value("max_over", options.max_over_all_steps ? "all" : "chosen");
   if (!options.fields.empty()) {
     j.value("aggregate", options.aggregate == FieldAggregate::kMean ? "mean" : "max");
+    j.value("facing_reach_pct", options.field_facing_reach_pct);
     j.begin_object("field_ranges");
     for (size_t f = 0; f < options.fields.size(); ++f)
       j.value(options.fields[f], table.field_ranges[f]);
@@ -227,6 +237,11 @@ int run_eval(std::span<char* const> arguments) {
   if (auto text = args.value("--aggregate")) {
     if (*text != "max" && *text != "mean") return fail_usage("--aggregate is 'max' or 'mean'");
     options.aggregate = *text == "mean" ? FieldAggregate::kMean : FieldAggregate::kMaxAbs;
+  }
+  if (auto text = args.value("--facing-reach")) {
+    auto reach = parse_number("--facing-reach", *text, kPercent);
+    if (!reach) return fail_usage(reach.message() + " (% of the diagonal)");
+    options.field_facing_reach_pct = *reach;
   }
   if (Status s = parse_sampling_flags(args, options.hausdorff); !s.ok())
     return fail_usage(s.message());

@@ -3,7 +3,8 @@
 
 For each input and field: `dynpm build` with fields in the cost (the default) and with
 `--field-weight 0` (geometry only), then `dynpm eval --field` of both at 5 % and 25 % of the
-vertices over every step: the field error (% of the field's range), the peak ratio and the
+vertices over every step: the field error (% of the field's range; facing, the default, and
+beside it the closest point alone and the per-node measure, docs/eval.md), the peak ratio and the
 peak gap (how far the largest |value| shown is below the original's, % of the range; the
 stored bound is 0.1 %), and the two-sided Hausdorff distance (% of the diagonal).
 
@@ -62,15 +63,22 @@ def main():
             geometry = measure(a.dynpm, source, fields, 0, work)
         name = os.path.basename(source)
         print("\n#### %s\n" % name)
-        print("| ratio | field | field error, geometry only → with fields (max over steps) | ratio | "
+        print("| ratio | field | field error (facing), geometry only → with fields (max over steps) | ratio | "
+              "closest point alone | ratio | per node | ratio | "
               "peak ratio (smallest) | peak gap % (largest) | Hausdorff %, geometry only → with fields |")
-        print("|---|---|---|---|---|---|---|")
+        print("|---|---|---|---|---|---|---|---|---|---|---|")
         for r in RATIOS:
             g, w = geometry[r]["max"], with_fields[r]["max"]
             for f in fields:
-                ge, we = g["fields"][f]["field_error_pct"], w["fields"][f]["field_error_pct"]
-                print("| %d %% | %s | %.3g → %.3g | %.2f | %.4f | %.3f | %.3g → %.3g (%+.0f %%) |" % (
-                    r, f.replace("|", "\\|"), ge, we, we / ge if ge > 0 else 0, w["fields"][f]["peak_ratio"],
+                pairs = []
+                for key in ("field_error_pct", "field_error_nearest_pct", "field_error_node_pct"):
+                    ge, we = g["fields"][f][key], w["fields"][f][key]
+                    if ge is None or we is None:  # the per-node measure of an element field
+                        pairs.append("– | –")
+                    else:
+                        pairs.append("%.3g → %.3g | %.2f" % (ge, we, we / ge if ge > 0 else 0))
+                print("| %d %% | %s | %s | %.4f | %.3f | %.3g → %.3g (%+.0f %%) |" % (
+                    r, f.replace("|", "\\|"), " | ".join(pairs), w["fields"][f]["peak_ratio"],
                     w["fields"][f]["peak_gap_pct"], g["hausdorff_pct"], w["hausdorff_pct"],
                     100 * (w["hausdorff_pct"] / g["hausdorff_pct"] - 1) if g["hausdorff_pct"] > 0 else 0))
         print("\nEvery step (field error %, geometry only → with fields; peak gap % with fields):\n")

@@ -168,6 +168,13 @@ struct HausdorffOptions {
   // closest point may lie on the wrong sheet by less than the positions' stored bound; pass that
   // bound here. 0: the closest point alone.
   double field_tolerance = 0;
+  // The field error's facing correspondence, absolute (docs/eval.md, "Facing correspondence"):
+  // > 0, a sample is matched to the closest point of the other surface whose triangle faces
+  // the sample's way (normals less than 90° apart) if one lies within this much farther than
+  // the closest point overall, else to the closest point. Where a fold's sheets touch, the
+  // closest point may lie on the other sheet, which faces the other way. 0: the closest point
+  // alone. FieldDistance holds both measures.
+  double field_facing_reach = 0;
 };
 
 // Distances from samples on one surface to the other surface.
@@ -193,11 +200,18 @@ struct SurfaceField {
 struct FieldPair {
   SurfaceField a, b;  // the field on A and on B
 };
-// Largest |value on one surface − value at the closest point of the other|, absolute.
+// Largest |value on one surface − value at the corresponding point of the other|, absolute:
+// the facing correspondence when HausdorffOptions::field_facing_reach > 0, else the closest
+// point; the `nearest` values are always the closest point's (the measure before facing).
 struct FieldDistance {
   double a_to_b = 0, b_to_a = 0;
   double max = 0;          // the two-sided field error: max(a_to_b, b_to_a)
   Point3 max_at{0, 0, 0};  // the sample where it was found
+  double nearest_a_to_b = 0, nearest_b_to_a = 0, nearest = 0;
+  // The mean |difference| over the area samples of both directions (an area-weighted mean, as
+  // HausdorffResult::mean), at the facing match (the closest point without a facing reach),
+  // without the position tolerance's search.
+  double mean = 0;
 };
 
 struct HausdorffResult {

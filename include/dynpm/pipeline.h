@@ -104,6 +104,10 @@ struct LevelsOptions {
   // same location. The level shows each with `aggregate` (Navigator::field_values).
   std::vector<std::string> fields;
   FieldAggregate aggregate = FieldAggregate::kMaxAbs;
+  // The field error's facing correspondence (HausdorffOptions::field_facing_reach) in % of the
+  // reference diagonal; 0: the closest point alone (docs/eval.md, "Facing correspondence").
+  double field_facing_reach_pct = kDefaultFacingReachPct;
+  static constexpr double kDefaultFacingReachPct = 1;
   // Names the model in messages ("rail.dpm was built from another mesh: …").
   std::string model_name = "the model";
   // Called with (steps measured, steps to measure) before each step and once at the end. May be
@@ -121,6 +125,14 @@ struct LevelDistance {
   // the original's, in % of the field's range (≤ the stored bound when the peak is kept; the
   // ratio alone cannot say so for a step whose peak is small); in max, the largest.
   std::vector<double> field_error_pct, peak_ratio, peak_gap_pct;
+  // The field error two other ways, in % of the range (max: the largest): at the closest point
+  // alone (the measure before the facing correspondence), and per original node against the
+  // value its representative at the level shows (Navigator::ancestor; NaN for element fields).
+  std::vector<double> field_error_nearest_pct, field_error_node_pct;
+  // The mean field error over the surface (FieldDistance::mean), % of the range; in max the
+  // largest over the steps.
+  std::vector<double> field_error_mean_pct;
+  std::vector<Point3> field_error_at;  // the sample of field_error_pct (in max: its step's)
 };
 
 // One row of the table: one resolution.

@@ -130,18 +130,14 @@ Status check_positions(const char* name, const Topology& topology,
 struct Tally {
   double max = -1;  // -1: no sample yet
   Point3 max_at{0, 0, 0};
-  std::vector<double> field_max;  // per field: largest |difference| (-1: no sample yet)
-  std::vector<Point3> field_max_at;
+  FieldTally fields;
   double area_sum = 0, area_sum2 = 0;  // over the area samples
   double all_sum = 0, all_sum2 = 0;    // over every sample (for a surface without area)
   uint64_t vertex_samples = 0, edge_samples = 0, face_samples = 0;
 
   void merge(const Tally& t) {  // in job order, so ties keep the earlier sample
     if (t.max > max) max = t.max, max_at = t.max_at;
-    field_max.resize(t.field_max.size(), -1), field_max_at.resize(t.field_max.size());
-    for (size_t k = 0; k < t.field_max.size(); ++k)
-      if (t.field_max[k] > field_max[k])
-        field_max[k] = t.field_max[k], field_max_at[k] = t.field_max_at[k];
+    fields.merge(t.fields);
     area_sum += t.area_sum, area_sum2 += t.area_sum2;
     all_sum += t.all_sum, all_sum2 += t.all_sum2;
     vertex_samples += t.vertex_samples, edge_samples += t.edge_samples;
@@ -168,13 +164,6 @@ struct Tally {
 
 enum SampleKind : uint32_t { kVertexSamples, kEdgeSamples, kFaceSamples };
 
-// A field seen from one direction: its values where the samples are and where they land.
-struct FieldSides {
-  SurfaceField from;  // per vertex or face of `from`, for vertex and edge samples
-  const CornerValues* from_corners = nullptr;  // per triangle of `from`, for area samples
-  const CornerValues* to_corners = nullptr;    // per triangle of `to`, at the closest points
-};
-
 // One direction: samples on `from`, distances to `to`.
 struct Direction {
   const Surface* from = nullptr;
@@ -182,7 +171,8 @@ struct Direction {
   double face_density = 0;  // area samples per unit area
   double edge_density = 0;  // edge samples per unit length
   std::vector<FieldSides> fields;
-  double field_tolerance = 0;  // HausdorffOptions::field_tolerance
+  double field_tolerance = 0, facing_reach = 0;  // HausdorffOptions::field_…
+  std::vector<Point3> vertex_normals;            // of `from`, with a facing reach
 };
 
 struct Job {
@@ -243,14 +233,15 @@ Tally run_job(const Job& job, const Direction& d, uint64_t seed, size_t job_inde
               double known_max) {
   Random random(job_seed(seed, job.direction, job.kind, job_index));
   Tally tally;
-  tally.field_max.assign(d.fields.size(), -1);
-  tally.field_max_at.resize(d.fields.size());
+  tally.fields = FieldTally(d.fields.size());
   TriangleBvh::Cursor cursor;  // consecutive samples are close: start where the last one ended
   const bool with_weights = !d.fields.empty();
-  const double tolerance = d.field_tolerance;
-  std::vector<TriangleBvh::Hit> near;  // the other surface's points within the tolerance
-  // `own(k)`: field k's value at p on `from` (NaN: none there, an element field off a face).
-  auto measure = [&](const Point3& p, uint64_t& counter, bool area_sample, const auto& own) {
+  FieldSampler sampler(*d.to, d.fields, d.field_tolerance, d.facing_reach);
+  std::vector<double> values(d.fields.size());
+  // `own(k)`: field k's value at p on `from` (NaN: none there, an element field off a face);
+  // `normal`: the way p faces (zero: not needed).
+  auto measure = [&](const Point3& p, const Point3& normal, uint64_t& counter, bool area_sample,
+                     const auto& own) {
     if (known_max >= 0 && !area_sample) {
       const double below = std::max(known_max, tally.max);
       if (below > 0 && d.to->bvh.previous_closer_than(p, below * below * (1 - 1e-12), cursor)) {
@@ -264,24 +255,9 @@ Tally run_job(const Job& job, const Direction& d, uint64_t seed, size_t job_inde
     tally.all_sum += distance, tally.all_sum2 += distance * distance;
     if (area_sample) tally.area_sum += distance, tally.area_sum2 += distance * distance;
     ++counter;
-    near.clear();
-    for (size_t k = 0; k < d.fields.size(); ++k) {
-      const double value = own(k);
-      if (std::isnan(value)) continue;
-      const CornerValues& to = *d.fields[k].to_corners;
-      double difference = std::abs(value - interpolate(to[hit.triangle], hit.weights));
-      if (difference <= tally.field_max[k]) continue;
-      // Only a sample that would raise the maximum pays for the tolerance's other matches.
-      if (tolerance > 0 && near.empty()) {
-        const double reach = distance + tolerance;
-        d.to->bvh.within(p, reach * reach, near);
-      }
-      for (const TriangleBvh::Hit& other : near)
-        difference =
-            std::min(difference, std::abs(value - interpolate(to[other.triangle], other.weights)));
-      if (difference > tally.field_max[k])
-        tally.field_max[k] = difference, tally.field_max_at[k] = p;
-    }
+    if (d.fields.empty()) return;
+    for (size_t k = 0; k < d.fields.size(); ++k) values[k] = own(k);
+    sampler.measure(p, normal, hit, values, area_sample, tally.fields);
   };
   const std::vector<float>& positions = d.from->positions;
   auto vertex = [&](uint32_t v) {
@@ -293,11 +269,15 @@ Tally run_job(const Job& job, const Direction& d, uint64_t seed, size_t job_inde
     const SurfaceField& f = d.fields[k].from;
     return f.location == FieldLocation::kNode ? double(f.values[v]) : kNone;
   };
+  auto vertex_normal = [&](uint32_t v) {
+    return d.vertex_normals.empty() ? Point3{0, 0, 0} : d.vertex_normals[v];
+  };
   switch (job.kind) {
     case kVertexSamples:
       for (size_t i = job.begin; i < job.end; ++i) {
         const uint32_t v = d.from->topology->vertices[i];
-        measure(vertex(v), tally.vertex_samples, false, [&](size_t k) { return node_value(k, v); });
+        measure(vertex(v), vertex_normal(v), tally.vertex_samples, false,
+                [&](size_t k) { return node_value(k, v); });
       }
       break;
     case kEdgeSamples:
@@ -307,9 +287,12 @@ Tally run_job(const Job& job, const Direction& d, uint64_t seed, size_t job_inde
         const Point3 ab{b[0] - a[0], b[1] - a[1], b[2] - a[2]};
         const double length = std::sqrt(ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2]);
         const uint64_t n = random_round(length * d.edge_density, random);
+        const Point3 na = vertex_normal(e.a), nb = vertex_normal(e.b);
+        const Point3 normal{na[0] + nb[0], na[1] + nb[1], na[2] + nb[2]};
         for (uint64_t j = 0; j < n; ++j) {  // one point in each of n equal pieces
           const double t = (double(j) + random.uniform()) / double(n);
-          measure({a[0] + t * ab[0], a[1] + t * ab[1], a[2] + t * ab[2]}, tally.edge_samples, false,
+          measure({a[0] + t * ab[0], a[1] + t * ab[1], a[2] + t * ab[2]}, normal,
+                  tally.edge_samples, false,
                   [&](size_t k) { return (1 - t) * node_value(k, e.a) + t * node_value(k, e.b); });
         }
       }
@@ -321,10 +304,11 @@ Tally run_job(const Job& job, const Direction& d, uint64_t seed, size_t job_inde
         const Point3 a{t.a[0], t.a[1], t.a[2]};
         const Point3 ab{double(t.b[0]) - a[0], double(t.b[1]) - a[1], double(t.b[2]) - a[2]};
         const Point3 ac{double(t.c[0]) - a[0], double(t.c[1]) - a[1], double(t.c[2]) - a[2]};
+        const Point3 normal = d.facing_reach > 0 ? triangle_normal(t) : Point3{0, 0, 0};
         sample_triangle(n, random, [&](double u, double v) {
           measure({a[0] + u * ab[0] + v * ac[0], a[1] + u * ab[1] + v * ac[1],
                    a[2] + u * ab[2] + v * ac[2]},
-                  tally.face_samples, true, [&](size_t k) {
+                  normal, tally.face_samples, true, [&](size_t k) {
                     return interpolate((*d.fields[k].from_corners)[i], {1 - u - v, u, v});
                   });
         });
@@ -407,6 +391,10 @@ Result<HausdorffResult> evaluate(const Surface& a, const Surface& b,
   for (uint32_t k = 0; k < 2; ++k) {
     Direction& d = directions[k];
     d.field_tolerance = options.field_tolerance;
+    if (!fields.empty() && options.field_facing_reach > 0) {
+      d.facing_reach = options.field_facing_reach;
+      d.vertex_normals = vertex_normals(*d.from->topology->topology, d.from->positions);
+    }
     const SurfaceTopology& from = *d.from->topology;
     if (d.from->area > 0 && area_samples > 0) {
       d.face_density = area_samples / d.from->area;
@@ -453,14 +441,25 @@ Result<HausdorffResult> evaluate(const Surface& a, const Surface& b,
   r.hausdorff = std::max(r.a_to_b.max, r.b_to_a.max);
   r.mean = 0.5 * (r.a_to_b.mean + r.b_to_a.mean);
   r.rms = std::sqrt(0.5 * (r.a_to_b.rms * r.a_to_b.rms + r.b_to_a.rms * r.b_to_a.rms));
+  for (Tally& t : total) t.fields.merge(FieldTally(fields.size()));  // sized even without samples
   for (size_t k = 0; k < fields.size(); ++k) {
     FieldDistance f;
-    total[0].field_max.resize(fields.size(), -1), total[0].field_max_at.resize(fields.size());
-    total[1].field_max.resize(fields.size(), -1), total[1].field_max_at.resize(fields.size());
-    f.a_to_b = std::max(total[0].field_max[k], 0.0);
-    f.b_to_a = std::max(total[1].field_max[k], 0.0);
+    const FieldTally& ab = total[0].fields;
+    const FieldTally& ba = total[1].fields;
+    f.nearest_a_to_b = std::max(ab.nearest[k], 0.0);
+    f.nearest_b_to_a = std::max(ba.nearest[k], 0.0);
+    f.nearest = std::max(f.nearest_a_to_b, f.nearest_b_to_a);
+    const bool facing = options.field_facing_reach > 0;  // else the closest point's
+    f.a_to_b = facing ? std::max(ab.facing[k], 0.0) : f.nearest_a_to_b;
+    f.b_to_a = facing ? std::max(ba.facing[k], 0.0) : f.nearest_b_to_a;
     f.max = std::max(f.a_to_b, f.b_to_a);
-    f.max_at = f.b_to_a > f.a_to_b ? total[1].field_max_at[k] : total[0].field_max_at[k];
+    auto mean = [&](const FieldTally& t) {
+      return t.area_samples > 0 ? t.area_sum[k] / double(t.area_samples) : 0.0;
+    };
+    f.mean = 0.5 * (mean(ab) + mean(ba));
+    const bool from_b = f.b_to_a > f.a_to_b;
+    f.max_at = facing ? (from_b ? ba.facing_at[k] : ab.facing_at[k])
+                      : (from_b ? ba.nearest_at[k] : ab.nearest_at[k]);
     r.fields.push_back(f);
   }
   if (options.reference_diagonal > 0) {

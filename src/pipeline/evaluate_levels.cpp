@@ -27,6 +27,32 @@ Status check_built_from(const Topology& original, const FrameSource& frames,
   return {};
 }
 
+namespace {
+
+// Each vertex of the full mesh → the vertex that stands for it at the navigator's level (itself
+// if present). A parent is created before its children, so one pass in vertex order does.
+std::vector<uint32_t> representatives_at(const Navigator& nav) {
+  const ProgressiveMesh& m = nav.mesh();
+  const uint32_t b = m.base_vertex_count, present = nav.vertex_count();
+  std::vector<uint32_t> rep(m.full_vertex_count);
+  for (uint32_t v = 0; v < m.full_vertex_count; ++v)
+    rep[v] = v < present ? v : rep[m.parent[v - b]];
+  return rep;
+}
+
+// The largest |original value − the value its representative shows| over the original's nodes.
+double node_error(const ProgressiveMesh& m, std::span<const uint32_t> representative,
+                  std::span<const float> original, std::span<const float> shown) {
+  double error = 0;
+  for (uint32_t v = 0; v < representative.size(); ++v) {
+    const uint32_t input = m.vertex_original_index.empty() ? v : m.vertex_original_index[v];
+    error = std::max(error, std::abs(double(original[input]) - shown[representative[v]]));
+  }
+  return error;
+}
+
+}  // namespace
+
 Result<LevelsTable> evaluate_levels(const Topology& original, const FrameSource& frames,
                                     const ProgressiveMesh& model, const LevelsOptions& options) {
   DYNPM_RETURN_IF_ERROR(check_built_from(original, frames, model, options.model_name));
@@ -39,6 +65,7 @@ Result<LevelsTable> evaluate_levels(const Topology& original, const FrameSource&
   // Every stored position is within the model's bound of the original: where sheets touch, a
   // level's point that close to the closest one matches a sample as well (docs/eval.md).
   h.field_tolerance = std::max(h.field_tolerance, model.max_error);
+  h.field_facing_reach = options.field_facing_reach_pct / 100 * h.reference_diagonal;
 
   // The columns: as given, or the first, middle and last step.
   table.steps = options.steps;
@@ -81,6 +108,7 @@ Result<LevelsTable> evaluate_levels(const Topology& original, const FrameSource&
   std::sort(ratios.begin(), ratios.end());
   ratios.erase(std::unique(ratios.begin(), ratios.end()), ratios.end());
   Navigator nav(model);
+  std::vector<std::vector<uint32_t>> representatives;  // per row, with fields
   std::vector<Topology> level_faces;
   level_faces.reserve(ratios.size());  // the prepared topologies point into it
   std::vector<SurfaceTopology> level_surfaces;
@@ -97,12 +125,17 @@ Result<LevelsTable> evaluate_levels(const Topology& original, const FrameSource&
     row.max.field_error_pct.assign(field_count, 0);
     row.max.peak_ratio.assign(field_count, std::numeric_limits<double>::infinity());
     row.max.peak_gap_pct.assign(field_count, -std::numeric_limits<double>::infinity());
+    row.max.field_error_nearest_pct.assign(field_count, 0);
+    row.max.field_error_node_pct.assign(field_count, 0);
+    row.max.field_error_mean_pct.assign(field_count, 0);
+    row.max.field_error_at.assign(field_count, Point3{0, 0, 0});
     table.rows.push_back(std::move(row));
     level_faces.push_back(nav.topology());
     auto prepared = prepare_topology("the level", level_faces.back());
     if (!prepared)
       return Status::error(std::to_string(nav.vertex_count()) + " vertices: " + prepared.message());
     level_surfaces.push_back(std::move(prepared).value());
+    if (field_count > 0) representatives.push_back(representatives_at(nav));
   }
   auto original_surface = prepare_topology("the original", original);
   if (!original_surface) return original_surface.status();
@@ -184,8 +217,25 @@ Result<LevelsTable> evaluate_levels(const Topology& original, const FrameSource&
       cell.diagonal = r->diagonal;
       for (size_t f = 0; f < field_count; ++f) {
         const double range = table.field_ranges[f];
-        cell.field_error_pct.push_back(range > 0 ? 100 * r->fields[f].max / range : 0.0);
-        row.max.field_error_pct[f] = std::max(row.max.field_error_pct[f], cell.field_error_pct[f]);
+        auto pct = [&](double error) { return range > 0 ? 100 * error / range : 0.0; };
+        cell.field_error_pct.push_back(pct(r->fields[f].max));
+        cell.field_error_nearest_pct.push_back(pct(r->fields[f].nearest));
+        cell.field_error_mean_pct.push_back(pct(r->fields[f].mean));
+        row.max.field_error_mean_pct[f] =
+            std::max(row.max.field_error_mean_pct[f], cell.field_error_mean_pct[f]);
+        cell.field_error_node_pct.push_back(
+            source_fields[source_index[f]].location == FieldLocation::kNode
+                ? pct(node_error(model, representatives[i], original_values[f], level_values[f]))
+                : std::numeric_limits<double>::quiet_NaN());
+        cell.field_error_at.push_back(r->fields[f].max_at);
+        if (cell.field_error_pct[f] > row.max.field_error_pct[f] || k == 0)
+          row.max.field_error_pct[f] = cell.field_error_pct[f],
+          row.max.field_error_at[f] = cell.field_error_at[f];
+        row.max.field_error_nearest_pct[f] =
+            std::max(row.max.field_error_nearest_pct[f], cell.field_error_nearest_pct[f]);
+        // NaN (an element field) stays NaN: std::max keeps its first argument when unordered.
+        row.max.field_error_node_pct[f] =
+            std::max(cell.field_error_node_pct[f], row.max.field_error_node_pct[f]);
         row.max.peak_ratio[f] = std::min(row.max.peak_ratio[f], cell.peak_ratio[f]);
         row.max.peak_gap_pct[f] = std::max(row.max.peak_gap_pct[f], cell.peak_gap_pct[f]);
       }
