@@ -48,9 +48,8 @@ struct Timing {
 // low over one corner looking at the model's centre and the same camera moved by a twentieth of
 // the model, without and with a budget of 200 k vertices. `pixels`: the tolerance (the plate is
 // gently bent, its split errors small: 0.005 px refines about half of it from there).
-void view_retarget(const dynpm::ProgressiveMesh& m, const dynpm::SplitDependencies& deps,
-                   const dynpm::RefineTargets& targets, dynpm::SelectiveNavigator& nav, int repeats,
-                   double pixels) {
+void view_retarget(const dynpm::ProgressiveMesh& m, const dynpm::RefineTargets& targets,
+                   dynpm::SelectiveNavigator& nav, int repeats, double pixels) {
   using namespace dynpm;
   Timing spheres;
   for (int r = 0; r < repeats; ++r) spheres.run([&] { (void)split_spheres(m, 0); });
@@ -186,7 +185,7 @@ int main(int argc, char** argv) {
   request.print("  request (select + closure)", 1e3, "ms");
   there.print("  set_active there", 1e3, "ms");
   back.print("  set_active back", 1e3, "ms");
-  view_retarget(m, deps, targets, nav, repeats, argc > 3 ? std::atof(argv[3]) : 0.005);
+  view_retarget(m, targets, nav, repeats, argc > 3 ? std::atof(argv[3]) : 0.005);
   std::printf("load average %.2f before, %.2f after; %d runs, medians\n", load_before,
               load_average(), repeats);
   return 0;
