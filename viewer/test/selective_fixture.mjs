@@ -3,7 +3,7 @@
 // crashbox-mixed-5k (quads and a few triangles, crushed) and crashbox-fields (19 % triangles,
 // bent, with node fields PEEQ and others).
 import { execFileSync } from 'node:child_process';
-import { existsSync, mkdirSync, readFileSync, writeFileSync } from 'node:fs';
+import { existsSync, mkdirSync, readFileSync, statSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { fileURLToPath } from 'node:url';
@@ -24,12 +24,14 @@ const INPUTS = {
   },
 };
 
-// The .dpm's path, built if it is not there yet.
+// The .dpm's path, built if it is not there yet or older than the CLI (a build folder kept
+// across a format change would otherwise hand the tests a file of the previous version).
 export function crashboxDpm(name) {
   if (!cli) throw new Error('selective tests need DYNPM_CLI (the dynpm binary)');
   mkdirSync(out, { recursive: true });
   const path = join(out, `${name}.dpm`);
-  if (!existsSync(path)) execFileSync(cli, ['build', INPUTS[name](), '-o', path, '--lossless', '--quiet'], { stdio: 'pipe' });
+  const stale = !existsSync(path) || statSync(path).mtimeMs < statSync(cli).mtimeMs;
+  if (stale) execFileSync(cli, ['build', INPUTS[name](), '-o', path, '--lossless', '--quiet'], { stdio: 'pipe' });
   return path;
 }
 
