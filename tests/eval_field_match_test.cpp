@@ -37,29 +37,12 @@ std::unique_ptr<Prepared> prepare(const Topology& topology, std::span<const floa
 }
 
 // A sheet folded onto itself: a 6 × 6 plate at z = −shift facing up and carrying 0, and above
-// it, 0.01 higher, the same plate facing down (its faces reversed) carrying 1.
+// it, 0.01 higher, the same plate facing down carrying 1 (test::two_sheets).
 test::Mesh folded_sheets(float shift, std::vector<float>& values) {
-  test::Mesh m = test::quad_grid(4, 4);
-  const uint32_t n = m.topology.vertex_count;
-  const size_t faces = m.topology.faces.size();
-  m.positions.resize(6 * size_t{n});
-  for (uint32_t v = 0; v < n; ++v) {
-    for (int c = 0; c < 2; ++c) m.positions[3 * v + c] *= 1.5f;
-    std::copy_n(&m.positions[3 * v], 3, &m.positions[3 * (n + v)]);
-    m.positions[3 * v + 2] = -shift, m.positions[3 * (n + v) + 2] = 0.01f - shift;
-  }
-  for (size_t f = 0; f < faces; ++f) {
-    Face upper = m.topology.faces[f];
-    std::reverse(upper.v.begin(), upper.v.begin() + upper.degree());
-    for (uint32_t& c : upper.v)
-      if (c != kNoVertex) c += n;
-    m.topology.faces.push_back(upper);
-    m.topology.part_ids.push_back(m.topology.part_ids[f]);
-  }
-  m.topology.vertex_count = 2 * n;
-  m.topology.node_ids.clear(), m.topology.element_ids.clear();
-  values.assign(n, 0.f), values.resize(2 * size_t{n}, 1.f);
-  return m;
+  test::Mesh plate = test::quad_grid(4, 4);
+  for (size_t v = 0; v < plate.positions.size(); v += 3)
+    plate.positions[v] *= 1.5f, plate.positions[v + 1] *= 1.5f;
+  return test::two_sheets(std::move(plate), shift, true, values);
 }
 
 // Shifted by 0.006, each sheet of B lies nearer A's other sheet (0.004) than its own (0.006):

@@ -171,28 +171,9 @@ TEST(FieldError, AnElementFieldIsComparedFaceByFaceAndTheSameOnAnyThreadCount) {
   for (size_t i = 4; i < errors.size(); ++i) EXPECT_EQ(errors[i], errors[i % 4]);
 }
 
-// Two sheets 0.01 apart, as in a crash fold's contact: the lower carries 0, the upper 1. `shift`
-// moves both down (B: A's positions within `shift` of the original's, as a stored bound allows).
+// Two sheets 0.01 apart, stacked the same way up (test::two_sheets).
 test::Mesh touching_sheets(float shift, std::vector<float>& values) {
-  test::Mesh m = grid(4, 0);
-  const uint32_t n = m.topology.vertex_count;
-  const size_t faces = m.topology.faces.size();
-  m.positions.resize(6 * size_t{n});
-  for (uint32_t v = 0; v < n; ++v) {
-    std::copy_n(&m.positions[3 * v], 3, &m.positions[3 * (n + v)]);
-    m.positions[3 * v + 2] = -shift, m.positions[3 * (n + v) + 2] = 0.01f - shift;
-  }
-  for (size_t f = 0; f < faces; ++f) {
-    Face upper = m.topology.faces[f];
-    for (uint32_t& c : upper.v)
-      if (c != kNoVertex) c += n;
-    m.topology.faces.push_back(upper);
-    m.topology.part_ids.push_back(m.topology.part_ids[f]);
-  }
-  m.topology.vertex_count = 2 * n;
-  m.topology.node_ids.clear(), m.topology.element_ids.clear();
-  values.assign(n, 0.f), values.resize(2 * size_t{n}, 1.f);
-  return m;
+  return test::two_sheets(grid(4, 0), shift, false, values);
 }
 
 // Shifted by 0.006, each sheet of B is nearer the other sheet of A (0.004) than its own: the

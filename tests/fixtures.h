@@ -2,6 +2,7 @@
 // drawings are the indices; faces are counter-clockwise seen from +z.
 #pragma once
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <string>
@@ -41,6 +42,32 @@ inline Mesh quad_grid(uint32_t nx, uint32_t ny, int32_t part = 0) {
   for (uint32_t j = 0; j < ny; ++j)
     for (uint32_t i = 0; i < nx; ++i)
       m.topology.add_quad(id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1), part);
+  return m;
+}
+
+// Two copies of the plate `m` (at z = 0) 0.01 apart, as at a crash fold's contact: the lower at
+// z = −shift carrying the value 0, the upper 0.01 higher carrying 1 — facing down when
+// `upper_faces_down` (a sheet folded onto itself), else facing the lower's way (two sheets
+// stacked). `shift` moves both down (a copy within `shift` of the original, as a bound allows).
+inline Mesh two_sheets(Mesh m, float shift, bool upper_faces_down, std::vector<float>& values) {
+  const uint32_t n = m.topology.vertex_count;
+  const size_t faces = m.topology.faces.size();
+  m.positions.resize(6 * size_t{n});
+  for (uint32_t v = 0; v < n; ++v) {
+    std::copy_n(&m.positions[3 * v], 3, &m.positions[3 * (n + v)]);
+    m.positions[3 * v + 2] = -shift, m.positions[3 * (n + v) + 2] = 0.01f - shift;
+  }
+  for (size_t f = 0; f < faces; ++f) {
+    Face upper = m.topology.faces[f];
+    if (upper_faces_down) std::reverse(upper.v.begin(), upper.v.begin() + upper.degree());
+    for (uint32_t& c : upper.v)
+      if (c != kNoVertex) c += n;
+    m.topology.faces.push_back(upper);
+    m.topology.part_ids.push_back(m.topology.part_ids[f]);
+  }
+  m.topology.vertex_count = 2 * n;
+  m.topology.node_ids.clear(), m.topology.element_ids.clear();
+  values.assign(n, 0.f), values.resize(2 * size_t{n}, 1.f);
   return m;
 }
 
