@@ -89,15 +89,15 @@ inline const ProgressiveMesh* crashbox_in_parts(const std::string& name, int ban
   return (built[key] = std::make_unique<ProgressiveMesh>(std::move(back).value())).get();
 }
 
-// The read set under test: the design's (the parent's fan) unless DYNPM_SPLIT_READS names
-// another (wing, written), to compare them (docs/selective.md "Which faces a split reads").
+// The read set under test: the default (the face creators) unless DYNPM_SPLIT_READS names
+// another (fan, wing, written), to compare them (docs/selective.md "Which faces a split reads").
 inline SplitReads test_reads() {
   const char* r = std::getenv("DYNPM_SPLIT_READS");
-  const std::string name = r ? r : "fan";
-  return name == "wing"       ? SplitReads::kWingEdges
-         : name == "written"  ? SplitReads::kWritten
-         : name == "creators" ? SplitReads::kFaceCreators
-                              : SplitReads::kFan;
+  const std::string name = r ? r : "creators";
+  return name == "wing"      ? SplitReads::kWingEdges
+         : name == "written" ? SplitReads::kWritten
+         : name == "fan"     ? SplitReads::kFan
+                             : SplitReads::kFaceCreators;
 }
 
 // The original's boundary loops, components and parts, which a refined mesh keeps.

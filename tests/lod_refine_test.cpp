@@ -126,8 +126,8 @@ class Refinement {
   double max_ratio_;
 };
 
-// The read sets measured: DYNPM_SPLIT_READS's (the fan by default) and the face creators' rule.
-const SplitReads kRules[] = {test_reads(), SplitReads::kFaceCreators};
+// The read sets measured: DYNPM_SPLIT_READS's (the face creators by default) and the fan.
+const SplitReads kRules[] = {test_reads(), SplitReads::kFan};
 
 // A box over the crushed end of the tube at the last step: a quarter of its length.
 TEST(Refine, BoxAtTheLastStep) {

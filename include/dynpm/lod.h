@@ -105,7 +105,7 @@ struct SplitDependencies {
   size_t max_count() const;
   double mean_count() const;
 };
-// What split i is taken to read besides the faces it writes: the parent's whole fan (the agreed
+// What split i is taken to read besides the faces it writes: the parent's whole fan (the first
 // design), only the fan's faces on a wing edge (v1, w) (Hoppe's neighbour faces), or nothing
 // more (then i also needs the splits that made its wing vertices).
 // kFaceCreators drops the read-after-write order on whole faces (a split moves a corner by
@@ -114,10 +114,12 @@ struct SplitDependencies {
 // quad, and of every face on a wing edge (a quad wing's triangle's sides at v1) its creator
 // (docs/selective.md "Face creators"). Dependencies then point to earlier splits too, but a
 // closed set no longer leaves every face as the stream did (only as its applied writers make it).
+// The default, as in the viewer's decoder (viewer/src/dpm/split_dependencies.js): both must
+// choose the same splits.
 enum class SplitReads : uint8_t { kFan, kWingEdges, kWritten, kFaceCreators };
 // One pass over the splits in stream order (works on a prefix of a file as well).
 SplitDependencies derive_split_dependencies(const ProgressiveMesh& mesh,
-                                            SplitReads reads = SplitReads::kFan);
+                                            SplitReads reads = SplitReads::kFaceCreators);
 // Adds to `splits` (one flag per split) everything its flagged splits depend on, transitively.
 // Splits below `closed_prefix` count as flagged and closed already (a prefix is closed).
 void close_under_dependencies(const SplitDependencies& deps, std::vector<uint8_t>& splits,

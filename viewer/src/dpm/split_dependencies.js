@@ -1,22 +1,33 @@
 // What each vertex split depends on, derived from the split records as they arrive (no stored
-// form, no format change): docs/viewer.md "Selective refinement". C++: src/lod/split_dependencies.cpp.
+// form, no format change): docs/viewer.md "Selective refinement", docs/selective.md "Face
+// creators". C++: src/lod/split_dependencies.cpp; both decoders use the same rule by default
+// (SplitReads::kFaceCreators there, 'faceCreators' here) so that they choose the same splits.
 //
-// The splits are replayed once in stream order on a face array of their own. Split i (v1 its
-// parent) writes W(i): its moved faces and its wing faces; it reads R(i) = W(i) plus every face
-// that holds v1 right before it (v1's whole fan: the faces across its wing edges too). Per face:
-//   - i depends on the last writer of each face of R(i) (read after write);
-//   - a writer j of f depends on every reader of f since f's previous writer (write after read);
-//   - i depends on the split that created v1 (implied by the above; kept explicit and cheap).
-// Every dependency is an earlier split, so every prefix of the stream is closed under them, and a
-// set S closed under them, applied in ascending order, gives each split of S the faces of R(i)
-// exactly as the full sequence had them.
+// The splits are replayed once in stream order on a face array of their own, with each vertex's
+// fan. Split i (v1 its parent) writes W(i): its moved faces and its wing faces.
+// 'faceCreators' (the default): a split moves a corner by value and a quad wing inserts one by
+// slot, so the writes of one face commute and only which of them are applied matters. Split i
+// needs the splits that made v1 and its wing vertices; for each face it writes, the split that
+// created it and the one that made it a quad; for each face on a wing edge (v1, w) as the stream
+// has it right before i (for a quad wing, its triangle's sides at v1), the split that created it.
+// 'fan' (the first design): i reads R(i) = W(i) plus v1's whole fan right before it; it depends
+// on the last writer of each face of R(i) (read after write), a writer j of f on every reader of
+// f since f's previous writer (write after read), and i on the split that created v1. Then a
+// closed set applied in ascending order gives each split of it the faces of R(i) exactly as the
+// full sequence had them.
+// Under both, every dependency is an earlier split, so every prefix of the stream is closed.
 import { Growable } from './bytes.js';
 import { applySplits, DirtyFaces, WING_WAS_TRIANGLE } from './progressive_mesh.js';
 
+// The rules a SplitDependencies can derive; the first is the default.
+export const SPLIT_RULES = ['faceCreators', 'fan'];
+
 export class SplitDependencies {
-  constructor(mesh) {
+  constructor(mesh, { rule = SPLIT_RULES[0] } = {}) {
     const { vertexCount: V, faceCount: F, splitCount: S, baseFaceCount: nf } = mesh.head;
+    if (!SPLIT_RULES.includes(rule)) throw new Error(`unknown split dependency rule '${rule}'`);
     this.mesh = mesh;
+    this.rule = rule;
     this.derived = 0;  // splits derived so far (a prefix of the loaded ones)
     // The mesh as the derived splits left it: after the last split, the fully refined mesh.
     this.corners = new Int32Array(4 * F).fill(-1);
@@ -26,6 +37,7 @@ export class SplitDependencies {
     this.deps = new Growable(Int32Array, 4 * S);
     this.lastWriter = new Int32Array(F).fill(-1);  // per face: the last split that wrote it
     this.faceSplit = new Int32Array(F).fill(-1);  // per face: the split that creates it (−1: base)
+    this.quadBy = new Int32Array(F).fill(-1);  // per face: the split that made it a quad (−1: none)
     // Per face, the splits that read it since its last writer: a list in a pool (head, next).
     this.readerHead = new Int32Array(F).fill(-1);
     this.readerSplit = new Growable(Int32Array, 4 * S);
@@ -49,7 +61,16 @@ export class SplitDependencies {
   update() {
     const { mesh } = this;
     const to = mesh.splitsLoaded;
-    for (let i = this.derived; i < to; i++) this.derive(i);
+    const fan = this.rule === 'fan';
+    for (let i = this.derived; i < to; i++) {
+      const start = this.deps.length;
+      if (fan) this.deriveFan(i);
+      else this.deriveFaceCreators(i);
+      sortRun(this.deps.data, start, this.deps.length);
+      this.depStart[i + 1] = this.deps.length;
+      this.maxCount = Math.max(this.maxCount, this.deps.length - start);
+      this.replay(i, this.mesh.head.baseVertexCount + i, this.mesh.parent[i]);
+    }
     this.derived = Math.max(this.derived, to);
     return this;
   }
@@ -67,11 +88,44 @@ export class SplitDependencies {
     return { splits: n, dependencies: this.deps.length, mean: n ? this.deps.length / n : 0, max: this.maxCount };
   }
 
-  derive(i) {
-    const { mesh, lastWriter, readerHead, writtenBy, deps } = this;
+  // Split i's dependencies under the face creators' rule, onto deps (unsorted, each once).
+  deriveFaceCreators(i) {
+    const { mesh, corners, faceSplit, quadBy, lastWriter, fanHead, linkFace, linkNext } = this;
     const b = mesh.head.baseVertexCount;
     const v1 = mesh.parent[i];
-    const start = deps.length;
+    const movedFaces = mesh.movedFaces.data, wingFace = mesh.wingFace.data, wingVertex = mesh.wingVertex.data;
+    const m0 = mesh.movedStart[i], m1 = mesh.movedStart[i + 1], w0 = mesh.wingStart[i], w1 = mesh.wingStart[i + 1];
+    if (v1 >= b) this.add(v1 - b, i);
+    for (let j = m0; j < m1; j++) this.add(faceSplit[movedFaces[j]], i), this.add(quadBy[movedFaces[j]], i);
+    for (let j = w0; j < w1; j++) {
+      if (wingVertex[j] >= b) this.add(wingVertex[j] - b, i);
+      // A triangle wing's edge ends at w; a quad wing's triangle has two sides at v1.
+      const triangle = mesh.wingFlags.data[j] & WING_WAS_TRIANGLE;
+      const f = wingFace[j];
+      if (!triangle) this.add(faceSplit[f], i), this.add(quadBy[f], i);
+      // Hoppe's fn0..fn3: the faces of v1's fan on those edges must exist.
+      for (let e = 0; e < (triangle ? 1 : 4); e++) {
+        const end = triangle ? wingVertex[j] : corners[4 * f + e];
+        if (end < 0 || end === v1) continue;
+        for (let n = fanHead[v1]; n >= 0; n = linkNext[n]) {
+          const g = linkFace[n];
+          if (corners[4 * g] === end || corners[4 * g + 1] === end || corners[4 * g + 2] === end || corners[4 * g + 3] === end)
+            this.add(faceSplit[g], i);
+        }
+      }
+    }
+    for (let j = m0; j < m1; j++) lastWriter[movedFaces[j]] = i;
+    for (let j = w0; j < w1; j++) {
+      lastWriter[wingFace[j]] = i;
+      if (!(mesh.wingFlags.data[j] & WING_WAS_TRIANGLE)) quadBy[wingFace[j]] = i;
+    }
+  }
+
+  // Split i's dependencies under the fan rule, onto deps (unsorted, each once).
+  deriveFan(i) {
+    const { mesh, lastWriter, readerHead, writtenBy } = this;
+    const b = mesh.head.baseVertexCount;
+    const v1 = mesh.parent[i];
     // W(i), marked: the moved faces, then the wing faces (a quad's face or a re-created triangle).
     const movedFaces = mesh.movedFaces.data, wingFace = mesh.wingFace.data;
     const m0 = mesh.movedStart[i], m1 = mesh.movedStart[i + 1], w0 = mesh.wingStart[i], w1 = mesh.wingStart[i + 1];
@@ -86,9 +140,6 @@ export class SplitDependencies {
     const readerSplit = this.readerSplit.data, readerNext = this.readerNext.data;
     for (let j = m0; j < m1; j++) for (let r = readerHead[movedFaces[j]]; r >= 0; r = readerNext[r]) this.add(readerSplit[r], i);
     for (let j = w0; j < w1; j++) for (let r = readerHead[wingFace[j]]; r >= 0; r = readerNext[r]) this.add(readerSplit[r], i);
-    sortRun(deps.data, start, deps.length);
-    this.depStart[i + 1] = deps.length;
-    this.maxCount = Math.max(this.maxCount, deps.length - start);
     // Now split i is the last writer of W(i) and a reader of the rest of v1's fan.
     for (let n = fanHead[v1]; n >= 0; n = linkNext[n]) {
       const f = linkFace[n];
@@ -99,7 +150,6 @@ export class SplitDependencies {
     }
     for (let j = m0; j < m1; j++) (lastWriter[movedFaces[j]] = i), (readerHead[movedFaces[j]] = -1);
     for (let j = w0; j < w1; j++) (lastWriter[wingFace[j]] = i), (readerHead[wingFace[j]] = -1);
-    this.replay(i, b + i, v1);
   }
 
   // Split j (≥ 0) among split i's dependencies, once.
