@@ -7,9 +7,9 @@
 // later send { type: 'want', vertices } (fetch until that many vertices are loaded; Infinity:
 // the whole file); it hears: start, first-bytes, progress, head, base, navigator, splits,
 // dependencies, paused, end, done or error. It ends itself once the stream has: what the page
-// does not share goes with it. The split dependencies are derived here as splits arrive and sent
-// when the stream stops (paused, end, done), so that no refinement derives them on the page
-// (moved_dependencies.js).
+// does not share goes with it. The split dependencies are derived here whenever the stream stops
+// (paused, end, done: the splits are shown first) and sent, so that no refinement derives them on
+// the page (moved_dependencies.js).
 import { DpmDecoder } from './dpm/file.js';
 import { Navigator } from './dpm/navigator.js';
 import { navigatorParts } from './moved_navigator.js';
@@ -26,10 +26,10 @@ const want = { vertices: Infinity, wake: null };
 async function decode({ url, name, shared, sliceSplits, vertices = Infinity }) {
   want.vertices = vertices;
   const sent = {};  // shared: the length of each growing list the page has
-  let deps = null;  // the split dependencies, derived as far as the splits decoded
+  let deps = null;  // the split dependencies (derived when the stream stops)
   let depsSent = -1;  // how many splits the page's dependencies cover
   const sendDependencies = (last = false) => {
-    if (!deps || deps.derived === depsSent) return;
+    if (!deps?.update() || deps.derived === depsSent) return;
     depsSent = deps.derived;
     const { parts, transfer } = dependencyParts(deps, last);
     post({ type: 'dependencies', parts }, transfer);
@@ -53,18 +53,17 @@ async function decode({ url, name, shared, sliceSplits, vertices = Infinity }) {
       deps = new SplitDependencies(mesh);
     },
     onSplits: (mesh, s, n) => {
-      if (shared) post({ type: 'splits', first: s, count: n, pieces: growableTails(mesh, sent) });
-      else
-        for (let first = s; first < s + n; first += sliceSplits) {
-          const count = Math.min(sliceSplits, s + n - first);
-          const { pieces, transfer } = levelPieces(mesh, first, count);
-          post({ type: 'splits', first, count, pieces }, transfer);
-        }
-      deps?.update();  // after the splits went: the page draws them meanwhile
+      if (shared) return post({ type: 'splits', first: s, count: n, pieces: growableTails(mesh, sent) });
+      for (let first = s; first < s + n; first += sliceSplits) {
+        const count = Math.min(sliceSplits, s + n - first);
+        const { pieces, transfer } = levelPieces(mesh, first, count);
+        post({ type: 'splits', first, count, pieces }, transfer);
+      }
     },
+    // The whole mesh is shown first; `done` (the page's load resolves) follows the dependencies.
     onEnd: () => {
-      sendDependencies(true);  // before END: a complete mesh on the page has them
       post({ type: 'end' });
+      sendDependencies(true);
     },
   });
   // More is wanted until the base mesh, the FLDS of a SPLT, the wanted vertices or END are in.
@@ -75,8 +74,8 @@ async function decode({ url, name, shared, sliceSplits, vertices = Infinity }) {
     return mesh.splitsLoaded === all || mesh.splitsLoaded < Math.min(all, want.vertices - mesh.head.baseVertexCount);
   };
   const more = () => {
-    sendDependencies();
     post({ type: 'paused', bytes: decoder.bytesReceived });
+    sendDependencies();  // the splits loaded so far, while the page wants no more
     return new Promise((resolve) => (want.wake = resolve));
   };
   const onResponse = ({ total, ranges }) => {
