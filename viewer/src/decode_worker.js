@@ -5,12 +5,17 @@
 // copies of the ranges the page's mesh needs, their buffers transferred (mesh_pieces.js). The
 // page (worker_decoder.js) starts it with { url, name, shared, sliceSplits, vertices } and may
 // later send { type: 'want', vertices } (fetch until that many vertices are loaded; Infinity:
-// the whole file); it hears: start, first-bytes, progress, head, base, navigator, splits, paused, end,
-// done or error. It ends itself once the stream has: what the page does not share goes with it.
+// the whole file); it hears: start, first-bytes, progress, head, base, navigator, splits,
+// dependencies, paused, end, done or error. It ends itself once the stream has: what the page
+// does not share goes with it. The split dependencies are derived here whenever the stream stops
+// (paused, end, done: the splits are shown first) and sent, so that no refinement derives them on
+// the page (moved_dependencies.js).
 import { DpmDecoder } from './dpm/file.js';
 import { Navigator } from './dpm/navigator.js';
 import { navigatorParts } from './moved_navigator.js';
+import { dependencyParts } from './moved_dependencies.js';
 import { fetchByRanges } from './range_fetch.js';
+import { SplitDependencies } from './dpm/split_dependencies.js';
 import { fieldDefs, growableTails, levelPieces, shareFields, shareMesh } from './mesh_pieces.js';
 
 const post = (message, transfer = []) => self.postMessage(message, transfer);
@@ -21,6 +26,15 @@ const want = { vertices: Infinity, wake: null };
 async function decode({ url, name, shared, sliceSplits, vertices = Infinity }) {
   want.vertices = vertices;
   const sent = {};  // shared: the length of each growing list the page has
+  let deps = null;  // the split dependencies (derived when the stream stops)
+  let depsSent = -1;  // how many splits the page's dependencies cover
+  const sendDependencies = (last = false) => {
+    if (!deps?.update() || deps.derived === depsSent) return;
+    depsSent = deps.derived;
+    const { parts, transfer } = dependencyParts(deps, last);
+    post({ type: 'dependencies', parts }, transfer);
+    if (last) deps = null;  // its arrays are the page's now
+  };
   const decoder = new DpmDecoder({
     name,
     onHead: (mesh) => post({ type: 'head', head: mesh.head, shared: shared ? shareMesh(mesh) : null }),
@@ -36,6 +50,7 @@ async function decode({ url, name, shared, sliceSplits, vertices = Infinity }) {
       // After the base mesh has gone: the page draws it meanwhile (moved_navigator.js).
       const { parts, transfer } = navigatorParts(new Navigator(mesh));
       post({ type: 'navigator', parts }, transfer);
+      deps = new SplitDependencies(mesh);
     },
     onSplits: (mesh, s, n) => {
       if (shared) return post({ type: 'splits', first: s, count: n, pieces: growableTails(mesh, sent) });
@@ -45,7 +60,11 @@ async function decode({ url, name, shared, sliceSplits, vertices = Infinity }) {
         post({ type: 'splits', first, count, pieces }, transfer);
       }
     },
-    onEnd: () => post({ type: 'end' }),
+    // The whole mesh is shown first; `done` (the page's load resolves) follows the dependencies.
+    onEnd: () => {
+      post({ type: 'end' });
+      sendDependencies(true);
+    },
   });
   // More is wanted until the base mesh, the FLDS of a SPLT, the wanted vertices or END are in.
   const wanted = () => {
@@ -56,6 +75,7 @@ async function decode({ url, name, shared, sliceSplits, vertices = Infinity }) {
   };
   const more = () => {
     post({ type: 'paused', bytes: decoder.bytesReceived });
+    sendDependencies();  // the splits loaded so far, while the page wants no more
     return new Promise((resolve) => (want.wake = resolve));
   };
   const onResponse = ({ total, ranges }) => {
@@ -65,6 +85,7 @@ async function decode({ url, name, shared, sliceSplits, vertices = Infinity }) {
   };
   const onBytes = () => post({ type: 'progress', bytes: decoder.bytesReceived });
   await fetchByRanges(url, name, decoder, { wanted, more, onResponse, onBytes });
+  sendDependencies(true);  // a file that ends early: those of the splits it holds
   post({ type: 'done', complete: decoder.complete, chunkStart: decoder.chunkStart, state: decoder.state });
 }
 

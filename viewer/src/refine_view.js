@@ -38,7 +38,8 @@ export class RefineView {
       viewRow: $('refine-view-row'), pixels: $('refine-pixels'), pixelsLabel: $('refine-pixels-label'),
       budgetRow: $('refine-budget-row'), budget: $('refine-budget'),
     };
-    this.dependencies = null;
+    this.dependencies = null;  // a SplitDependencies: from the decode worker, else derived here
+    this.dependenciesFrom = null;  // 'worker' or 'page'
     this.selective = null;
     this.levelNav = null;  // the level Navigator, while the selective one is drawn
     this.requests = [];  // parsed
@@ -107,8 +108,7 @@ export class RefineView {
     const start = performance.now();
     const { state } = this.viewer;
     const { mesh } = state;
-    this.dependencies ??= new SplitDependencies(mesh);
-    this.dependencies.update();
+    this.currentDependencies();
     this.selective ??= new SelectiveNavigator(mesh, this.dependencies);
     const level = elsewhereLevel(mesh, this.elsewhere);
     const targets = requestedSplits(mesh, this.dependencies, this.requests, state.t, level);
@@ -120,6 +120,23 @@ export class RefineView {
       this.levelNav = state.nav;
       this.swap(nav);
     } else this.viewer.updateLevel();
+  }
+
+  // The split dependencies derived as far as the splits loaded, or as far as the decode worker
+  // has sent them. Derived here, on the page's thread, only when no worker sends them (?worker=0)
+  // or none has come yet.
+  currentDependencies() {
+    if (!this.dependencies) (this.dependencies = new SplitDependencies(this.viewer.state.mesh)), (this.dependenciesFrom = 'page');
+    return this.dependencies.update();
+  }
+
+  // Hook of worker_decoder.js: dependencies the decode worker derived (moved_dependencies.js),
+  // taken when they cover at least the splits of those in use; the selective navigator keeps its
+  // applied splits (a prefix's dependencies do not change as more splits come).
+  dependenciesReady(deps) {
+    if (this.dependencies && this.dependencies.derived > deps.derived) return;
+    (this.dependencies = deps), (this.dependenciesFrom = 'worker');
+    if (this.selective) this.selective.dependencies = deps;
   }
 
   // Draws `nav` instead of the navigator drawn now: every face either drew is rewritten.
@@ -160,13 +177,14 @@ export class RefineView {
   // window.dynpm.refinement(): what is refined and how many vertices and faces it took.
   refinement() {
     const nav = this.selective;
-    if (!this.active) return { active: false, requests: [], vertices: this.viewer.state.nav?.vertexCount ?? 0 };
+    const { dependenciesFrom } = this;
+    if (!this.active) return { active: false, requests: [], vertices: this.viewer.state.nav?.vertexCount ?? 0, dependenciesFrom };
     const elsewhere = this.viewer.state.mesh.head.baseVertexCount + nav.level;
     return {
       active: true, requests: this.texts.slice(), elsewhere: this.elsewhereText, step: this.step,
       vertices: nav.activeVertexCount, elsewhereVertices: elsewhere, refinedVertices: nav.activeVertexCount - elsewhere,
       faces: nav.activeFaceCount, triangles: nav.triangleCount, quads: nav.quadCount, description: this.describe(),
-      retargetMs: this.retargetMs, following: Boolean(this.followTimer),
+      retargetMs: this.retargetMs, following: Boolean(this.followTimer), dependenciesFrom,
     };
   }
 
@@ -234,7 +252,7 @@ export class RefineView {
     const n = mesh.vertexCountLoaded;
     const p = mesh.positionsAt(state.t, n, new Float32Array(3 * n));
     const lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity];
-    const corners = (this.dependencies ??= new SplitDependencies(mesh)).update().corners;
+    const { corners } = this.currentDependencies();
     for (let f = 0; f < mesh.faceCountAt[this.dependencies.derived]; f++) {
       if (parts?.hidden.has(mesh.partId[f])) continue;
       for (let k = 0; k < 4; k++) {

@@ -7,6 +7,7 @@ import { DpmError } from './dpm/bytes.js';
 import { DpmDecoder, streamDpm } from './dpm/file.js';
 import { ProgressiveMesh } from './dpm/progressive_mesh.js';
 import { addFields, applyPieces, sharedMesh } from './mesh_pieces.js';
+import { movedDependencies } from './moved_dependencies.js';
 import { movedNavigator } from './moved_navigator.js';
 
 // Splits per message: a run of this many costs the page a few milliseconds to copy in.
@@ -16,8 +17,9 @@ const SLICE_SPLITS = 32768;
 // rejects with the decoder's error. onStart(totalBytes, shared, ranges), onFirstBytes(pageTime),
 // onProgress(bytes), onPaused(bytes): the worker stopped fetching at `vertices` (by ranges;
 // Infinity: the whole file) until `control.want(vertices)` asks for more. onNavigator(nav):
-// the worker's Navigator at the base mesh, moved here (moved_navigator.js).
-export function decodeInWorker({ url, name, onHead, onBase, onNavigator, onSplits, onStart, onFirstBytes, onProgress, onPaused, vertices = Infinity, control = {}, pauseMs = 100 }) {
+// the worker's Navigator at the base mesh, moved here (moved_navigator.js). onDependencies(deps):
+// the split dependencies the worker derived, as far as the splits loaded (moved_dependencies.js).
+export function decodeInWorker({ url, name, onHead, onBase, onNavigator, onDependencies, onSplits, onStart, onFirstBytes, onProgress, onPaused, vertices = Infinity, control = {}, pauseMs = 100 }) {
   const worker = new Worker(new URL('./decode_worker.js', import.meta.url), { type: 'module' });
   control.want = (n) => worker.postMessage({ type: 'want', vertices: n });
   let mesh = null;
@@ -66,6 +68,8 @@ export function decodeInWorker({ url, name, onHead, onBase, onNavigator, onSplit
           onBase?.(mesh);
         } else if (m.type === 'navigator') {
           onNavigator?.(movedNavigator(m.parts, mesh));
+        } else if (m.type === 'dependencies') {
+          onDependencies?.(movedDependencies(m.parts, mesh));
         } else if (m.type === 'splits') {
           applyPieces(mesh, m.pieces);
           mesh.splitsLoaded = m.first + m.count;
