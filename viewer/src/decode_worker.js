@@ -62,6 +62,7 @@ async function decode({ url, name, shared, sliceSplits, vertices = Infinity }) {
     },
     // The whole mesh is shown first; `done` (the page's load resolves) follows the dependencies.
     onEnd: () => {
+      post({ type: 'progress', bytes: decoder.bytesReceived });  // all of it, before it says so
       post({ type: 'end' });
       sendDependencies(true);
     },
