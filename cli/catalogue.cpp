@@ -74,11 +74,14 @@ std::vector<std::string> dpm_files(const std::filesystem::path& dir) {
 }
 
 // One entry, written only once the file has been read (a file that cannot be read writes
-// nothing and is a problem instead); the file is read up to its first step (the splits and the
-// field definitions; the positions and field values of later steps are not decoded).
+// nothing and is a problem instead). Only the base level at the first step is asked for: the
+// header, base mesh, parts and field definitions give the entry, so a file without fields is
+// not decoded past its base (a 1 M-vertex file: 0.1 s instead of 4.4 s); a file with fields
+// still reads its splits, whose field values a coarse vertex needs.
 Status add_entry(Json& j, const std::filesystem::path& dir, const std::string& relative) {
   const std::filesystem::path path = dir / relative;
   DpmReadLimits limits;
+  limits.vertices = 1;
   limits.last_step = 0;
   auto mesh = read_dpm(path.string(), limits);
   if (!mesh) return mesh.status();
