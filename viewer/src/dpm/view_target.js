@@ -65,10 +65,10 @@ export class ViewFrustum {
   }
 
   // Pixels of error of a split left out (sphere at s[4i]), −1 outside the frustum. The same
-  // sums in the same order as C++'s dot(), without an array per call (a million splits a camera).
+  // sums in the same order as C++'s dot(), without an array per split (a million a camera).
   screenError(s, i, error) {
-    const [ex, ey, ez] = this.eye, n = this.planes;
-    const qx = s[4 * i] - ex, qy = s[4 * i + 1] - ey, qz = s[4 * i + 2] - ez;
+    const { planes: n, eye } = this;
+    const qx = s[4 * i] - eye[0], qy = s[4 * i + 1] - eye[1], qz = s[4 * i + 2] - eye[2];
     const r = s[4 * i + 3];
     for (let k = 0; k < 15; k += 3) if (qx * n[k] + qy * n[k + 1] + qz * n[k + 2] < -r) return -1;
     const distance = Math.sqrt(qx * qx + qy * qy + qz * qz) - r;
@@ -77,23 +77,29 @@ export class ViewFrustum {
   }
 }
 
-// The splits (of the first L) a view wants, with their screen errors: [error, split] by
-// decreasing error, ties by index (the order a budget takes them in). A split's error is the
-// level's before it (errors never increase along the stream).
-export function viewSplits(mesh, spheres, L, view) {
+// f(screen error, split) for each of splits [0, L) whose screen error exceeds the view's
+// tolerance, in ascending order. A split's error is the level's before it (errors never increase
+// along the stream).
+function eachWanted(mesh, spheres, L, view, f) {
   const frustum = new ViewFrustum(view);
-  const out = [];
+  const { error } = mesh, base = mesh.head.baseError;
   for (let i = 0; i < L; i++) {
-    const e = frustum.screenError(spheres, i, mesh.levelError(i));
-    if (e > view.pixels) out.push([e, i]);
+    const e = frustum.screenError(spheres, i, i === 0 ? base : error[i - 1]);
+    if (e > view.pixels) f(e, i);
   }
+}
+
+// The splits (of the first L) a view wants, with their screen errors: [error, split] by
+// decreasing error, ties by index (the order a budget takes them in).
+export function viewSplits(mesh, spheres, L, view) {
+  const out = [];
+  eachWanted(mesh, spheres, L, view, (e, i) => out.push([e, i]));
   return out.sort((a, b) => b[0] - a[0] || a[1] - b[1]);
 }
 
 // The same splits in ascending order, without their errors (a view without a budget).
 export function viewWanted(mesh, spheres, L, view) {
-  const frustum = new ViewFrustum(view);
   const out = [];
-  for (let i = 0; i < L; i++) if (frustum.screenError(spheres, i, mesh.levelError(i)) > view.pixels) out.push(i);
+  eachWanted(mesh, spheres, L, view, (e, i) => out.push(i));
   return out;
 }
