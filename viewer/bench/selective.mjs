@@ -7,7 +7,7 @@
 // worker by the page), and per camera what the page's main thread does — the screen errors and
 // the closure, the wanted set, the front moved, the index entries — for the camera of
 // bench/selective_bench.cpp (1920 × 1080, 45°, low over one corner) moved by a twentieth.
-//   node bench/selective.mjs MODEL.dpm [--box-fraction F] [--px P]
+//   node bench/selective.mjs MODEL.dpm [--box-fraction F] [--px P] [--derive RUNS (default 7)]
 import { readFileSync } from 'node:fs';
 import { loadavg } from 'node:os';
 
@@ -26,6 +26,8 @@ const at = process.argv.indexOf('--box-fraction');
 const fraction = at > 0 ? Number(process.argv[at + 1]) : 0.1;
 const pxAt = process.argv.indexOf('--px');
 const px = pxAt > 0 ? Number(process.argv[pxAt + 1]) : 0.005;
+const deriveAt = process.argv.indexOf('--derive');
+const deriveRuns = deriveAt > 0 ? Math.max(1, Number(process.argv[deriveAt + 1])) : 7;
 const ms = (start) => Number(process.hrtime.bigint() - start) / 1e6;
 const median = (v) => v.slice().sort((a, b) => a - b)[v.length >> 1];
 const timed = (f) => {
@@ -42,10 +44,10 @@ const { mesh } = readDpm(readFileSync(file), file);
 const h = mesh.head;
 console.log(`${file}: ${h.vertexCount} vertices (base ${h.baseVertexCount}), ${h.faceCount} faces, ${h.splitCount} splits; load average ${loadavg().map((x) => x.toFixed(2)).join(' ')}`);
 
-// 1. The dependencies, derived from scratch 7 times.
+// 1. The dependencies, derived from scratch (7 times by default).
 // Only the last is kept (the others' arrays would make the collector's work grow run by run).
-const derive = Array.from({ length: 7 }, () => timed(() => new SplitDependencies(mesh).update()));
-const deps = derive[6].result;
+const derive = Array.from({ length: deriveRuns }, () => timed(() => new SplitDependencies(mesh).update()));
+const deps = derive[deriveRuns - 1].result;
 for (const r of derive) r.result = null;
 const s = deps.stats();
 console.log(`dependencies: ${summary(derive)} (${(median(derive.map((r) => r.wall)) / (h.splitCount / 1e6)).toFixed(0)} ms per M splits); ` +
