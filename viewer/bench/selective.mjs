@@ -3,14 +3,19 @@
 // moving the active front between two box requests (the splits applied and undone, the
 // wanted set with its closure, and the index entries the page rewrites), medians of 7 in wall
 // and CPU time with the load average.
-//   node bench/selective.mjs MODEL.dpm [--box-fraction F]
+// Then a view re-targeted (docs/viewer.md "Spheres from a worker"): the split spheres (made in a
+// worker by the page), and per camera what the page's main thread does — the screen errors and
+// the closure, the wanted set, the front moved, the index entries — for the camera of
+// bench/selective_bench.cpp (1920 × 1080, 45°, low over one corner) moved by a twentieth.
+//   node bench/selective.mjs MODEL.dpm [--box-fraction F] [--px P] [--derive RUNS (default 7)]
 import { readFileSync } from 'node:fs';
 import { loadavg } from 'node:os';
 
 import { readDpm, updateIndices } from '../src/dpm.js';
-import { elsewhereLevel, parseElsewhere, requestedSplits } from '../src/dpm/refine_targets.js';
+import { elsewhereLevel, parseElsewhere, parseRequest, requestedSplits } from '../src/dpm/refine_targets.js';
 import { SelectiveNavigator } from '../src/dpm/selective_navigator.js';
 import { SplitDependencies } from '../src/dpm/split_dependencies.js';
+import { splitSpheres } from '../src/dpm/view_target.js';
 
 const file = process.argv[2];
 if (!file) {
@@ -19,6 +24,10 @@ if (!file) {
 }
 const at = process.argv.indexOf('--box-fraction');
 const fraction = at > 0 ? Number(process.argv[at + 1]) : 0.1;
+const pxAt = process.argv.indexOf('--px');
+const px = pxAt > 0 ? Number(process.argv[pxAt + 1]) : 0.005;
+const deriveAt = process.argv.indexOf('--derive');
+const deriveRuns = deriveAt > 0 ? Math.max(1, Number(process.argv[deriveAt + 1])) : 7;
 const ms = (start) => Number(process.hrtime.bigint() - start) / 1e6;
 const median = (v) => v.slice().sort((a, b) => a - b)[v.length >> 1];
 const timed = (f) => {
@@ -35,10 +44,10 @@ const { mesh } = readDpm(readFileSync(file), file);
 const h = mesh.head;
 console.log(`${file}: ${h.vertexCount} vertices (base ${h.baseVertexCount}), ${h.faceCount} faces, ${h.splitCount} splits; load average ${loadavg().map((x) => x.toFixed(2)).join(' ')}`);
 
-// 1. The dependencies, derived from scratch 7 times.
+// 1. The dependencies, derived from scratch (7 times by default).
 // Only the last is kept (the others' arrays would make the collector's work grow run by run).
-const derive = Array.from({ length: 7 }, () => timed(() => new SplitDependencies(mesh).update()));
-const deps = derive[6].result;
+const derive = Array.from({ length: deriveRuns }, () => timed(() => new SplitDependencies(mesh).update()));
+const deps = derive[deriveRuns - 1].result;
 for (const r of derive) r.result = null;
 const s = deps.stats();
 console.log(`dependencies: ${summary(derive)} (${(median(derive.map((r) => r.wall)) / (h.splitCount / 1e6)).toFixed(0)} ms per M splits); ` +
@@ -72,3 +81,34 @@ console.log(`targets (box → wanted splits, closure): ${targets.map((t) => `${t
   `${nav.activeVertexCount} vertices active (level elsewhere ${h.baseVertexCount + level})`);
 console.log(`front move: ${changed} splits (${moves[0].result.applied} applied, ${moves[0].result.undone} undone): ${summary(moves)} = ${per100k(moves)} ms per 100 k splits`);
 console.log(`index entries after it: ${summary(indices)} = ${per100k(indices)} ms per 100 k splits`);
+
+// 3. A view re-targeted: the spheres once per step, then two cameras in turn, 1 % elsewhere.
+const spheresRuns = Array.from({ length: 7 }, () => timed(() => splitSpheres(mesh, deps.derived, 0)));
+const spheres = spheresRuns[6].result;
+for (const r of spheresRuns) r.result = null;
+console.log(`view: spheres (in the page's worker, once per step): ${summary(spheresRuns)}`);
+const c = [0, 1, 2].map((k) => (h.bboxMin[k] + h.bboxMax[k]) / 2);
+const across = Math.max(h.bboxMax[0] - h.bboxMin[0], h.bboxMax[1] - h.bboxMin[1]);
+const camera = (shift) => parseRequest(`view:EYE=${h.bboxMin[0] + (0.1 + shift) * across},${h.bboxMin[1] + 0.1 * across},${c[2] + 0.06 * across};` +
+  `AT=${c[0] + shift * across},${c[1]},${c[2]};FOV=45;W=1920;H=1080;PX=${px}`);
+const one = elsewhereLevel(mesh, parseElsewhere('1%'));
+const viewNav = new SelectiveNavigator(mesh, deps);
+updateIndices(viewNav, tri, edges);
+const parts = { request: [], wanted: [], setTarget: [], indices: [], all: [] };
+const counts = [];
+for (let r = 0; r < 8; r++) {
+  const view = camera(r % 2 ? 0.05 : 0);
+  const start = { wall: process.hrtime.bigint(), cpu: process.cpuUsage() };
+  const request = timed(() => requestedSplits(mesh, deps, [view], 0, one, spheres));
+  const wanted = timed(() => viewNav.wanted(one, request.result));
+  const moved = timed(() => viewNav.setTarget(wanted.result, one));
+  const indices = timed(() => updateIndices(viewNav, tri, edges));
+  const cpu = process.cpuUsage(start.cpu);
+  if (r === 0) continue;  // the first fills the front from the level
+  parts.all.push({ wall: ms(start.wall), cpu: (cpu.user + cpu.system) / 1e3 });
+  Object.entries({ request, wanted, setTarget: moved, indices }).forEach(([k, v]) => parts[k].push(v));
+  counts.push(`${viewNav.activeVertexCount} (${moved.result.applied + moved.result.undone} changed)`);
+}
+console.log(`view: PX ${px}, camera moved by 1/20; vertices ${[...new Set(counts)].join(', ')}`);
+for (const [what, runs] of Object.entries(parts)) console.log(`  ${what}: ${summary(runs)}`);
+console.log(`load average after: ${loadavg().map((x) => x.toFixed(2)).join(' ')}`);

@@ -39,7 +39,7 @@ try {
   await page.mouse.move(box.x + box.width * 0.42, box.y + box.height * 0.4);
   for (let k = 0; k < 3; k++) await page.mouse.wheel(0, -300);
   await page.evaluate(() => new Promise((r) => setTimeout(r, 600)));
-  await page.waitForFunction(() => !window.dynpm.refinement().following);
+  await page.waitForFunction(() => ((r) => !r.following && !r.waiting)(window.dynpm.refinement()));
   await page.evaluate(() => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r))));
   await page.screenshot({ path: join(out, 'viewer-refine-view.png') });
   console.log(`viewer-refine-view.png: ${(await page.evaluate(() => window.dynpm.refinement())).description}`);

@@ -12,6 +12,7 @@ import { elsewhereLevel, parseElsewhere, parseRequest, requestedSplits } from '.
 import { SelectiveNavigator } from './dpm/selective_navigator.js';
 import { SplitDependencies } from './dpm/split_dependencies.js';
 import { fmt, int } from './fringe.js';
+import { SpheresFromWorker } from './moved_spheres.js';
 
 const $ = (id) => document.getElementById(id);
 
@@ -52,6 +53,11 @@ export class RefineView {
     this.ui.fromParts.addEventListener('click', () => this.boxOfVisibleParts());
     this.followTimer = null;
     this.retargetMs = 0;  // the page's time in the last re-target (main thread)
+    // A view's split spheres come from a worker (moved_spheres.js): a re-target at a step whose
+    // spheres are not in waits for them (`waiting`), the front drawn meanwhile staying as it was.
+    this.spheres = new SpheresFromWorker(() => this.spheresCame());
+    this.waiting = false;
+    this.spheresFrom = null;  // 'worker', or 'page' when no worker could make them
     viewer.controls.addEventListener('change', () => this.cameraMoved());
   }
 
@@ -97,21 +103,25 @@ export class RefineView {
 
   off() {
     const { state } = this.viewer;
+    this.waiting = false;
     if (state.nav === this.selective && this.levelNav) this.swap(this.levelNav);
     this.ui.label.textContent = '';
     return this.refinement();
   }
 
   // The targets at the current step, the elsewhere level, the closure: the selective navigator
-  // moves there (only the splits that change) and is drawn.
+  // moves there (only the splits that change) and is drawn. A view whose spheres at this step
+  // have not come from the worker yet waits for them (spheresCame()).
   retarget() {
     const start = performance.now();
     const { state } = this.viewer;
     const { mesh } = state;
     this.currentDependencies();
+    const spheres = this.viewSpheres();
+    if (spheres === undefined) return;
     this.selective ??= new SelectiveNavigator(mesh, this.dependencies);
     const level = elsewhereLevel(mesh, this.elsewhere);
-    const targets = requestedSplits(mesh, this.dependencies, this.requests, state.t, level);
+    const targets = requestedSplits(mesh, this.dependencies, this.requests, state.t, level, spheres);
     const nav = this.selective;
     nav.setTarget(nav.wanted(level, targets), level);
     this.step = state.t;
@@ -120,6 +130,25 @@ export class RefineView {
       this.levelNav = state.nav;
       this.swap(nav);
     } else this.viewer.updateLevel();
+  }
+
+  // A view's spheres at the current step: the worker's (undefined while they are being made),
+  // or null when there is no view or no worker (requestedSplits() then makes them here).
+  viewSpheres() {
+    this.waiting = false;
+    if (!this.requests.some((r) => r.kind === 'view') || this.spheres.failed || typeof Worker === 'undefined') {
+      if (this.requests.some((r) => r.kind === 'view')) this.spheresFrom = 'page';
+      return null;
+    }
+    const spheres = this.spheres.get(this.viewer.state.mesh, this.dependencies.derived, this.viewer.state.t);
+    if (!spheres) return ((this.waiting = true), undefined);
+    this.spheresFrom = 'worker';
+    return spheres;
+  }
+
+  // Spheres came from the worker (or it failed): the view waiting for them re-targets.
+  spheresCame() {
+    if (this.waiting && this.requests.some((r) => r.kind === 'view')) this.retarget();
   }
 
   // The split dependencies derived as far as the splits loaded, or as far as the decode worker
@@ -159,9 +188,10 @@ export class RefineView {
   // Time moved: requests found at a step (all but parts) are found again. Returns whether it
   // redrew.
   timeChanged() {
-    if (!this.active || this.step === this.viewer.state.t || this.requests.every((r) => r.kind === 'part')) return false;
-    this.retarget();
-    return true;
+    const atStep = this.requests.some((r) => r.kind !== 'part');
+    if (!atStep || !(this.active || this.waiting) || (this.step === this.viewer.state.t && !this.waiting)) return false;
+    this.retarget();  // a view whose spheres at this step are not in yet waits: drawn as it was
+    return !this.waiting && this.active;
   }
 
   // "41 200 vertices: 29 200 elsewhere at 5%, 12 000 more in the box".
@@ -177,14 +207,14 @@ export class RefineView {
   // window.dynpm.refinement(): what is refined and how many vertices and faces it took.
   refinement() {
     const nav = this.selective;
-    const { dependenciesFrom } = this;
-    if (!this.active) return { active: false, requests: [], vertices: this.viewer.state.nav?.vertexCount ?? 0, dependenciesFrom };
+    const { dependenciesFrom, waiting, spheresFrom } = this;
+    if (!this.active) return { active: false, requests: waiting ? this.texts.slice() : [], vertices: this.viewer.state.nav?.vertexCount ?? 0, dependenciesFrom, waiting, spheresFrom };
     const elsewhere = this.viewer.state.mesh.head.baseVertexCount + nav.level;
     return {
       active: true, requests: this.texts.slice(), elsewhere: this.elsewhereText, step: this.step,
       vertices: nav.activeVertexCount, elsewhereVertices: elsewhere, refinedVertices: nav.activeVertexCount - elsewhere,
       faces: nav.activeFaceCount, triangles: nav.triangleCount, quads: nav.quadCount, description: this.describe(),
-      retargetMs: this.retargetMs, following: Boolean(this.followTimer), dependenciesFrom,
+      retargetMs: this.retargetMs, following: Boolean(this.followTimer), dependenciesFrom, waiting, spheresFrom,
     };
   }
 

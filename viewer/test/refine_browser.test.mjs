@@ -39,6 +39,11 @@ function expected(requests, elsewhere, t) {
   return { vertices: nav.activeVertexCount, faces: nav.activeFaceCount, elsewhere: mesh.head.baseVertexCount + level };
 }
 const refinement = () => page.evaluate(() => window.dynpm.refinement());
+// A view re-targets once its spheres at the step have come from the worker (moved_spheres.js).
+const settled = async () => {
+  await page.waitForFunction(() => !window.dynpm.refinement().waiting, null, { timeout: 10000 });
+  return refinement();
+};
 const picture = () => page.evaluate(() => window.dpmViewer.snapshot(64));
 const differs = (a, b) => a.filter((g, i) => Math.abs(g - b[i]) > 8).length;
 const statusLine = () => page.locator('#resolution-label').textContent();
@@ -137,12 +142,13 @@ test('view-dependent through the panel: the front follows the camera; the pixel 
   await page.locator('#refine-elsewhere').fill('2%');
   await page.locator('#refine-mode').selectOption('view');
   assert.equal(await page.locator('#refine-pixels').isVisible(), true, 'the pixel slider shows');
-  let r = await refinement();
+  let r = await settled();
   assert.equal(r.active, true);
+  assert.equal(r.spheresFrom, 'worker', 'the spheres were made by the worker, not on the page');
   assert.match(r.requests[0], /^view:EYE=[^;]+;AT=[^;]+;UP=[^;]+;FOV=35;W=\d+;H=\d+;PX=1$/);
   // What dpm/ computes here for the page's camera, as the page sent it.
   const check = async (what) => {
-    const got = await refinement();
+    const got = await settled();
     const want = expected(got.requests, '2%', 10);
     assert.equal(got.vertices, want.vertices, `${what}: ${got.requests[0]}`);
     assert.match(await statusLine(), new RegExp(`^${want.vertices.toLocaleString('en')} vertices: ${want.elsewhere} elsewhere at 2%, .* more in view with error > `));
@@ -189,7 +195,7 @@ test('view-dependent through the panel: the front follows the camera; the pixel 
   assert.match(await statusLine(), new RegExp(`\\(budget ${budget.toLocaleString('en')}\\)`));
   // Time moves the model under the camera: found again at the new step.
   await page.locator('#time').fill('30');
-  const later = await refinement();
+  const later = await settled();
   assert.equal(later.step, 30);
   assert.equal(later.vertices, expected(later.requests, '2%', 30).vertices);
   await page.locator('#refine-budget').fill('0');

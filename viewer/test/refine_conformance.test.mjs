@@ -13,6 +13,7 @@ import { test } from 'node:test';
 import { elsewhereLevel, parseElsewhere, requestedSplits } from '../src/dpm/refine_targets.js';
 import { SelectiveNavigator } from '../src/dpm/selective_navigator.js';
 import { SplitDependencies } from '../src/dpm/split_dependencies.js';
+import { spheresAnswer, spheresRequest } from '../src/moved_spheres.js';
 import { objBody, withoutComments } from './obj_text.mjs';
 import { cli, crashbox, crashboxDpm } from './selective_fixture.mjs';
 
@@ -28,16 +29,22 @@ function model(name) {
   return models.get(name);
 }
 
-// The OBJ body dpm.js gives for a request at whole step t.
-function jsObj({ mesh, deps }, requests, elsewhere, t) {
+// The OBJ body dpm.js gives for a request at whole step t; spheres: a view's, made elsewhere.
+function jsObj({ mesh, deps }, requests, elsewhere, t, spheres = null) {
   const nav = new SelectiveNavigator(mesh, deps);
   const level = elsewhereLevel(mesh, parseElsewhere(elsewhere));
-  nav.setTarget(nav.wanted(level, requestedSplits(mesh, deps, requests, t, level)), level);
+  nav.setTarget(nav.wanted(level, requestedSplits(mesh, deps, requests, t, level, spheres)), level);
   const { vertices, faces, faceIds } = nav.activeMesh();
   const all = mesh.positionsAt(t, mesh.head.vertexCount, new Float32Array(3 * mesh.head.vertexCount));
   const positions = new Float32Array(3 * vertices.length);
   vertices.forEach((v, k) => positions.set(all.subarray(3 * v, 3 * v + 3), 3 * k));
   return objBody(positions, faces, Array.from(faceIds, (f) => mesh.partId[f]));
+}
+
+function sphereFromWorker({ mesh, deps }, t) {
+  const { message, transfer } = spheresRequest(mesh, deps.derived, t);
+  const { answer, transfer: back } = spheresAnswer(structuredClone(message, { transfer }));
+  return structuredClone(answer, { transfer: back }).spheres;
 }
 
 function cliObj({ file }, args, name) {
@@ -79,6 +86,11 @@ for (const [name, requests, elsewhere, steps] of REQUESTS)
     for (const t of steps) {
       const args = [...requests.flatMap((r) => ['--refine', r]), '--elsewhere', elsewhere, '--step', String(t)];
       const file = `${name}_${requests.join('_').replace(/[^\w.-]/g, '_')}_${t}.obj`;
-      assert.equal(cliObj(m, args, file), jsObj(m, requests, elsewhere, t), `step ${t}`);
+      const cpp = cliObj(m, args, file);
+      assert.equal(cpp, jsObj(m, requests, elsewhere, t), `step ${t}`);
+      // A view's spheres as the page has them from its worker (moved_spheres.js: the request
+      // and the answer cloned as postMessage clones them) give the same bytes.
+      if (requests.some((r) => r.startsWith('view:')))
+        assert.equal(cpp, jsObj(m, requests, elsewhere, t, sphereFromWorker(m, t)), `step ${t}, the worker's spheres`);
     }
   });

@@ -26,18 +26,19 @@ const INPUTS = {
 
 // The .dpm's path, built if it is not there yet or older than the CLI (a build folder kept
 // across a format change would otherwise hand the tests a file of the previous version).
-export function crashboxDpm(name) {
+// quantized: built without --lossless (positions on the file's grid).
+export function crashboxDpm(name, { quantized = false } = {}) {
   if (!cli) throw new Error('selective tests need DYNPM_CLI (the dynpm binary)');
   mkdirSync(out, { recursive: true });
-  const path = join(out, `${name}.dpm`);
+  const path = join(out, `${name}${quantized ? '-quantized' : ''}.dpm`);
   const stale = !existsSync(path) || statSync(path).mtimeMs < statSync(cli).mtimeMs;
-  if (stale) execFileSync(cli, ['build', INPUTS[name](), '-o', path, '--lossless', '--quiet'], { stdio: 'pipe' });
+  if (stale) execFileSync(cli, ['build', INPUTS[name](), '-o', path, ...(quantized ? [] : ['--lossless']), '--quiet'], { stdio: 'pipe' });
   return path;
 }
 
 // The decoded mesh (every split loaded).
-export function crashbox(name) {
-  const path = crashboxDpm(name);
+export function crashbox(name, options) {
+  const path = crashboxDpm(name, options);
   return readDpm(new Uint8Array(readFileSync(path)), path).mesh;
 }
 

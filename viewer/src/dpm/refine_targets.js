@@ -18,7 +18,7 @@
 //     and the level elsewhere, by decreasing error while the vertices are under BUDGET.
 // Several requests are a union. The navigator adds the "elsewhere" prefix and the closure.
 import { DpmError } from './bytes.js';
-import { splitSpheres, viewSplits } from './view_target.js';
+import { splitSpheres, viewSplits, viewWanted } from './view_target.js';
 
 // A decimal number as C++ std::from_chars reads one (no blanks, no '+', no hex), finite.
 const DECIMAL = /^-?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$/;
@@ -139,8 +139,10 @@ export function elsewhereLevel(mesh, elsewhere) {
 
 // The splits the requests want (parsed, or their text), at step t: an array of split indices,
 // each once. dependencies: a SplitDependencies derived as far as the splits to consider. level:
-// the level elsewhere, which a view's budget counts (the others do not need it).
-export function requestedSplits(mesh, dependencies, requests, t = 0, level = 0) {
+// the level elsewhere, which a view's budget counts (the others do not need it). spheres: a
+// view's split spheres at t (splitSpheres() of dependencies.derived splits, made elsewhere, as
+// the page's decode worker does), else made here once per step.
+export function requestedSplits(mesh, dependencies, requests, t = 0, level = 0, spheres = null) {
   const L = dependencies.derived;
   const b = mesh.head.baseVertexCount;
   const n = b + L;
@@ -190,25 +192,24 @@ export function requestedSplits(mesh, dependencies, requests, t = 0, level = 0) 
   const out = [];
   for (let i = 0; i < L; i++) if (want[i]) out.push(i);
   const views = parsed.filter((r) => r.kind === 'view');
-  return views.length ? withViews(mesh, dependencies, views, out, t, level) : out;
+  return views.length ? withViews(mesh, dependencies, views, out, spheres ?? cachedSpheres(mesh, dependencies, t), level) : out;
 }
 
 // The other requests' splits and the level, closed; then each view's splits by decreasing
 // screen error, each with its closure, while the vertices are fewer than its budget (the last
 // closure may pass it). Returns the closed set's splits above the level.
-function withViews(mesh, dependencies, views, others, t, level) {
+function withViews(mesh, dependencies, views, others, spheres, level) {
   const L = dependencies.derived;
   const closed = new Uint8Array(mesh.head.splitCount);
   closed.fill(1, 0, Math.max(0, Math.min(level, L)));
   dependencies.close(others, closed);
   let vertices;
-  const spheres = cachedSpheres(mesh, dependencies, t);
   for (const view of views) {
-    const wanted = viewSplits(mesh, spheres, L, view, view.budget > 0);
     if (!view.budget) {
-      dependencies.close(wanted.map(([, i]) => i), closed);
+      dependencies.close(viewWanted(mesh, spheres, L, view), closed);
       continue;
     }
+    const wanted = viewSplits(mesh, spheres, L, view);
     vertices = mesh.head.baseVertexCount;
     for (let i = 0; i < L; i++) vertices += closed[i];
     for (const [, i] of wanted) {

@@ -14,37 +14,38 @@ const normalized = (a) => {
 const scaledPlus = (a, s, b) => [a[0] * s + b[0], a[1] * s + b[1], a[2] * s + b[2]];
 const negated = (a) => [-a[0], -a[1], -a[2]];
 
-// The smallest sphere around spheres a and b of `s` (x, y, z, r from 4a, 4b), into s from 4o.
-function enclose(s, a, b, o) {
-  const i = 4 * a, j = 4 * b, k = 4 * o;
-  const dx = s[j] - s[i], dy = s[j + 1] - s[i + 1], dz = s[j + 2] - s[i + 2];
-  const d = Math.sqrt(dx * dx + dy * dy + dz * dz), ra = s[i + 3], rb = s[j + 3];
-  if (d + rb <= ra) copy4(s, i, k);
-  else if (d + ra <= rb) copy4(s, j, k);
+// The smallest sphere around sphere 4a of `a` and sphere 4b of `b` (x, y, z, r), into `out`
+// from 4o.
+function enclose(a, i, b, j, out, k) {
+  const dx = b[j] - a[i], dy = b[j + 1] - a[i + 1], dz = b[j + 2] - a[i + 2];
+  const d = Math.sqrt(dx * dx + dy * dy + dz * dz), ra = a[i + 3], rb = b[j + 3];
+  if (d + rb <= ra) copy4(a, i, out, k);
+  else if (d + ra <= rb) copy4(b, j, out, k);
   else {
     const r = (d + ra + rb) / 2, f = (r - ra) / d;
-    const x = s[i] + dx * f, y = s[i + 1] + dy * f, z = s[i + 2] + dz * f;
-    s[k] = x, s[k + 1] = y, s[k + 2] = z, s[k + 3] = r;
+    out[k] = a[i] + dx * f, out[k + 1] = a[i + 1] + dy * f, out[k + 2] = a[i + 2] + dz * f, out[k + 3] = r;
   }
 }
-const copy4 = (s, from, to) => ((s[to] = s[from]), (s[to + 1] = s[from + 1]), (s[to + 2] = s[from + 2]), (s[to + 3] = s[from + 3]));
+const copy4 = (from, i, to, k) => ((to[k] = from[i]), (to[k + 1] = from[i + 1]), (to[k + 2] = from[i + 2]), (to[k + 3] = from[i + 3]));
 
-// Spheres (x, y, z, r per split, Float32Array) of the first L splits' final descendants at
-// fractional step t, over the vertices they make.
+// Spheres (x, y, z, r per split, a Float32Array of 4L) of the first L splits' final descendants
+// at fractional step t, over the vertices they make. Only the arrays head, q (the two steps
+// around t), parent and the method positionsAt() of `mesh` are read: the decode worker's page
+// side sends just those (moved_spheres.js).
 export function splitSpheres(mesh, L, t) {
   const b = mesh.head.baseVertexCount, n = b + L;
-  // Per vertex then per split, in one array: vertex v at v, split i at n + i.
-  const s = new Float32Array(4 * (n + L));
+  // Per vertex, the sphere of itself and what the splits after the current one made of it.
+  const vertex = new Float32Array(4 * n), out = new Float32Array(4 * L);
   const p = mesh.positionsAt(t, n, new Float32Array(3 * n));
-  for (let v = 0; v < n; v++) (s[4 * v] = p[3 * v]), (s[4 * v + 1] = p[3 * v + 1]), (s[4 * v + 2] = p[3 * v + 2]);
+  for (let v = 0; v < n; v++) (vertex[4 * v] = p[3 * v]), (vertex[4 * v + 1] = p[3 * v + 1]), (vertex[4 * v + 2] = p[3 * v + 2]);
   // Split i turns its parent into the parent and v0: the parent's later splits are merged in
   // already, and v0's are all later.
   const { parent } = mesh;
   for (let i = L - 1; i >= 0; i--) {
-    enclose(s, parent[i], b + i, n + i);
-    copy4(s, 4 * (n + i), 4 * parent[i]);
+    enclose(vertex, 4 * parent[i], vertex, 4 * (b + i), out, 4 * i);
+    copy4(out, 4 * i, vertex, 4 * parent[i]);
   }
-  return s.subarray(4 * n);
+  return out;
 }
 
 // The camera's frustum and projection; view: a parsed view request.
@@ -59,29 +60,46 @@ export class ViewFrustum {
     // Inward normals: near (at the eye), top, bottom, right, left.
     this.inward = [f, normalized(scaledPlus(f, tv, negated(up))), normalized(scaledPlus(f, tv, up)),
       normalized(scaledPlus(f, th, negated(right))), normalized(scaledPlus(f, th, right))];
+    this.planes = Float64Array.from(this.inward.flat());
     this.scale = view.height / (2 * tv);
   }
 
-  // Pixels of error of a split left out (sphere at s[4i]), −1 outside the frustum.
+  // Pixels of error of a split left out (sphere at s[4i]), −1 outside the frustum. The same
+  // sums in the same order as C++'s dot(), without an array per split (a million a camera).
   screenError(s, i, error) {
-    const q = [s[4 * i] - this.eye[0], s[4 * i + 1] - this.eye[1], s[4 * i + 2] - this.eye[2]];
+    const { planes: n, eye } = this;
+    const qx = s[4 * i] - eye[0], qy = s[4 * i + 1] - eye[1], qz = s[4 * i + 2] - eye[2];
     const r = s[4 * i + 3];
-    for (const n of this.inward) if (dot(q, n) < -r) return -1;
-    const distance = Math.sqrt(dot(q, q)) - r;
+    for (let k = 0; k < 15; k += 3) if (qx * n[k] + qy * n[k + 1] + qz * n[k + 2] < -r) return -1;
+    const distance = Math.sqrt(qx * qx + qy * qy + qz * qz) - r;
     if (distance <= 0) return error > 0 ? Infinity : 0;
     return (error / distance) * this.scale;
   }
 }
 
-// The splits (of the first L) a view wants: [screen error, split], `sorted` by decreasing error,
-// ties by index (the order a budget takes them in). A split's error is the level's before it
-// (errors never increase along the stream).
-export function viewSplits(mesh, spheres, L, view, sorted = true) {
+// f(screen error, split) for each of splits [0, L) whose screen error exceeds the view's
+// tolerance, in ascending order. A split's error is the level's before it (errors never increase
+// along the stream).
+function eachWanted(mesh, spheres, L, view, f) {
   const frustum = new ViewFrustum(view);
-  const out = [];
+  const { error } = mesh, base = mesh.head.baseError;
   for (let i = 0; i < L; i++) {
-    const e = frustum.screenError(spheres, i, mesh.levelError(i));
-    if (e > view.pixels) out.push([e, i]);
+    const e = frustum.screenError(spheres, i, i === 0 ? base : error[i - 1]);
+    if (e > view.pixels) f(e, i);
   }
-  return sorted ? out.sort((a, b) => b[0] - a[0] || a[1] - b[1]) : out;
+}
+
+// The splits (of the first L) a view wants, with their screen errors: [error, split] by
+// decreasing error, ties by index (the order a budget takes them in).
+export function viewSplits(mesh, spheres, L, view) {
+  const out = [];
+  eachWanted(mesh, spheres, L, view, (e, i) => out.push([e, i]));
+  return out.sort((a, b) => b[0] - a[0] || a[1] - b[1]);
+}
+
+// The same splits in ascending order, without their errors (a view without a budget).
+export function viewWanted(mesh, spheres, L, view) {
+  const out = [];
+  eachWanted(mesh, spheres, L, view, (e, i) => out.push(i));
+  return out;
 }
