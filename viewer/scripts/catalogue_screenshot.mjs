@@ -26,6 +26,7 @@ try {
   await page.waitForFunction(() => [...document.querySelectorAll('img.thumb')].every((i) => i.complete && i.naturalWidth > 0));
   if (flag('--filter')) await page.fill('#filter', flag('--filter'));
   for (const path of flag('--select')?.split(',') ?? []) await page.check(`article[data-path="${path}"] .select`);
+  await page.evaluate(() => window.scrollTo(0, 0));  // checking scrolled to the boxes
   await page.screenshot({ path: out });
   console.log(`wrote ${out}`);
 } finally {

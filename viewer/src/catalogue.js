@@ -59,6 +59,7 @@ function element(tag, props = {}, ...children) {
 }
 
 const int = (n) => Number(n).toLocaleString('en');
+const time = (t) => String(Number(Number(t).toPrecision(4)));
 function bytesText(n) {
   if (n >= 1 << 30) return `${(n / (1 << 30)).toFixed(1)} GiB`;
   if (n >= 1 << 20) return `${(n / (1 << 20)).toFixed(1)} MiB`;
@@ -74,7 +75,7 @@ function card(entry) {
     ? element('img', { class: 'thumb', src: thumbUrl(path), alt: `${entry.name}, last step`, loading: 'lazy' })
     : element('div', { class: 'thumb placeholder', text: 'no thumbnail' });
   const open = element('a', { href: viewerUrl(path), class: 'open', text: entry.name });
-  const times = entry.steps > 1 ? ` (t ${entry.first_time} … ${entry.last_time})` : '';
+  const times = entry.steps > 1 ? ` (t ${time(entry.first_time)} … ${time(entry.last_time)})` : '';
   const fields = entry.fields.length ? entry.fields.map((f) => `${f.name}${f.unit ? ` [${f.unit}]` : ''} (${f.location})`).join(', ') : 'none';
   const parts = entry.parts.length <= 6 ? entry.parts.map(partName).join(', ') : `${entry.parts.length} parts`;
   const select = element('input', { type: 'checkbox', class: 'select', 'aria-label': `select ${entry.name} to compare` });
