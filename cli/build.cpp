@@ -49,6 +49,8 @@ const VerbSpec kSpec{
      kThreadsFlag,
      {"--json", "", false, "", "print the result as JSON"},
      kNoMemoryCheckFlag,
+     {"--no-thumbnail", "", false, "",
+      "store no thumbnail (the picture 'dynpm serve' shows; docs/FORMAT.md THMB)"},
      kSplitPolygonsFlag,
      kIntegrationPointFlag,
      kProgressFlag,
@@ -156,6 +158,17 @@ int run_build(std::span<char* const> arguments) {
   if (!built) return fail(kSpec.name, kExitFailure, built.message());
   const ProgressiveMesh* mesh = &built->mesh;
   const std::string* bytes = &built->bytes;
+  std::string with_picture;
+  if (!args.has("--no-thumbnail")) {
+    // The catalogue's picture of the model, drawn from the file's own bytes at 5 %.
+    phase.emplace("drawing the thumbnail");
+    progress("thumbnail", 0, 1);
+    auto thumbnailed = add_thumbnail(*bytes, *output);
+    if (!thumbnailed) return fail(kSpec.name, kExitFailure, thumbnailed.message());
+    with_picture = std::move(thumbnailed).value();
+    bytes = &with_picture;
+    progress("thumbnail", 1, 1);
+  }
   phase.emplace("writing the .dpm file");
   progress("writing", 0, 1);
   if (Status s = write_file_atomically(*output, *bytes); !s.ok())

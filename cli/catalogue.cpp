@@ -56,9 +56,9 @@ std::string source_of(const std::string& note) {
   return source;
 }
 
-// The .dpm files below dir, relative to it, sorted; not through symbolic links, and not the
-// temporaries of a build ("x.tmp-123.dpm").
-std::vector<std::string> dpm_files(const std::filesystem::path& dir) {
+}  // namespace
+
+std::vector<std::string> catalogue_files(const std::string& dir) {
   std::vector<std::string> files;
   std::error_code ec;
   for (std::filesystem::recursive_directory_iterator it(dir, ec), end; !ec && it != end;
@@ -73,13 +73,12 @@ std::vector<std::string> dpm_files(const std::filesystem::path& dir) {
   return files;
 }
 
-// One entry, written only once the file has been read (a file that cannot be read writes
-// nothing and is a problem instead). Only the base level at the first step is asked for: the
+// Only the base level at the first step is asked for: the
 // header, base mesh, parts and field definitions give the entry, so a file without fields is
 // not decoded past its base (a 1 M-vertex file: 0.1 s instead of 4.4 s); a file with fields
 // still reads its splits, whose field values a coarse vertex needs.
-Status add_entry(Json& j, const std::filesystem::path& dir, const std::string& relative) {
-  const std::filesystem::path path = dir / relative;
+Result<std::string> catalogue_entry(const std::string& dir, const std::string& relative) {
+  const std::filesystem::path path = std::filesystem::path(dir) / relative;
   DpmReadLimits limits;
   limits.vertices = 1;
   limits.last_step = 0;
@@ -88,7 +87,10 @@ Status add_entry(Json& j, const std::filesystem::path& dir, const std::string& r
   const ProgressiveMesh& m = *mesh;
   // Read with limits, `complete` is false by design; `limited` says so.
   if (!m.complete && !m.limited) return Status::error(path.string() + ": the file is incomplete");
+  auto thumbnail = read_dpm_thumbnail(path.string());
+  if (!thumbnail) return thumbnail.status();
   std::error_code ec;
+  Json j;
   j.begin_object();
   j.value("name", std::filesystem::path(relative).stem().string());
   j.value("path", relative);
@@ -123,27 +125,26 @@ Status add_entry(Json& j, const std::filesystem::path& dir, const std::string& r
   j.value("diagonal", m.diagonal());
   j.value("bytes", uint64_t{std::filesystem::file_size(path, ec)});
   j.value("built", utc_text(modified(path)));
+  j.value("thumbnail", thumbnail->has_value());
   j.end_object();
-  return {};
+  return j.str();
 }
 
-}  // namespace
-
-Result<CatalogueResult> write_catalogue_index(const std::string& dir) {
-  std::error_code ec;
-  if (!std::filesystem::is_directory(dir, ec)) return Status::error(dir + ": no such folder");
-  CatalogueResult result;
+std::string catalogue_index(const std::vector<std::string>& files, const CatalogueEntryMaker& entry,
+                            CatalogueResult& result) {
   Json j;
   j.begin_object();
   j.value("format", "dynpm-catalogue");
   j.value("version", kIndexVersion);
   j.value("generated", utc_text(std::chrono::system_clock::now()));
   j.begin_array("entries");
-  for (const std::string& relative : dpm_files(dir)) {
-    if (Status s = add_entry(j, dir, relative); !s.ok()) {
-      result.problems.push_back(s.message());
+  for (const std::string& relative : files) {
+    auto made = entry(relative);
+    if (!made) {
+      result.problems.push_back(made.message());
       continue;
     }
+    j.raw({}, *made);
     ++result.entries;
   }
   j.end_array();
@@ -151,8 +152,18 @@ Result<CatalogueResult> write_catalogue_index(const std::string& dir) {
   for (const std::string& problem : result.problems) j.item(problem);
   j.end_array();
   j.end_object();
+  return j.str() + "\n";
+}
+
+Result<CatalogueResult> write_catalogue_index(const std::string& dir) {
+  std::error_code ec;
+  if (!std::filesystem::is_directory(dir, ec)) return Status::error(dir + ": no such folder");
+  CatalogueResult result;
+  const std::string json = catalogue_index(
+      catalogue_files(dir),
+      [&](const std::string& relative) { return catalogue_entry(dir, relative); }, result);
   const std::string index = (std::filesystem::path(dir) / "index.json").string();
-  DYNPM_RETURN_IF_ERROR(write_file_atomically(index, j.str() + "\n"));
+  DYNPM_RETURN_IF_ERROR(write_file_atomically(index, json));
   return result;
 }
 

@@ -21,5 +21,7 @@ int run_eval(std::span<char* const> arguments);
 int run_view(std::span<char* const> arguments);
 int run_batch(std::span<char* const> arguments);
 int run_catalogue(std::span<char* const> arguments);
+int run_serve(std::span<char* const> arguments);
+int run_thumbnail(std::span<char* const> arguments);
 
 }  // namespace dynpm::cli

@@ -43,6 +43,15 @@ void Json::quoted(std::string_view text) {
   out_ += '"';
 }
 
+Json& Json::raw(std::string_view k, std::string_view json) {
+  key(k);
+  for (char c : json) {
+    out_ += c;
+    if (c == '\n') out_.append(first_.size() * 2, ' ');
+  }
+  return *this;
+}
+
 Json& Json::begin_object(std::string_view k) {
   key(k);
   out_ += '{';

@@ -25,6 +25,8 @@ class Json {
   Json& value(std::string_view key, uint64_t number);
   Json& value(std::string_view key, int number) { return value(key, int64_t{number}); }
   Json& value(std::string_view key, bool flag);
+  // A JSON value made by another Json (an object, say), indented to fit here.
+  Json& raw(std::string_view key, std::string_view json);
   // Array elements.
   Json& item(std::string_view text) { return value({}, text); }
   Json& item(double number) { return value({}, number); }

@@ -33,6 +33,8 @@ constexpr Verb kVerbs[] = {
     {"view", run_view, "browse a .dpm in the web browser (time and resolution sliders)"},
     {"batch", run_batch, "build many variants into one folder, here or as a Slurm job array"},
     {"catalogue", run_catalogue, "index.json of every .dpm below a folder (name, counts, fields)"},
+    {"serve", run_serve, "the catalogue of a folder of .dpm files in the browser, with the viewer"},
+    {"thumbnail", run_thumbnail, "the picture of a .dpm a catalogue shows: stored in it, or a PNG"},
 };
 
 std::string usage() {

@@ -47,15 +47,6 @@ const VerbSpec kSpec{
 constexpr const char* kModelPath = "model.dpm";
 constexpr const char* kConfigPath = "dpm.json";
 
-// Only the page's own files, no inline script or style, nothing from or to elsewhere: a name in
-// a model file can never become script (docs/viewer.md "Security and limits"). index.html
-// carries the same policy in a <meta> for --export, less frame-ancestors, which only a header
-// can set; viewer/test/security.test.mjs checks that the two agree.
-constexpr const char* kContentSecurityPolicy =
-    "default-src 'self'; script-src 'self'; style-src 'self'; img-src 'self' data:; "
-    "connect-src 'self'; object-src 'none'; base-uri 'none'; form-action 'none'; "
-    "frame-ancestors 'none'";
-
 // --throttle in KiB/s: at least 1 (slower only stalls the page), at most 1 GiB/s (faster is
 // no throttle at all).
 constexpr double kMinThrottleKib = 1, kMaxThrottleKib = 1024 * 1024;
@@ -231,17 +222,12 @@ ServerOptions server_options(const fs::path& model, const std::string& config,
   options.files.push_back({std::string("/") + kModelPath, "application/octet-stream", {}, true});
   options.model = model.string();
   options.throttle_bytes = throttle_kib * 1024;
-  options.content_security_policy = kContentSecurityPolicy;
   return options;
 }
 
 int serve_model(const fs::path& model, uintmax_t model_size, int port, double throttle_kib) {
   // Ctrl-C and SIGTERM are read by the server's poll loop (a signalfd): blocked here.
-  sigset_t stop_signals;
-  sigemptyset(&stop_signals);
-  sigaddset(&stop_signals, SIGINT);
-  sigaddset(&stop_signals, SIGTERM);
-  pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
+  block_stop_signals();
 
   auto listener = listen_on_loopback(port);
   if (!listener) return fail(kSpec.name, kExitFailure, listener.message());
@@ -268,12 +254,9 @@ int run_view(std::span<char* const> arguments) {
   double throttle_kib = 0;
   // "--port abc" and "--throttle inf" each get a message that names the flag and its range.
   if (auto p = args.value("--port")) {
-    auto r = parse_whole("--port", *p, 0, 65535);
-    if (!r)
-      return fail(
-          kSpec.name, kExitUsage,
-          "--port takes a whole number in 0…65535 (0: any free port), not " + quoted_value(*p));
-    port = static_cast<int>(*r);
+    auto r = parse_port(*p);
+    if (!r) return fail(kSpec.name, kExitUsage, r.message());
+    port = *r;
   }
   if (auto t = args.value("--throttle")) {
     auto r = parse_number("--throttle", *t, {kMinThrottleKib, kMaxThrottleKib});

@@ -25,6 +25,7 @@
 #include <memory>
 #include <optional>
 
+#include "args.h"
 #include "dynpm/text.h"
 
 namespace dynpm::cli {
@@ -57,6 +58,7 @@ struct Connection {
   size_t head_sent = 0;
   // The body: bytes in memory, or [file_at, file_end) of an open model file.
   std::string_view body;
+  std::shared_ptr<const std::string> body_owner;  // a Resource's bytes, kept while sent
   size_t body_sent = 0;
   int file = -1;
   struct stat file_stat = {};
@@ -288,19 +290,34 @@ void Server::answer(Connection& c, std::string_view head) {
   if (method != "GET" && method != "HEAD")
     return refuse(c, 405, "Method Not Allowed", c.close_after, "Allow: GET, HEAD\r\n");
   target = target.substr(0, target.find_first_of("?#"));
-  if (target == "/") target = "/index.html";
   const auto file = std::find_if(options_.files.begin(), options_.files.end(),
                                  [&](const ServedFile& f) { return f.path == target; });
-  if (file == options_.files.end()) return refuse(c, 404, "Not Found", c.close_after);
+  std::optional<Resource> routed;
+  if (file == options_.files.end() && options_.route) routed = options_.route(target);
+  if (file == options_.files.end() && !routed) return refuse(c, 404, "Not Found", c.close_after);
+  const std::string content_type = routed ? routed->content_type : file->content_type;
+  std::string_view bytes;
+  std::string disk;  // the file to send, opened for this request
+  if (!routed) {
+    bytes = file->bytes;
+    if (file->is_model) disk = options_.model;
+  } else if (routed->file.empty()) {
+    c.body_owner = routed->bytes;
+    bytes = *c.body_owner;
+  } else {
+    disk = routed->file;
+  }
 
-  uint64_t size = file->bytes.size();
-  if (file->is_model) {
+  uint64_t size = bytes.size();
+  if (!disk.empty()) {
     // Opened for this request: a model rebuilt since (dynpm writes a new file and renames it)
     // is sent whole with its new size; one changed in place while sent is cut off, never
     // completed with bytes of another file.
-    c.file = ::open(options_.model.c_str(), O_RDONLY | O_CLOEXEC);
-    if (c.file < 0 || ::fstat(c.file, &c.file_stat) != 0)
-      return refuse(c, 500, "Internal Server Error: the model cannot be read", c.close_after);
+    c.file = ::open(disk.c_str(), O_RDONLY | O_CLOEXEC | O_NOFOLLOW);
+    if (c.file >= 0 && (::fstat(c.file, &c.file_stat) != 0 || !S_ISREG(c.file_stat.st_mode)))
+      ::close(c.file), c.file = -1;
+    if (c.file < 0)
+      return refuse(c, 500, "Internal Server Error: the file cannot be read", c.close_after);
     size = static_cast<uint64_t>(c.file_stat.st_size);
   }
   std::string extra = "Accept-Ranges: bytes\r\n";
@@ -323,7 +340,7 @@ void Server::answer(Connection& c, std::string_view head) {
                "/" + std::to_string(size) + "\r\n";
     }
   }
-  respond(c, status, reason, file->content_type, length, extra);
+  respond(c, status, reason, content_type, length, extra);
   if (method == "HEAD") {
     if (c.file >= 0) ::close(c.file), c.file = -1;
     return;
@@ -333,7 +350,7 @@ void Server::answer(Connection& c, std::string_view head) {
     c.file_end = first + length;
     c.file_start = Clock::now();
   } else {
-    c.body = file->bytes.substr(first, length);
+    c.body = bytes.substr(first, length);
   }
 }
 
@@ -356,7 +373,7 @@ void Server::respond(Connection& c, int status, std::string_view reason, std::st
   if (c.close_after) c.head += "Connection: close\r\n";
   c.head += "\r\n";
   c.head_sent = 0;
-  c.body = {};
+  c.body = {};  // body_owner stays: answer() set it for this response
   c.body_sent = 0;
   c.piece.clear();
   c.piece_at = 0;
@@ -435,6 +452,7 @@ void Server::finish_response(Connection& c) {
   c.piece = {};
   c.head = {};
   c.body = {};
+  c.body_owner = {};
   c.waiting_since = Clock::now();
   if (c.close_after) {
     ::shutdown(c.fd, SHUT_WR);
@@ -479,6 +497,22 @@ Result<Listener> listen_on_loopback(int port) {
 
 Status serve(const ServerOptions& options, Listener listener) {
   return Server(options, listener).run();
+}
+
+void block_stop_signals() {
+  sigset_t stop;
+  sigemptyset(&stop);
+  sigaddset(&stop, SIGINT);
+  sigaddset(&stop, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &stop, nullptr);
+}
+
+Result<int> parse_port(const std::string& value) {
+  auto port = parse_whole("--port", value, 0, 65535);
+  if (!port)
+    return Status::error("--port takes a whole number in 0…65535 (0: any free port), not " +
+                         quoted_value(value));
+  return static_cast<int>(*port);
 }
 
 }  // namespace dynpm::cli

@@ -49,10 +49,18 @@ std::string crashbox_frd(const test::TempDir& dir) {
 }
 
 // Every phase of a build, in order (auto:K reads every step to choose, then the key steps, then
-// every step once more into the file's coder).
-const std::vector<std::string> kBuildPhases = {
-    "choosing key steps",   "checking the mesh", "reading key steps",  "quadrics", "collapsing",
-    "recording the splits", "coding the splits", "encoding positions", "encoding", "writing"};
+// every step once more into the file's coder, then the thumbnail drawn from the file's bytes).
+const std::vector<std::string> kBuildPhases = {"choosing key steps",
+                                               "checking the mesh",
+                                               "reading key steps",
+                                               "quadrics",
+                                               "collapsing",
+                                               "recording the splits",
+                                               "coding the splits",
+                                               "encoding positions",
+                                               "encoding",
+                                               "thumbnail",
+                                               "writing"};
 
 // How many digits stand between `before` at the start of `text` and `after`; 0 when the text
 // is not shaped so. (By hand: std::regex trips gcc 12's -Wmaybe-uninitialized under ASan.)

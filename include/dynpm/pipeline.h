@@ -70,6 +70,23 @@ Result<BuiltFile> build_dpm(const Topology& topology, const FrameSource& frames,
                             const BuildOptions& options);
 
 // ---------------------------------------------------------------------------------------------
+// The thumbnail a catalogue shows ('dynpm serve'), which 'dynpm build' stores in the file's THMB
+// chunk (docs/FORMAT.md "Thumbnail: THMB").
+struct ThumbnailOptions {
+  uint32_t width = 256, height = 192;
+  double ratio = 0.05;  // the level drawn: this fraction of the vertices (at least the base mesh)
+};
+// What render_thumbnail() needs of a file: its level at `ratio`, every step, no fields.
+DpmReadLimits thumbnail_read_limits(const ThumbnailOptions& options = {});
+// A PNG of `mesh` (read with thumbnail_read_limits()) at its finest level and last step read:
+// the viewer's first view (its up axis, from +x −y +z on a z-up model), orthographic, flat
+// shaded, each part in the viewer's colour for it, on the viewer's background.
+std::string render_thumbnail(const ProgressiveMesh& mesh, const ThumbnailOptions& options = {});
+// The .dpm's bytes with the thumbnail of the model they hold (with_thumbnail()).
+Result<std::string> add_thumbnail(std::string_view dpm_bytes, const std::string& name,
+                                  const ThumbnailOptions& options = {});
+
+// ---------------------------------------------------------------------------------------------
 // evaluate_levels(): the paper's Table 2 — a progressive mesh against the animation it was built
 // from, at several resolutions and time steps.
 //

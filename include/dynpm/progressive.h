@@ -217,6 +217,17 @@ struct DpmReadLimits {
 Result<ProgressiveMesh> read_dpm(const std::string& path, const DpmReadLimits& limits = {});
 Result<ProgressiveMesh> decode_dpm(std::string_view bytes, const std::string& name,
                                    const DpmReadLimits& limits = {});
+// The thumbnail (docs/FORMAT.md "Thumbnail: THMB"): an optional chunk just before END that holds
+// a small PNG picture of the model for catalogues; the model's readers skip it. The file's bytes
+// with that chunk added, or replacing the one it has; an error when the bytes are not a complete
+// .dpm (they must end with END).
+Result<std::string> with_thumbnail(std::string_view dpm_bytes, std::string_view png,
+                                   const std::string& name);
+// The THMB payload of a file, found by reading the chunk headers only (seeking past payloads);
+// nullopt when the file has none. Every header is read up to END, so a file that ends early (a
+// copy still being written) is an error, found without decoding a chunk.
+Result<std::optional<std::string>> read_dpm_thumbnail(const std::string& path);
+
 // The magic bytes, for format detection.
 bool looks_like_dpm(std::string_view head);
 

@@ -6,6 +6,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <string>
 #include <string_view>
 
 #include "dynpm/progressive.h"
@@ -43,6 +44,10 @@ inline uint32_t crc32(std::string_view bytes) {
   for (unsigned char b : bytes) c = table[(c ^ b) & 0xff] ^ (c >> 8);
   return c ^ 0xffffffffu;
 }
+
+// Appends a chunk (docs/FORMAT.md "Chunk"): its header and payload, zstd-compressed when
+// `compress` is set and the frame is smaller (dpm_write.cpp).
+void put_chunk(std::string& out, std::string_view tag, std::string_view raw, bool compress);
 
 // The chunk tags this version knows.
 inline bool is_known_tag(std::string_view tag) {

@@ -17,12 +17,9 @@
 #include "split_records_coding.h"
 
 namespace dynpm {
-namespace {
 
-using namespace progressive;
+namespace progressive {
 
-constexpr uint32_t kFirstChunkSplits = 256;
-constexpr uint32_t kMaxChunkSplits = 16384;
 constexpr int kZstdLevel = 12;
 
 void put_chunk(std::string& out, std::string_view tag, std::string_view raw, bool compress) {
@@ -45,6 +42,15 @@ void put_chunk(std::string& out, std::string_view tag, std::string_view raw, boo
   out += h.bytes;
   out += stored;
 }
+
+}  // namespace progressive
+
+namespace {
+
+using namespace progressive;
+
+constexpr uint32_t kFirstChunkSplits = 256;
+constexpr uint32_t kMaxChunkSplits = 16384;
 
 // A stored q-value (GridValues' convention: 32 bits, signed unless lossless) as an integer.
 int64_t q_value(uint32_t stored, bool lossless) {

@@ -7,7 +7,7 @@
 set(_viewer ${PROJECT_SOURCE_DIR}/viewer)
 set(_modules ${_viewer}/node_modules)
 
-file(GLOB _page CONFIGURE_DEPENDS RELATIVE ${_viewer} ${_viewer}/index.html ${_viewer}/src/*.js
+file(GLOB _page CONFIGURE_DEPENDS RELATIVE ${_viewer} ${_viewer}/index.html ${_viewer}/catalogue.html ${_viewer}/src/*.js
      ${_viewer}/src/dpm/*.js ${_viewer}/src/*.css)
 set(_assets)
 set(_files)

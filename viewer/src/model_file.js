@@ -1,6 +1,12 @@
 // Which file the page shows, and its name: `dpm.json` (written by `dynpm view` and --export),
-// else model.dpm; `?file=` overrides both, but only with a file of the page's own origin.
+// else model.dpm; `?model=` (the catalogue's links, `dynpm serve`) or `?file=` overrides both,
+// but only with a file of the page's own origin.
 export async function modelFile(params) {
+  const model = params.get('model');
+  if (model) {
+    const url = sameOrigin('model', model);
+    return { file: model, name: decodeURIComponent(url.pathname.split('/').pop()) };
+  }
   let file = 'model.dpm';
   let name = file;
   try {
@@ -13,15 +19,20 @@ export async function modelFile(params) {
   } catch {
     // No dpm.json (a folder served by hand): the default name.
   }
-  // ?file= names a file of this server only: a link must not make the page fetch from (or
-  // announce itself to) another origin. The CSP's connect-src 'self' refuses it as well.
   const query = params.get('file');
   if (query) {
-    if (new URL(query, location.href).origin !== location.origin)
-      throw new Error(`?file=${query}: not on this server (${location.origin})`);
+    sameOrigin('file', query);
     file = name = query;
   }
   return { file, name };
+}
+
+// ?file= and ?model= name a file of this server only: a link must not make the page fetch from
+// (or announce itself to) another origin. The CSP's connect-src 'self' refuses it as well.
+function sameOrigin(param, value) {
+  const url = new URL(value, location.href);
+  if (url.origin !== location.origin) throw new Error(`?${param}=${value}: not on this server (${location.origin})`);
+  return url;
 }
 
 // ?vertices=N: the page fetches (by ranges) only the levels up to N vertices at first.

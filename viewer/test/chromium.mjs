@@ -15,14 +15,15 @@ export const CHROMIUM_ARGS = [
   '--no-first-run',
 ];
 
-// Starts `dynpm view` on a free port; resolves with the process and its address.
-export function startServer(cli, file, extra = []) {
+// Starts `dynpm view FILE` (or `dynpm serve DIR`) on a free port; resolves with the process and
+// its address.
+export function startServer(cli, file, extra = [], verb = 'view') {
   return new Promise((resolve, reject) => {
-    const server = spawn(cli, ['view', file, '--port', '0', ...extra], {
+    const server = spawn(cli, [verb, file, '--port', '0', ...extra], {
       stdio: ['ignore', 'pipe', 'pipe'],
     });
     let text = '';
-    const timer = setTimeout(() => reject(new Error(`dynpm view printed no address: ${text}`)), 10000);
+    const timer = setTimeout(() => reject(new Error(`dynpm ${verb} printed no address: ${text}`)), 30000);
     const onData = (d) => {
       text += d;
       const match = text.match(/http:\/\/127\.0\.0\.1:\d+\//);
@@ -30,7 +31,7 @@ export function startServer(cli, file, extra = []) {
     };
     server.stdout.on('data', onData);
     server.stderr.on('data', onData);
-    server.on('exit', (code) => reject(new Error(`dynpm view exited with ${code}: ${text}`)));
+    server.on('exit', (code) => reject(new Error(`dynpm ${verb} exited with ${code}: ${text}`)));
   });
 }
 

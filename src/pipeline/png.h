@@ -1,0 +1,19 @@
+// A PNG writer for the thumbnails (thumbnail.cpp): 8-bit RGB, one IDAT of a zlib stream made
+// here (deflate with the fixed Huffman codes and a greedy LZ77 matcher). A thumbnail is mostly
+// background and flat-shaded facets, runs that LZ77 takes at distance 3 (a pixel) or one row, so
+// this is within a few tens of % of zlib's level 6 while keeping the pipeline free of zlib.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string>
+
+namespace dynpm::pipeline {
+
+// rgb: width × height × 3 bytes, rows top to bottom.
+std::string encode_png(std::span<const uint8_t> rgb, uint32_t width, uint32_t height);
+
+// The zlib stream (RFC 1950) of `bytes`: exposed for its test.
+std::string zlib_compress(std::span<const uint8_t> bytes);
+
+}  // namespace dynpm::pipeline
