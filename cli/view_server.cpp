@@ -298,7 +298,8 @@ void Server::answer(Connection& c, std::string_view head) {
     // Opened for this request: a model rebuilt since (dynpm writes a new file and renames it)
     // is sent whole with its new size; one changed in place while sent is cut off, never
     // completed with bytes of another file.
-    c.file = ::open(options_.model.c_str(), O_RDONLY | O_CLOEXEC);
+    const std::string& disk = file->disk_path.empty() ? options_.model : file->disk_path;
+    c.file = ::open(disk.c_str(), O_RDONLY | O_CLOEXEC);
     if (c.file < 0 || ::fstat(c.file, &c.file_stat) != 0)
       return refuse(c, 500, "Internal Server Error: the model cannot be read", c.close_after);
     size = static_cast<uint64_t>(c.file_stat.st_size);
