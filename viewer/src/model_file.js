@@ -3,10 +3,11 @@
 export async function modelFile(params) {
   let file = 'model.dpm';
   let name = file;
+  let settings = null;  // dpm.json, which may name a second model (compare_view.js)
   try {
     const config = await fetch('dpm.json');
     if (config.ok) {
-      const c = await config.json();
+      const c = (settings = await config.json());
       file = c.file ?? file;
       name = c.name ?? file;
     }
@@ -21,7 +22,7 @@ export async function modelFile(params) {
       throw new Error(`?file=${query}: not on this server (${location.origin})`);
     file = name = query;
   }
-  return { file, name };
+  return { file, name, config: settings };
 }
 
 // ?vertices=N: the page fetches (by ranges) only the levels up to N vertices at first.
