@@ -144,7 +144,7 @@ export class CompareView {
     const A = state.mesh.head;
     const n = nav instanceof Navigator ? linkedVertexCount(state.nav.vertexCount, A.vertexCount, mesh.head, mesh.vertexCountLoaded) : nav.vertexCount;
     if (nav.vertexCount !== n) (nav.setVertexCount(n), (level = true));
-    if (level) this.drawLevel();
+    if (level || !this.buffers.positions) this.drawLevel();  // (B's base may come before A's)
     const t = this.step();
     const p = this.positionsAt(t, n);
     const unscaled = deformation.scale === 1 ? p : Float32Array.from(p.subarray(0, 3 * n));
@@ -287,7 +287,7 @@ export class CompareView {
       stepCount: this.mesh?.head.stepCount ?? 0,
       sameHierarchy: this.why === null,
       why: this.why,
-      largest: this.largest && { ...this.largest, positionA: this.markers[0].position.toArray(), positionB: this.markers[1].position.toArray() },
+      largest: this.peak() && { ...this.largest, positionA: this.markers[0].position.toArray(), positionB: this.markers[1].position.toArray() },
       labels: this.labels.map((l) => l.textContent),
     };
   }
