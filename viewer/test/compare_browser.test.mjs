@@ -164,6 +164,7 @@ test('the difference fringe: its largest |p_A − p_B| is the one extract gives,
     assert.equal(Number(await page.locator('#legend').getAttribute('data-max')), largest.value);
   }
   await page.evaluate(() => (window.dynpm.setLevel({ vertices: 800 }), window.dynpm.setStep(20)));
+  await page.locator('#legend').scrollIntoViewIfNeeded();  // the panel scrolls to the legend
   await page.screenshot({ path: join(shots, 'compare.png') });
   await page.selectOption('#colour', 'displacement');
   assert.equal((await compare(page)).largest, null, 'the marker goes with the mode');
