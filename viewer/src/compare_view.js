@@ -199,7 +199,6 @@ export class CompareView {
     const k = fieldName === null ? -1 : this.mesh.fields.findIndex((f) => f.name === fieldName);
     this.note = fieldName !== null && k < 0 ? `has no field ${fieldName}` : '';
     if (k < 0) this.fieldView?.hide();
-    this.edgeLines.visible = ui.edges.checked;
     if (mode === 'part' || !state.fringe || (fieldName !== null && k < 0)) {
       this.surface.visible = false;
       this.parts.drawLevel(this.nav);
@@ -271,6 +270,7 @@ export class CompareView {
   render() {
     const camera = this.viewer.camera;
     this.light.position.copy(HEADLIGHT).applyMatrix4(camera.matrixWorld);
+    this.edgeLines.visible = this.viewer.ui.edges.checked;  // the panel's check box
     this.renderer.render(this.scene, camera);
   }
 
