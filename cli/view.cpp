@@ -31,12 +31,14 @@ namespace fs = std::filesystem;
 
 const VerbSpec kSpec{
     "view",
-    "dynpm view MODEL.dpm [--port P] [--throttle KIB] | dynpm view MODEL.dpm --export DIR",
+    "dynpm view MODEL.dpm [OTHER.dpm] [--port P] [--throttle KIB] | dynpm view MODEL.dpm "
+    "[OTHER.dpm] --export DIR",
     "Serves a browser viewer for a .dpm on http://127.0.0.1:P/ (default port 8765; 0 picks a\n"
     "free one) until Ctrl-C: a time slider with play/pause, a resolution slider, element\n"
     "edges, colour by part or displacement. The page streams the file and refines as it\n"
-    "arrives. --export writes the page, its modules and the .dpm to DIR instead, for any\n"
-    "static web server.",
+    "arrives. With a second .dpm the page compares the two side by side, with one camera,\n"
+    "time and resolution, and shows |p_A - p_B| when both hold one hierarchy. --export writes\n"
+    "the page, its modules and the .dpm files to DIR instead, for any static web server.",
     {{"--port", "", true, "P", "port on 127.0.0.1 (default 8765, 0: any free port)"},
      {"--export", "", true, "DIR",
       "write a static folder instead of serving (DIR: new, empty, or an earlier export)"},
@@ -46,6 +48,7 @@ const VerbSpec kSpec{
 // The names the page asks for (viewer/src/viewer.js).
 constexpr const char* kModelPath = "model.dpm";
 constexpr const char* kConfigPath = "dpm.json";
+constexpr const char* kComparePath = "compare.dpm";  // the second model, if any
 
 // --throttle in KiB/s: at least 1 (slower only stalls the page), at most 1 GiB/s (faster is
 // no throttle at all).
@@ -68,9 +71,14 @@ std::string json_string(const std::string& s) {
   return out + "\"";
 }
 
-std::string config_json(const fs::path& model) {
-  return "{\"file\": " + json_string(kModelPath) +
-         ", \"name\": " + json_string(model.filename().string()) + "}\n";
+// `compare`: the second model, or empty.
+std::string config_json(const fs::path& model, const fs::path& compare) {
+  std::string json = "{\"file\": " + json_string(kModelPath) +
+                     ", \"name\": " + json_string(model.filename().string());
+  if (!compare.empty())
+    json += ", \"compare\": " + json_string(kComparePath) +
+            ", \"compareName\": " + json_string(compare.filename().string());
+  return json + "}\n";
 }
 
 // A .dpm opens with the PNG-style magic (docs/FORMAT.md); anything else is refused here rather
@@ -105,6 +113,7 @@ ExportLayout export_layout() {
   }
   layout.files.insert(kConfigPath);
   layout.files.insert(kModelPath);
+  layout.files.insert(kComparePath);
   return layout;
 }
 
@@ -133,8 +142,9 @@ Status check_export_target(const fs::path& dir, bool& exists) {
   return Status();
 }
 
-// The page, its configuration and a copy of the model, in `folder` (which does not exist yet).
-Status write_export(const fs::path& model, const fs::path& folder) {
+// The page, its configuration and a copy of the model (and of the second one), in `folder`
+// (which does not exist yet).
+Status write_export(const fs::path& model, const fs::path& compare, const fs::path& folder) {
   std::error_code error;
   auto failed = [&](const fs::path& path) {
     return Status::error(path.string() + ": " + error.message());
@@ -145,8 +155,11 @@ Status write_export(const fs::path& model, const fs::path& folder) {
     if (fs::create_directories(path.parent_path(), error); error) return failed(path.parent_path());
     DYNPM_RETURN_IF_ERROR(write_file_atomically(path.string(), asset.bytes));
   }
-  DYNPM_RETURN_IF_ERROR(write_file_atomically((folder / kConfigPath).string(), config_json(model)));
+  DYNPM_RETURN_IF_ERROR(
+      write_file_atomically((folder / kConfigPath).string(), config_json(model, compare)));
   if (!fs::copy_file(model, folder / kModelPath, error)) return failed(folder / kModelPath);
+  if (!compare.empty() && !fs::copy_file(compare, folder / kComparePath, error))
+    return failed(folder / kComparePath);
   return Status();
 }
 
@@ -170,7 +183,7 @@ void remove_stale_exports(const fs::path& parent, const std::string& prefix) {
 // Built in a temporary sibling folder and renamed into place: a failed or killed export leaves
 // DIR as it was (a partial folder would show a page without its model, or a model prefix,
 // which reads as a valid coarser model).
-Status export_folder(const fs::path& model, fs::path dir) {
+Status export_folder(const fs::path& model, const fs::path& compare, fs::path dir) {
   if (!dir.has_filename()) dir = dir.parent_path();  // "out/" → "out"
   bool exists = false;
   DYNPM_RETURN_IF_ERROR(check_export_target(dir, exists));
@@ -184,7 +197,7 @@ Status export_folder(const fs::path& model, fs::path dir) {
   const std::string stem = dir.filename().string() + ".tmp-" + std::to_string(::getpid());
   const fs::path temp = parent / (stem + "-0"), old = parent / (stem + "-1");
   remove_stale_exports(parent, dir.filename().string() + ".tmp-");
-  Status s = write_export(model, temp);
+  Status s = write_export(model, compare, temp);
   if (s.ok()) {
     // A missing or empty DIR is replaced by rename itself; an earlier export is moved aside
     // first, and put back if the new one cannot take its place.
@@ -208,36 +221,43 @@ Status export_folder(const fs::path& model, fs::path dir) {
   return s;
 }
 
-// The files the server answers for: the page's, the configuration and the model.
-ServerOptions server_options(const fs::path& model, const std::string& config,
-                             double throttle_kib) {
+// The files the server answers for: the page's, the configuration and the model (and the
+// second one).
+ServerOptions server_options(const fs::path& model, const fs::path& compare,
+                             const std::string& config, double throttle_kib) {
   ServerOptions options;
   for (const viewer::Asset& asset : viewer::assets()) {
     options.files.push_back(
-        {"/" + std::string(asset.path), std::string(asset.content_type), asset.bytes, false});
+        {"/" + std::string(asset.path), std::string(asset.content_type), asset.bytes, false, {}});
     if (asset.path == "index.html")
-      options.files.push_back({"/", std::string(asset.content_type), asset.bytes, false});
+      options.files.push_back({"/", std::string(asset.content_type), asset.bytes, false, {}});
   }
-  options.files.push_back({std::string("/") + kConfigPath, "application/json", config, false});
-  options.files.push_back({std::string("/") + kModelPath, "application/octet-stream", {}, true});
+  options.files.push_back({std::string("/") + kConfigPath, "application/json", config, false, {}});
+  options.files.push_back(
+      {std::string("/") + kModelPath, "application/octet-stream", {}, true, {}});
+  if (!compare.empty())
+    options.files.push_back(
+        {std::string("/") + kComparePath, "application/octet-stream", {}, true, compare.string()});
   options.model = model.string();
   options.throttle_bytes = throttle_kib * 1024;
   return options;
 }
 
-int serve_model(const fs::path& model, uintmax_t model_size, int port, double throttle_kib) {
+int serve_model(const fs::path& model, const fs::path& compare, uintmax_t model_size, int port,
+                double throttle_kib) {
   // Ctrl-C and SIGTERM are read by the server's poll loop (a signalfd): blocked here.
   block_stop_signals();
 
   auto listener = listen_on_loopback(port);
   if (!listener) return fail(kSpec.name, kExitFailure, listener.message());
-  const std::string config = config_json(model);
-  std::cout << "dynpm view: " << model.filename().string() << " (" << model_size / 1024
-            << " KiB) at http://127.0.0.1:" << listener->port << "/  (Ctrl-C stops)" << std::endl;
+  const std::string config = config_json(model, compare);
+  std::cout << "dynpm view: " << model.filename().string() << " (" << model_size / 1024 << " KiB)"
+            << (compare.empty() ? "" : " beside " + compare.filename().string())
+            << " at http://127.0.0.1:" << listener->port << "/  (Ctrl-C stops)" << std::endl;
   if (!viewer::assets_complete())
     std::cerr << "warning: dynpm was built without viewer/node_modules; the page cannot draw "
                  "(run 'npm ci' in viewer/ and rebuild)\n";
-  if (Status s = serve(server_options(model, config, throttle_kib), *listener); !s.ok())
+  if (Status s = serve(server_options(model, compare, config, throttle_kib), *listener); !s.ok())
     return fail(kSpec.name, kExitFailure, s.message());
   std::cout << "dynpm view: stopped" << std::endl;
   return kExitOk;
@@ -248,8 +268,9 @@ int serve_model(const fs::path& model, uintmax_t model_size, int port, double th
 int run_view(std::span<char* const> arguments) {
   Args args;
   if (auto exit = parse_verb_args(arguments, kSpec, args)) return *exit;
-  if (args.positional.size() != 1)
-    return fail(kSpec.name, kExitUsage, "expected one .dpm file", help_text(kSpec));
+  if (args.positional.empty() || args.positional.size() > 2)
+    return fail(kSpec.name, kExitUsage, "expected one .dpm file, or two to compare",
+                help_text(kSpec));
   int port = 8765;
   double throttle_kib = 0;
   // "--port abc" and "--throttle inf" each get a message that names the flag and its range.
@@ -266,19 +287,23 @@ int run_view(std::span<char* const> arguments) {
     throttle_kib = *r;
   }
   const fs::path model = args.positional.front();
-  uintmax_t model_size = 0;
+  const fs::path compare = args.positional.size() == 2 ? fs::path(args.positional[1]) : fs::path();
+  uintmax_t model_size = 0, compare_size = 0;
   if (Status s = check_model(model, model_size); !s.ok())
     return fail(kSpec.name, kExitFailure, s.message());
+  if (Status s = compare.empty() ? Status() : check_model(compare, compare_size); !s.ok())
+    return fail(kSpec.name, kExitFailure, s.message());
   if (auto dir = args.value("--export")) {
-    if (Status s = export_folder(model, *dir); !s.ok())
+    if (Status s = export_folder(model, compare, *dir); !s.ok())
       return fail(kSpec.name, kExitFailure, s.message());
     std::cout << "wrote " << (fs::path(*dir) / "index.html").string() << " with "
               << viewer::assets().size() << " files and " << kModelPath
+              << (compare.empty() ? "" : std::string(" and ") + kComparePath)
               << "; serve the folder with any web server, e.g.\n"
               << "  python3 -m http.server -d " << *dir << "\n";
     return kExitOk;
   }
-  return serve_model(model, model_size, port, throttle_kib);
+  return serve_model(model, compare, model_size, port, throttle_kib);
 }
 
 }  // namespace dynpm::cli

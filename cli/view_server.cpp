@@ -300,7 +300,7 @@ void Server::answer(Connection& c, std::string_view head) {
   std::string disk;  // the file to send, opened for this request
   if (!routed) {
     bytes = file->bytes;
-    if (file->is_model) disk = options_.model;
+    if (file->is_model) disk = file->disk_path.empty() ? options_.model : file->disk_path;
   } else if (routed->file.empty()) {
     c.body_owner = routed->bytes;
     bytes = *c.body_owner;
@@ -313,7 +313,9 @@ void Server::answer(Connection& c, std::string_view head) {
     // Opened for this request: a model rebuilt since (dynpm writes a new file and renames it)
     // is sent whole with its new size; one changed in place while sent is cut off, never
     // completed with bytes of another file.
-    c.file = ::open(disk.c_str(), O_RDONLY | O_CLOEXEC | O_NOFOLLOW);
+    // A routed file's folders were checked for links when routed (serve); its last name is checked
+    // here. The models `dynpm view` was given are opened as named.
+    c.file = ::open(disk.c_str(), O_RDONLY | O_CLOEXEC | (routed ? O_NOFOLLOW : 0));
     if (c.file >= 0 && (::fstat(c.file, &c.file_stat) != 0 || !S_ISREG(c.file_stat.st_mode)))
       ::close(c.file), c.file = -1;
     if (c.file < 0)

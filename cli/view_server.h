@@ -26,13 +26,14 @@ inline constexpr const char* kContentSecurityPolicy =
     "connect-src 'self'; object-src 'none'; base-uri 'none'; form-action 'none'; "
     "frame-ancestors 'none'";
 
-// What a path answers: bytes held in memory, or the model file, opened anew for each request
+// What a path answers: bytes held in memory, or a model file, opened anew for each request
 // and sent from that open file with the size it had then.
 struct ServedFile {
   std::string path;  // "/index.html"
   std::string content_type;
-  std::string_view bytes;  // unused for the model
+  std::string_view bytes;  // unused for a model
   bool is_model = false;
+  std::string disk_path;  // a model's file on disk; empty: ServerOptions::model
 };
 
 // What a path not in the fixed set answers, found when it is asked (dynpm serve): bytes made for

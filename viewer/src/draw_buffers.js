@@ -39,6 +39,19 @@ export function growDrawBuffers(buffers, room, vertices, faces, head, geometry, 
   return b;
 }
 
+// After a change of level to F faces: the draw ranges, and the index entries [lo, hi) of the
+// faces that changed (`changed`, from updateIndices; null: none) go up at the next render.
+export function uploadIndices(geometry, edgeGeometry, F, changed) {
+  geometry.setDrawRange(0, 6 * F);
+  edgeGeometry.setDrawRange(0, 8 * F);
+  if (!changed) return;
+  const [lo, hi] = changed;
+  for (const [g, per] of [[geometry, 6], [edgeGeometry, 8]]) {
+    g.index.addUpdateRange(per * lo, per * (hi - lo));
+    g.index.needsUpdate = true;
+  }
+}
+
 // Compiles the shaders of `objects` (their materials) at start-up, on a one-triangle geometry
 // that their real geometry replaces later.
 export function compileShaders(renderer, scene, camera, objects) {

@@ -9,10 +9,11 @@ export async function modelFile(params) {
   }
   let file = 'model.dpm';
   let name = file;
+  let settings = null;  // dpm.json, which may name a second model (compare_view.js)
   try {
     const config = await fetch('dpm.json');
     if (config.ok) {
-      const c = await config.json();
+      const c = (settings = await config.json());
       file = c.file ?? file;
       name = c.name ?? file;
     }
@@ -24,7 +25,7 @@ export async function modelFile(params) {
     sameOrigin('file', query);
     file = name = query;
   }
-  return { file, name };
+  return { file, name, config: settings };
 }
 
 // ?file= and ?model= name a file of this server only: a link must not make the page fetch from

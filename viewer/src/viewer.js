@@ -13,9 +13,10 @@ import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 
 import { installApi } from './api.js';
 import { BaseLevel } from './base_level.js';
+import { compareFile, CompareView, DIFFERENCE } from './compare_view.js';
 import { Deformation } from './deformation.js';
 import { Navigator, ProgressiveMesh, updateIndices } from './dpm.js';
-import { compileShaders, growDrawBuffers } from './draw_buffers.js';
+import { compileShaders, growDrawBuffers, uploadIndices } from './draw_buffers.js';
 import { edgeMaterial, fieldColoursAtVertices } from './edge_lines.js';
 import { FieldView } from './field_view.js';
 import { Images } from './images.js';
@@ -27,6 +28,7 @@ import { Panel } from './panel.js';
 import { addPartsApi, PartList } from './part_list.js';
 import { PartView } from './part_view.js';
 import { installRefine } from './refine_view.js';
+import { scrub } from './scrub.js';
 import { greySnapshot } from './snapshot.js';
 import { States } from './states.js';
 import { decodeInWorker, decodeOnPage } from './worker_decoder.js';
@@ -111,6 +113,7 @@ let edgeIndex = null;  // Uint32Array(8 × face room)
 let scratch = null;  // Float32Array(vertex room): per-vertex scalar for colours
 let fieldView = null, fieldMarkerRadius = 1;  // result fields (field_view.js), made when shown
 let parts = null, partList = null;  // part colours and visibility (part_view.js), made at BASE
+let compare = null;  // the second model, right of this one (compare_view.js), if any
 const room = { vertices: 0, faces: 0 };  // what the draw buffers hold
 
 function createGeometry(mesh) {
@@ -138,8 +141,9 @@ function makeRoom(vertices, faces) {
 }
 
 function resize() {
-  const w = window.innerWidth, h = window.innerHeight;
+  const w = window.innerWidth / (compare ? 2 : 1), h = window.innerHeight;  // compare: half each
   renderer.setSize(w, h, false);
+  compare?.resize(w, h);
   camera.aspect = w / h;
   camera.updateProjectionMatrix();
   requestRender();
@@ -162,6 +166,7 @@ function frame(now) {
 function renderNow() {
   renderer.render(scene, camera);
   orientation.triad.render(renderer, camera);
+  compare?.render();
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -188,6 +193,7 @@ function updateTime({ render = true } = {}) {
   if (state.colour !== 'part') updateScalarColours();
   else parts.drawPositions(nav, positions);
   updateLabels();
+  compare?.sync();  // the same step and level on the second model
   if (render) requestRender();
 }
 
@@ -198,17 +204,7 @@ function updateLevel() {
   makeRoom(nav.vertexCount, nav.faceCount);
   const touched = {}, changed = updateIndices(nav, triIndex, edgeIndex, touched);
   parts.mask(nav, touched.faces, triIndex, edgeIndex);  // hidden parts stay out
-  const F = nav.faceCount;
-  geometry.setDrawRange(0, 6 * F);
-  edgeGeometry.setDrawRange(0, 8 * F);
-  if (changed) {
-    const [lo, hi] = changed;
-    for (const [g, per] of [[geometry, 6], [edgeGeometry, 8]]) {
-      const index = g.index;
-      index.addUpdateRange(per * lo, per * (hi - lo));
-      index.needsUpdate = true;
-    }
-  }
+  uploadIndices(geometry, edgeGeometry, nav.faceCount, changed);
   if (state.colour === 'part') drawParts(nav);
   updateTime();
 }
@@ -288,6 +284,12 @@ function updateScalarColours() {
     smooth = fieldView.update(k, nav, state.t, positions, { ...options, parts });
     state.fringe = fieldView.fringe;
     fieldColoursAtVertices(fieldView, nav, colours);  // for the edges
+  } else if (state.colour === DIFFERENCE) {
+    // |p_A − p_B| at this step and level; the legend's range is this step's (compare_view.js).
+    const largest = compare.difference(deformation.unscaled(positions, n), positions, n, scratch);
+    const fringe = (state.fringe = new Fringe({ ...options, lo: options.min ?? 0, hi: options.max ?? largest?.value ?? 0 }));
+    for (let v = 0; v < n; v++) fringe.colour(scratch[v], colours, 3 * v);
+    fieldView?.hide();
   } else {
     extendBase0();
     ProgressiveMesh.displacement(deformation.unscaled(positions, n), state.base0, n, scratch);
@@ -332,8 +334,8 @@ function drawLegend() {
   if (!state.fringe) return;
   const k = fieldIndex();
   const field = k >= 0 ? mesh.fields[k] : null;
-  const title = field ? `${field.name} (${field.perFace ? 'element' : 'node'}, step ${fieldView.shown.step})` : 'displacement';
-  const peak = field ? fieldView.peak : null;
+  const title = field ? `${field.name} (${field.perFace ? 'element' : 'node'}, step ${fieldView.shown.step})` : state.colour === DIFFERENCE ? 'difference |p_A(t) − p_B(t)|' : 'displacement';
+  const peak = field ? fieldView.peak : compare?.peak();
   ui.legend.replaceChildren(...fringeLegend(state.fringe, { title, unit: field?.unit ?? '', peak }));
   Object.assign(ui.legend.dataset, { bands: String(state.fringe.bands), min: String(state.fringe.lo), max: String(state.fringe.hi) });
 }
@@ -352,6 +354,7 @@ function setColour(mode) {
   }
   drawLegend();
   updateLabels();
+  compare?.sync();
   requestRender();
 }
 
@@ -453,7 +456,9 @@ function extendBase0() {
 async function load() {
   resize();  // before the file: sizing the canvas costs a software renderer much
   compileShaders(renderer, scene, camera, [surface, edgeLines]);
-  const { file, name } = await modelFile(params);
+  const { file, name, config } = await modelFile(params);
+  const other = compareFile(params, config);  // ?compare= or `dynpm view A B`: side by side
+  if (other) (compare = new CompareView(viewer, other, { antialias: params.get('antialias') !== '0' })), resize();
   state.name = name;
   ui.title.textContent = state.name;
   panel.loading(`loading ${state.name}…`);
@@ -464,6 +469,7 @@ async function load() {
   };
   // The decode runs in a worker (worker_decoder.js); ?worker=0 keeps it here, for comparison.
   state.worker = params.get('worker') !== '0';
+  compare && (compare.loading = compare.load(state.worker).catch(showError));  // its own worker
   const onStart = (total, shared = false, rangeRequests = false) => Object.assign(state, { totalBytes: total, sharedMemory: shared, rangeRequests });
   const decode = { url: new URL(file, location.href).href, name: state.name, onHead, onBase, onSplits, onStart, onProgress };
   const onFirstBytes = (at) => (timing.firstByte = at);
@@ -478,6 +484,7 @@ async function load() {
   if (state.colour !== 'part') setColour(state.colour);
   updateLabels();
   ui.loadingBar.style.width = '100%';
+  compare?.sync();
   requestRender();
 }
 
@@ -512,7 +519,7 @@ window.addEventListener('keydown', (e) => {
 // scripting API (api.js) see the page through `viewer`.
 const redraw = () => ((state.shownT = NaN), updateTime());
 const fitBox = () => grownBox(geometry.boundingBox, positions, state.nav?.vertexCount ?? 0);
-const viewer = { state, scene, camera, controls, canvas: renderer.domElement, requestRender, renderNow, setTime, setVertexCount, extendBase0, redraw, fitBox, updateLevel, partView: () => parts };
+const viewer = { state, ui, scene, camera, controls, canvas: renderer.domElement, requestRender, renderNow, setTime, setVertexCount, setColour, extendBase0, redraw, fitBox, updateLevel, partView: () => parts };
 const panel = new Panel();
 const states = (viewer.states = new States(viewer));
 const orientation = (viewer.orientation = new Orientation(viewer));
@@ -551,6 +558,8 @@ window.dpmViewer = {
   memory: () => memoryUse(state.mesh, state.nav, { positions, colours, triIndex, edgeIndex, scratch }, { base0: state.base0 }),
   fringe: () => (fieldView?.shown ? fieldView.describe(state.nav) : null),
   partSlots: () => parts?.describe(state.nav),
+  compare: () => compare && { ...compare.describe(), done: compare.loading.then(() => true) },
+  compareSnapshot: (size = 64) => compare.snapshot(size),
   snapshot: (size = 64) => greySnapshot(renderer, scene, camera, size),
   // Sets the resolution as the slider does and renders; returns the milliseconds taken by the
   // page's JS (navigator, index and position buffers) and in all, with the upload and one frame
@@ -563,29 +572,6 @@ window.dpmViewer = {
     renderer.getContext().finish();
     return { js, total: performance.now() - start };
   },
-  // Scrubs time over `frames` animation frames (as a dragged slider does: a new fractional t
-  // every frame) and returns the frame times in ms and the JS time spent in updates.
-  scrub(frames = 120) {
-    return new Promise((resolve) => {
-      const stamps = [];
-      let update = 0;
-      const m = state.mesh.head.stepCount;
-      const tick = (now) => {
-        stamps.push(now);
-        if (stamps.length > frames) {
-          const gaps = stamps.slice(1).map((s, i) => s - stamps[i]);
-          resolve({ frameMs: gaps, updateMs: update / frames });
-          return;
-        }
-        const start = performance.now();
-        state.t = (stamps.length * 0.37) % (m - 1);
-        ui.time.value = String(state.t);
-        updateTime({ render: false });
-        update += performance.now() - start;
-        renderer.render(scene, camera);
-        requestAnimationFrame(tick);
-      };
-      requestAnimationFrame(tick);
-    });
-  },
+  // Scrubs time over `frames` animation frames, as a dragged slider does (scrub.js).
+  scrub: (frames = 120) => scrub({ state, ui, renderer, scene, camera, updateTime }, frames),
 };

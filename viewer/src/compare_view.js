@@ -1,0 +1,298 @@
+// The second model of a comparison (docs/viewer.md "Compare"): `?compare=PATH` (a file of the
+// page's own origin) or `dynpm view A.dpm B.dpm` shows B on a canvas of its own right of the
+// first model's, with its own decode worker and range fetches, and everything else linked to
+// the first: one camera (both canvases orbit it), the same time step (clamped to B's last), the
+// same fraction of the vertices (the same count when both hold one hierarchy), the colour mode
+// with the first's legend range. When both files hold one hierarchy (compare_math.js) the
+// colour list offers |p_A(t) − p_B(t)|, drawn on both with a marker at its largest.
+import * as THREE from 'three';
+import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
+
+import { hierarchyDifference, linkedVertexCount, positionDifference } from './compare_math.js';
+import { Navigator, ProgressiveMesh, updateIndices } from './dpm.js';
+import { BaseLevel } from './base_level.js';
+import { growDrawBuffers, uploadIndices } from './draw_buffers.js';
+import { edgeMaterial, fieldColoursAtVertices } from './edge_lines.js';
+import { FieldView } from './field_view.js';
+import { element, fmt, int } from './fringe.js';
+import { PartView } from './part_view.js';
+import { greySnapshot } from './snapshot.js';
+import { decodeInWorker, decodeOnPage } from './worker_decoder.js';
+
+export const DIFFERENCE = 'difference';
+const HEADLIGHT = new THREE.Vector3(0.3, 0.5, 1);  // in camera space, as the first model's
+
+// The second model's path from ?compare= (only of this origin, as ?file=) or dpm.json's
+// `compare` (dynpm view A B), with its name; null when there is none.
+export function compareFile(params, config) {
+  const query = params.get('compare');
+  if (query && new URL(query, location.href).origin !== location.origin)
+    throw new Error(`?compare=${query}: not on this server (${location.origin})`);
+  if (query) return { file: query, name: query };
+  return config?.compare ? { file: config.compare, name: config.compareName ?? config.compare } : null;
+}
+
+// The level's line under a model's name: vertices, share, error, step and time.
+function levelText(mesh, nav, t) {
+  const h = mesh.head;
+  const n = nav.vertexCount;
+  const t0 = Math.floor(t), t1 = Math.min(t0 + 1, h.stepCount - 1);
+  const time = h.times[t0] + (h.times[t1] - h.times[t0]) * (t - t0);
+  return `${int(n)} of ${int(h.vertexCount)} vertices (${((100 * n) / h.vertexCount).toFixed(1)}%), error ${fmt(nav.error)}` +
+    (h.stepCount > 1 ? `, step ${(Math.round(t * 100) / 100).toFixed(2)} of ${h.stepCount - 1}, time ${fmt(time)}` : '');
+}
+
+export class CompareView {
+  // viewer: {state, camera, controls, deformation, ui, requestRender, colours()} (viewer.js).
+  constructor(viewer, { file, name }, { antialias }) {
+    this.viewer = viewer;
+    this.url = new URL(file, location.href).href;
+    this.name = name;
+    document.body.classList.add('compare');
+    this.canvas = element('canvas', { className: 'compare-view' });
+    this.labels = [element('div', { className: 'compare-label left' }), element('div', { className: 'compare-label right' })];
+    document.body.append(this.canvas, ...this.labels);
+    this.renderer = new THREE.WebGLRenderer({ canvas: this.canvas, antialias });
+    this.renderer.setPixelRatio(window.devicePixelRatio);
+    this.renderer.setClearColor(0xeef0f3);
+    this.scene = new THREE.Scene();
+    this.scene.add(new THREE.HemisphereLight(0xffffff, 0x8890a0, 1.6));
+    this.light = new THREE.DirectionalLight(0xffffff, 1.6);
+    this.scene.add(this.light);
+    // The first model's camera: orbiting here moves both, as orbiting there does.
+    this.controls = new OrbitControls(viewer.camera, this.canvas);
+    this.controls.target = viewer.controls.target;
+    this.controls.zoomToCursor = true;
+    this.controls.addEventListener('change', () => viewer.requestRender());
+    this.surface = new THREE.Mesh(new THREE.BufferGeometry(), new THREE.MeshLambertMaterial({
+      vertexColors: true, flatShading: true, side: THREE.DoubleSide,
+      polygonOffset: true, polygonOffsetFactor: 1, polygonOffsetUnits: 1,
+    }));
+    this.edgeLines = new THREE.LineSegments(new THREE.BufferGeometry(), edgeMaterial());
+    this.markers = [viewer.scene, this.scene].map((scene) => {
+      const m = new THREE.Mesh(new THREE.SphereGeometry(1, 16, 12),
+        new THREE.MeshBasicMaterial({ color: 0xd0103a, depthTest: false, transparent: true, opacity: 0.9 }));
+      m.renderOrder = 10;  // over the model: the largest difference may be behind it
+      m.visible = false;
+      scene.add(m);
+      return m;
+    });
+    this.buffers = {};  // positions, colours, triIndex, edgeIndex, scratch (draw_buffers.js)
+    this.room = { vertices: 0, faces: 0 };
+    this.mesh = this.nav = this.parts = this.fieldView = null;
+    this.base0 = null;  // B's step-0 positions (deformation scale, displacement)
+    this.shownKey = '';  // t and n of the unscaled positions in buffers.positions
+    this.why = 'waiting for both files';  // why no difference is offered (null: it is)
+    this.largest = null;  // {value, vertex, node}
+    this.option = new Option('difference |p_A(t) − p_B(t)|', DIFFERENCE);
+    this.option.disabled = true;
+    viewer.ui.colour.add(this.option);
+  }
+
+  // Starts B's decode (in a worker of its own unless ?worker=0); resolves when B is loaded.
+  async load(worker) {
+    const decode = {
+      url: this.url, name: this.name,
+      onHead: (mesh) => (this.mesh = mesh),
+      onBase: (mesh) => this.onBase(mesh),
+      onSplits: () => this.onSplits(),
+    };
+    const onNavigator = (nav) => ((this.nav = nav), this.onSplits());
+    const decoder = await (worker ? decodeInWorker({ ...decode, onNavigator }) : decodeOnPage(decode));
+    if (!decoder.mesh?.hasBase) throw new Error(`${this.name}: ends before the base mesh`);
+    if (!(this.nav instanceof Navigator)) this.nav = new Navigator(decoder.mesh);
+    this.onSplits();
+  }
+
+  onBase(mesh) {
+    const { head: h } = mesh;
+    const geometry = (this.geometry = new THREE.BufferGeometry());
+    const edges = (this.edgeGeometry = new THREE.BufferGeometry());
+    const box = new THREE.Box3(new THREE.Vector3(...h.bboxMin), new THREE.Vector3(...h.bboxMax));
+    geometry.boundingSphere = edges.boundingSphere = box.getBoundingSphere(new THREE.Sphere());
+    this.setMarkerRadius(geometry.boundingSphere.radius / 60);  // as the field marker's
+    this.surface.geometry = geometry;
+    this.edgeLines.geometry = edges;
+    this.scene.add(this.surface, this.edgeLines);
+    this.parts = new PartView(this.scene, mesh, this.surface.material, geometry.boundingSphere);
+    this.nav = new BaseLevel(mesh);
+    this.sync({ level: true });
+  }
+
+  onSplits() {
+    if (this.nav) this.sync({ level: true });
+  }
+
+  // Whether |p_A − p_B| is offered: both files whole and one hierarchy (compare_math.js),
+  // checked once both are in. Returns whether that changed.
+  checkHierarchy() {
+    const a = this.viewer.state.mesh, b = this.mesh;
+    if (this.checked || !a?.complete || !b?.complete) return false;
+    this.checked = true;
+    this.why = hierarchyDifference(a, b, a.head.splitCount);
+    this.option.disabled = this.why !== null;
+    this.option.title = this.why ? `no difference fringe: ${this.why}` : '';
+    return true;
+  }
+
+  // B's level, positions and colours after the first's changed: the linked level (the same
+  // fraction), the same step clamped to B's, the first's colour mode and legend range.
+  sync({ level = false } = {}) {
+    const { state, deformation } = this.viewer;
+    if (!this.nav || !state.nav) return;
+    const nav = this.nav, mesh = this.mesh;
+    const A = state.mesh.head;
+    const n = nav instanceof Navigator ? linkedVertexCount(state.nav.vertexCount, A.vertexCount, mesh.head, mesh.vertexCountLoaded) : nav.vertexCount;
+    if (nav.vertexCount !== n) (nav.setVertexCount(n), (level = true));
+    if (level || !this.buffers.positions) this.drawLevel();  // (B's base may come before A's)
+    const t = this.step();
+    const p = this.positionsAt(t, n);
+    const unscaled = deformation.scale === 1 ? p : Float32Array.from(p.subarray(0, 3 * n));
+    if (deformation.scale !== 1) this.scale(p, n, deformation.scale);
+    this.colour(unscaled, n);
+    this.upload('position', n);
+    const offered = this.checkHierarchy();
+    this.label();
+    if (offered && state.colour !== 'part') this.viewer.setColour(state.colour);
+    this.viewer.requestRender();
+  }
+
+  step() {
+    return Math.min(this.viewer.state.t, this.mesh.head.stepCount - 1);
+  }
+
+  // B's unscaled positions of vertices [0, n) at step t (kept while t and n stay).
+  positionsAt(t, n) {
+    const key = `${t} ${n}`;
+    if (this.shownKey !== key) this.mesh.positionsAt(t, n, this.buffers.positions);
+    this.shownKey = key;
+    return this.buffers.positions;
+  }
+
+  scale(p, n, s) {
+    this.extendBase0(n);
+    const b = this.base0;
+    for (let i = 0; i < 3 * n; i++) p[i] = b[i] + s * (p[i] - b[i]);
+    this.shownKey = '';
+  }
+
+  extendBase0(n) {
+    this.base0 ??= new Float32Array(3 * this.mesh.head.vertexCount);
+    this.mesh.positionsAt(0, n, this.base0);
+  }
+
+  drawLevel() {
+    const nav = this.nav;
+    const grown = growDrawBuffers(this.buffers, this.room, nav.vertexCount, nav.faceCount, this.mesh.head, this.geometry, this.edgeGeometry);
+    if (grown) (this.buffers = grown), (this.shownKey = '');
+    const { triIndex, edgeIndex } = this.buffers;
+    uploadIndices(this.geometry, this.edgeGeometry, nav.faceCount, updateIndices(nav, triIndex, edgeIndex));
+  }
+
+  // The colours of the first's mode: parts; displacement, a field (B's of the same name) or
+  // the difference in the first's legend range.
+  colour(unscaled, n) {
+    const { state, ui } = this.viewer;
+    const { colours, scratch, positions } = this.buffers;
+    const mode = state.colour;
+    const fieldName = mode.startsWith('field:') ? state.mesh.fields[Number(mode.slice(6))].name : null;
+    const k = fieldName === null ? -1 : this.mesh.fields.findIndex((f) => f.name === fieldName);
+    this.note = fieldName !== null && k < 0 ? `has no field ${fieldName}` : '';
+    if (k < 0) this.fieldView?.hide();
+    if (mode === 'part' || !state.fringe || (fieldName !== null && k < 0)) {
+      this.surface.visible = false;
+      this.parts.drawLevel(this.nav);
+      this.parts.vertexColours(this.nav, colours);
+      this.parts.drawPositions(this.nav, positions);
+    } else if (k >= 0) {
+      this.parts.hide();
+      this.fieldView ??= new FieldView(this.scene, this.mesh, this.surface, this.markers[0].scale.x);
+      const options = { aggregate: ui.aggregate.value, range: 'all', min: state.fringe.lo, max: state.fringe.hi, bands: state.fringe.bands, scheme: ui.scheme.value, parts: this.parts };
+      this.surface.visible = this.fieldView.update(k, this.nav, this.step(), positions, options);
+      fieldColoursAtVertices(this.fieldView, this.nav, colours);
+    } else {
+      this.parts.hide();
+      this.fieldView?.hide();
+      this.surface.visible = true;
+      if (mode !== DIFFERENCE) {
+        this.extendBase0(n);
+        ProgressiveMesh.displacement(unscaled, this.base0, n, scratch);
+      }
+      for (let v = 0; v < n; v++) state.fringe.colour(scratch[v], colours, 3 * v);
+    }
+    for (const m of this.markers) m.visible = mode === DIFFERENCE && this.largest !== null;
+    if (this.markers[1].visible) this.markers[1].position.fromArray(positions, 3 * this.largest.vertex);
+    this.upload('color', n);
+  }
+
+  // |p_A − p_B| at the first's level and step into out, the markers at its largest; the first
+  // passes its true positions (unscaled) and the drawn ones. Null when it is not offered.
+  difference(unscaledA, drawnA, n, out) {
+    if (this.why !== null || this.nav.vertexCount !== n) return (out.fill(0, 0, n), (this.largest = null));
+    const largest = positionDifference(unscaledA, this.positionsAt(this.step(), n), n, this.buffers.scratch);
+    out.set(this.buffers.scratch.subarray(0, n));
+    this.largest = { ...largest, node: this.mesh.nodeId[largest.vertex] };
+    this.markers[0].position.fromArray(drawnA, 3 * largest.vertex);
+    this.markers[0].visible = largest.vertex >= 0;
+    return this.largest;
+  }
+
+  // The markers' size with the model's (viewer.js's field marker radius).
+  setMarkerRadius(r) {
+    for (const m of this.markers) m.scale.setScalar(r);
+  }
+
+  // The legend's peak line in the difference mode (fringe.js's fringeLegend).
+  peak() {
+    const l = this.viewer.state.colour === DIFFERENCE ? this.largest : null;
+    return l && { value: l.value, where: `node ${l.node} (vertex ${l.vertex})` };
+  }
+
+  label() {
+    const { state } = this.viewer;
+    this.labels[0].textContent = `A: ${state.name} — ${levelText(state.mesh, state.nav, state.t)}`;
+    const why = this.why && this.viewer.state.mesh?.complete && this.mesh.complete ? `; no difference fringe: ${this.why}` : '';
+    const clamped = state.t > this.mesh.head.stepCount - 1 ? ' (its last step)' : '';
+    this.labels[1].textContent = `B: ${this.name} — ${levelText(this.mesh, this.nav, this.step())}${clamped}${this.note ? `; ${this.note}` : ''}${why}`;
+  }
+
+  upload(name, n) {
+    const a = this.geometry.attributes[name];
+    if (n <= 0) return;
+    a.addUpdateRange(0, 3 * n);
+    a.needsUpdate = true;
+  }
+
+  resize(w, h) {
+    this.renderer.setSize(w, h, false);
+  }
+
+  render() {
+    const camera = this.viewer.camera;
+    this.light.position.copy(HEADLIGHT).applyMatrix4(camera.matrixWorld);
+    this.edgeLines.visible = this.viewer.ui.edges.checked;  // the panel's check box
+    this.renderer.render(this.scene, camera);
+  }
+
+  // For scripts and the browser test.
+  describe() {
+    const nav = this.nav;
+    return {
+      name: this.name,
+      complete: Boolean(this.mesh?.complete),
+      vertices: nav?.vertexCount ?? 0,
+      faces: nav?.faceCount ?? 0,
+      navigator: nav instanceof Navigator,
+      step: this.mesh ? this.step() : 0,
+      stepCount: this.mesh?.head.stepCount ?? 0,
+      sameHierarchy: this.why === null,
+      why: this.why,
+      largest: this.peak() && { ...this.largest, positionA: this.markers[0].position.toArray(), positionB: this.markers[1].position.toArray() },
+      labels: this.labels.map((l) => l.textContent),
+    };
+  }
+
+  snapshot(size = 64) {
+    return greySnapshot(this.renderer, this.scene, this.viewer.camera, size);
+  }
+}

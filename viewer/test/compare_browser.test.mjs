@@ -1,0 +1,201 @@
+// Compare (docs/viewer.md "Compare"), in Debian's headless Chromium: `dynpm view A.dpm B.dpm`
+// with the sample on two position grids of one hierarchy (compare_fixture.mjs). Two canvases,
+// each model decoded by a worker of its own from its own range requests; one camera (a drag on
+// either canvas turns both, and both show the same picture); the same step and level; the
+// difference fringe's largest |p_A − p_B| equal to the one computed from `dynpm extract` of both
+// at that level and step, within the two grids' bounds; another hierarchy offers no difference
+// and says why; ?compare= of this origin, and of another refused. Screenshot:
+// <DYNPM_TEST_OUT>/compare-browser/compare.png (docs/images/compare.png).
+//
+// If Chromium cannot start, this fails: it never skips.
+import assert from 'node:assert/strict';
+import { execFileSync } from 'node:child_process';
+import { mkdirSync, readFileSync } from 'node:fs';
+import { join } from 'node:path';
+import { after, before, test } from 'node:test';
+
+import { chromium } from 'playwright-core';
+
+import { allShown, CHROMIUM_ARGS, startServer } from './chromium.mjs';
+import { cli, compareDpm, compareMesh, outDir } from './compare_fixture.mjs';
+
+const shots = join(outDir, '..', 'compare-browser');
+mkdirSync(shots, { recursive: true });
+const fine = compareDpm('fine'), coarse = compareDpm('coarse'), keys3 = compareDpm('keys3');
+const servers = [];
+let browser;
+before(async () => {
+  browser = await chromium.launch({ executablePath: process.env.DYNPM_CHROMIUM ?? '/usr/bin/chromium', headless: true, args: CHROMIUM_ARGS });
+});
+after(async () => {
+  await browser?.close();
+  for (const s of servers) s.kill('SIGINT');
+});
+
+const bothShown = () => {
+  const c = window.dpmViewer?.compare();
+  return c?.complete && c.navigator && window.dpmViewer.state().complete && window.dpmViewer.state().navigator &&
+    window.dpmViewer.state().vertices === window.dpmViewer.state().loadedVertices;
+};
+
+// `dynpm view A B` (or one model) and a page on it, once both models are in; the page's
+// workers, requests and errors are recorded.
+async function open(models, query = '') {
+  const { server, url } = await startServer(cli, models[0], models.slice(1));
+  servers.push(server);
+  const page = await browser.newPage({ viewport: { width: 1200, height: 600 } });
+  const seen = { workers: [], requests: [], errors: [] };
+  page.on('worker', (w) => seen.workers.push(w.url()));
+  page.on('request', (r) => seen.requests.push({ url: r.url(), range: r.headers().range ?? null }));
+  page.on('console', (m) => m.type() === 'error' && seen.errors.push(m.text()));
+  page.on('pageerror', (e) => seen.errors.push(String(e)));
+  await page.goto(url + query);
+  return { page, url, seen };
+}
+
+async function openBoth(models, query = '') {
+  const o = await open(models, query);
+  await o.page.waitForFunction(bothShown, null, { timeout: 60000 }).catch(async (e) => {
+    throw new Error(`${e.message}: ${JSON.stringify(await o.page.evaluate(() => [window.dpmViewer?.state(), window.dpmViewer?.compare()]))} ${o.seen.errors}`);
+  });
+  await o.page.evaluate(() => window.dpmViewer.compare().done);
+  await o.page.waitForFunction(allShown);
+  return o;
+}
+
+const compare = (page) => page.evaluate(() => window.dpmViewer.compare());
+const meanDifference = (a, b) => a.reduce((s, x, i) => s + Math.abs(x - b[i]), 0) / a.length;
+const pictures = (page) => page.evaluate(() => ({ a: window.dpmViewer.snapshot(), b: window.dpmViewer.compareSnapshot() }));
+
+// The OBJ's vertex positions, as dynpm extract writes them at a level and step.
+function extracted(dpm, vertices, step, name) {
+  const path = join(shots, `${name}.obj`);
+  execFileSync(cli, ['extract', dpm, '--vertices', String(vertices), '--step', String(step), '-o', path], { stdio: 'pipe' });
+  const p = [];
+  for (const line of readFileSync(path, 'utf8').split('\n'))
+    if (line.startsWith('v ')) p.push(...line.split(/\s+/).slice(1, 4).map(Number));
+  return Float32Array.from(p);
+}
+
+test('two models side by side: two canvases, a worker and range requests each, each named with its level', async () => {
+  const { page, seen } = await openBoth([fine, coarse]);
+  assert.deepEqual(seen.errors, []);
+  assert.equal(await page.locator('canvas').count(), 2, 'the two models\' canvases');
+  const decoders = seen.workers.filter((u) => u.endsWith('/src/decode_worker.js'));
+  assert.equal(decoders.length, 2, `workers: ${seen.workers}`);
+  for (const file of ['/model.dpm', '/compare.dpm']) {
+    const requests = seen.requests.filter((r) => new URL(r.url).pathname === file);
+    assert.ok(requests.length > 0 && requests.every((r) => /^bytes=\d+-\d+$/.test(r.range)), `${file}: ${JSON.stringify(requests)}`);
+  }
+  const c = await compare(page);
+  assert.equal(c.name, 'coarse.dpm');
+  assert.equal(c.vertices, 2608);
+  assert.ok(c.sameHierarchy, c.why);
+  assert.match(c.labels[0], /^A: fine\.dpm — 2,608 of 2,608 vertices \(100\.0%\)/);
+  assert.match(c.labels[1], /^B: coarse\.dpm — 2,608 of 2,608 vertices \(100\.0%\)/);
+  const boxes = await page.locator('canvas').evaluateAll((cs) => cs.map((e) => e.getBoundingClientRect().toJSON()));
+  assert.deepEqual(boxes.map((b) => [b.x, b.width]), [[0, 600], [600, 600]], 'each half of the window');
+  await page.close();
+});
+
+test('one camera: a drag on either canvas turns both, and both show the same picture', async () => {
+  const { page } = await openBoth([fine, coarse]);
+  const start = await pictures(page);
+  assert.ok(meanDifference(start.a, start.b) < 3, `A and B differ by ${meanDifference(start.a, start.b)}`);
+  const look0 = (await page.evaluate(() => window.dynpm.view())).look;
+  for (const [x, y] of [[900, 300], [470, 320]]) {
+    const before = await pictures(page);
+    await page.mouse.move(x, y);
+    await page.mouse.down();
+    await page.mouse.move(x + 90, y + 40, { steps: 6 });
+    await page.mouse.up();
+    const now = await pictures(page);
+    assert.ok(meanDifference(before.a, now.a) > 5 && meanDifference(before.b, now.b) > 5, `a drag at ${x} turned both`);
+    assert.ok(meanDifference(now.a, now.b) < 3, `after the drag at ${x}, A and B differ by ${meanDifference(now.a, now.b)}`);
+  }
+  const look1 = (await page.evaluate(() => window.dynpm.view())).look;
+  assert.ok(Math.hypot(...look1.map((x, i) => x - look0[i])) > 0.1, 'the camera turned');
+  await page.close();
+});
+
+test('linked time and resolution: the slider, the API and the state buttons move both', async () => {
+  const { page } = await openBoth([fine, coarse]);
+  await page.evaluate(() => window.dynpm.setStep(12.5));
+  assert.equal((await compare(page)).step, 12.5);
+  await page.locator('#time').fill('20');
+  assert.equal((await compare(page)).step, 20);
+  await page.click('#state-first');
+  assert.equal((await compare(page)).step, 0);
+  for (const vertices of [13, 500, 1300]) {
+    await page.evaluate((n) => window.dynpm.setLevel({ vertices: n }), vertices);
+    const c = await compare(page);
+    assert.equal(c.vertices, vertices);
+    assert.match(c.labels[1], new RegExp(`${vertices.toLocaleString('en')} of 2,608 vertices`));
+  }
+  await page.locator('#resolution').fill('800');
+  await page.waitForFunction(() => window.dpmViewer.compare().vertices === 800);
+  await page.close();
+});
+
+test('the difference fringe: its largest |p_A − p_B| is the one extract gives, within both grids', async () => {
+  const { page, seen } = await openBoth([fine, coarse]);
+  await page.selectOption('#colour', 'difference');
+  const mesh = compareMesh('fine');
+  const bound = mesh.head.maxError + compareMesh('coarse').head.maxError;
+  for (const [vertices, step] of [[800, 20], [2608, 30], [13, 5]]) {
+    await page.evaluate(([n, t]) => (window.dynpm.setLevel({ vertices: n }), window.dynpm.setStep(t)), [vertices, step]);
+    const { largest } = await compare(page);
+    const a = extracted(fine, vertices, step, 'a'), b = extracted(coarse, vertices, step, 'b');
+    assert.equal(a.length, 3 * vertices);
+    const distance = (v) => Math.hypot(a[3 * v] - b[3 * v], a[3 * v + 1] - b[3 * v + 1], a[3 * v + 2] - b[3 * v + 2]);
+    let max = 0;
+    for (let v = 0; v < vertices; v++) max = Math.max(max, distance(v));
+    // Fully refined, extract writes the input's order (golden.test.mjs), else the level's.
+    const row = (v) => (vertices === mesh.head.vertexCount ? mesh.vertexOriginal[v] : v);
+    assert.ok(Math.abs(largest.value - max) <= 1e-9 * max, `${vertices} vertices, step ${step}: page ${largest.value}, extract ${max}`);
+    const at = row(largest.vertex);  // a vertex of largest distance (several may tie on the grids)
+    assert.ok(Math.abs(distance(at) - max) <= 1e-9 * max, `vertex ${at}: ${distance(at)} of ${max}`);
+    assert.deepEqual(largest.positionA, Array.from(a.subarray(3 * at, 3 * at + 3)), 'A\'s marker at the vertex');
+    assert.deepEqual(largest.positionB, Array.from(b.subarray(3 * at, 3 * at + 3)), 'B\'s marker at the vertex');
+    assert.ok(max > 0 && max <= bound, `${max} within the grids' ${bound}`);
+    const legend = await page.locator('#legend').textContent();
+    assert.match(legend, /difference \|p_A\(t\) − p_B\(t\)\|/);
+    assert.match(legend, new RegExp(`max \\|value\\| [0-9.e+-]+ at node ${largest.node} \\(vertex ${largest.vertex}\\)`));
+    assert.equal(Number(await page.locator('#legend').getAttribute('data-max')), largest.value);
+  }
+  await page.evaluate(() => (window.dynpm.setLevel({ vertices: 800 }), window.dynpm.setStep(20)));
+  await page.locator('#legend').scrollIntoViewIfNeeded();  // the panel scrolls to the legend
+  await page.screenshot({ path: join(shots, 'compare.png') });
+  await page.selectOption('#colour', 'displacement');
+  assert.equal((await compare(page)).largest, null, 'the marker goes with the mode');
+  assert.deepEqual(seen.errors, []);
+  await page.close();
+});
+
+test('another hierarchy: levels linked, no difference offered, the reason shown', async () => {
+  const { page, seen } = await openBoth([fine, keys3]);
+  const c = await compare(page);
+  assert.equal(c.sameHierarchy, false);
+  assert.ok(c.why && !/waiting/.test(c.why), c.why);
+  assert.ok(c.labels[1].includes(`no difference fringe: ${c.why}`), c.labels[1]);
+  assert.ok(await page.locator('#colour option[value="difference"]').evaluate((o) => o.disabled));
+  await page.evaluate(() => window.dynpm.setLevel({ ratio: 0.25 }));
+  assert.equal((await compare(page)).vertices, Math.round(0.25 * 2608));
+  assert.deepEqual(seen.errors, []);
+  await page.close();
+});
+
+test('?compare= names a file of this server; one of another origin is refused', async () => {
+  const { page } = await openBoth([keys3, coarse], '?compare=model.dpm');
+  const c = await compare(page);
+  assert.equal(c.name, 'model.dpm');
+  assert.ok(c.sameHierarchy, 'the model beside itself');
+  await page.selectOption('#colour', 'difference');
+  assert.equal((await compare(page)).largest.value, 0);
+  await page.close();
+  const { page: refused, seen } = await open([fine], '?compare=http://example.com/x.dpm');
+  await refused.waitForFunction(() => !document.getElementById('error').hidden, null, { timeout: 30000 });
+  assert.match(await refused.locator('#error').textContent(), /\?compare=http:\/\/example\.com\/x\.dpm: not on this server/);
+  assert.ok(seen.requests.every((r) => new URL(r.url).hostname === '127.0.0.1'), 'nothing left the origin');
+  await refused.close();
+});
