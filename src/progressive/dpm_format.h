@@ -46,7 +46,7 @@ inline uint32_t crc32(std::string_view bytes) {
 
 // The chunk tags this version knows.
 inline bool is_known_tag(std::string_view tag) {
-  return tag == "HEAD" || tag == "FDEF" || tag == "PART" || tag == "BASE" || tag == "FLDS" ||
+  return tag == "HEAD" || tag == "FDEF" || tag == "PART" || tag == "VARI" || tag == "BASE" || tag == "FLDS" ||
          tag == "SPLT" || tag == "END ";
 }
 // An optional chunk a reader may skip has four characters from A–Z, 0–9 and space.
