@@ -13,6 +13,17 @@
 
 namespace dynpm::cli {
 
+namespace {
+
+// A variant's name: variant_name() of its file, or of its folder when the input is a glob of
+// per-step files ("runs/b/frame_*.obj" → "b").
+std::string member_name(const std::string& input) {
+  if (input.find_first_of("*?[") == std::string::npos) return variant_name(input);
+  return std::filesystem::path(input).parent_path().filename().string();
+}
+
+}  // namespace
+
 Result<FamilyInputs> open_family(const Args& args, const std::string& output,
                                  const ProgressCallback& progress) {
   DYNPM_RETURN_IF_ERROR(check_output_folder(output));
@@ -28,7 +39,7 @@ Result<FamilyInputs> open_family(const Args& args, const std::string& output,
     }
   }
   for (size_t k = 0; k < family.members.size(); ++k)
-    members.push_back({variant_name(args.positional[k]),
+    members.push_back({member_name(args.positional[k]),
                        std::filesystem::path(args.positional[k]).filename().string(),
                        &family.members[k].topology, family.members[k].frames.get()});
   Phase phase("comparing the variants");

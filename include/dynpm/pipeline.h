@@ -192,10 +192,11 @@ struct FamilyMember {
 // result fields; or two members of one name. Cheap: nothing is read but the topologies.
 Status check_same_mesh(std::span<const FamilyMember> members);
 
-// The family's distinct steps as one FrameSource: stored step k is one member's step, in the
-// members' order, a step equal to one stored before it (positions and every field value,
-// compared exactly, after a hash finds the candidates) not stored again. The members' sources
-// must outlive it.
+// The family's distinct steps as one FrameSource: stored step k is one member's step — the first
+// member's in reverse order (so that its undeformed step comes last, next to the others' first
+// steps, which the file predicts from it), then the others' in order — a step equal to one stored
+// before it (positions and every field value, compared exactly, after a hash finds the candidates)
+// not stored again. The members' sources must outlive it.
 class FamilySteps final : public FrameSource {
  public:
   // Reads every step of every member once (and a candidate duplicate once more); calls
@@ -218,6 +219,7 @@ class FamilySteps final : public FrameSource {
   struct Stored {
     size_t member, step;
   };
+  void order_for_prediction();
   std::vector<FamilyMember> members_;
   std::vector<Stored> stored_;
   std::vector<MeshVariant> variants_;
