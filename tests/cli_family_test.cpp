@@ -160,8 +160,8 @@ TEST_F(CrashboxFamily, CommandsTakeAVariantByNameOrIndex) {
   EXPECT_NE(r.output.find("0 crashbox-s, 1 crashbox-bent"), std::string::npos) << r.output;
   r = dynpm_cli("info '" + family_ + "' --variant 1 --json");
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("\"steps\":13"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("\"shared_steps\":1"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("\"steps\": 13"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("\"shared_steps\": 1"), std::string::npos) << r.output;
   // eval against the variant's own input.
   r = dynpm_cli("eval '" + bent_ + "' --dpm '" + family_ +
                 "' --variant crashbox-bent --ratios 25 --steps 12");

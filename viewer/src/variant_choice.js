@@ -25,3 +25,12 @@ export function variantCallbacks(which, callbacks) {
     };
   return wrapped;
 }
+
+// The page's state from a variant's view on: its steps and times (ui.time, and the tools' onHead),
+// and its name beside the file's.
+export function showVariant(mesh, state, ui, tools) {
+  state.mesh = mesh;
+  ui.time.max = String(mesh.head.stepCount - 1);
+  ui.title.textContent = `${state.name} — ${mesh.variant.name} (variant ${mesh.variant.index} of ${mesh.variant.count})`;
+  for (const tool of tools) tool.onHead(mesh.head);
+}

@@ -29,7 +29,7 @@ import { PartView } from './part_view.js';
 import { installRefine } from './refine_view.js';
 import { greySnapshot } from './snapshot.js';
 import { States } from './states.js';
-import { variantCallbacks } from './variant_choice.js';
+import { showVariant, variantCallbacks } from './variant_choice.js';
 import { decodeInWorker, decodeOnPage } from './worker_decoder.js';
 import { bytes, fmt, Fringe, fringeLegend, fringeOptions, int } from './fringe.js';
 
@@ -410,7 +410,7 @@ function onHead(mesh) {
 
 function onBase(mesh) {
   timing.base = performance.now();
-  if (mesh.variant) showVariant(mesh);
+  if (mesh.variant) showVariant(mesh, state, ui, [states, deformation]);  // a family file's
   // Option(text, value): the field's name from FDEF is text.
   for (let f = 0; f < mesh.fields.length; f++) ui.colour.add(new Option(mesh.fields[f].name, `field:${f}`));
   // Drawn at once from BASE; the Navigator (arrays for every face of the whole mesh) comes
@@ -425,15 +425,6 @@ function onBase(mesh) {
   panel.loaded();
   timing.baseDone = performance.now();
   if (!state.worker) requestAnimationFrame(() => setTimeout(() => onNavigator(new Navigator(mesh))));
-}
-
-// A family file's variant (variant_choice.js): its steps and times from here on.
-function showVariant(mesh) {
-  state.mesh = mesh;
-  ui.time.max = String(mesh.head.stepCount - 1);
-  ui.title.textContent = `${state.name} — ${mesh.variant.name} (variant ${mesh.variant.index} of ${mesh.variant.count})`;
-  states.onHead(mesh.head);
-  deformation.onHead(mesh.head);
 }
 
 // From the next frame on: the base is shown first, whatever arrives meanwhile.
@@ -476,7 +467,6 @@ async function load() {
   // The decode runs in a worker (worker_decoder.js); ?worker=0 keeps it here, for comparison.
   state.worker = params.get('worker') !== '0';
   const onStart = (total, shared = false, rangeRequests = false) => Object.assign(state, { totalBytes: total, sharedMemory: shared, rangeRequests });
-  // A family file shows one variant (?variant=NAME|INDEX, variant_choice.js).
   const decode = variantCallbacks(params.get('variant'), { url: new URL(file, location.href).href, name: state.name, onHead, onBase, onSplits, onStart, onProgress, onNavigator });
   const onFirstBytes = (at) => (timing.firstByte = at);
   // Fetched by ranges up to ?vertices=N (model_file.js); the slider asks for more.
