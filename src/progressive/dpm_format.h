@@ -46,8 +46,8 @@ inline uint32_t crc32(std::string_view bytes) {
 
 // The chunk tags this version knows.
 inline bool is_known_tag(std::string_view tag) {
-  return tag == "HEAD" || tag == "FDEF" || tag == "PART" || tag == "VARI" || tag == "BASE" || tag == "FLDS" ||
-         tag == "SPLT" || tag == "END ";
+  return tag == "HEAD" || tag == "FDEF" || tag == "PART" || tag == "VARI" || tag == "BASE" ||
+         tag == "FLDS" || tag == "SPLT" || tag == "END ";
 }
 // An optional chunk a reader may skip has four characters from A–Z, 0–9 and space.
 inline bool is_optional_tag(std::string_view tag) {
