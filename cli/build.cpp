@@ -9,6 +9,7 @@
 #include "commands.h"
 #include "dynpm/pipeline.h"
 #include "dynpm/text.h"
+#include "family_inputs.h"
 #include "inputs.h"
 #include "json.h"
 #include "outputs.h"
@@ -20,7 +21,8 @@ namespace {
 
 const VerbSpec kSpec{
     "build",
-    "dynpm build INPUT... -o MODEL.dpm [--key-steps all|paper|auto:K|LIST] [--lossless]\n"
+    "dynpm build INPUT... -o MODEL.dpm [--family] [--key-steps all|paper|auto:K|LIST]\n"
+    "                   [--lossless]\n"
     "                   [--position-error E] [--field-bound F] [--threads T] [--json]\n"
     "                   [--progress FORM] [--quiet] [--no-memory-check]",
     "Simplifies the animation to its coarsest legal mesh, recording every half-edge collapse,\n"
@@ -34,8 +36,12 @@ const VerbSpec kSpec{
     "of the field's range (default 0.1 %), float32 exactly with --lossless.\n"
     "Before the work it prints its memory estimate, and stops when that is more than the memory\n"
     "it may have (free memory, ulimit -v, the cgroup's limit) unless --no-memory-check. Progress\n"
-    "goes to stderr: a live line on a terminal, a line every 5 s otherwise (docs/build.md).",
+    "goes to stderr: a live line on a terminal, a line every 5 s otherwise (docs/build.md).\n"
+    "--family: each INPUT is a variant of one mesh (same node and element ids; the first\n"
+    "difference is refused); one hierarchy for all, each distinct step stored once; extract,\n"
+    "info, eval and view take --variant NAME|INDEX (docs/family.md).",
     {{"--output", "-o", true, "MODEL.dpm", "the progressive mesh file to write"},
+     kFamilyFlag,
      kKeyStepsFlag,
      kLosslessFlag,
      kPositionErrorFlag,
@@ -109,6 +115,12 @@ std::string check_memory(const Topology& input, const FrameSource& frames, const
   return message + " (--no-memory-check builds anyway)";
 }
 
+size_t total_variant_steps(const std::vector<MeshVariant>& variants) {
+  size_t total = 0;
+  for (const MeshVariant& v : variants) total += v.steps.size();
+  return total;
+}
+
 }  // namespace
 
 int run_build(std::span<char* const> arguments) {
@@ -126,10 +138,23 @@ int run_build(std::span<char* const> arguments) {
   if (Status s = parse_simplify_flags(args, options.simplify, key_rule); !s.ok())
     return fail(kSpec.name, kExitUsage, s.message());
 
-  auto stream = open_input_to_simplify(args, *output);
-  if (!stream) return fail(kSpec.name, kExitFailure, stream.message());
-  const Topology& input = stream->topology;
-  const FrameSource& frames = *stream->frames;
+  const ProgressCallback report = [](std::string_view what, size_t done, size_t total) {
+    progress(what, done, total);
+  };
+  std::optional<AnimationStream> stream;
+  std::optional<FamilyInputs> family;
+  if (args.has("--family")) {
+    auto opened = open_family(args, *output, report);
+    if (!opened) return fail(kSpec.name, kExitFailure, opened.message());
+    family.emplace(std::move(*opened));
+    options.variants = family->steps->variants();
+  } else {
+    auto opened = open_input_to_simplify(args, *output);
+    if (!opened) return fail(kSpec.name, kExitFailure, opened.message());
+    stream.emplace(std::move(*opened));
+  }
+  const Topology& input = family ? family->members[0].topology : stream->topology;
+  const FrameSource& frames = family ? *family->steps : *stream->frames;
   if (Status s = check_cost_fields(options.simplify, frames); !s.ok())
     return fail(kSpec.name, kExitUsage, s.message());
   if (std::string refused = check_memory(input, frames, key_rule, options.simplify.threads,
@@ -138,9 +163,6 @@ int run_build(std::span<char* const> arguments) {
     return fail(kSpec.name, kExitFailure, refused);
   const auto start = std::chrono::steady_clock::now();
   std::optional<Phase> phase(std::in_place, "choosing the key steps");
-  const ProgressCallback report = [](std::string_view what, size_t done, size_t total) {
-    progress(what, done, total);
-  };
   auto key_steps = choose_key_steps(frames, key_rule, options.simplify.threads, report);
   if (!key_steps) return fail(kSpec.name, kExitFailure, key_steps.message());
   options.simplify.key_steps = key_steps->steps;
@@ -189,6 +211,14 @@ int run_build(std::span<char* const> arguments) {
     j.value("quads", uint64_t{input.quad_count()});
     j.value("triangles", uint64_t{input.triangle_count()});
     j.value("steps", uint64_t{steps});
+    j.begin_array("variants");
+    for (const MeshVariant& v : options.variants) {
+      j.begin_object();
+      j.value("name", v.name);
+      j.value("steps", uint64_t{v.steps.size()});
+      j.end_object();
+    }
+    j.end_array();
     j.begin_array("key_steps");
     for (size_t k : mesh->key_steps) j.item(int64_t(k));
     j.end_array();
@@ -211,6 +241,9 @@ int run_build(std::span<char* const> arguments) {
   std::printf("input   %u vertices, %zu faces (%zu quads, %zu triangles), %zu steps\n",
               input.vertex_count, input.faces.size(), input.quad_count(), input.triangle_count(),
               steps);
+  if (!options.variants.empty())
+    std::printf("family  %zu variants, %zu distinct steps stored of %zu\n", options.variants.size(),
+                steps, total_variant_steps(options.variants));
   std::printf("base    %u vertices, %u faces; %u vertex splits rebuild the input\n",
               mesh->base_vertex_count, mesh->base_face_count, mesh->split_count());
   if (mesh->lossless)

@@ -11,6 +11,7 @@
 #include "args.h"
 #include "commands.h"
 #include "dynpm/progressive.h"
+#include "family_inputs.h"
 #include "json.h"
 #include "report.h"
 
@@ -126,6 +127,8 @@ Result<std::string> catalogue_entry(const std::string& dir, const std::string& r
   j.value("bytes", uint64_t{std::filesystem::file_size(path, ec)});
   j.value("built", utc_text(modified(path)));
   j.value("thumbnail", thumbnail->has_value());
+  // A family file's members (docs/family.md); "steps" above counts its stored steps.
+  if (!m.variants.empty()) json_variants(j, m.variants);
   j.end_object();
   return j.str();
 }

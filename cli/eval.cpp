@@ -11,6 +11,7 @@
 #include "args.h"
 #include "commands.h"
 #include "dynpm/pipeline.h"
+#include "family_inputs.h"
 #include "inputs.h"
 #include "json.h"
 #include "report.h"
@@ -37,6 +38,7 @@ const VerbSpec kSpec{
     "shown / the original's largest at that step). ORIGINAL is a mesh file or a quoted glob of\n"
     "step files.",
     {{"--dpm", "", true, "MODEL.dpm", "the progressive mesh (from dynpm build)"},
+     kVariantFlag,
      {"--ratios", "", true, "R,R,…", "resolutions in % of the full vertex count, each in (0, 100]"},
      {"--steps", "", true, "T,T,…|every:N",
       "time steps of the table (default: first, middle, last); every:N samples steps\n"
@@ -259,6 +261,8 @@ int run_eval(std::span<char* const> arguments) {
   if (steps == 0) return fail_input(files->front() + ": no time steps");
   auto mesh = read_dpm(*dpm_path);
   if (!mesh) return fail_input(mesh.message());
+  if (Status s = choose_variant(args, kSpec.name, *dpm_path, *mesh); !s.ok())
+    return fail_input(s.message());
   if (Status s = check_built_from(original, frames, *mesh, *dpm_path); !s.ok())
     return fail_input(s.message());
   if (!mesh->complete)

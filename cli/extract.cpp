@@ -9,6 +9,7 @@
 #include "dynpm/io.h"
 #include "dynpm/lod.h"
 #include "extract_refined.h"
+#include "family_inputs.h"
 #include "json.h"
 #include "outputs.h"
 #include "report.h"
@@ -44,6 +45,7 @@ const VerbSpec kSpec{
      {"--max-error", "", true, "E", "coarsest level with error ≤ E (absolute, or E%)"},
      {"--full", "", false, "", "the fully refined mesh (the input)"},
      {"--step", "", true, "T", "time step (fractional interpolates); default every step"},
+     kVariantFlag,
      {"--aggregate", "", true, "max|mean",
       "what a coarse vertex or face shows of the ones it stands for: the value of largest\n"
       "magnitude (max, default: a peak is never hidden) or their mean"},
@@ -143,7 +145,8 @@ int run_extract(std::span<char* const> arguments) {
     limits.error = *level->max_error / 100.0;
     limits.error_of_diagonal = true;
   }
-  if (step) limits.last_step = static_cast<size_t>(std::ceil(*step));
+  // A family's variant 0 holds its step T at a stored step ≤ T; another's may be anywhere.
+  if (step && !args.has("--variant")) limits.last_step = static_cast<size_t>(std::ceil(*step));
   limits.fields = format_from_extension(*output) != FileFormat::kObj;  // OBJ holds no fields
   std::optional<Phase> phase(std::in_place, "reading the model");
   auto mesh = read_dpm(args.positional[0], limits);
@@ -152,6 +155,8 @@ int run_extract(std::span<char* const> arguments) {
     note(kSpec.name, args.positional[0] + " is a prefix of a file; it holds " +
                          std::to_string(mesh->split_count()) + " of " +
                          std::to_string(mesh->full_split_count) + " splits");
+  if (Status s = choose_variant(args, kSpec.name, args.positional[0], *mesh); !s.ok())
+    return fail(kSpec.name, kExitFailure, s.message());
   const size_t steps = mesh->step_count();
   if (step && *step > double(steps - 1))
     return fail_usage("--step needs a number in [0, " + std::to_string(steps - 1) + "] (" +

@@ -9,6 +9,7 @@
 #include "commands.h"
 #include "dynpm/io.h"
 #include "dynpm/lod.h"
+#include "family_inputs.h"
 #include "json.h"
 #include "outputs.h"
 #include "report.h"
@@ -68,7 +69,7 @@ int run_refined_extract(const Args& args, const std::string& verb, const std::st
 
   // Every split (the regions need the finest), the steps up to --step.
   DpmReadLimits limits;
-  limits.last_step = static_cast<size_t>(std::ceil(*step));
+  if (!args.has("--variant")) limits.last_step = static_cast<size_t>(std::ceil(*step));
   limits.fields = format_from_extension(output) != FileFormat::kObj;
   for (const RefineTarget& t : targets) limits.fields |= t.kind == RefineTarget::Kind::kField;
   std::optional<Phase> phase(std::in_place, "reading the model");
@@ -80,6 +81,8 @@ int run_refined_extract(const Args& args, const std::string& verb, const std::st
                 path + " is a prefix of a file (" + std::to_string(mesh->split_count()) + " of " +
                     std::to_string(mesh->full_split_count) +
                     " splits): --refine needs the whole file");
+  if (Status s = choose_variant(args, verb, path, *mesh); !s.ok())
+    return fail(verb, kExitFailure, s.message());
   const size_t steps = mesh->step_count();
   if (*step > double(steps - 1))
     return usage("--step needs a number in [0, " + std::to_string(steps - 1) + "] (" + path +

@@ -11,6 +11,7 @@
 #include "commands.h"
 #include "dynpm/lod.h"
 #include "dynpm/text.h"
+#include "family_inputs.h"
 #include "inputs.h"
 #include "json.h"
 #include "report.h"
@@ -28,12 +29,14 @@ const VerbSpec kSpec{
     "and unit), edges, boundary, non-manifold edges and vertices,\n"
     "parts, the bounding box over all steps, and the validation result: the paper's (M1)\n"
     "manifold, (M2) inner valence >= 3, (M3) face degree >= 3, and more.\n"
-    "Given a progressive mesh (MODEL.dpm), prints its levels, steps, position bound and size.\n"
+    "Given a progressive mesh (MODEL.dpm), prints its levels, steps, position bound and size;\n"
+    "of a family file, its variants (--variant: that variant's steps and times).\n"
     "Exit code: 0 valid, 1 unreadable input, 2 bad usage, 3 read but invalid.",
     {{"--json", "", false, "", "print the result as JSON on stdout"},
      {"--problems", "", true, "N", "list at most N problems of each severity (default 10)"},
      kSplitPolygonsFlag,
      kIntegrationPointFlag,
+     kVariantFlag,
      kProgressFlag,
      kQuietFlag}};
 
@@ -273,9 +276,18 @@ void print_json(std::span<const std::string> inputs, const Topology& topology,
 }
 
 // A progressive mesh file: what it holds and at what levels.
-int print_dpm_info(const std::string& path, bool json) {
+int print_dpm_info(const std::string& path, bool json, const std::optional<std::string>& which) {
   auto mesh = read_dpm(path);
   if (!mesh) return fail(kSpec.name, kExitFailure, mesh.message());
+  const std::vector<MeshVariant> variants = mesh->variants;  // a family's, for the list
+  const size_t stored_steps = mesh->step_count();
+  std::optional<size_t> chosen;
+  if (which) {
+    auto found = find_variant(*mesh, *which);
+    if (!found) return fail(kSpec.name, kExitFailure, path + ": --variant: " + found.message());
+    chosen = *found;
+    select_variant(*mesh, *chosen);
+  }
   const ProgressiveMesh& m = *mesh;
   Navigator nav(m);
   const Topology base = nav.topology();
@@ -324,6 +336,11 @@ int print_dpm_info(const std::string& path, bool json) {
     j.value("bytes", uint64_t(size));
     j.value("bytes_per_vertex_step", per_vertex_step);
     j.value("note", m.note);
+    if (!variants.empty()) {
+      j.value("stored_steps", uint64_t{stored_steps});
+      if (chosen) j.value("variant", uint64_t{*chosen});
+      json_variants(j, variants);
+    }
     j.end_object();
     std::cout << j.str();
     return kExitOk;
@@ -369,6 +386,11 @@ int print_dpm_info(const std::string& path, bool json) {
                 of_diagonal(m.max_error, m.diagonal()), m.diagonal());
   std::printf("size      %.0f bytes, %.2f bytes per vertex per step\n", size, per_vertex_step);
   if (!m.note.empty()) std::printf("note      %s\n", printable(m.note).c_str());
+  if (!variants.empty()) {
+    std::printf("family    %zu variants, %zu distinct steps stored%s\n", variants.size(),
+                stored_steps, chosen ? "" : " (--variant NAME|INDEX shows one)");
+    print_variants(variants, chosen);
+  }
   return kExitOk;
 }
 
@@ -392,8 +414,10 @@ int run_info(std::span<char* const> arguments) {
     auto head = read_file_head(inputs->front(), 8);
     const std::string ext = std::filesystem::path(inputs->front()).extension().string();
     if ((head && looks_like_dpm(*head)) || ext == ".dpm" || ext == ".DPM")
-      return print_dpm_info(inputs->front(), args.has("--json"));
+      return print_dpm_info(inputs->front(), args.has("--json"), args.value("--variant"));
   }
+  if (args.has("--variant"))
+    return fail(kSpec.name, kExitUsage, "--variant is for a family file (.dpm)");
   auto stream = open_inputs(*inputs, args, InputChecks::kNone);
   if (!stream) return fail(kSpec.name, kExitFailure, stream.message());
   const Topology& topology = stream->topology;

@@ -14,7 +14,9 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -36,6 +38,9 @@ struct BuildOptions {
   // "Fields"); lossless keeps them float32 exact.
   double field_bound = 0.001;
   std::string note;
+  // A family file's variants (family.h: FamilySteps::variants()), written as its VARI chunk;
+  // empty for one model.
+  std::vector<MeshVariant> variants;
   // The bounding box of every step's positions, when the caller has it (choose_key_steps() with
   // auto:K or paper measures it in its pass over the steps): the grid needs it before the last
   // pass. Unset: the simplifier's, when every step is a key step, else a pass of its own.
@@ -184,5 +189,57 @@ Status check_built_from(const Topology& original, const FrameSource& frames,
 // measured step.
 Result<LevelsTable> evaluate_levels(const Topology& original, const FrameSource& frames,
                                     const ProgressiveMesh& model, const LevelsOptions& options);
+
+// ---------------------------------------------------------------------------------------------
+// Families (docs/family.md): variants of one mesh — the same node and element ids, as a DOE over
+// thicknesses, materials or load cases makes — built into one hierarchy. The variants' steps are
+// one step sequence to the simplifier (so the cost is the max over every variant's key steps, the
+// paper's (1*) across variants), each distinct step stored once.
+
+// One input of a family.
+struct FamilyMember {
+  std::string name;    // the input's file name without folder and extension (unique)
+  std::string source;  // the input's file name, without folder (for messages and the VARI chunk)
+  const Topology* topology = nullptr;
+  const FrameSource* frames = nullptr;
+};
+
+// An error naming the first difference between a member's mesh and the first member's: vertex or
+// face count, the node at a vertex, a face's element id, corners (as node ids) or part, the
+// result fields; or two members of one name. Cheap: nothing is read but the topologies.
+Status check_same_mesh(std::span<const FamilyMember> members);
+
+// The family's distinct steps as one FrameSource: stored step k is one member's step — the first
+// member's in reverse order (so that its undeformed step comes last, next to the others' first
+// steps, which the file predicts from it), then the others' in order — a step equal to one stored
+// before it (positions and every field value, compared exactly, after a hash finds the candidates)
+// not stored again. The members' sources must outlive it.
+class FamilySteps final : public FrameSource {
+ public:
+  // Reads every step of every member once (and a candidate duplicate once more); calls
+  // check_same_mesh() first. `progress`: ("comparing the variants' steps", done, total).
+  static Result<std::unique_ptr<FamilySteps>> make(std::span<const FamilyMember> members,
+                                                   const ProgressCallback& progress = {});
+  // Per member: its name, source, times and for each step the stored step holding it.
+  const std::vector<MeshVariant>& variants() const { return variants_; }
+
+  uint32_t vertex_count() const override;
+  size_t step_count() const override { return stored_.size(); }
+  double step_time(size_t t) const override;
+  Status read_step(size_t t, std::span<float> out) const override;
+  size_t step_float_count(size_t t) const override;
+  bool parallel_reads() const override;
+  std::vector<FieldInfo> fields() const override;
+  Status read_field(size_t field, size_t t, std::span<float> out) const override;
+
+ private:
+  struct Stored {
+    size_t member, step;
+  };
+  void order_for_prediction();
+  std::vector<FamilyMember> members_;
+  std::vector<Stored> stored_;
+  std::vector<MeshVariant> variants_;
+};
 
 }  // namespace dynpm

@@ -53,6 +53,16 @@ enum class FieldAggregate : uint8_t {
   kMean,    // the mean of the values it stands for
 };
 
+// One member of a family file (docs/FORMAT.md "Variants: VARI"): variants of one mesh share the
+// hierarchy, and each has its own steps, which point into the file's stored steps (a step equal
+// in several variants, such as a DOE's undeformed step 0, is stored once).
+struct MeshVariant {
+  std::string name;             // the input's file name without folder and extension
+  std::string source;           // the input's file name, without folder
+  std::vector<double> times;    // per step of the variant
+  std::vector<uint32_t> steps;  // per step of the variant: the stored step that holds it
+};
+
 // A decoded (or freshly built) progressive animation. Vertex and face arrays are in the
 // progressive numbering; a prefix of a file holds the base and the first split_count() splits.
 struct ProgressiveMesh {
@@ -91,6 +101,9 @@ struct ProgressiveMesh {
   // The parts' names (docs/FORMAT.md "Part names: PART"), ascending id; parts without one are
   // absent, and a file without the PART chunk has none.
   std::vector<PartName> part_names;
+  // The variants of a family file, in the order the inputs were given; empty for one model. The
+  // steps below are then the stored steps, which select_variant() turns into one variant's.
+  std::vector<MeshVariant> variants;
 
   // positions[t]: xyz of every vertex present, at step t.
   std::vector<std::vector<float>> positions;
@@ -164,6 +177,15 @@ void prepare_split_records(ProgressiveMesh& mesh);
 // "Fields: FDEF and FLDS") and rounds its values to it, or makes it lossless (float32 exact),
 // so that what the file holds and what the navigator shows agree.
 void quantize_fields(ProgressiveMesh& mesh, double bound, bool lossless);
+
+// The variant `which` names: its name, or its index from 0 in the order the inputs were given.
+// An error lists the variants.
+Result<size_t> find_variant(const ProgressiveMesh& mesh, std::string_view which);
+// Makes `mesh` the one animation of variant `index` (< variants.size()): its times, its steps'
+// positions and field values (shared stored steps copied), its key steps; variants is left empty.
+// A mesh read up to a step (DpmReadLimits::last_step, in stored steps) keeps the variant's steps
+// whose stored step was read.
+void select_variant(ProgressiveMesh& mesh, size_t index);
 
 // The file (docs/FORMAT.md). Written to a temporary name and renamed.
 Status write_dpm(const std::string& path, const ProgressiveMesh& mesh);

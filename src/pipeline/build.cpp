@@ -197,6 +197,7 @@ Result<Recorded> record(const Topology& topology, const FrameSource& frames,
   pm.lossless = options.lossless;
   pm.max_error = options.lossless ? 0.0 : options.max_position_error * pm.diagonal();
   pm.note = options.note;
+  pm.variants = options.variants;
   set_position_grid(pm);
   prepare_split_records(pm);  // errors on the file's grid, moved faces ascending (as read back)
   // Result fields, per vertex or per face, permuted like the positions (build_fields.cpp).

@@ -51,8 +51,8 @@ void put_chunk(std::string& out, std::string_view tag, std::string_view raw, boo
 
 // The chunk tags this version knows.
 inline bool is_known_tag(std::string_view tag) {
-  return tag == "HEAD" || tag == "FDEF" || tag == "PART" || tag == "BASE" || tag == "FLDS" ||
-         tag == "SPLT" || tag == "END ";
+  return tag == "HEAD" || tag == "FDEF" || tag == "PART" || tag == "VARI" || tag == "BASE" ||
+         tag == "FLDS" || tag == "SPLT" || tag == "END ";
 }
 // An optional chunk a reader may skip has four characters from A–Z, 0–9 and space.
 inline bool is_optional_tag(std::string_view tag) {

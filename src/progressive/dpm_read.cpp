@@ -19,6 +19,7 @@
 #include "part_names_chunk.h"
 #include "position_coding.h"
 #include "split_records_coding.h"
+#include "variants_chunk.h"
 #include "zstd_frame.h"
 
 namespace dynpm {
@@ -51,15 +52,21 @@ class Decoder {
     apply_limits_of_head();
     // The field definitions, when the model has fields, the part names, when it has some, then
     // the base mesh and its values.
-    auto got = next_chunk("BASE", tag, payload, "FDEF|PART");
+    // A family file's variants follow.
+    auto got = next_chunk("BASE", tag, payload, "FDEF|PART|VARI");
     if (!got) return got.status();
     if (*got && tag == "FDEF") {
       if (auto e = parse_field_definitions(payload, mesh_)) return bad_at(*e);
-      got = next_chunk("BASE", tag, payload, "PART");
+      got = next_chunk("BASE", tag, payload, "PART|VARI");
       if (!got) return got.status();
     }
     if (*got && tag == "PART") {
       if (auto e = parse_part_names(payload, mesh_)) return bad_at(*e);
+      got = next_chunk("BASE", tag, payload, "VARI");
+      if (!got) return got.status();
+    }
+    if (*got && tag == "VARI") {
+      if (auto e = parse_variants(payload, mesh_)) return bad_at(*e);
       got = next_chunk("BASE", tag, payload);
       if (!got) return got.status();
     }

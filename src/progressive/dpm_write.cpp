@@ -15,6 +15,7 @@
 #include "part_names_chunk.h"
 #include "position_coding.h"
 #include "split_records_coding.h"
+#include "variants_chunk.h"
 
 namespace dynpm {
 
@@ -229,6 +230,8 @@ Result<std::string> DpmStepEncoder::finish() {
   if (fields) put_chunk(out, "FDEF", field_definitions(mesh), false);
   if (const std::string parts = part_names_payload(mesh); !parts.empty())
     put_chunk(out, "PART", parts, false);
+  if (const std::string variants = variants_payload(mesh); !variants.empty())
+    put_chunk(out, "VARI", variants, false);
 
   Deltas d;
   {

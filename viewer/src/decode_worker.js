@@ -42,10 +42,10 @@ async function decode({ url, name, shared, sliceSplits, vertices = Infinity }) {
       if (shared) {
         const fields = shareFields(mesh);
         const pieces = [['baseDegree', 0, mesh.baseDegree], ['baseCorners', 0, mesh.baseCorners]];
-        post({ type: 'base', fields, faceHeir: mesh.faceHeir, partNames: mesh.partNames, pieces: [...pieces, ...growableTails(mesh, sent)] });
+        post({ type: 'base', fields, faceHeir: mesh.faceHeir, partNames: mesh.partNames, variants: mesh.variants, pieces: [...pieces, ...growableTails(mesh, sent)] });
       } else {
         const { pieces, transfer } = levelPieces(mesh, 0, 0);
-        post({ type: 'base', fields: fieldDefs(mesh), partNames: mesh.partNames, pieces }, transfer);
+        post({ type: 'base', fields: fieldDefs(mesh), partNames: mesh.partNames, variants: mesh.variants, pieces }, transfer);
       }
       // After the base mesh has gone: the page draws it meanwhile (moved_navigator.js).
       const { parts, transfer } = navigatorParts(new Navigator(mesh));

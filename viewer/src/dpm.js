@@ -25,6 +25,7 @@ export {
 } from './dpm/progressive_mesh.js';
 export { DpmField, FIELD_ELEMENT, FIELD_NODE } from './dpm/fields.js';
 export { cleanPartName } from './dpm/parts.js';
+export { findVariant, variantView } from './dpm/variants.js';
 export { Navigator } from './dpm/navigator.js';
 export { AGGREGATES, largerMagnitude, ShownValues } from './dpm/shown_values.js';
 export { updateIndices, writeFaceIndices } from './dpm/draw_indices.js';

@@ -31,6 +31,7 @@ import { installRefine } from './refine_view.js';
 import { scrub } from './scrub.js';
 import { greySnapshot } from './snapshot.js';
 import { States } from './states.js';
+import { showVariant, variantCallbacks } from './variant_choice.js';
 import { decodeInWorker, decodeOnPage } from './worker_decoder.js';
 import { bytes, fmt, Fringe, fringeLegend, fringeOptions, int } from './fringe.js';
 
@@ -412,6 +413,7 @@ function onHead(mesh) {
 
 function onBase(mesh) {
   timing.base = performance.now();
+  if (mesh.variant) showVariant(mesh, state, ui, [states, deformation]);  // a family file's
   // Option(text, value): the field's name from FDEF is text.
   for (let f = 0; f < mesh.fields.length; f++) ui.colour.add(new Option(mesh.fields[f].name, `field:${f}`));
   // Drawn at once from BASE; the Navigator (arrays for every face of the whole mesh) comes
@@ -471,11 +473,11 @@ async function load() {
   state.worker = params.get('worker') !== '0';
   compare && (compare.loading = compare.load(state.worker).catch(showError));  // its own worker
   const onStart = (total, shared = false, rangeRequests = false) => Object.assign(state, { totalBytes: total, sharedMemory: shared, rangeRequests });
-  const decode = { url: new URL(file, location.href).href, name: state.name, onHead, onBase, onSplits, onStart, onProgress };
+  const decode = variantCallbacks(params.get('variant'), { url: new URL(file, location.href).href, name: state.name, onHead, onBase, onSplits, onStart, onProgress, onNavigator });
   const onFirstBytes = (at) => (timing.firstByte = at);
   // Fetched by ranges up to ?vertices=N (model_file.js); the slider asks for more.
   const onDependencies = (deps) => refine.dependenciesReady(deps);
-  const worker = { ...decode, onNavigator, onDependencies, onFirstBytes, vertices: wantedVertices(params), control: state.decoder, onPaused: () => ((state.loading = false), state.nav && updateLabels()) };
+  const worker = { ...decode, onDependencies, onFirstBytes, vertices: wantedVertices(params), control: state.decoder, onPaused: () => ((state.loading = false), state.nav && updateLabels()) };
   const decoder = await (state.worker ? decodeInWorker(worker) : decodeOnPage(decode));
   if (!decoder.mesh?.hasBase) throw new Error(`${state.name}: ends before the base mesh`);
   if (!decoder.complete) showError(`${state.name}: the file ends early (no END chunk): showing the ${int(decoder.mesh.vertexCountLoaded)} vertices it holds`);

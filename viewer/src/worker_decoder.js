@@ -63,6 +63,7 @@ export function decodeInWorker({ url, name, onHead, onBase, onNavigator, onDepen
         } else if (m.type === 'base') {
           addFields(mesh, m.fields, m.faceHeir);
           mesh.partNames = m.partNames;  // PART (parts.js): a Map, cloned
+          mesh.variants = m.variants;  // VARI (variants.js), cloned
           applyPieces(mesh, m.pieces);
           mesh.hasBase = true;
           onBase?.(mesh);

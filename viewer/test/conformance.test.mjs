@@ -404,3 +404,69 @@ test('files with part names: the C++ reader and dpm.js give the same verdict', {
   assert.deepEqual(accepted.slice(1), ['a name of 255 bytes', 'a name with a BOM', 'a name with U+FFFD and an umlaut', 'an optional chunk before PART']);
   assert.ok(verdicts[0].partList.length > 0, 'the names are read');
 });
+
+// ---------------------------------------------------------------------------------------------
+// Family files (FORMAT.md "Variants: VARI"): the corpus's small_grid_family.dpm
+// (bench/family/make_small_grid_family.py) and damage aimed at each check of VARI.
+
+// Files that differ from `bytes` (which has a VARI chunk) in one VARI check each.
+function variantDamage(name, bytes) {
+  const magic = bytes.subarray(0, 12);
+  const chunks = rawChunks(bytes).map((c) => ({ tag: c.tag, payload: c.bytes[4] & 1 ? decompress(c.bytes.subarray(24)) : c.bytes.slice(24) }));
+  const k = chunks.findIndex((c) => c.tag === 'VARI');
+  assert.ok(k > 0, `${name} has a VARI chunk`);
+  const out = [];
+  const rebuild = (what, list) => out.push({ name: `${name}, ${what}`, bytes: concat([magic, ...list.map((c) => chunkBytes(c.tag, c.payload))]) });
+  const payload = chunks[k].payload;
+  const withVari = (what, p) => rebuild(what, chunks.map((c, i) => (i === k ? { ...c, payload: p } : c)));
+  const patched = (f) => {
+    const p = payload.slice();
+    f(new DataView(p.buffer), p);
+    return p;
+  };
+  // The first variant: count (u32), name length (u16) at 4, name, source length, source, steps,
+  // times (f64 each), stored steps (u32 each).
+  const d = new DataView(payload.buffer, payload.byteOffset);
+  const nameLength = d.getUint16(4, true);
+  const sourceAt = 6 + nameLength;
+  const stepsAt = sourceAt + 2 + d.getUint16(sourceAt, true);
+  const steps = d.getUint32(stepsAt, true);
+  const timesAt = stepsAt + 4;
+  const storedAt = timesAt + 8 * steps;
+  withVari('count 0', patched((v) => v.setUint32(0, 0, true)));
+  withVari('count too large', patched((v) => v.setUint32(0, 1 << 20, true)));
+  withVari('an empty name', concat([payload.subarray(0, 4), Uint8Array.of(0, 0), payload.subarray(6 + nameLength)]));
+  withVari('a name with ESC', patched((v, p) => (p[6] = 0x1b)));
+  withVari('step count 0', patched((v) => v.setUint32(stepsAt, 0, true)));
+  withVari('step count too large', patched((v) => v.setUint32(stepsAt, 1 << 24, true)));
+  withVari('a time of NaN', patched((v) => v.setFloat64(timesAt, NaN, true)));
+  withVari('a stored step past the file', patched((v) => v.setUint32(storedAt, 99, true)));
+  withVari('a stored step no variant uses', patched((v) => v.setUint32(storedAt + 4, d.getUint32(storedAt + 8, true), true)));
+  withVari('a byte left over', concat([payload, Uint8Array.of(0)]));
+  withVari('cut short', payload.subarray(0, payload.length - 1));
+  const second = concat([payload.subarray(0, 4), payload.subarray(4, stepsAt + 4 + 12 * steps)]);
+  new DataView(second.buffer).setUint32(0, 1, true);
+  withVari('one variant of two', second);  // refused: the second's stored steps are unused
+  const moved = chunks.slice();
+  const [vari] = moved.splice(k, 1);
+  moved.splice(k + 1, 0, vari);
+  rebuild('VARI after BASE', moved);
+  rebuild('VARI twice', [...chunks.slice(0, k + 1), chunks[k], ...chunks.slice(k + 1)]);
+  // A reader that does not know VARI: the same file with the chunk under an unknown tag.
+  rebuild('VARI renamed VARX', chunks.map((c, i) => (i === k ? { ...c, tag: 'VARX' } : c)));
+  return out;
+}
+
+test('family files: the C++ reader and dpm.js give the same verdict', { skip }, async () => {
+  const families = dpmFiles('fuzz/corpus/dpm').filter((f) => Buffer.from(f.bytes).includes('VARI'));
+  assert.ok(families.length >= 1, 'the corpus holds a family file');
+  const files = families.flatMap((f) => [f, ...variantDamage(f.name, f.bytes)])
+    .map((f, k) => ({ ...f, path: join(OUT, `family-${k}.dpm`) }));
+  mkdirSync(OUT, { recursive: true });
+  for (const f of files) writeFileSync(f.path, f.bytes);
+  const verdicts = toolVerdicts(files.map((f) => f.path));
+  rmSync(OUT, { recursive: true, force: true });
+  expectSameVerdicts(files, verdicts);
+  const accepted = files.filter((f, k) => verdicts[k].counts).map((f) => f.name.replace(/^.*, /, ''));
+  assert.deepEqual(accepted.slice(1), ['VARI renamed VARX']);
+});

@@ -10,7 +10,7 @@ import { mkdirSync, readFileSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { test } from 'node:test';
 
-import { Navigator, readDpm, ShownValues } from '../src/dpm.js';
+import { findVariant, Navigator, readDpm, ShownValues, variantView } from '../src/dpm.js';
 import { readVtkLegacy } from './vtk_legacy.mjs';
 
 const { DYNPM_CLI: cli, DYNPM_DPM: dpm, DYNPM_TEST_OUT: out } = process.env;
@@ -213,3 +213,30 @@ for (const ascii of [true, false])
           }
         });
     }
+
+// A family file (FORMAT.md "Variants: VARI"; fuzz/corpus/dpm/small_grid_family.dpm): each variant
+// as dpm.js's variantView shows it and as `dynpm extract --variant` writes it, the same mesh at
+// every level and step.
+test('a family file: each variant the same in dpm.js and dynpm extract --variant', () => {
+  const family = join('..', 'fuzz', 'corpus', 'dpm', 'small_grid_family.dpm');
+  const { mesh: fm } = readDpm(readFileSync(family), family);
+  assert.equal(fm.variants.length, 2);
+  for (const [index, which] of [[0, '0'], [1, 'bulge']]) {
+    const view = variantView(fm, findVariant(fm, which));
+    assert.equal(view.head.stepCount, [3, 4][index]);
+    for (const n of [fm.head.baseVertexCount + 5, fm.head.vertexCount - 1])
+      for (let t = 0; t < view.head.stepCount; t++) {
+        const path = join(out, `family_${index}_${n}_${t}.obj`);
+        execFileSync(cli, ['extract', family, '--variant', which, '--vertices', String(n), '--step', String(t), '-o', path, '--ascii'], { stdio: 'pipe' });
+        const obj = readObj(path);
+        const nav = new Navigator(view);
+        nav.setVertexCount(n);
+        assert.equal(obj.positions.length, nav.vertexCount);
+        for (let f = 0; f < nav.faceCount; f++) assert.deepEqual(obj.faces[f], nav.face(f), `face ${f}`);
+        const p = view.positionsAt(t, nav.vertexCount, new Float32Array(3 * nav.vertexCount));
+        for (let v = 0; v < nav.vertexCount; v++)
+          for (let c = 0; c < 3; c++) assert.equal(Math.fround(obj.positions[v][c]), p[3 * v + c], `variant ${index} step ${t} vertex ${v}`);
+      }
+  }
+  assert.throws(() => findVariant(fm, 'nope'), /the variants: 0 wave, 1 bulge/);
+});

@@ -12,6 +12,7 @@ import { decompress } from 'fzstd';
 import { crc32, DpmError, Reader } from './bytes.js';
 import { maxFieldValueBytes, parseFieldDefs, parseFieldValues } from './fields.js';
 import { parsePartNames } from './parts.js';
+import { parseVariants } from './variants.js';
 import { ChunkStencils, decodeSplitPositions, positionModels } from './positions.js';
 import { HEAD_FLAG_LOSSLESS, ProgressiveMesh } from './progressive_mesh.js';
 import { decodeSplitRecords, RecordModels } from './split_records.js';
@@ -20,12 +21,13 @@ export const MAGIC = Uint8Array.of(0x89, 0x44, 0x50, 0x4d, 0x0d, 0x0a, 0x1a, 0x0
 const VERSION = 4;
 const CHUNK_HEADER_BYTES = 24;
 const FLAG_ZSTD = 1;
-const TAGS = ['HEAD', 'FDEF', 'PART', 'BASE', 'FLDS', 'SPLT', 'END '];
+const TAGS = ['HEAD', 'FDEF', 'PART', 'VARI', 'BASE', 'FLDS', 'SPLT', 'END '];
 // What may come next in each state (FORMAT.md "Layout"); known chunks keep this order.
 const NEXT = {
   HEAD: ['HEAD'],
-  FDEF: ['FDEF', 'PART', 'BASE'],  // right after HEAD
-  PART: ['PART', 'BASE'],  // after FDEF
+  FDEF: ['FDEF', 'PART', 'VARI', 'BASE'],  // right after HEAD
+  PART: ['PART', 'VARI', 'BASE'],  // after FDEF
+  VARI: ['VARI', 'BASE'],  // after PART
   BASE: ['BASE'],
   FLDS: ['FLDS'],
   SPLT: ['SPLT', 'END '],
@@ -87,7 +89,7 @@ export class DpmDecoder {
     this.end = 0;     // end of the received bytes in buffer
     this.offset = 0;  // file offset of buffer[0]
     this.bytesReceived = 0;
-    // magic → HEAD → FDEF? → PART? → BASE → FLDS? → (SPLT → FLDS?)… → END → done
+    // magic → HEAD → FDEF? → PART? → VARI? → BASE → FLDS? → (SPLT → FLDS?)… → END → done
     this.state = 'magic';
     this.mesh = null;
     // The records' models and the faces at the last decoded split (4 slots each), for the checks.
@@ -274,6 +276,9 @@ export class DpmDecoder {
       this.state = 'PART';
     } else if (tag === 'PART') {
       parsePartNames(r, mesh);
+      this.state = 'VARI';
+    } else if (tag === 'VARI') {
+      parseVariants(r, mesh);
       this.state = 'BASE';
     } else if (tag === 'BASE') {
       parseBase(r, mesh);

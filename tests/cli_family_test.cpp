@@ -1,0 +1,202 @@
+// Family files (docs/family.md) on real data: the CalculiX crash box of ../shared/data and a
+// second CalculiX run of the very same mesh under another load (bench/family/crashbox-bent.frd.gz,
+// made by bench/family/make_crashbox_variant.py), built into one hierarchy by the command line.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "dynpm/io.h"
+#include "dynpm/lod.h"
+#include "dynpm/progressive.h"
+#include "fixtures.h"
+#include "third_party.h"
+
+namespace dynpm {
+namespace {
+
+test::CommandResult dynpm_cli(const std::string& arguments) {
+  return test::run_command(std::string(DYNPM_CLI) + " " + arguments);
+}
+
+std::string unpack(const std::string& gz, const std::string& frd) {
+  if (std::system(("zcat '" + gz + "' > '" + frd + "' 2>/dev/null").c_str()) != 0) return "";
+  return frd;
+}
+
+Animation load(const std::string& path) {
+  auto stream = open_input(std::vector<std::string>{path});
+  EXPECT_TRUE(stream.ok()) << stream.message();
+  auto all = load_all_steps(std::move(stream).value());
+  EXPECT_TRUE(all.ok()) << all.message();
+  return std::move(all).value();
+}
+
+class CrashboxFamily : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new test::TempDir;
+    crush_ =
+        unpack(test::shared_data() + "/crashbox-s/crashbox-s.frd.gz", dir_->file("crashbox-s.frd"));
+    bent_ = unpack(test::source_dir() + "/bench/family/crashbox-bent.frd.gz",
+                   dir_->file("crashbox-bent.frd"));
+    if (crush_.empty() || bent_.empty()) return;
+    family_ = dir_->file("family.dpm");
+    build_ = dynpm_cli("build --family '" + crush_ + "' '" + bent_ + "' -o '" + family_ + "'");
+  }
+  static void TearDownTestSuite() { delete dir_; }
+  void SetUp() override {
+    if (crush_.empty()) GTEST_SKIP() << "../shared/data/crashbox-s is missing";
+    ASSERT_FALSE(bent_.empty()) << "bench/family/crashbox-bent.frd.gz is missing";
+    ASSERT_EQ(build_.exit_code, 0) << build_.output;
+  }
+
+  static inline test::TempDir* dir_ = nullptr;
+  static inline std::string crush_, bent_, family_;
+  static inline test::CommandResult build_;
+};
+
+TEST_F(CrashboxFamily, StoresTheSharedUndeformedStepOnce) {
+  auto mesh = read_dpm(family_);
+  ASSERT_TRUE(mesh.ok()) << mesh.message();
+  ASSERT_EQ(mesh->variants.size(), 2u);
+  EXPECT_EQ(mesh->variants[0].name, "crashbox-s");
+  EXPECT_EQ(mesh->variants[1].name, "crashbox-bent");
+  EXPECT_EQ(mesh->variants[0].steps.size(), 26u);
+  EXPECT_EQ(mesh->variants[1].steps.size(), 13u);
+  // The undeformed step is the same floats in both runs: stored once; every other step is not.
+  EXPECT_EQ(mesh->variants[1].steps[0], mesh->variants[0].steps[0]);
+  EXPECT_EQ(mesh->step_count(), 26u + 13u - 1u);
+}
+
+// Fully refined, each variant is its own input at every step (within the position bound),
+// in the input's order, at the input's times.
+TEST_F(CrashboxFamily, EachVariantAtFullResolutionIsItsInput) {
+  auto family = read_dpm(family_);
+  ASSERT_TRUE(family.ok()) << family.message();
+  const std::string inputs[] = {crush_, bent_};
+  for (size_t k = 0; k < 2; ++k) {
+    SCOPED_TRACE(inputs[k]);
+    const Animation original = load(inputs[k]);
+    ProgressiveMesh mesh = *family;
+    select_variant(mesh, k);
+    ASSERT_EQ(mesh.step_count(), original.frames.step_count());
+    Navigator nav(mesh);
+    nav.set_level(mesh.split_count());
+    auto order = original_order(nav);
+    ASSERT_TRUE(order.ok()) << order.message();
+    std::vector<float> xyz(size_t{nav.vertex_count()} * 3), step(xyz.size());
+    double worst = 0;
+    for (size_t t = 0; t < mesh.step_count(); ++t) {
+      EXPECT_EQ(mesh.times[t], original.frames.step_time(t));
+      nav.positions(double(t), xyz);
+      ASSERT_TRUE(original.frames.read_step(t, step).ok());
+      for (uint32_t v = 0; v < original.topology.vertex_count; ++v)
+        for (int c = 0; c < 3; ++c)
+          worst = std::max(worst, double(std::abs(xyz[order->vertex_of_original[v] * 3 + c] -
+                                                  step[size_t{v} * 3 + c])));
+    }
+    EXPECT_LE(worst, mesh.max_error * 1.0001 + 1e-6) << "the bound is " << mesh.max_error;
+    EXPECT_GT(worst, 0.0);  // positions are quantized: the comparison sees them
+  }
+}
+
+// One hierarchy: any level is the same vertices and faces in every variant.
+TEST_F(CrashboxFamily, AnyLevelIsTheSameMeshInEveryVariant) {
+  auto family = read_dpm(family_);
+  ASSERT_TRUE(family.ok()) << family.message();
+  ProgressiveMesh a = *family, b = *family;
+  select_variant(a, 0);
+  select_variant(b, 1);
+  Navigator na(a), nb(b);
+  for (double ratio : {0.05, 0.25, 1.0}) {
+    const auto n = static_cast<uint32_t>(std::lround(ratio * a.full_vertex_count));
+    na.set_vertex_count(n);
+    nb.set_vertex_count(n);
+    EXPECT_EQ(na.vertex_count(), nb.vertex_count());
+    const Topology ta = na.topology(), tb = nb.topology();
+    ASSERT_EQ(ta.faces.size(), tb.faces.size());
+    for (size_t f = 0; f < ta.faces.size(); ++f) ASSERT_EQ(ta.faces[f].v, tb.faces[f].v);
+    // ... and the variants differ in where those vertices are at their last step.
+    std::vector<float> pa(size_t{na.vertex_count()} * 3), pb(pa.size());
+    na.positions(double(a.step_count() - 1), pa);
+    nb.positions(double(b.step_count() - 1), pb);
+    EXPECT_NE(pa, pb);
+  }
+}
+
+// A reader that does not know VARI skips it (an optional chunk, docs/FORMAT.md) and reads the
+// stored steps as one animation.
+TEST_F(CrashboxFamily, AReaderThatIgnoresVariStillReadsTheFile) {
+  std::ifstream in(family_, std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const size_t at = bytes.find("VARI");
+  ASSERT_NE(at, std::string::npos);
+  bytes.replace(at, 4, "VARX");  // a tag this reader does not know; the checksum covers the payload
+  auto mesh = decode_dpm(bytes, "renamed.dpm");
+  ASSERT_TRUE(mesh.ok()) << mesh.message();
+  EXPECT_TRUE(mesh->complete);
+  EXPECT_TRUE(mesh->variants.empty());
+  EXPECT_EQ(mesh->step_count(), 38u);
+}
+
+TEST_F(CrashboxFamily, CommandsTakeAVariantByNameOrIndex) {
+  const std::string out = dir_->file("bent_{:03d}.obj");
+  auto r = dynpm_cli("extract '" + family_ + "' --full --variant crashbox-bent -o '" + out + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(std::filesystem::exists(dir_->file("bent_012.obj")));
+  EXPECT_FALSE(std::filesystem::exists(dir_->file("bent_013.obj")));
+  // Without --variant: variant 0, and a note says so.
+  r = dynpm_cli("extract '" + family_ + "' --ratio 0.1 --step 25 -o '" + dir_->file("s.obj") + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("showing variant 0, crashbox-s"), std::string::npos) << r.output;
+  r = dynpm_cli("extract '" + family_ + "' --full --variant 2 --step 0 -o '" + dir_->file("x.obj") +
+                "'");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("0 crashbox-s, 1 crashbox-bent"), std::string::npos) << r.output;
+  r = dynpm_cli("info '" + family_ + "' --variant 1 --json");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("\"steps\": 13"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("\"shared_steps\": 1"), std::string::npos) << r.output;
+  // eval against the variant's own input.
+  r = dynpm_cli("eval '" + bent_ + "' --dpm '" + family_ +
+                "' --variant crashbox-bent --ratios 25 --steps 12");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  r = dynpm_cli("eval '" + bent_ + "' --dpm '" + family_ + "' --ratios 25 --steps 12");
+  EXPECT_EQ(r.exit_code, 1) << r.output;  // variant 0 has 26 steps: not built from this input
+}
+
+// Meshes that differ are refused before any work, the first difference named; nothing written.
+TEST_F(CrashboxFamily, AnotherMeshIsRefusedWithTheFirstDifference) {
+  std::ifstream in(crush_);
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string frd = text.str();
+  // Element 17's last two corners swapped.
+  const size_t at = frd.find("\n -1        17    9");
+  ASSERT_NE(at, std::string::npos);
+  const size_t line = frd.find('\n', at + 1) + 1, end = frd.find('\n', line);
+  std::istringstream corners(frd.substr(line + 3, end - line - 3));
+  long a, b, c, d;
+  corners >> a >> b >> c >> d;
+  char swapped[64];
+  std::snprintf(swapped, sizeof swapped, " -2%10ld%10ld%10ld%10ld", a, b, d, c);
+  frd.replace(line, end - line, swapped);
+  const std::string other = dir_->file("swapped.frd"), out = dir_->file("refused.dpm");
+  std::ofstream(other) << frd;
+  auto r = dynpm_cli("build --family '" + crush_ + "' '" + other + "' -o '" + out + "'");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("swapped.frd is not a variant of crashbox-s.frd's mesh: element 17 has "
+                          "nodes " +
+                          std::to_string(a) + " " + std::to_string(b) + " " + std::to_string(d)),
+            std::string::npos)
+      << r.output;
+  EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+}  // namespace
+}  // namespace dynpm
