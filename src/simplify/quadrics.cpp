@@ -150,7 +150,7 @@ void KeyStepQuadrics::build(const Topology& input, const CollapseMesh& mesh,
                             std::span<const uint8_t> constrained, double boundary_weight,
                             double regularize, unsigned threads) {
   const uint32_t n = input.vertex_count;
-  scales_.a = (1 + regularize) / 32767;  // A / w stays within ±(1 + regularize)
+  scales_.a = (1 + regularize) / CompactQuadric::kASteps;  // A / w stays within ±(1 + regularize)
   scales_.b = diagonal_ / 4096;
   parallel_for_chunks(size_t{n} * key_count_, threads, [&](size_t begin, size_t end, size_t) {
     for (size_t i = begin; i < end; ++i) {

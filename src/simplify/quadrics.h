@@ -67,7 +67,7 @@ std::vector<uint8_t> constrained_edges(const Topology& input, const Adjacency& a
                                        const FeatureEdges& features);
 
 // Positions and quadrics of every vertex in every key step, vertex-major (one vertex's steps
-// together: rating an edge reads two short runs of memory), 32 bytes per vertex and key step:
+// together: rating an edge reads two short runs of memory), 44 bytes per vertex and key step:
 // the compact quadric (quadric.h) and the position on a 16-bit grid over the box of its block
 // of kBlockVertices consecutive vertices in that step (the input's numbering keeps a part's
 // vertices together, so a block's box is about an element's size times the block's extent; a
@@ -127,7 +127,7 @@ class KeyStepQuadrics {
   std::vector<float> positions_of(std::span<const uint32_t> vertices, size_t k) const;
 
   // Bytes kept per vertex and key step (docs/simplify.md states the memory).
-  static constexpr size_t kBytesPerVertexStep = 32;
+  static constexpr size_t kBytesPerVertexStep = 44;
 
  private:
   struct Record {
