@@ -68,8 +68,8 @@ void FieldTerm::finish(double diagonal) {
   std::vector<float>().swap(values_);
 }
 
-void FieldTerm::build(const Topology& input, const CollapseMesh& mesh, const PositionOf& position,
-                      unsigned threads) {
+void FieldTerm::build(const Topology& input, const CollapseMesh& mesh,
+                      std::span<const float> positions, unsigned threads) {
   if (form_ == FieldForm::kSpread || fields_.empty()) return;
   // Node values scaled to [0, 1] by their range, vertex-major like the quadrics.
   const uint32_t n = input.vertex_count;
@@ -87,7 +87,7 @@ void FieldTerm::build(const Topology& input, const CollapseMesh& mesh, const Pos
   quadrics_.assign(size_t{n} * key_count_ * quadric_floats(), 0.0f);
   parallel_for_chunks(size_t{n} * key_count_, threads, [&](size_t begin, size_t end, size_t) {
     for (size_t i = begin; i < end; ++i)
-      build_quadric(input, mesh, position, static_cast<uint32_t>(i / key_count_), i % key_count_);
+      build_quadric(input, mesh, positions, static_cast<uint32_t>(i / key_count_), i % key_count_);
   });
   std::vector<std::vector<float>>().swap(read_);
   if (form_ == FieldForm::kQuadric) std::vector<float>().swap(node_values_);
@@ -96,9 +96,9 @@ void FieldTerm::build(const Topology& input, const CollapseMesh& mesh, const Pos
 // Per face of v, in v's face order, per triangle (a quad as the triangles 012 and 023): the
 // linear fit of each field, g·p + d with p around v, weighted by the triangle's area.
 void FieldTerm::build_quadric(const Topology& input, const CollapseMesh& mesh,
-                              const PositionOf& position, uint32_t v, size_t k) {
+                              std::span<const float> positions, uint32_t v, size_t k) {
   const size_t m = fields_.size();
-  auto at = [&](uint32_t w) { return position(w, k); };
+  auto at = [&](uint32_t w) { return load(&positions[(size_t{w} * key_count_ + k) * 3]); };
   const Vec3 origin = at(v);
   std::vector<double> q(quadric_floats(), 0.0);  // xx xy xz yy yz zz bx by bz c α (G D)…
   for (uint32_t face_id : mesh.faces_of(v)) {

@@ -23,7 +23,6 @@
 #pragma once
 
 #include <cmath>
-#include <functional>
 #include <span>
 #include <vector>
 
@@ -43,10 +42,8 @@ class FieldTerm {
   // After the last key step: each field's scale from its range and the diagonal.
   void finish(double diagonal);
   // The quadric forms: the attribute quadrics of the input mesh from the key steps' positions
-  // (position(v, k): v's position in key step k, as KeyStepQuadrics keeps it). Nothing for
-  // kSpread.
-  using PositionOf = std::function<Vec3(uint32_t, size_t)>;
-  void build(const Topology& input, const CollapseMesh& mesh, const PositionOf& position,
+  // (xyz per key step, vertex-major as KeyStepQuadrics keeps them). Nothing for kSpread.
+  void build(const Topology& input, const CollapseMesh& mesh, std::span<const float> positions,
              unsigned threads);
 
   bool empty() const { return fields_.empty(); }
@@ -98,8 +95,8 @@ class FieldTerm {
     return node_values_[(size_t{v} * key_count_ + k) * fields_.size() + f];
   }
   void add_translated(const float* q, Vec3 y, double* into) const;
-  void build_quadric(const Topology& input, const CollapseMesh& mesh, const PositionOf& position,
-                     uint32_t v, size_t k);
+  void build_quadric(const Topology& input, const CollapseMesh& mesh,
+                     std::span<const float> positions, uint32_t v, size_t k);
 
   struct Chosen {
     size_t field;

@@ -29,17 +29,11 @@ std::vector<uint8_t> constrained_edges(const Topology& input, const Adjacency& a
 Status KeyStepQuadrics::load_key_steps(const FrameSource& frames, const Topology& input,
                                        std::span<const size_t> key_steps,
                                        std::span<const CostField> fields, FieldForm form,
-                                       FieldCombine combine, bool positions_move, unsigned threads,
+                                       FieldCombine combine, unsigned threads,
                                        const ProgressCallback& progress) {
   const uint32_t vertex_count = input.vertex_count;
   key_count_ = key_steps.size();
-  records_.assign(size_t{vertex_count} * key_count_, Record{});
-  if (positions_move) {
-    moving_.resize(size_t{vertex_count} * key_count_ * 3);
-  } else {
-    const size_t blocks = (size_t{vertex_count} + kBlockVertices - 1) / kBlockVertices;
-    grids_.resize(blocks * key_count_);
-  }
+  positions_.resize(size_t{vertex_count} * key_count_ * 3);
   fields_.choose(fields, fields.empty() ? std::vector<FieldInfo>{} : frames.fields(), form,
                  key_count_, vertex_count);
   combine_ = combine;
@@ -49,7 +43,8 @@ Status KeyStepQuadrics::load_key_steps(const FrameSource& frames, const Topology
   DYNPM_RETURN_IF_ERROR(
       for_each_step(frames, key_steps, threads, [&](size_t k, std::span<const float> step) {
         box.extend(step);
-        store_step(k, step);
+        for (uint32_t v = 0; v < vertex_count; ++v)
+          std::copy_n(&step[size_t{v} * 3], 3, position_data(v, k));
         Status loaded = fields_.load_step(frames, input, k, key_steps[k]);
         if (loaded.ok() && progress) progress("reading key steps", ++done, key_count_);
         return loaded;
@@ -58,35 +53,6 @@ Status KeyStepQuadrics::load_key_steps(const FrameSource& frames, const Topology
   diagonal_ = box.diagonal() > 0 ? box.diagonal() : 1.0;
   fields_.finish(diagonal_);
   return {};
-}
-
-// Key step k's positions: as floats when they move, else each block's box in the step and
-// every vertex on the block's 16-bit grid over it.
-void KeyStepQuadrics::store_step(size_t k, std::span<const float> step) {
-  const uint32_t vertex_count = static_cast<uint32_t>(step.size() / 3);
-  if (!moving_.empty()) {
-    for (uint32_t v = 0; v < vertex_count; ++v)
-      std::copy_n(&step[size_t{v} * 3], 3, &moving_[(size_t{v} * key_count_ + k) * 3]);
-    return;
-  }
-  for (uint32_t begin = 0; begin < vertex_count; begin += kBlockVertices) {
-    const uint32_t end = std::min(vertex_count, begin + kBlockVertices);
-    BlockGrid& grid = grids_[size_t{begin / kBlockVertices} * key_count_ + k];
-    for (int axis = 0; axis < 3; ++axis) {
-      float lo = step[size_t{begin} * 3 + axis], hi = lo;
-      for (uint32_t v = begin; v < end; ++v) {
-        lo = std::min(lo, step[size_t{v} * 3 + axis]);
-        hi = std::max(hi, step[size_t{v} * 3 + axis]);
-      }
-      grid.min[axis] = lo;
-      grid.step[axis] = static_cast<float>((double{hi} - lo) / 65535);
-      const double inverse = grid.step[axis] > 0 ? 1 / double{grid.step[axis]} : 0;
-      for (uint32_t v = begin; v < end; ++v) {
-        const double q = std::nearbyint((step[size_t{v} * 3 + axis] - double{lo}) * inverse);
-        record(v, k).position[axis] = static_cast<uint16_t>(std::clamp(q, 0.0, 65535.0));
-      }
-    }
-  }
 }
 
 namespace {
@@ -150,22 +116,21 @@ void KeyStepQuadrics::build(const Topology& input, const CollapseMesh& mesh,
                             std::span<const uint8_t> constrained, double boundary_weight,
                             double regularize, unsigned threads) {
   const uint32_t n = input.vertex_count;
-  scales_.a = (1 + regularize) / CompactQuadric::kASteps;  // A / w stays within ±(1 + regularize)
-  scales_.b = diagonal_ / 4096;
+  quadrics_.assign(size_t{n} * key_count_, LocalQuadric{});
   parallel_for_chunks(size_t{n} * key_count_, threads, [&](size_t begin, size_t end, size_t) {
     for (size_t i = begin; i < end; ++i) {
       const uint32_t v = static_cast<uint32_t>(i / key_count_);
       const size_t k = i % key_count_;
-      record(v, k).quadric = CompactQuadric::narrow(
-          vertex_quadric(input, mesh, v, k, constrained, boundary_weight, regularize), scales_);
+      quadric(v, k) = LocalQuadric::narrow(
+          vertex_quadric(input, mesh, v, k, constrained, boundary_weight, regularize));
     }
   });
-  fields_.build(
-      input, mesh, [this](uint32_t v, size_t k) { return position(v, k); }, threads);
+  fields_.build(input, mesh, positions_, threads);
 }
 
 Quadric KeyStepQuadrics::merged_quadric(uint32_t v0, uint32_t v1, size_t k) const {
-  return quadric(v1, k) + quadric(v0, k).translated(position(v1, k) - position(v0, k));
+  return quadric(v1, k).widen() +
+         quadric(v0, k).widen().translated(position(v1, k) - position(v0, k));
 }
 
 double KeyStepQuadrics::collapse_error(uint32_t v0, uint32_t v1, VertexClass v1_class,
@@ -193,14 +158,14 @@ double KeyStepQuadrics::collapse_error(uint32_t v0, uint32_t v1, VertexClass v1_
 double KeyStepQuadrics::half_edge_error(uint32_t v0, uint32_t v1) const {
   return worst_over_key_steps<1>(
       key_count_, diagonal_, combine_, !fields_.empty(), [&](size_t k, auto& worst) {
-        const CompactQuadric& q1 = record(v1, k).quadric;
-        const Quadric q0 = quadric(v0, k);
-        const double weight = q0.w + q1.weight();
+        const LocalQuadric& q1 = quadric(v1, k);
+        const Quadric q0 = quadric(v0, k).widen();
+        const double weight = q0.w + double{q1.w};
         if (!(weight > 0)) return;
         const Vec3 offset = position(v1, k) - position(v0, k);
         const double moved = q0.evaluate(offset);
         const double field = fields_.squared(v0, v1, k, offset);
-        worst[0].offer((moved + q1.offset_error()) / weight, field);
+        worst[0].offer((moved + double{q1.c}) / weight, field);
         if (q0.w > 0) worst[0].offer(moved / q0.w, field);  // the floor, see half_edge_errors()
       })[0];
 }
@@ -208,7 +173,7 @@ double KeyStepQuadrics::half_edge_error(uint32_t v0, uint32_t v1) const {
 std::pair<double, double> KeyStepQuadrics::half_edge_errors(uint32_t a, uint32_t b) const {
   const auto error = worst_over_key_steps<2>(
       key_count_, diagonal_, combine_, !fields_.empty(), [&](size_t k, auto& worst) {
-        const Quadric qa = quadric(a, k), qb = quadric(b, k);
+        const Quadric qa = quadric(a, k).widen(), qb = quadric(b, k).widen();
         const double weight = qa.w + qb.w;
         if (!(weight > 0)) return;
         const Vec3 d = position(b, k) - position(a, k);
@@ -233,29 +198,25 @@ std::span<const float> KeyStepQuadrics::merge(uint32_t v0, uint32_t v1,
   for (size_t k = 0; k < key_count_; ++k) {
     Quadric q = merged_quadric(v0, v1, k);  // around v1's position
     offsets_[k] = position(v1, k) - position(v0, k);
-    if (placement) {  // positions move only with optimal placement, as floats
+    if (placement) {
       const Vec3 before = position(v1, k);
       moves_[k] = (*placement)[k] - before;
-      float* p = &moving_[(size_t{v1} * key_count_ + k) * 3];
+      float* p = position_data(v1, k);
       p[0] = static_cast<float>((*placement)[k].x), p[1] = static_cast<float>((*placement)[k].y),
       p[2] = static_cast<float>((*placement)[k].z);
       q = q.translated(position(v1, k) - before);  // around the new one
     }
-    record(v1, k).quadric = CompactQuadric::narrow(q, scales_);
+    quadric(v1, k) = LocalQuadric::narrow(q);
   }
   fields_.merge(v0, v1, offsets_, moves_);
-  if (!placement) return {};
-  return {&moving_[size_t{v1} * key_count_ * 3], key_count_ * 3};
+  return {position_data(v1, 0), key_count_ * 3};
 }
 
 std::vector<float> KeyStepQuadrics::positions_of(std::span<const uint32_t> vertices,
                                                  size_t k) const {
   std::vector<float> out;
   out.reserve(vertices.size() * 3);
-  for (uint32_t v : vertices) {
-    const Vec3 p = position(v, k);
-    for (double c : {p.x, p.y, p.z}) out.push_back(static_cast<float>(c));
-  }
+  for (uint32_t v : vertices) out.insert(out.end(), position_data(v, k), position_data(v, k) + 3);
   return out;
 }
 

@@ -67,23 +67,15 @@ std::vector<uint8_t> constrained_edges(const Topology& input, const Adjacency& a
                                        const FeatureEdges& features);
 
 // Positions and quadrics of every vertex in every key step, vertex-major (one vertex's steps
-// together: rating an edge reads two short runs of memory), 44 bytes per vertex and key step:
-// the compact quadric (quadric.h) and the position on a 16-bit grid over the box of its block
-// of kBlockVertices consecutive vertices in that step (the input's numbering keeps a part's
-// vertices together, so a block's box is about an element's size times the block's extent; a
-// scattered block only coarsens its own grid). The positions drive the cost and the legality
-// tests only: a build reads every step's positions again for the file. With optimal placement
-// the vertices move off their grid, so their positions are kept as floats instead.
+// together: rating an edge reads two short runs of memory).
 class KeyStepQuadrics {
  public:
-  static constexpr uint32_t kBlockVertices = 256;
-
   // Reads the key steps' positions (up to `threads` at once) and, in the same pass, the cost
   // fields' values; the diagonal is that of the positions' common bounding box. Reports
-  // "reading key steps". `positions_move`: optimal placement (floats, see above).
+  // "reading key steps".
   Status load_key_steps(const FrameSource& frames, const Topology& input,
                         std::span<const size_t> key_steps, std::span<const CostField> fields,
-                        FieldForm form, FieldCombine combine, bool positions_move, unsigned threads,
+                        FieldForm form, FieldCombine combine, unsigned threads,
                         const ProgressCallback& progress);
   // The quadrics of the input mesh (phases at the top of this file), and the field term's.
   void build(const Topology& input, const CollapseMesh& mesh, std::span<const uint8_t> constrained,
@@ -92,16 +84,18 @@ class KeyStepQuadrics {
   size_t key_count() const { return key_count_; }
   double diagonal() const { return diagonal_; }
   const BoundingBox& box() const { return box_; }  // of the key steps' positions
-  Vec3 position(uint32_t v, size_t k) const {
-    if (!moving_.empty()) return load(&moving_[(size_t{v} * key_count_ + k) * 3]);
-    const BlockGrid& g = grids_[size_t{v / kBlockVertices} * key_count_ + k];
-    const uint16_t* p = record(v, k).position;
-    return {g.min[0] + p[0] * double{g.step[0]}, g.min[1] + p[1] * double{g.step[1]},
-            g.min[2] + p[2] * double{g.step[2]}};
+  Vec3 position(uint32_t v, size_t k) const { return load(position_data(v, k)); }
+  const float* position_data(uint32_t v, size_t k) const {
+    return &positions_[(size_t{v} * key_count_ + k) * 3];
   }
-  Quadric quadric(uint32_t v, size_t k) const { return record(v, k).quadric.widen(scales_); }
+  const LocalQuadric& quadric(uint32_t v, size_t k) const {
+    return quadrics_[size_t{v} * key_count_ + k];
+  }
   // Asks for v's quadrics and positions ahead of use (they are scattered across neighbours).
-  void prefetch(uint32_t v) const { __builtin_prefetch(&records_[size_t{v} * key_count_]); }
+  void prefetch(uint32_t v) const {
+    __builtin_prefetch(&quadrics_[size_t{v} * key_count_]);
+    __builtin_prefetch(&positions_[size_t{v} * key_count_ * 3]);
+  }
 
   // Q_t,v0 + Q_t,v1 with its origin at v1's position in key step k.
   Quadric merged_quadric(uint32_t v0, uint32_t v1, size_t k) const;
@@ -120,36 +114,24 @@ class KeyStepQuadrics {
 
   // After the collapse v0 → v1: Q_t,v1 = Q_t,v0 + Q_t,v1, and with a placement v1 moved there
   // (its quadric re-centred on the new position); placement is null for half-edge collapses.
-  // Returns v1's new positions, xyz per key step (empty for half-edge collapses).
+  // Returns v1's positions, xyz per key step.
   std::span<const float> merge(uint32_t v0, uint32_t v1, const std::vector<Vec3>* placement);
 
   // Positions of the given vertices in key step k, xyz each.
   std::vector<float> positions_of(std::span<const uint32_t> vertices, size_t k) const;
 
-  // Bytes kept per vertex and key step (docs/simplify.md states the memory).
-  static constexpr size_t kBytesPerVertexStep = 44;
-
  private:
-  struct Record {
-    CompactQuadric quadric;
-    uint16_t position[3];  // on its block's grid in this step
-  };
-  static_assert(sizeof(Record) == kBytesPerVertexStep);
-  struct BlockGrid {  // a block's grid in one key step: position = min + q · step
-    float min[3], step[3];
-  };
-  const Record& record(uint32_t v, size_t k) const { return records_[size_t{v} * key_count_ + k]; }
-  Record& record(uint32_t v, size_t k) { return records_[size_t{v} * key_count_ + k]; }
-  void store_step(size_t k, std::span<const float> step);
+  float* position_data(uint32_t v, size_t k) {
+    return &positions_[(size_t{v} * key_count_ + k) * 3];
+  }
+  LocalQuadric& quadric(uint32_t v, size_t k) { return quadrics_[size_t{v} * key_count_ + k]; }
   Quadric vertex_quadric(const Topology& input, const CollapseMesh& mesh, uint32_t v, size_t k,
                          std::span<const uint8_t> constrained, double boundary_weight,
                          double regularize) const;
 
   size_t key_count_ = 0;
-  std::vector<Record> records_;   // #V × #key steps
-  std::vector<BlockGrid> grids_;  // #blocks × #key steps
-  std::vector<float> moving_;     // optimal placement: #V × #key steps × xyz, else empty
-  CompactQuadric::Scales scales_;
+  std::vector<float> positions_;        // #V × #key steps × xyz
+  std::vector<LocalQuadric> quadrics_;  // #V × #key steps, each around its own vertex
   double diagonal_ = 1;
   BoundingBox box_;
   FieldTerm fields_;

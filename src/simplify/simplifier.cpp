@@ -138,7 +138,7 @@ Status Simplifier::load_key_steps(const FrameSource& frames) {
   auto fields = cost_fields(options_, frames);
   if (!fields) return fields.status();
   return quadrics_.load_key_steps(frames, input_, key_steps_, *fields, options_.field_form,
-                                  options_.field_combine, optimal(), thread_count(options_.threads),
+                                  options_.field_combine, thread_count(options_.threads),
                                   options_.progress);
 }
 
@@ -197,11 +197,9 @@ void Simplifier::rate_all_edges() {
   std::fill(rejected_.begin(), rejected_.end(), 0);
 }
 
-// Stale entries are dropped when the queue has grown by half since the last time: a pass over
-// the queue costs little next to the collapses that filled it, and the stale half it would
-// otherwise carry was the queue's largest share of the simplifier's memory.
+// Stale entries are dropped when the queue has doubled since the last time.
 void Simplifier::drop_stale_entries() {
-  if (queue_.size() <= queue_size_after_cleanup_ + queue_size_after_cleanup_ / 2 + 1024) return;
+  if (queue_.size() <= 2 * queue_size_after_cleanup_ + 1024) return;
   queue_.remove_if([&](const Entry& e) { return stale(e); });
   queue_size_after_cleanup_ = queue_.size();
 }
