@@ -5,6 +5,7 @@
 #include <cmath>
 #include <functional>
 #include <numeric>
+#include <span>
 
 #include "build_fields.h"
 #include "dynpm/pipeline.h"
@@ -13,32 +14,46 @@ namespace dynpm {
 namespace {
 
 // Everything a collapse did, in the input's numbering, kept until the simplifier is done: the
-// new numbers of faces that vanish later are only known at the end.
+// new numbers of faces that vanish later are only known at the end. Wings and moved faces are
+// pooled (about two of each per collapse): 24 B per collapse plus 12 B per wing and 4 B per
+// moved face, where four wings kept inline took 80 B. Reserved for one collapse per vertex
+// (at most that many happen): the untouched tail costs address space only, and the log never
+// holds an old and a new copy at once while it grows.
 class CollapseLog final : public CollapseListener {
  public:
   struct Entry {
     uint32_t v0, v1;
-    double error;  // in bounding-box diagonals of the key steps
-    uint8_t wing_count;
-    std::array<SplitWing, 4> wings;   // in the input's numbering
-    uint32_t moved_begin, moved_end;  // into moved_faces
+    uint32_t wings_begin, moved_begin;  // into wings and moved_faces; ends at the next entry's
+    double error;                       // in bounding-box diagonals of the key steps
   };
 
+  explicit CollapseLog(uint32_t vertex_count) {
+    entries.reserve(vertex_count);
+    wings_.reserve(size_t{vertex_count} * 2);
+    moved_faces_.reserve(size_t{vertex_count} * 3);
+  }
+
   void on_collapse(const CollapseRecord& record) override {
-    Entry e{record.v0,
-            record.v1,
-            record.error,
-            record.wing_count,
-            record.wings,
-            static_cast<uint32_t>(moved_faces.size()),
-            0};
-    moved_faces.insert(moved_faces.end(), record.moved_faces.begin(), record.moved_faces.end());
-    e.moved_end = static_cast<uint32_t>(moved_faces.size());
-    entries.push_back(e);
+    entries.push_back({record.v0, record.v1, static_cast<uint32_t>(wings_.size()),
+                       static_cast<uint32_t>(moved_faces_.size()), record.error});
+    wings_.insert(wings_.end(), record.wings.begin(), record.wings.begin() + record.wing_count);
+    moved_faces_.insert(moved_faces_.end(), record.moved_faces.begin(), record.moved_faces.end());
+  }
+
+  std::span<const SplitWing> wings(size_t i) const {
+    const size_t end = i + 1 < entries.size() ? entries[i + 1].wings_begin : wings_.size();
+    return {wings_.data() + entries[i].wings_begin, end - entries[i].wings_begin};
+  }
+  std::span<const uint32_t> moved_faces(size_t i) const {
+    const size_t end = i + 1 < entries.size() ? entries[i + 1].moved_begin : moved_faces_.size();
+    return {moved_faces_.data() + entries[i].moved_begin, end - entries[i].moved_begin};
   }
 
   std::vector<Entry> entries;
-  std::vector<uint32_t> moved_faces;
+
+ private:
+  std::vector<SplitWing> wings_;
+  std::vector<uint32_t> moved_faces_;
 };
 
 // The simplifier's record in the progressive numbering: the mesh without its positions.
@@ -80,7 +95,7 @@ Result<Recorded> record(const Topology& topology, const FrameSource& frames,
   simplify_options.target_ratio.reset();
   simplify_options.max_error.reset();
   simplify_options.progress = options.progress;
-  CollapseLog log;
+  CollapseLog log(topology.vertex_count);
   auto simplified = simplify(topology, frames, simplify_options, &log);
   if (!simplified) return simplified.status();
   if (options.progress) options.progress("recording the splits", 0, 1);  // ends at the next phase
@@ -106,18 +121,16 @@ Result<Recorded> record(const Topology& topology, const FrameSource& frames,
   const uint32_t face_total = static_cast<uint32_t>(topology.faces.size());
   new_face.assign(face_total, kNoIndex);
   std::vector<char> vanished(face_total, 0);
-  for (const auto& e : log.entries)
-    for (uint8_t k = 0; k < e.wing_count; ++k)
-      if (e.wings[k].was_triangle()) vanished[e.wings[k].face] = 1;
+  for (size_t j = 0; j < splits; ++j)
+    for (const SplitWing& w : log.wings(j))
+      if (w.was_triangle()) vanished[w.face] = 1;
   uint32_t next_face = 0;
   for (uint32_t f = 0; f < face_total; ++f)
     if (!vanished[f]) new_face[f] = next_face++;
   pm.base_face_count = next_face;
-  for (uint32_t i = 0; i < splits; ++i) {
-    const auto& e = log.entries[splits - 1 - i];
-    for (uint8_t k = 0; k < e.wing_count; ++k)
-      if (e.wings[k].was_triangle()) new_face[e.wings[k].face] = next_face++;
-  }
+  for (uint32_t i = 0; i < splits; ++i)
+    for (const SplitWing& w : log.wings(splits - 1 - i))
+      if (w.was_triangle()) new_face[w.face] = next_face++;
   if (next_face != face_total) return Status::error("internal: a face was lost in the record");
 
   // The base mesh: the simplifier's live faces, in input order.
@@ -140,16 +153,13 @@ Result<Recorded> record(const Topology& topology, const FrameSource& frames,
   pm.parent.reserve(splits);
   pm.error.reserve(splits);
   for (uint32_t i = 0; i < splits; ++i) {
-    const auto& e = log.entries[splits - 1 - i];
-    pm.parent.push_back(new_vertex[e.v1]);
-    pm.error.push_back(0);  // below, once the scale is known
-    for (uint8_t k = 0; k < e.wing_count; ++k) {
-      const SplitWing& w = e.wings[k];  // renumbered, its flags as they are
+    const size_t j = splits - 1 - i;
+    pm.parent.push_back(new_vertex[log.entries[j].v1]);
+    pm.error.push_back(0);                   // below, once the scale is known
+    for (const SplitWing& w : log.wings(j))  // renumbered, its flags as they are
       pm.wings.push_back({new_face[w.face], new_vertex[w.vertex], w.flags});
-    }
     pm.wing_start.push_back(static_cast<uint32_t>(pm.wings.size()));
-    for (uint32_t m = e.moved_begin; m < e.moved_end; ++m)
-      pm.moved_faces.push_back(new_face[log.moved_faces[m]]);
+    for (uint32_t f : log.moved_faces(j)) pm.moved_faces.push_back(new_face[f]);
     pm.moved_start.push_back(static_cast<uint32_t>(pm.moved_faces.size()));
   }
 

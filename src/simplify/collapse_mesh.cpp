@@ -59,11 +59,36 @@ void CollapseMesh::reserve_list(uint32_t v, uint32_t size) {
   if (size <= list_capacity_[v]) return;
   // Move the list to the end of the pool with room to grow; the old block is abandoned.
   const uint32_t capacity = size + size / 2 + 2;
+  if (pool_.size() + capacity > pool_.capacity()) compact_pool(capacity);
   const uint32_t start = static_cast<uint32_t>(pool_.size());
   pool_.resize(pool_.size() + capacity);
   std::copy_n(pool_.begin() + list_start_[v], list_size_[v], pool_.begin() + start);
   list_start_[v] = start;
   list_capacity_[v] = capacity;
+}
+
+// The pool is full. Growing it would keep every block that moved lists abandoned, and double
+// it: instead the live vertices' lists (with their room to grow, in their order: the quadrics
+// sum faces in list order) go to a fresh pool with a quarter more room than they and `extra`
+// need; removed vertices give theirs up.
+void CollapseMesh::compact_pool(uint32_t extra) {
+  size_t needed = extra;
+  for (uint32_t v = 0; v < vertex_count(); ++v)
+    if (list_size_[v] > 0) needed += list_capacity_[v];
+  std::vector<uint32_t> fresh;
+  fresh.reserve(needed + needed / 4);
+  for (uint32_t v = 0; v < vertex_count(); ++v) {
+    if (list_size_[v] == 0) {
+      list_start_[v] = list_capacity_[v] = 0;
+      continue;
+    }
+    const uint32_t start = static_cast<uint32_t>(fresh.size());
+    fresh.insert(fresh.end(), pool_.begin() + list_start_[v],
+                 pool_.begin() + list_start_[v] + list_size_[v]);
+    fresh.resize(size_t{start} + list_capacity_[v]);
+    list_start_[v] = start;
+  }
+  pool_.swap(fresh);
 }
 
 void CollapseMesh::collapse(uint32_t v0, uint32_t v1, CollapseRecord& record,

@@ -41,6 +41,7 @@ class CollapseMesh {
  private:
   void remove_face_from(uint32_t v, uint32_t f);
   void reserve_list(uint32_t v, uint32_t size);
+  void compact_pool(uint32_t extra);
 
   std::vector<Face> faces_;
   std::vector<uint32_t> list_start_, list_size_, list_capacity_, pool_;
