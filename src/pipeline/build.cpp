@@ -9,6 +9,7 @@
 
 #include "build_fields.h"
 #include "dynpm/pipeline.h"
+#include "split_order.h"
 
 namespace dynpm {
 namespace {
@@ -209,6 +210,7 @@ Result<Recorded> record(const Topology& topology, const FrameSource& frames,
   pm.note = options.note;
   pm.variants = options.variants;
   set_position_grid(pm);
+  order_splits_by_parent(pm, new_vertex, new_face);  // parents ascending within error bands
   prepare_split_records(pm);  // errors on the file's grid, moved faces ascending (as read back)
   // Result fields, per vertex or per face, permuted like the positions (build_fields.cpp).
   DYNPM_RETURN_IF_ERROR(

@@ -142,10 +142,34 @@ std::string at_split(uint32_t i, const std::string& what) {
 // The record of split i (vertex v0) against the mesh before it. Empty, or what is wrong.
 template <bool kDecode>
 std::string code_record(Coder<kDecode>& c, RecordModels& st, uint32_t i, uint32_t v0, Record& r) {
+  // The error: how many grid steps down from the split before.
+  c.part = kErrors;
+  uint32_t code = 0;
+  if constexpr (!kDecode) {
+    code = error_code_at_least(r.error, st.error_reference_);
+    if (error_of_code(code, st.error_reference_) != r.error || code > st.error_code_)
+      return at_split(i, "the error is not on the grid or increases (prepare_split_records)");
+  }
+  const uint64_t down = c.u(st.error_step, st.error_code_ - code);
+  if (down > st.error_code_) return at_split(i, "error is not valid");
+  st.error_code_ -= static_cast<uint32_t>(down);
+  r.error = error_of_code(st.error_code_, st.error_reference_);
+
+  // The parent: within a run of equal errors (the build orders each run by parent, split_order.h)
+  // a step from the parent before; else v0 − 1 − parent.
   c.part = kParent;
-  const uint64_t dp = c.u(st.parent, v0 - 1 - r.parent);
-  if (dp >= v0) return at_split(i, "parent out of range");
-  const uint32_t v1 = r.parent = static_cast<uint32_t>(v0 - 1 - dp);
+  if (down == 0 && st.last_parent_ != kNoVertex) {
+    const int64_t step = c.s(st.parent_step, int64_t{r.parent} - int64_t{st.last_parent_});
+    const int64_t p = int64_t{st.last_parent_} + step;
+    if (p < 0 || p >= v0) return at_split(i, "parent out of range");
+    r.parent = static_cast<uint32_t>(p);
+  } else {
+    const uint64_t dp = c.u(st.parent, v0 - 1 - r.parent);
+    if (dp >= v0) return at_split(i, "parent out of range");
+    r.parent = static_cast<uint32_t>(v0 - 1 - dp);
+  }
+  st.last_parent_ = r.parent;
+  const uint32_t v1 = r.parent;
   const std::vector<uint32_t>& fan = st.vertex_faces_[v1];
 
   // Moved faces first: a bit per face of v1 (ascending), by its kind and how many moved so far.
@@ -277,18 +301,6 @@ std::string code_record(Coder<kDecode>& c, RecordModels& st, uint32_t i, uint32_
                              (slot << SplitWing::kSlotShift));
   }
 
-  // The error: how many grid steps down from the split before.
-  c.part = kErrors;
-  uint32_t code = 0;
-  if constexpr (!kDecode) {
-    code = error_code_at_least(r.error, st.error_reference_);
-    if (error_of_code(code, st.error_reference_) != r.error || code > st.error_code_)
-      return at_split(i, "the error is not on the grid or increases (prepare_split_records)");
-  }
-  const uint64_t down = c.u(st.error_step, st.error_code_ - code);
-  if (down > st.error_code_) return at_split(i, "error is not valid");
-  st.error_code_ -= static_cast<uint32_t>(down);
-  r.error = error_of_code(st.error_code_, st.error_reference_);
   return {};
 }
 

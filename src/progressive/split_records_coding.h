@@ -56,6 +56,7 @@ class RecordModels {
   std::array<BitModel, 2> tri_follows{};  // no face to predict from / one
   std::array<BitModel, 2> tri_slot{};     // slot 0? then slot 1 or 2
   std::array<BitModel, 12> moved{};  // triangle? × beside a moved face? × moved so far (0, 1, 2+)
+  SignedModel parent_step;
   // Attributes.
   SignedModel vertex_index, node_id, part, face_index, element_id;
   BitModel same_part;
@@ -68,6 +69,7 @@ class RecordModels {
   FreeIndices free_vertices_, free_faces_;  // original indices not yet given
   double error_reference_ = 1;
   uint32_t error_code_ = kTopErrorCode;  // the last split's (first: the base's)
+  uint32_t last_parent_ = kNoVertex;     // the last split's
 };
 
 // Called after split i was applied to models.faces(): the positions' stencils are read there.

@@ -83,7 +83,7 @@ function fieldDefs() {
 function makeFile(baseFrame = null, { fields = true, extra = null, upToBase = false } = {}) {
   const out = new Bytes();
   [0x89, 0x44, 0x50, 0x4d, 0x0d, 0x0a, 0x1a, 0x0a].forEach((x) => out.u8(x));
-  out.u32(4);
+  out.u32(5);
   const head = new Bytes();
   [6, 3, 5, 2, 1, 2, 0, 0].forEach((x) => head.u32(x));
   BMIN.forEach((x) => head.f64(x));
@@ -335,8 +335,8 @@ test('shown values: max |value| and mean of what each vertex and face stands for
   assert.equal(nav.fieldError(1), 0);
 });
 
-test('a file of version 1, 2 or 3 is refused with what to do about it', () => {
-  for (const version of [1, 2, 3]) {
+test('a file of version 1 to 4 is refused with what to do about it', () => {
+  for (const version of [1, 2, 3, 4]) {
     const old = FILE.slice();
     old[8] = version;
     assert.throws(() => readDpm(old, 'old.dpm'), new RegExp(

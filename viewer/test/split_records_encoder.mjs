@@ -16,7 +16,14 @@ import { encodeSigned, encodeUnsigned, RangeEncoder } from './range_encoder.mjs'
 function encodeRecord(e, st, mesh, i, split) {
   const v0 = mesh.head.baseVertexCount + i, v1 = split.parent;
   const c = st.corners;
-  encodeUnsigned(e, st.parent, v0 - 1 - v1);
+  const code = errorCodeAtLeast(split.error, st.errorReference);
+  if (code > st.errorCode) throw new Error(`split ${i}: the error increases`);
+  encodeUnsigned(e, st.errorStep, st.errorCode - code);
+  const sameError = code === st.errorCode;
+  st.errorCode = code;
+  if (sameError && st.lastParent >= 0) encodeSigned(e, st.parentStep, v1 - st.lastParent);
+  else encodeUnsigned(e, st.parent, v0 - 1 - v1);
+  st.lastParent = v1;
   mesh.parent[i] = v1;
   const fan = st.vertexFaces[v1];
   const moved = [];
@@ -80,10 +87,6 @@ function encodeRecord(e, st, mesh, i, split) {
   });
   mesh.wingStart[i + 1] = mesh.wingFlags.length;
 
-  const code = errorCodeAtLeast(split.error, st.errorReference);
-  if (code > st.errorCode) throw new Error(`split ${i}: the error increases`);
-  encodeUnsigned(e, st.errorStep, st.errorCode - code);
-  st.errorCode = code;
   mesh.faceCountAt[i + 1] = st.faceCount + created;
 }
 

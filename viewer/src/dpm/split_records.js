@@ -90,6 +90,7 @@ export class RecordModels {
     this.neighbour = new UnsignedModel();
     this.farVertex = new UnsignedModel();
     this.errorStep = new UnsignedModel();
+    this.parentStep = new SignedModel();
     this.wasTriangle = bitModels(48);  // by quad wing candidates, wing count and wing number
     this.quad = bitModels(3);  // [0] side, [1] slot at the end, [2] follows
     this.triFollows = bitModels(2);
@@ -124,6 +125,7 @@ export class RecordModels {
     }
     this.errorReference = errorReference(mesh.head.baseError);
     this.errorCode = errorCodeAtLeast(mesh.head.baseError, this.errorReference);
+    this.lastParent = -1;  // the last split's
   }
 }
 
@@ -223,9 +225,22 @@ export function triangleWingCandidates(st, v1, moved) {
 // Split i's record into mesh's arrays; a problem, or null.
 function decodeRecord(d, st, mesh, i) {
   const v0 = mesh.head.baseVertexCount + i;
-  const dp = st.parent.decode(d);
-  if (dp >= v0) return `split ${i}: parent out of range`;
-  const v1 = v0 - 1 - dp;
+  // The error first: how many grid steps down from the split before.
+  const down = st.errorStep.decode(d);
+  if (down > st.errorCode) return `split ${i}: error is not valid`;
+  st.errorCode -= down;
+  mesh.error[i] = errorOfCode(st.errorCode, st.errorReference);
+  // The parent: within a run of equal errors a step from the parent before, else v0 − 1 − v1.
+  let v1;
+  if (down === 0 && st.lastParent >= 0) {
+    v1 = st.lastParent + st.parentStep.decode(d);
+    if (!(v1 >= 0 && v1 < v0)) return `split ${i}: parent out of range`;
+  } else {
+    const dp = st.parent.decode(d);
+    if (dp >= v0) return `split ${i}: parent out of range`;
+    v1 = v0 - 1 - dp;
+  }
+  st.lastParent = v1;
   mesh.parent[i] = v1;
   const fan = st.vertexFaces[v1];
   const c = st.corners;
@@ -298,10 +313,6 @@ function decodeRecord(d, st, mesh, i) {
   }
   mesh.wingStart[i + 1] = mesh.wingFlags.length;
 
-  const down = st.errorStep.decode(d);
-  if (down > st.errorCode) return `split ${i}: error is not valid`;
-  st.errorCode -= down;
-  mesh.error[i] = errorOfCode(st.errorCode, st.errorReference);
   mesh.faceCountAt[i + 1] = st.faceCount + created;
   return null;
 }
