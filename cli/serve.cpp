@@ -151,8 +151,10 @@ ServerOptions server_options(const fs::path& root, Catalogue& catalogue) {
   for (const viewer::Asset& asset : viewer::assets()) {
     const std::string type(asset.content_type);
     options.files.push_back({"/" + std::string(asset.path), type, asset.bytes, false, {}});
-    if (asset.path == "catalogue.html") options.files.push_back({"/", type, asset.bytes, false, {}});
-    if (asset.path == "index.html") options.files.push_back({"/view", type, asset.bytes, false, {}});
+    if (asset.path == "catalogue.html")
+      options.files.push_back({"/", type, asset.bytes, false, {}});
+    if (asset.path == "index.html")
+      options.files.push_back({"/view", type, asset.bytes, false, {}});
   }
   options.route = [root, &catalogue](std::string_view path) -> std::optional<Resource> {
     if (path == "/index.json") return Resource{"application/json", catalogue.index(), ""};

@@ -54,15 +54,15 @@ def main():
         sys.exit("needs two inputs or more")
     with tempfile.TemporaryDirectory(prefix="dynpm-family-") as work:
         family = os.path.join(work, "family.dpm")
-        run([a.dynpm, "build", "--family", *a.inputs, "-o", family, "--quiet"])
+        run([a.dynpm, "build", "--family", *a.inputs, "-o", family, "--quiet", "--no-thumbnail"])
         separate = []
         for k, path in enumerate(a.inputs):
             out = os.path.join(work, f"v{k}.dpm")
-            run([a.dynpm, "build", path, "-o", out, "--quiet"])
+            run([a.dynpm, "build", path, "-o", out, "--quiet", "--no-thumbnail"])
             separate.append(out)
         run([a.dynpm, "convert", a.inputs[0], "-o", os.path.join(work, "s_{:03d}.ply"), "--quiet"])
         step0 = os.path.join(work, "step0.dpm")
-        run([a.dynpm, "build", os.path.join(work, "s_000.ply"), "-o", step0, "--quiet"])
+        run([a.dynpm, "build", os.path.join(work, "s_000.ply"), "-o", step0, "--quiet", "--no-thumbnail"])
         size = {"family": os.path.getsize(family), "step0_alone": os.path.getsize(step0),
                 "separate": [os.path.getsize(p) for p in separate]}
         total = sum(size["separate"])

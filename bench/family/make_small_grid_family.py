@@ -35,7 +35,7 @@ def main():
     with tempfile.TemporaryDirectory() as work:
         write_sequence(os.path.join(work, "wave"), 3, lambda x, y: 0.3 * math.sin(3 * x + y))
         write_sequence(os.path.join(work, "bulge"), 4, lambda x, y: 0.5 * (x * (1 - x) + y * (1 - y)))
-        subprocess.run([dynpm, "build", "--family", "wave/frame_*.obj", "bulge/frame_*.obj", "-o",
+        subprocess.run([dynpm, "build", "--family", "wave/frame_*.obj", "bulge/frame_*.obj", "--no-thumbnail", "-o",
                         out, "--quiet"], cwd=work, check=True)
 
 
