@@ -18,7 +18,7 @@ import { gunzipSync } from 'node:zlib';
 
 import { chromium } from 'playwright-core';
 
-import { openViewer, startServer } from './chromium.mjs';
+import { allShown, openViewer, startServer } from './chromium.mjs';
 import { DEMO_FIELDS, withFields } from './fields_fixture.mjs';
 import { readVtkLegacy } from './vtk_legacy.mjs';
 
@@ -44,7 +44,7 @@ before(async () => {
   execFileSync(cli, ['extract', dpm, '--full', '--ascii', '-o', join(dir, 'full_{:03d}.vtk')], { stdio: 'ignore' });
   for (let t = 0; t < STEPS; t++) full.push(readVtkLegacy(readFileSync(join(dir, `full_${String(t).padStart(3, '0')}.vtk`))));
   ({ server, browser, page } = await openViewer(chromium, cli, dpm, { viewport: { width: 1100, height: 760 }, errors: consoleErrors,
-    ready: () => window.dpmViewer?.state().complete && window.dynpm?.pick, timeout: 60000 }));
+    timeout: 60000 }));
   await setStep(LAST);
 });
 
@@ -324,7 +324,9 @@ test('CalculiX fields: a pick\'s values and histories, as the extracted steps ho
   const other = await browser.newPage({ viewport: { width: 1100, height: 760 } });
   try {
     await other.goto(url);
-    await other.waitForFunction(() => window.dpmViewer?.state().complete && window.dynpm?.pick, null, { timeout: 60000 });
+    // The whole file shown, not only decoded: the Navigator comes a few frames after the last
+    // splits, and the API refuses until then.
+    await other.waitForFunction(allShown, null, { timeout: 60000 });
     await other.evaluate(() => window.dynpm.setStep(window.dynpm.view().stepCount - 1));
     const box = await other.locator('#view').boundingBox();
     await other.mouse.click(box.x + box.width * 0.6, box.y + 380);
