@@ -276,6 +276,17 @@ export class CompareView {
     a.needsUpdate = true;
   }
 
+  // The left edge of the two canvases (CSS pixels): right of the panel when it is open, so that
+  // it covers neither model, else the window's edge (style.css: --compare-left; A's label stays
+  // right of the panel's box either way, --panel-right).
+  left(panel) {
+    const right = Math.ceil(panel.ui.panel.getBoundingClientRect().right);
+    const left = panel.collapsed ? 0 : right + 10;
+    document.body.style.setProperty('--compare-left', `${left}px`);
+    document.body.style.setProperty('--panel-right', `${right}px`);
+    return left;
+  }
+
   resize(w, h) {
     this.renderer.setSize(w, h, false);
   }

@@ -77,8 +77,21 @@ test('two models side by side: two canvases, a worker and range requests each, e
   assert.ok(c.sameHierarchy, c.why);
   assert.match(c.labels[0], /^A: fine\.dpm — 2,608 of 2,608 vertices \(100\.0%\)/);
   assert.match(c.labels[1], /^B: coarse\.dpm — 2,608 of 2,608 vertices \(100\.0%\)/);
-  const boxes = await page.locator('canvas').evaluateAll((cs) => cs.map((e) => e.getBoundingClientRect().toJSON()));
-  assert.deepEqual(boxes.map((b) => [b.x, b.width]), [[0, 600], [600, 600]], 'each half of the window');
+  // Each half of what the open panel leaves (it covers neither model), each half of the window
+  // once it is collapsed.
+  // [x, CSS width] of each canvas; its drawing buffer follows (resized with the panel).
+  const boxes = async () => {
+    const all = await page.locator('canvas').evaluateAll((cs) => cs.map((e) => [e.getBoundingClientRect().x, e.getBoundingClientRect().width, e.width]));
+    for (const [, width, buffer] of all) assert.equal(buffer, width, 'the drawing buffer is the canvas\'s size');
+    return all.map(([x, width]) => [x, width]);
+  };
+  const panelRight = await page.locator('#panel').evaluate((p) => p.getBoundingClientRect().right);
+  assert.equal(panelRight, 320);
+  assert.deepEqual(await boxes(), [[330, 435], [765, 435]], 'beside the panel');
+  await page.click('#panel-toggle');
+  assert.deepEqual(await boxes(), [[0, 600], [600, 600]], 'each half of the window');
+  await page.click('#panel-toggle');
+  assert.deepEqual(await boxes(), [[330, 435], [765, 435]], 'beside the panel again');
   await page.close();
 });
 
