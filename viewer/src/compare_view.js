@@ -4,7 +4,9 @@
 // the first: one camera (both canvases orbit it), the same time step (clamped to B's last), the
 // same fraction of the vertices (the same count when both hold one hierarchy), the colour mode
 // with the first's legend range. When both files hold one hierarchy (compare_math.js) the
-// colour list offers |p_A(t) − p_B(t)|, drawn on both with a marker at its largest.
+// colour list offers |p_A(t) − p_B(t)|, drawn on both with a marker at its largest. B may be a
+// family file's member (`&compareVariant=NAME|INDEX`, as `?variant=` for the first; the same
+// file as the first's for two members of one family, which always hold one hierarchy).
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 
@@ -17,20 +19,27 @@ import { FieldView } from './field_view.js';
 import { element, fmt, int } from './fringe.js';
 import { PartView } from './part_view.js';
 import { greySnapshot } from './snapshot.js';
+import { variantCallbacks } from './variant_choice.js';
 import { decodeInWorker, decodeOnPage } from './worker_decoder.js';
 
 export const DIFFERENCE = 'difference';
 const HEADLIGHT = new THREE.Vector3(0.3, 0.5, 1);  // in camera space, as the first model's
 
 // The second model's path from ?compare= (only of this origin, as ?file=) or dpm.json's
-// `compare` (dynpm view A B), with its name; null when there is none.
+// `compare` (dynpm view A B), with its name and the family member ?compareVariant= names (null:
+// variant 0 of a family file); null when there is none.
 export function compareFile(params, config) {
   const query = params.get('compare');
   if (query && new URL(query, location.href).origin !== location.origin)
     throw new Error(`?compare=${query}: not on this server (${location.origin})`);
-  if (query) return { file: query, name: query };
-  return config?.compare ? { file: config.compare, name: config.compareName ?? config.compare } : null;
+  const variant = params.get('compareVariant');
+  // Named by its file name, as ?model= names the first (model_file.js).
+  if (query) return { file: query, name: decodeURIComponent(new URL(query, location.href).pathname.split('/').pop()), variant };
+  return config?.compare ? { file: config.compare, name: config.compareName ?? config.compare, variant } : null;
 }
+
+// A model's name in its label, with the family member shown (variant_choice.js's view).
+const shownName = (name, mesh) => (mesh?.variant ? `${name} [${mesh.variant.name}]` : name);
 
 // The level's line under a model's name: vertices, share, error, step and time.
 function levelText(mesh, nav, t) {
@@ -44,10 +53,11 @@ function levelText(mesh, nav, t) {
 
 export class CompareView {
   // viewer: {state, camera, controls, deformation, ui, requestRender, colours()} (viewer.js).
-  constructor(viewer, { file, name }, { antialias }) {
+  constructor(viewer, { file, name, variant }, { antialias }) {
     this.viewer = viewer;
     this.url = new URL(file, location.href).href;
     this.name = name;
+    this.variant = variant;  // a family file's member (null: variant 0)
     document.body.classList.add('compare');
     this.canvas = element('canvas', { className: 'compare-view' });
     this.labels = [element('div', { className: 'compare-label left' }), element('div', { className: 'compare-label right' })];
@@ -90,21 +100,24 @@ export class CompareView {
   }
 
   // Starts B's decode (in a worker of its own unless ?worker=0); resolves when B is loaded.
+  // From the base mesh on, this.mesh is the chosen variant's view of a family file.
   async load(worker) {
-    const decode = {
+    const onNavigator = (nav) => ((this.nav = nav), this.onSplits());
+    const decode = variantCallbacks(this.variant, {
       url: this.url, name: this.name,
       onHead: (mesh) => (this.mesh = mesh),
       onBase: (mesh) => this.onBase(mesh),
       onSplits: () => this.onSplits(),
-    };
-    const onNavigator = (nav) => ((this.nav = nav), this.onSplits());
-    const decoder = await (worker ? decodeInWorker({ ...decode, onNavigator }) : decodeOnPage(decode));
+      onNavigator,
+    });
+    const decoder = await (worker ? decodeInWorker(decode) : decodeOnPage(decode));
     if (!decoder.mesh?.hasBase) throw new Error(`${this.name}: ends before the base mesh`);
-    if (!(this.nav instanceof Navigator)) this.nav = new Navigator(decoder.mesh);
+    if (!(this.nav instanceof Navigator)) this.nav = new Navigator(this.mesh);
     this.onSplits();
   }
 
   onBase(mesh) {
+    this.mesh = mesh;
     const { head: h } = mesh;
     const geometry = (this.geometry = new THREE.BufferGeometry());
     const edges = (this.edgeGeometry = new THREE.BufferGeometry());
@@ -250,10 +263,10 @@ export class CompareView {
 
   label() {
     const { state } = this.viewer;
-    this.labels[0].textContent = `A: ${state.name} — ${levelText(state.mesh, state.nav, state.t)}`;
+    this.labels[0].textContent = `A: ${shownName(state.name, state.mesh)} — ${levelText(state.mesh, state.nav, state.t)}`;
     const why = this.why && this.viewer.state.mesh?.complete && this.mesh.complete ? `; no difference fringe: ${this.why}` : '';
     const clamped = state.t > this.mesh.head.stepCount - 1 ? ' (its last step)' : '';
-    this.labels[1].textContent = `B: ${this.name} — ${levelText(this.mesh, this.nav, this.step())}${clamped}${this.note ? `; ${this.note}` : ''}${why}`;
+    this.labels[1].textContent = `B: ${shownName(this.name, this.mesh)} — ${levelText(this.mesh, this.nav, this.step())}${clamped}${this.note ? `; ${this.note}` : ''}${why}`;
   }
 
   upload(name, n) {
@@ -261,6 +274,17 @@ export class CompareView {
     if (n <= 0) return;
     a.addUpdateRange(0, 3 * n);
     a.needsUpdate = true;
+  }
+
+  // The left edge of the two canvases (CSS pixels): right of the panel when it is open, so that
+  // it covers neither model, else the window's edge (style.css: --compare-left; A's label stays
+  // right of the panel's box either way, --panel-right).
+  left(panel) {
+    const right = Math.ceil(panel.ui.panel.getBoundingClientRect().right);
+    const left = panel.collapsed ? 0 : right + 10;
+    document.body.style.setProperty('--compare-left', `${left}px`);
+    document.body.style.setProperty('--panel-right', `${right}px`);
+    return left;
   }
 
   resize(w, h) {
@@ -279,6 +303,7 @@ export class CompareView {
     const nav = this.nav;
     return {
       name: this.name,
+      variant: this.mesh?.variant?.name ?? null,
       complete: Boolean(this.mesh?.complete),
       vertices: nav?.vertexCount ?? 0,
       faces: nav?.faceCount ?? 0,

@@ -231,6 +231,12 @@ class Inspect {
     this.showInfo();
   }
 
+  // Another variant of a family file (variant_choice.js): its own positions and values.
+  meshChanged() {
+    this.original = null;
+    this.refresh();
+  }
+
   refresh() {
     this.shownKey = '';
     const series = this.series();

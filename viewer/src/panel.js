@@ -22,6 +22,7 @@ export class Panel {
     this.ui.toggle.setAttribute('aria-expanded', String(!on));
     this.ui.toggle.textContent = on ? '☰' : '‹';
     this.ui.toggle.title = on ? 'Show the panel' : 'Hide the panel';
+    this.onToggle?.(on);  // compare lays its canvases out beside the open panel (viewer.js)
   }
 
   // What the loading screen says while the page starts (the file's name once known).

@@ -31,7 +31,7 @@ import { installRefine } from './refine_view.js';
 import { scrub } from './scrub.js';
 import { greySnapshot } from './snapshot.js';
 import { States } from './states.js';
-import { showVariant, variantCallbacks } from './variant_choice.js';
+import { VariantList } from './variant_choice.js';
 import { decodeInWorker, decodeOnPage } from './worker_decoder.js';
 import { bytes, fmt, Fringe, fringeLegend, fringeOptions, int } from './fringe.js';
 
@@ -142,7 +142,8 @@ function makeRoom(vertices, faces) {
 }
 
 function resize() {
-  const w = window.innerWidth / (compare ? 2 : 1), h = window.innerHeight;  // compare: half each
+  const left = compare ? compare.left(panel) : 0;  // compare: half each of what the panel leaves
+  const w = (window.innerWidth - left) / (compare ? 2 : 1), h = window.innerHeight;
   renderer.setSize(w, h, false);
   compare?.resize(w, h);
   camera.aspect = w / h;
@@ -413,7 +414,7 @@ function onHead(mesh) {
 
 function onBase(mesh) {
   timing.base = performance.now();
-  if (mesh.variant) showVariant(mesh, state, ui, [states, deformation]);  // a family file's
+  variants.onBase(mesh);  // a family file's member (variant_choice.js)
   // Option(text, value): the field's name from FDEF is text.
   for (let f = 0; f < mesh.fields.length; f++) ui.colour.add(new Option(mesh.fields[f].name, `field:${f}`));
   // Drawn at once from BASE; the Navigator (arrays for every face of the whole mesh) comes
@@ -473,7 +474,7 @@ async function load() {
   state.worker = params.get('worker') !== '0';
   compare && (compare.loading = compare.load(state.worker).catch(showError));  // its own worker
   const onStart = (total, shared = false, rangeRequests = false) => Object.assign(state, { totalBytes: total, sharedMemory: shared, rangeRequests });
-  const decode = variantCallbacks(params.get('variant'), { url: new URL(file, location.href).href, name: state.name, onHead, onBase, onSplits, onStart, onProgress, onNavigator });
+  const decode = variants.callbacks({ url: new URL(file, location.href).href, name: state.name, onHead, onBase, onSplits, onStart, onProgress, onNavigator });
   const onFirstBytes = (at) => (timing.firstByte = at);
   // Fetched by ranges up to ?vertices=N (model_file.js); the slider asks for more.
   const onDependencies = (deps) => refine.dependenciesReady(deps);
@@ -523,11 +524,14 @@ const redraw = () => ((state.shownT = NaN), updateTime());
 const fitBox = () => grownBox(geometry.boundingBox, positions, state.nav?.vertexCount ?? 0);
 const viewer = { state, ui, scene, camera, controls, canvas: renderer.domElement, requestRender, renderNow, setTime, setVertexCount, setColour, extendBase0, redraw, fitBox, updateLevel, partView: () => parts };
 const panel = new Panel();
+panel.onToggle = () => compare && resize();
 const states = (viewer.states = new States(viewer));
 const orientation = (viewer.orientation = new Orientation(viewer));
 const deformation = (viewer.deformation = new Deformation(viewer));
 viewer.images = new Images(viewer);
 const refine = installRefine(viewer);  // selective refinement (refine_view.js)
+// A family file's members (variant_choice.js); the field view and picking then read the new one.
+const variants = new VariantList(viewer, params.get('variant'), (mesh) => ((fieldView && (fieldView.mesh = mesh)), inspect.meshChanged()));
 
 // For the browser tests and benchmarks: the state, the picture (snapshot.js), page times of the
 // first bytes (worker; else the fetch's responseStart), HEAD, BASE and the base mesh made.
@@ -536,7 +540,7 @@ const loading = load();
 const done = loading.catch(showError);
 installApi({ ...viewer, loading });
 const partHidden = (f) => Boolean(parts?.hidden.has(state.mesh.partId[f]));
-installInspect({ renderer, scene, camera, surface, state, requestRender, deformation, partHidden });
+const inspect = installInspect({ renderer, scene, camera, surface, state, requestRender, deformation, partHidden });
 addPartsApi(() => partList);
 window.dpmViewer = {
   done,

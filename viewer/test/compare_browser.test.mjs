@@ -9,14 +9,14 @@
 //
 // If Chromium cannot start, this fails: it never skips.
 import assert from 'node:assert/strict';
-import { execFileSync } from 'node:child_process';
-import { mkdirSync, readFileSync } from 'node:fs';
+import { mkdirSync } from 'node:fs';
 import { join } from 'node:path';
 import { after, before, test } from 'node:test';
 
 import { chromium } from 'playwright-core';
 
 import { allShown, CHROMIUM_ARGS, startServer } from './chromium.mjs';
+import { bothShown, checkLargest, extracted } from './compare_checks.mjs';
 import { cli, compareDpm, compareMesh, outDir } from './compare_fixture.mjs';
 
 const shots = join(outDir, '..', 'compare-browser');
@@ -31,12 +31,6 @@ after(async () => {
   await browser?.close();
   for (const s of servers) s.kill('SIGINT');
 });
-
-const bothShown = () => {
-  const c = window.dpmViewer?.compare();
-  return c?.complete && c.navigator && window.dpmViewer.state().complete && window.dpmViewer.state().navigator &&
-    window.dpmViewer.state().vertices === window.dpmViewer.state().loadedVertices;
-};
 
 // `dynpm view A B` (or one model) and a page on it, once both models are in; the page's
 // workers, requests and errors are recorded.
@@ -67,16 +61,6 @@ const compare = (page) => page.evaluate(() => window.dpmViewer.compare());
 const meanDifference = (a, b) => a.reduce((s, x, i) => s + Math.abs(x - b[i]), 0) / a.length;
 const pictures = (page) => page.evaluate(() => ({ a: window.dpmViewer.snapshot(), b: window.dpmViewer.compareSnapshot() }));
 
-// The OBJ's vertex positions, as dynpm extract writes them at a level and step.
-function extracted(dpm, vertices, step, name) {
-  const path = join(shots, `${name}.obj`);
-  execFileSync(cli, ['extract', dpm, '--vertices', String(vertices), '--step', String(step), '-o', path], { stdio: 'pipe' });
-  const p = [];
-  for (const line of readFileSync(path, 'utf8').split('\n'))
-    if (line.startsWith('v ')) p.push(...line.split(/\s+/).slice(1, 4).map(Number));
-  return Float32Array.from(p);
-}
-
 test('two models side by side: two canvases, a worker and range requests each, each named with its level', async () => {
   const { page, seen } = await openBoth([fine, coarse]);
   assert.deepEqual(seen.errors, []);
@@ -93,8 +77,21 @@ test('two models side by side: two canvases, a worker and range requests each, e
   assert.ok(c.sameHierarchy, c.why);
   assert.match(c.labels[0], /^A: fine\.dpm — 2,608 of 2,608 vertices \(100\.0%\)/);
   assert.match(c.labels[1], /^B: coarse\.dpm — 2,608 of 2,608 vertices \(100\.0%\)/);
-  const boxes = await page.locator('canvas').evaluateAll((cs) => cs.map((e) => e.getBoundingClientRect().toJSON()));
-  assert.deepEqual(boxes.map((b) => [b.x, b.width]), [[0, 600], [600, 600]], 'each half of the window');
+  // Each half of what the open panel leaves (it covers neither model), each half of the window
+  // once it is collapsed.
+  // [x, CSS width] of each canvas; its drawing buffer follows (resized with the panel).
+  const boxes = async () => {
+    const all = await page.locator('canvas').evaluateAll((cs) => cs.map((e) => [e.getBoundingClientRect().x, e.getBoundingClientRect().width, e.width]));
+    for (const [, width, buffer] of all) assert.equal(buffer, width, 'the drawing buffer is the canvas\'s size');
+    return all.map(([x, width]) => [x, width]);
+  };
+  const panelRight = await page.locator('#panel').evaluate((p) => p.getBoundingClientRect().right);
+  assert.equal(panelRight, 320);
+  assert.deepEqual(await boxes(), [[330, 435], [765, 435]], 'beside the panel');
+  await page.click('#panel-toggle');
+  assert.deepEqual(await boxes(), [[0, 600], [600, 600]], 'each half of the window');
+  await page.click('#panel-toggle');
+  assert.deepEqual(await boxes(), [[330, 435], [765, 435]], 'beside the panel again');
   await page.close();
 });
 
@@ -145,18 +142,8 @@ test('the difference fringe: its largest |p_A − p_B| is the one extract gives,
   for (const [vertices, step] of [[800, 20], [2608, 30], [13, 5]]) {
     await page.evaluate(([n, t]) => (window.dynpm.setLevel({ vertices: n }), window.dynpm.setStep(t)), [vertices, step]);
     const { largest } = await compare(page);
-    const a = extracted(fine, vertices, step, 'a'), b = extracted(coarse, vertices, step, 'b');
-    assert.equal(a.length, 3 * vertices);
-    const distance = (v) => Math.hypot(a[3 * v] - b[3 * v], a[3 * v + 1] - b[3 * v + 1], a[3 * v + 2] - b[3 * v + 2]);
-    let max = 0;
-    for (let v = 0; v < vertices; v++) max = Math.max(max, distance(v));
-    // Fully refined, extract writes the input's order (golden.test.mjs), else the level's.
-    const row = (v) => (vertices === mesh.head.vertexCount ? mesh.vertexOriginal[v] : v);
-    assert.ok(Math.abs(largest.value - max) <= 1e-9 * max, `${vertices} vertices, step ${step}: page ${largest.value}, extract ${max}`);
-    const at = row(largest.vertex);  // a vertex of largest distance (several may tie on the grids)
-    assert.ok(Math.abs(distance(at) - max) <= 1e-9 * max, `vertex ${at}: ${distance(at)} of ${max}`);
-    assert.deepEqual(largest.positionA, Array.from(a.subarray(3 * at, 3 * at + 3)), 'A\'s marker at the vertex');
-    assert.deepEqual(largest.positionB, Array.from(b.subarray(3 * at, 3 * at + 3)), 'B\'s marker at the vertex');
+    const a = extracted(cli, fine, vertices, step, join(shots, 'a.obj')), b = extracted(cli, coarse, vertices, step, join(shots, 'b.obj'));
+    const max = checkLargest(largest, a, b, vertices, mesh.vertexOriginal, `${vertices} vertices, step ${step}`);
     assert.ok(max > 0 && max <= bound, `${max} within the grids' ${bound}`);
     const legend = await page.locator('#legend').textContent();
     assert.match(legend, /difference \|p_A\(t\) − p_B\(t\)\|/);
