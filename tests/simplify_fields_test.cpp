@@ -1,7 +1,8 @@
 // Result fields in the cost and the shape regularizer (docs/simplify.md, "Fields in the cost",
 // "Shape"): weight 0 is the geometry-only cost byte for byte, fields in the cost lower the field
-// error on the CalculiX crash box with stress and plastic strain, an element field's edge
-// survives as a line of vertices, unknown field names are refused naming the others, and the
+// error on the CalculiX crash box with stress and plastic strain (per node; the jump allowance
+// keeps the hinges), an element field's edge survives as a line of vertices, unknown field
+// names are refused naming the others, and the
 // regularizer keeps a flat plate's triangles well shaped.
 #include <gtest/gtest.h>
 
@@ -177,7 +178,11 @@ TEST(SimplifyFields, FieldsInTheCostLowerTheFieldErrorOnTheCrashBox) {
           "ratio %.2f %-8s field error %.1f %% geometry only, %.1f %% added, %.1f %% scaled\n",
           ratio, name, 100 * before, 100 * with_added, 100 * with_scaled);
       EXPECT_LE(with_added, 0.75 * before) << name << " at " << ratio;
-      EXPECT_LE(with_scaled, before + 1e-6) << name << " at " << ratio;
+      // The jump allowance (docs/simplify.md): without it the scaled cost merged flat walls
+      // across the plastic hinges first (PEEQ at 5 %: 0.92 × the geometry-only error; S_MISES
+      // 1.00). Measured with it: PEEQ 0.51 / 0.23, S_MISES 0.76 / 0.76 at 5 % / 25 %.
+      EXPECT_LE(with_scaled, (std::string(name) == "PEEQ" ? 0.6 : 0.85) * before)
+          << name << " at " << ratio;
     }
   }
 }

@@ -20,7 +20,8 @@
 //     (with optimal placement: (Q[t][v0] + Q[t][v1]) / w at the minimiser, no floor)
 //     FieldCombine::kAdd:   error = max over key steps t of sqrt(G[t] + F[t]) / diagonal
 //     FieldCombine::kScale: error = max(max_t sqrt(G[t]) / diagonal, kFieldGeometryFloor)
-//                                   · (1 + max_t sqrt(F[t]) / diagonal)
+//                                   · (1 + f) + max(0, f − kFieldJumpAllowance) · kFieldJumpLength
+//                           with f = max_t sqrt(F[t]) / diagonal
 //     without cost fields both are max_t sqrt(G[t]) / diagonal
 //   legality (legality.h): CollapseRules::allows(), every rule, cheapest first
 //   the loop (simplifier.cpp, Simplifier::run(), line for line):
@@ -90,6 +91,12 @@ enum class FieldCombine {
 // Under FieldCombine::kScale a geometric error below this (in diagonals) counts as this: where
 // the surface is flat to within the floats' precision, the field alone orders the collapses.
 inline constexpr double kFieldGeometryFloor = 1e-6;
+// Under FieldCombine::kScale a field term f beyond this (half of one field's range at the default
+// weight 3) also counts as a length: kFieldJumpLength diagonals for each unit beyond. Scaling
+// alone never defers a collapse whose geometric error is near zero, however large the jump it
+// merges (a flat wall across a plastic hinge); measured in docs/simplify.md "Fields in the cost".
+inline constexpr double kFieldJumpAllowance = 1.5;
+inline constexpr double kFieldJumpLength = 0.01;
 
 // Defaults of SimplifyOptions::field_weight and ::regularize (docs/simplify.md, where they are
 // measured).

@@ -35,8 +35,9 @@ namespace dynpm::simplification {
 // offers its geometric weighted mean squared distance and its field term (both squared
 // lengths) — for every direction rated at once, kDirections of them — to worst[d].offer().
 // FieldCombine::kAdd: the root of the largest sum; kScale: the largest geometric error (at
-// least kFieldGeometryFloor) times 1 + the largest field term, both in diagonals. Without cost
-// fields both are the geometric error alone.
+// least kFieldGeometryFloor) times 1 + the largest field term f, both in diagonals, plus f's
+// part beyond kFieldJumpAllowance as a length. Without cost fields both are the geometric error
+// alone.
 struct Worst {
   double squared = 0, geometric = 0, field = 0;
   void offer(double geometric_squared, double field_squared) {
@@ -46,8 +47,9 @@ struct Worst {
   }
   double error(double diagonal, FieldCombine combine, bool fields) const {
     if (!fields || combine == FieldCombine::kAdd) return std::sqrt(squared) / diagonal;
-    return std::max(std::sqrt(geometric) / diagonal, kFieldGeometryFloor) *
-           (1 + std::sqrt(field) / diagonal);
+    const double f = std::sqrt(field) / diagonal;
+    const double jump = std::max(0.0, f - kFieldJumpAllowance) * kFieldJumpLength;
+    return std::max(std::sqrt(geometric) / diagonal, kFieldGeometryFloor) * (1 + f) + jump;
   }
 };
 template <size_t kDirections, class PerStep>
