@@ -110,12 +110,12 @@ struct SplitDependencies {
 // more (then i also needs the splits that made its wing vertices).
 // kFaceCreators drops the read-after-write order on whole faces (a split moves a corner by
 // value, so the corner moves of one face commute): i needs the splits that made its parent and
-// wing vertices, of every face it writes the split that created it and the one that made it a
-// quad, and of every face on a wing edge (a quad wing's triangle's sides at v1) its creator
-// (docs/selective.md "Face creators"). Dependencies then point to earlier splits too, but a
-// closed set no longer leaves every face as the stream did (only as its applied writers make it).
-// The default, as in the viewer's decoder (viewer/src/dpm/split_dependencies.js): both must
-// choose the same splits.
+// its triangle wings' vertices, of every face it writes the split that created it and the one
+// that made it a quad, and of every face on a quad wing's triangle's sides at v1 its creator
+// (docs/selective.md "Face creators", "Narrower: what a wing reads"). Dependencies then point to
+// earlier splits too, but a closed set no longer leaves every face as the stream did (only as its
+// applied writers make it). The default, as in the viewer's decoder
+// (viewer/src/dpm/split_dependencies.js): both must choose the same splits.
 enum class SplitReads : uint8_t { kFan, kWingEdges, kWritten, kFaceCreators };
 // One pass over the splits in stream order (works on a prefix of a file as well).
 SplitDependencies derive_split_dependencies(const ProgressiveMesh& mesh,

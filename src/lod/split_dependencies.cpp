@@ -73,10 +73,10 @@ void close_split(std::vector<uint32_t>& needs, SplitDependencies& out) {
 
 // kFaceCreators: a split moves a corner by value and a quad wing inserts a corner by slot, so
 // the writes of one face commute and each face's state depends only on which of its writers are
-// applied, not on their order. Split i needs what makes its own step legal: its parent and wing
-// vertices; every face it writes existing (its creator) and, if a quad wing made it a quad, as a
-// quad (without it a moved quad side opens a crack: 9 boundary loops instead of 5, measured);
-// and the faces on its wing edges existing (Hoppe's fn0..fn3).
+// applied, not on their order. Split i needs what makes its own step legal: its parent and its
+// triangle wings' vertices; every face it writes existing (its creator) and, if a quad wing made
+// it a quad, as a quad (without it a moved quad side opens a crack: 9 boundary loops instead of
+// 5, measured); and the faces on its quad wings' sides at v1 existing (Hoppe's fn0..fn3).
 SplitDependencies derive_face_creators(const ProgressiveMesh& mesh, SplitDependencies out) {
   const uint32_t n = mesh.split_count(), b = mesh.base_vertex_count, total = out.faces_after[n];
   VertexFans fans(mesh);
@@ -99,20 +99,24 @@ SplitDependencies derive_face_creators(const ProgressiveMesh& mesh, SplitDepende
     need_vertex(v1);
     for (uint32_t m = mesh.moved_start[i]; m < mesh.moved_start[i + 1]; ++m)
       need_face(mesh.moved_faces[m]);
-    // The faces on the wing edges (v1, w), and for a quad wing on its triangle's sides at v1.
     for (uint32_t k = mesh.wing_start[i]; k < mesh.wing_start[i + 1]; ++k) {
       const SplitWing& w = mesh.wings[k];
-      need_vertex(w.vertex);
-      // A triangle wing's edge ends at w; a quad wing's triangle has two sides at v1.
-      std::array<uint32_t, 4> ends = {w.vertex, kNoVertex, kNoVertex, kNoVertex};
-      if (!w.was_triangle()) {
-        need_face(w.face);
-        ends = faces[w.face].v;
+      // A triangle wing's face names w, which must exist. The faces on its edge (v1, w) need
+      // nothing more: the one moved to v0 is a written face; the one staying at v1, if not
+      // made by w's or v1's split, is a triangle an earlier wing put on that same edge, and
+      // without it the face that wing moved off the edge takes its place (measured valid:
+      // docs/selective.md "Narrower: what a wing reads").
+      if (w.was_triangle()) {
+        need_vertex(w.vertex);
+        continue;
       }
-      // Hoppe's fn0..fn3: these faces must exist (their quad or triangle shape does not
-      // matter); without them a vertex can end up with two faces (measured: (M2) fails).
+      // A quad wing inserts v0 by slot and never reads w; its face must exist as the triangle
+      // the stream had, and Hoppe's fn0..fn3, the faces of v1's fan on the triangle's sides at
+      // v1, must exist (their shape does not matter); without them a vertex can end up with two
+      // faces (measured: (M2) fails).
+      need_face(w.face);
       for (uint32_t f : fans.of(v1))
-        for (uint32_t e : ends)
+        for (uint32_t e : faces[w.face].v)
           if (e != kNoVertex && e != v1 && faces[f].contains(e)) need(created_by[f]);
     }
     uint32_t next = out.faces_after[i];

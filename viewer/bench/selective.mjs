@@ -3,19 +3,21 @@
 // moving the active front between two box requests (the splits applied and undone, the
 // wanted set with its closure, and the index entries the page rewrites), medians of 7 in wall
 // and CPU time with the load average.
-// Then a view re-targeted (docs/viewer.md "Spheres from a worker"): the split spheres (made in a
-// worker by the page), and per camera what the page's main thread does — the screen errors and
-// the closure, the wanted set, the front moved, the index entries — for the camera of
-// bench/selective_bench.cpp (1920 × 1080, 45°, low over one corner) moved by a twentieth.
+// Then a view re-targeted (docs/viewer.md "Spheres from a worker"): the split spheres and per
+// camera the screen errors (both made in the page's spheres worker), and per camera what the
+// page's main thread does — the closure (wantedSet()), the front moved, the index entries — for
+// the camera of bench/selective_bench.cpp (1920 × 1080, 45°, low over one corner) moved by a
+// twentieth; beside it the page's work before the screen errors moved to the worker (screen
+// errors and closure, the wanted set closed again, the front, the index entries).
 //   node bench/selective.mjs MODEL.dpm [--box-fraction F] [--px P] [--derive RUNS (default 7)]
 import { readFileSync } from 'node:fs';
 import { loadavg } from 'node:os';
 
 import { readDpm, updateIndices } from '../src/dpm.js';
-import { elsewhereLevel, parseElsewhere, parseRequest, requestedSplits } from '../src/dpm/refine_targets.js';
+import { elsewhereLevel, parseElsewhere, parseRequest, requestedSplits, wantedSet } from '../src/dpm/refine_targets.js';
 import { SelectiveNavigator } from '../src/dpm/selective_navigator.js';
 import { SplitDependencies } from '../src/dpm/split_dependencies.js';
-import { splitSpheres } from '../src/dpm/view_target.js';
+import { splitSpheres, viewOrder } from '../src/dpm/view_target.js';
 
 const file = process.argv[2];
 if (!file) {
@@ -92,23 +94,41 @@ const across = Math.max(h.bboxMax[0] - h.bboxMin[0], h.bboxMax[1] - h.bboxMin[1]
 const camera = (shift) => parseRequest(`view:EYE=${h.bboxMin[0] + (0.1 + shift) * across},${h.bboxMin[1] + 0.1 * across},${c[2] + 0.06 * across};` +
   `AT=${c[0] + shift * across},${c[1]},${c[2]};FOV=45;W=1920;H=1080;PX=${px}`);
 const one = elsewhereLevel(mesh, parseElsewhere('1%'));
-const viewNav = new SelectiveNavigator(mesh, deps);
-updateIndices(viewNav, tri, edges);
-const parts = { request: [], wanted: [], setTarget: [], indices: [], all: [] };
+// The page before (request with the screen errors, its set closed again) and now (the screen
+// errors from the worker, closed once), each on a navigator of its own moved between the same
+// cameras; both must reach the same vertices.
+const before = { nav: new SelectiveNavigator(mesh, deps), request: [], wanted: [], setTarget: [], indices: [], page: [] };
+const now = { nav: new SelectiveNavigator(mesh, deps), worker: [], wantedSet: [], setTarget: [], indices: [], page: [] };
+const pageCost = (start) => {
+  const cpu = process.cpuUsage(start.cpu);
+  return { wall: ms(start.wall), cpu: (cpu.user + cpu.system) / 1e3 };
+};
+const begin = () => ({ wall: process.hrtime.bigint(), cpu: process.cpuUsage() });
 const counts = [];
+for (const side of [before, now]) updateIndices(side.nav, tri, edges);
 for (let r = 0; r < 8; r++) {
   const view = camera(r % 2 ? 0.05 : 0);
-  const start = { wall: process.hrtime.bigint(), cpu: process.cpuUsage() };
-  const request = timed(() => requestedSplits(mesh, deps, [view], 0, one, spheres));
-  const wanted = timed(() => viewNav.wanted(one, request.result));
-  const moved = timed(() => viewNav.setTarget(wanted.result, one));
-  const indices = timed(() => updateIndices(viewNav, tri, edges));
-  const cpu = process.cpuUsage(start.cpu);
+  let start = begin();
+  const request = timed(() => requestedSplits(mesh, deps, [view], 0, one, { spheres }));
+  const wanted = timed(() => before.nav.wanted(one, request.result));
+  const moved = timed(() => before.nav.setTarget(wanted.result, one));
+  const indices = timed(() => updateIndices(before.nav, tri, edges));
+  const pageBefore = pageCost(start);
+  const worker = timed(() => [viewOrder(mesh, spheres, deps.derived, view)]);
+  start = begin();
+  const set = timed(() => wantedSet(mesh, deps, [view], 0, one, { splits: worker.result }));
+  const movedNow = timed(() => now.nav.setTarget(set.result, one));
+  const indicesNow = timed(() => updateIndices(now.nav, tri, edges));
+  const pageNow = pageCost(start);
+  if (before.nav.activeVertexCount !== now.nav.activeVertexCount) throw new Error(`camera ${r}: ${before.nav.activeVertexCount} vertices before, ${now.nav.activeVertexCount} now`);
   if (r === 0) continue;  // the first fills the front from the level
-  parts.all.push({ wall: ms(start.wall), cpu: (cpu.user + cpu.system) / 1e3 });
-  Object.entries({ request, wanted, setTarget: moved, indices }).forEach(([k, v]) => parts[k].push(v));
-  counts.push(`${viewNav.activeVertexCount} (${moved.result.applied + moved.result.undone} changed)`);
+  Object.entries({ request, wanted, setTarget: moved, indices, page: pageBefore }).forEach(([k, v]) => before[k].push(v));
+  Object.entries({ worker, wantedSet: set, setTarget: movedNow, indices: indicesNow, page: pageNow }).forEach(([k, v]) => now[k].push(v));
+  counts.push(`${now.nav.activeVertexCount} (${movedNow.result.applied + movedNow.result.undone} changed)`);
 }
 console.log(`view: PX ${px}, camera moved by 1/20; vertices ${[...new Set(counts)].join(', ')}`);
-for (const [what, runs] of Object.entries(parts)) console.log(`  ${what}: ${summary(runs)}`);
+for (const [name, side] of [['before (screen errors on the page, closed twice)', before], ['now (screen errors in the worker, closed once)', now]]) {
+  console.log(`  ${name}:`);
+  for (const [what, runs] of Object.entries(side)) if (what !== 'nav') console.log(`    ${what}: ${summary(runs)}`);
+}
 console.log(`load average after: ${loadavg().map((x) => x.toFixed(2)).join(' ')}`);

@@ -8,11 +8,11 @@
 // and describe().
 import { DpmError } from './dpm/bytes.js';
 import { Navigator } from './dpm/navigator.js';
-import { elsewhereLevel, parseElsewhere, parseRequest, requestedSplits } from './dpm/refine_targets.js';
+import { elsewhereLevel, parseElsewhere, parseRequest, wantedSet } from './dpm/refine_targets.js';
 import { SelectiveNavigator } from './dpm/selective_navigator.js';
 import { SplitDependencies } from './dpm/split_dependencies.js';
 import { fmt, int } from './fringe.js';
-import { SpheresFromWorker } from './moved_spheres.js';
+import { ViewSplitsFromWorker } from './moved_spheres.js';
 
 const $ = (id) => document.getElementById(id);
 
@@ -53,9 +53,10 @@ export class RefineView {
     this.ui.fromParts.addEventListener('click', () => this.boxOfVisibleParts());
     this.followTimer = null;
     this.retargetMs = 0;  // the page's time in the last re-target (main thread)
-    // A view's split spheres come from a worker (moved_spheres.js): a re-target at a step whose
-    // spheres are not in waits for them (`waiting`), the front drawn meanwhile staying as it was.
-    this.spheres = new SpheresFromWorker(() => this.spheresCame());
+    // A view's splits (the split spheres at the step, the screen errors for the camera) come from
+    // a worker (moved_spheres.js): a re-target whose splits are not in waits for them
+    // (`waiting`), the front drawn meanwhile staying as it was.
+    this.viewSplits = new ViewSplitsFromWorker(() => this.viewSplitsCame());
     this.waiting = false;
     this.spheresFrom = null;  // 'worker', or 'page' when no worker could make them
     viewer.controls.addEventListener('change', () => this.cameraMoved());
@@ -110,20 +111,19 @@ export class RefineView {
   }
 
   // The targets at the current step, the elsewhere level, the closure: the selective navigator
-  // moves there (only the splits that change) and is drawn. A view whose spheres at this step
-  // have not come from the worker yet waits for them (spheresCame()).
+  // moves there (only the splits that change) and is drawn. A view whose splits for this camera
+  // and step have not come from the worker yet waits for them (viewSplitsCame()).
   retarget() {
     const start = performance.now();
     const { state } = this.viewer;
     const { mesh } = state;
     this.currentDependencies();
-    const spheres = this.viewSpheres();
-    if (spheres === undefined) return;
+    const views = this.viewSplitsNow();
+    if (views === undefined) return;
     this.selective ??= new SelectiveNavigator(mesh, this.dependencies);
     const level = elsewhereLevel(mesh, this.elsewhere);
-    const targets = requestedSplits(mesh, this.dependencies, this.requests, state.t, level, spheres);
     const nav = this.selective;
-    nav.setTarget(nav.wanted(level, targets), level);
+    nav.setTarget(wantedSet(mesh, this.dependencies, this.requests, state.t, level, views), level);
     this.step = state.t;
     this.retargetMs = performance.now() - start;
     if (state.nav !== nav) {
@@ -132,22 +132,24 @@ export class RefineView {
     } else this.viewer.updateLevel();
   }
 
-  // A view's spheres at the current step: the worker's (undefined while they are being made),
-  // or null when there is no view or no worker (requestedSplits() then makes them here).
-  viewSpheres() {
+  // The view requests' splits for the camera at the current step: the worker's ({splits};
+  // undefined while they are being made), or null when there is no view or no worker
+  // (wantedSet() then makes the spheres and the screen errors here).
+  viewSplitsNow() {
     this.waiting = false;
-    if (!this.requests.some((r) => r.kind === 'view') || this.spheres.failed || typeof Worker === 'undefined') {
-      if (this.requests.some((r) => r.kind === 'view')) this.spheresFrom = 'page';
+    const views = this.requests.filter((r) => r.kind === 'view');
+    if (!views.length || this.viewSplits.failed || typeof Worker === 'undefined') {
+      if (views.length) this.spheresFrom = 'page';
       return null;
     }
-    const spheres = this.spheres.get(this.viewer.state.mesh, this.dependencies.derived, this.viewer.state.t);
-    if (!spheres) return ((this.waiting = true), undefined);
+    const splits = this.viewSplits.get(this.viewer.state.mesh, this.dependencies.derived, this.viewer.state.t, views);
+    if (!splits) return ((this.waiting = true), undefined);
     this.spheresFrom = 'worker';
-    return spheres;
+    return splits;
   }
 
-  // Spheres came from the worker (or it failed): the view waiting for them re-targets.
-  spheresCame() {
+  // A view's splits came from the worker (or it failed): the view waiting for them re-targets.
+  viewSplitsCame() {
     if (this.waiting && this.requests.some((r) => r.kind === 'view')) this.retarget();
   }
 

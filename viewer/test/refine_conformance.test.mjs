@@ -10,10 +10,10 @@ import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { test } from 'node:test';
 
-import { elsewhereLevel, parseElsewhere, requestedSplits } from '../src/dpm/refine_targets.js';
+import { elsewhereLevel, parseElsewhere, parseRequest, requestedSplits, wantedSet } from '../src/dpm/refine_targets.js';
 import { SelectiveNavigator } from '../src/dpm/selective_navigator.js';
 import { SplitDependencies } from '../src/dpm/split_dependencies.js';
-import { spheresAnswer, spheresRequest } from '../src/moved_spheres.js';
+import { ViewWorker, viewRequest } from '../src/moved_spheres.js';
 import { objBody, withoutComments } from './obj_text.mjs';
 import { cli, crashbox, crashboxDpm } from './selective_fixture.mjs';
 
@@ -29,11 +29,14 @@ function model(name) {
   return models.get(name);
 }
 
-// The OBJ body dpm.js gives for a request at whole step t; spheres: a view's, made elsewhere.
-function jsObj({ mesh, deps }, requests, elsewhere, t, spheres = null) {
+// The OBJ body dpm.js gives for a request at whole step t: through requestedSplits() and the
+// navigator's closure, or (`page`) as the page moves its front, through wantedSet() with the
+// view requests' splits `views` made elsewhere (its spheres worker).
+function jsObj({ mesh, deps }, requests, elsewhere, t, { page = false, views = null } = {}) {
   const nav = new SelectiveNavigator(mesh, deps);
   const level = elsewhereLevel(mesh, parseElsewhere(elsewhere));
-  nav.setTarget(nav.wanted(level, requestedSplits(mesh, deps, requests, t, level, spheres)), level);
+  const wanted = page ? wantedSet(mesh, deps, requests, t, level, views) : nav.wanted(level, requestedSplits(mesh, deps, requests, t, level));
+  nav.setTarget(wanted, level);
   const { vertices, faces, faceIds } = nav.activeMesh();
   const all = mesh.positionsAt(t, mesh.head.vertexCount, new Float32Array(3 * mesh.head.vertexCount));
   const positions = new Float32Array(3 * vertices.length);
@@ -41,10 +44,13 @@ function jsObj({ mesh, deps }, requests, elsewhere, t, spheres = null) {
   return objBody(positions, faces, Array.from(faceIds, (f) => mesh.partId[f]));
 }
 
-function sphereFromWorker({ mesh, deps }, t) {
-  const { message, transfer } = spheresRequest(mesh, deps.derived, t);
-  const { answer, transfer: back } = spheresAnswer(structuredClone(message, { transfer }));
-  return structuredClone(answer, { transfer: back }).spheres;
+// The view requests' splits as the page has them from its worker (moved_spheres.js): the
+// request and the answer cloned as postMessage clones them.
+function viewSplitsFromWorker({ mesh, deps }, requests, t) {
+  const views = requests.map((r) => parseRequest(r)).filter((r) => r.kind === 'view');
+  const { message, transfer } = viewRequest(mesh, deps.derived, t, views, true);
+  const { answer, transfer: back } = new ViewWorker().answer(structuredClone(message, { transfer }));
+  return { splits: structuredClone(answer, { transfer: back }).splits };
 }
 
 function cliObj({ file }, args, name) {
@@ -88,9 +94,10 @@ for (const [name, requests, elsewhere, steps] of REQUESTS)
       const file = `${name}_${requests.join('_').replace(/[^\w.-]/g, '_')}_${t}.obj`;
       const cpp = cliObj(m, args, file);
       assert.equal(cpp, jsObj(m, requests, elsewhere, t), `step ${t}`);
-      // A view's spheres as the page has them from its worker (moved_spheres.js: the request
-      // and the answer cloned as postMessage clones them) give the same bytes.
+      // As the page does it: closed once (wantedSet()), and a view's splits from its worker
+      // (the spheres and the screen errors made there) give the same bytes.
+      assert.equal(cpp, jsObj(m, requests, elsewhere, t, { page: true }), `step ${t}, closed once`);
       if (requests.some((r) => r.startsWith('view:')))
-        assert.equal(cpp, jsObj(m, requests, elsewhere, t, sphereFromWorker(m, t)), `step ${t}, the worker's spheres`);
+        assert.equal(cpp, jsObj(m, requests, elsewhere, t, { page: true, views: viewSplitsFromWorker(m, requests, t) }), `step ${t}, the worker's view splits`);
     }
   });

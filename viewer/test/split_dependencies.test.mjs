@@ -18,8 +18,9 @@ function fanOf(nav, v1) {
   return fan;
 }
 
-// The face creators' rule (docs/selective.md "Face creators"), the slow way: creators and
-// quad-makers in maps, the fan and the wing edges' faces found by scanning every face.
+// The face creators' rule (docs/selective.md "Face creators", narrowed in "Narrower: what a
+// wing reads"), the slow way: creators and quad-makers in maps, the fan and the quad wings'
+// side faces found by scanning every face.
 function bruteForceFaceCreators(mesh) {
   const nav = new Navigator(mesh);
   const b = mesh.head.baseVertexCount;
@@ -35,9 +36,12 @@ function bruteForceFaceCreators(mesh) {
     for (let j = mesh.wingStart[i]; j < mesh.wingStart[i + 1]; j++) {
       const w = mesh.wingVertex.data[j], f = mesh.wingFace.data[j];
       const triangle = mesh.wingFlags.data[j] & WING_WAS_TRIANGLE;
-      if (w >= b) deps.add(w - b);
-      if (!triangle) needFace(f);
-      const ends = (triangle ? [w] : nav.face(f)).filter((e) => e !== v1);
+      if (triangle) {
+        if (w >= b) deps.add(w - b);
+        continue;
+      }
+      needFace(f);
+      const ends = nav.face(f).filter((e) => e !== v1);
       for (const g of fan) if (ends.some((e) => nav.face(g).includes(e)) && createdBy.has(g)) deps.add(createdBy.get(g));
     }
     const created = nav.faceCount;

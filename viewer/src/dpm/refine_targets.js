@@ -18,7 +18,7 @@
 //     and the level elsewhere, by decreasing error while the vertices are under BUDGET.
 // Several requests are a union. The navigator adds the "elsewhere" prefix and the closure.
 import { DpmError } from './bytes.js';
-import { splitSpheres, viewSplits, viewWanted } from './view_target.js';
+import { splitSpheres, viewOrder } from './view_target.js';
 
 // A decimal number as C++ std::from_chars reads one (no blanks, no '+', no hex), finite.
 const DECIMAL = /^-?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$/;
@@ -139,10 +139,35 @@ export function elsewhereLevel(mesh, elsewhere) {
 
 // The splits the requests want (parsed, or their text), at step t: an array of split indices,
 // each once. dependencies: a SplitDependencies derived as far as the splits to consider. level:
-// the level elsewhere, which a view's budget counts (the others do not need it). spheres: a
-// view's split spheres at t (splitSpheres() of dependencies.derived splits, made elsewhere, as
-// the page's decode worker does), else made here once per step.
-export function requestedSplits(mesh, dependencies, requests, t = 0, level = 0, spheres = null) {
+// the level elsewhere, which a view's budget counts (the others do not need it). views: how a
+// view request's splits are had — null: made here (spheres once per step, screen errors per
+// camera); {spheres}: the split spheres at t (splitSpheres() of dependencies.derived splits)
+// made elsewhere; {splits}: per view request, its viewOrder() made elsewhere (the page's spheres
+// worker, moved_spheres.js). With a view the result is closed and holds the level's splits'
+// dependants above it (a budget counts the closed set); without one it is not closed.
+export function requestedSplits(mesh, dependencies, requests, t = 0, level = 0, views = null) {
+  const { others, viewRequests } = targets(mesh, dependencies, requests, t);
+  if (!viewRequests.length) return others;
+  const L = dependencies.derived;
+  const closed = wantedWithViews(mesh, dependencies, others, viewRequests, t, Math.max(0, Math.min(level, L)), views);
+  const out = [];
+  for (let i = Math.max(0, Math.min(level, L)); i < L; i++) if (closed[i]) out.push(i);
+  return out;
+}
+
+// The closed set a SelectiveNavigator moves to (its setTarget()): the first `level` splits and
+// the requests' splits at step t with everything they depend on, a Uint8Array per split — the
+// same as nav.wanted(level, requestedSplits(…)), closed once (a view's set is closed as it is
+// made, and closing it again cost 8.5 ms at a million vertices).
+export function wantedSet(mesh, dependencies, requests, t = 0, level = 0, views = null) {
+  const { others, viewRequests } = targets(mesh, dependencies, requests, t);
+  const L = Math.min(mesh.splitsLoaded, dependencies.derived);
+  return wantedWithViews(mesh, dependencies, others, viewRequests, t, Math.max(0, Math.min(level, L)), views);
+}
+
+// The requests parsed: the splits all but the views want (`others`, ascending, not closed), and
+// the view requests.
+function targets(mesh, dependencies, requests, t) {
   const L = dependencies.derived;
   const b = mesh.head.baseVertexCount;
   const n = b + L;
@@ -189,37 +214,33 @@ export function requestedSplits(mesh, dependencies, requests, t = 0, level = 0, 
       }
     }
   }
-  const out = [];
-  for (let i = 0; i < L; i++) if (want[i]) out.push(i);
-  const views = parsed.filter((r) => r.kind === 'view');
-  return views.length ? withViews(mesh, dependencies, views, out, spheres ?? cachedSpheres(mesh, dependencies, t), level) : out;
+  const others = [];
+  for (let i = 0; i < L; i++) if (want[i]) others.push(i);
+  return { others, viewRequests: parsed.filter((r) => r.kind === 'view') };
 }
 
-// The other requests' splits and the level, closed; then each view's splits by decreasing
-// screen error, each with its closure, while the vertices are fewer than its budget (the last
-// closure may pass it). Returns the closed set's splits above the level.
-function withViews(mesh, dependencies, views, others, spheres, level) {
+// The first `prefix` splits and the other requests' splits, closed; then each view's splits in
+// viewOrder(), each with its closure — all of them without a budget, else while the vertices are
+// fewer than the budget (the last closure may pass it). A Uint8Array per split.
+function wantedWithViews(mesh, dependencies, others, views, t, prefix, given) {
   const L = dependencies.derived;
   const closed = new Uint8Array(mesh.head.splitCount);
-  closed.fill(1, 0, Math.max(0, Math.min(level, L)));
+  closed.fill(1, 0, prefix);
   dependencies.close(others, closed);
-  let vertices;
-  for (const view of views) {
+  views.forEach((view, k) => {
+    const splits = given?.splits?.[k] ?? viewOrder(mesh, given?.spheres ?? cachedSpheres(mesh, dependencies, t), L, view);
     if (!view.budget) {
-      dependencies.close(viewWanted(mesh, spheres, L, view), closed);
-      continue;
+      dependencies.close(splits, closed);
+      return;
     }
-    const wanted = viewSplits(mesh, spheres, L, view);
-    vertices = mesh.head.baseVertexCount;
+    let vertices = mesh.head.baseVertexCount;
     for (let i = 0; i < L; i++) vertices += closed[i];
-    for (const [, i] of wanted) {
+    for (const i of splits) {
       if (vertices >= view.budget) break;
       vertices += dependencies.addWithDependencies(i, closed);
     }
-  }
-  const out = [];
-  for (let i = Math.max(0, Math.min(level, L)); i < L; i++) if (closed[i]) out.push(i);
-  return out;
+  });
+  return closed;
 }
 
 // The spheres of the last step asked, per dependencies (re-made when the step or the splits

@@ -7,9 +7,9 @@
 // fan. Split i (v1 its parent) writes W(i): its moved faces and its wing faces.
 // 'faceCreators' (the default): a split moves a corner by value and a quad wing inserts one by
 // slot, so the writes of one face commute and only which of them are applied matters. Split i
-// needs the splits that made v1 and its wing vertices; for each face it writes, the split that
-// created it and the one that made it a quad; for each face on a wing edge (v1, w) as the stream
-// has it right before i (for a quad wing, its triangle's sides at v1), the split that created it.
+// needs the splits that made v1 and its triangle wings' vertices; for each face it writes, the
+// split that created it and the one that made it a quad; for each face on a quad wing's
+// triangle's sides at v1 as the stream has them right before i, the split that created it.
 // 'fan' (the first design): i reads R(i) = W(i) plus v1's whole fan right before it; it depends
 // on the last writer of each face of R(i) (read after write), a writer j of f on every reader of
 // f since f's previous writer (write after read), and i on the split that created v1. Then a
@@ -98,14 +98,22 @@ export class SplitDependencies {
     if (v1 >= b) this.add(v1 - b, i);
     for (let j = m0; j < m1; j++) this.add(faceSplit[movedFaces[j]], i), this.add(quadBy[movedFaces[j]], i);
     for (let j = w0; j < w1; j++) {
-      if (wingVertex[j] >= b) this.add(wingVertex[j] - b, i);
-      // A triangle wing's edge ends at w; a quad wing's triangle has two sides at v1.
-      const triangle = mesh.wingFlags.data[j] & WING_WAS_TRIANGLE;
       const f = wingFace[j];
-      if (!triangle) this.add(faceSplit[f], i), this.add(quadBy[f], i);
-      // Hoppe's fn0..fn3: the faces of v1's fan on those edges must exist.
-      for (let e = 0; e < (triangle ? 1 : 4); e++) {
-        const end = triangle ? wingVertex[j] : corners[4 * f + e];
+      // A triangle wing's face names w, which must exist. The faces on its edge (v1, w) need
+      // nothing more: the one moved to v0 is a written face; the one staying at v1, if not
+      // made by w's or v1's split, is a triangle some earlier wing put on that same edge, and
+      // without it the face that wing moved off the edge takes its place (measured valid:
+      // docs/selective.md "Narrower: what a wing reads").
+      if (mesh.wingFlags.data[j] & WING_WAS_TRIANGLE) {
+        if (wingVertex[j] >= b) this.add(wingVertex[j] - b, i);
+        continue;
+      }
+      // A quad wing inserts v0 by slot and never reads w; its face must exist as the triangle
+      // the stream had, and Hoppe's fn0..fn3, the faces of v1's fan on its sides at v1, must
+      // exist (without them a vertex can be left with two faces).
+      this.add(faceSplit[f], i), this.add(quadBy[f], i);
+      for (let e = 0; e < 4; e++) {
+        const end = corners[4 * f + e];
         if (end < 0 || end === v1) continue;
         for (let n = fanHead[v1]; n >= 0; n = linkNext[n]) {
           const g = linkFace[n];

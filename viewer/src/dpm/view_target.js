@@ -77,29 +77,29 @@ export class ViewFrustum {
   }
 }
 
-// f(screen error, split) for each of splits [0, L) whose screen error exceeds the view's
-// tolerance, in ascending order. A split's error is the level's before it (errors never increase
-// along the stream).
-function eachWanted(mesh, spheres, L, view, f) {
+// The splits (of the first L) whose screen error exceeds the view's tolerance, as an Int32Array
+// in the order a request takes them: ascending without a budget; with one, by decreasing screen
+// error, ties by index (the order the budget takes them in). A split's error is the level's
+// before it (errors never increase along the stream). Only mesh.error and mesh.head.baseError are
+// read: the page's spheres worker (moved_spheres.js) runs this on what it was sent.
+export function viewOrder(mesh, spheres, L, view) {
   const frustum = new ViewFrustum(view);
   const { error } = mesh, base = mesh.head.baseError;
+  const splits = new Int32Array(L), errors = view.budget ? new Float64Array(L) : null;
+  let n = 0;
   for (let i = 0; i < L; i++) {
     const e = frustum.screenError(spheres, i, i === 0 ? base : error[i - 1]);
-    if (e > view.pixels) f(e, i);
+    if (e > view.pixels) {
+      if (errors) errors[n] = e;
+      splits[n++] = i;
+    }
   }
-}
-
-// The splits (of the first L) a view wants, with their screen errors: [error, split] by
-// decreasing error, ties by index (the order a budget takes them in).
-export function viewSplits(mesh, spheres, L, view) {
-  const out = [];
-  eachWanted(mesh, spheres, L, view, (e, i) => out.push([e, i]));
-  return out.sort((a, b) => b[0] - a[0] || a[1] - b[1]);
-}
-
-// The same splits in ascending order, without their errors (a view without a budget).
-export function viewWanted(mesh, spheres, L, view) {
-  const out = [];
-  eachWanted(mesh, spheres, L, view, (e, i) => out.push(i));
-  return out;
+  if (!errors) return splits.slice(0, n);
+  // Positions k sorted by error, then by k (splits[k] ascends with k); an infinite error (the
+  // eye inside a sphere) ties with another by index, as NaN || (a − b) does.
+  const order = new Int32Array(n);
+  for (let k = 0; k < n; k++) order[k] = k;
+  order.sort((a, b) => errors[b] - errors[a] || a - b);
+  for (let k = 0; k < n; k++) order[k] = splits[order[k]];
+  return order;
 }
