@@ -145,11 +145,10 @@ int run_extract(std::span<char* const> arguments) {
     limits.error = *level->max_error / 100.0;
     limits.error_of_diagonal = true;
   }
-  // A family's variant 0 holds its step T at a stored step ≤ T; another's may be anywhere.
-  if (step && !args.has("--variant")) limits.last_step = static_cast<size_t>(std::ceil(*step));
+  if (step) limits.last_step = static_cast<size_t>(std::ceil(*step));
   limits.fields = format_from_extension(*output) != FileFormat::kObj;  // OBJ holds no fields
   std::optional<Phase> phase(std::in_place, "reading the model");
-  auto mesh = read_dpm(args.positional[0], limits);
+  auto mesh = read_dpm_up_to_step(args.positional[0], limits);
   if (!mesh) return fail(kSpec.name, kExitFailure, mesh.message());
   if (!mesh->complete && !mesh->limited)
     note(kSpec.name, args.positional[0] + " is a prefix of a file; it holds " +

@@ -69,12 +69,12 @@ int run_refined_extract(const Args& args, const std::string& verb, const std::st
 
   // Every split (the regions need the finest), the steps up to --step.
   DpmReadLimits limits;
-  if (!args.has("--variant")) limits.last_step = static_cast<size_t>(std::ceil(*step));
+  limits.last_step = static_cast<size_t>(std::ceil(*step));
   limits.fields = format_from_extension(output) != FileFormat::kObj;
   for (const RefineTarget& t : targets) limits.fields |= t.kind == RefineTarget::Kind::kField;
   std::optional<Phase> phase(std::in_place, "reading the model");
   const std::string& path = args.positional[0];
-  auto mesh = read_dpm(path, limits);
+  auto mesh = read_dpm_up_to_step(path, limits);
   if (!mesh) return fail(verb, kExitFailure, mesh.message());
   if (mesh->split_count() != mesh->full_split_count)
     return fail(verb, kExitFailure,

@@ -70,6 +70,13 @@ Status choose_variant(const Args& args, const std::string& verb, const std::stri
   return {};
 }
 
+Result<ProgressiveMesh> read_dpm_up_to_step(const std::string& path, DpmReadLimits limits) {
+  auto mesh = read_dpm(path, limits);
+  if (!mesh || !limits.last_step || mesh->variants.empty()) return mesh;
+  limits.last_step.reset();
+  return read_dpm(path, limits);
+}
+
 namespace {
 
 // Per variant: how many of its steps an earlier variant stored.

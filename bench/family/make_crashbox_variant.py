@@ -4,11 +4,16 @@
 The family file (docs/family.md) needs variants of ONE mesh: same node and element ids. The
 crash box of ../shared/data/crashbox-s was made by gmsh + ccx, but its deck is not kept; its .frd
 holds the mesh (the node block 2C and the S4 element block 3C), which is all a new deck needs.
-This one clamps the bottom ring (z = 0) like the original and pushes the top ring (z = 250 mm)
-30 mm sideways in x, free along the tube's axis (a cantilever bend instead of the axial crush),
-with 12 output times: another load, another step count.
+Both loads clamp the bottom ring (z = 0) like the original and move the top ring (z = 250 mm):
+  bent  30 mm sideways in x, free along the tube's axis (a cantilever bend instead of the axial
+        crush), 12 output times: another kind of load, another step count;
+  deep  75 mm down the axis, held in x and y like the original's 60 mm crush, 15 output times:
+        the same kind of load with another magnitude, as a DOE over the crush depth would run;
+  short 4.8 mm down the axis, held like deep, 8 output times: the crush stopped as the first
+        fold forms (the original reaches 4.8 mm at its 2nd output time).
 
-usage: make_crashbox_variant.py CRASHBOX.frd[.gz] OUTDIR   -> OUTDIR/crashbox-bent.frd
+usage: make_crashbox_variant.py CRASHBOX.frd[.gz] OUTDIR [bent|deep|short]   -> OUTDIR/crashbox-LOAD.frd
+       (bent when no load is given)
 needs: ccx (Debian: calculix-ccx)
 """
 import gzip
@@ -49,12 +54,29 @@ def read_mesh(path):
     return nodes, elements
 
 
-def write_deck(nodes, elements, deck):
+# Per load: heading, output times, *CONTROLS time incrementation (the 6th number: an increment
+# that converges in fewer iterations, twice, lets the next grow; the crush yields and folds from
+# 0.3 mm on, where every increment takes 4 to 5), *STATIC line (initial, period, min, max
+# increment) and the top ring's boundary conditions. The bent deck is the one
+# crashbox-bent.frd.gz was computed from.
+LOADS = {
+    "bent": ("crashbox-s mesh, bent: top ring pushed 30 mm in x", 12, "8, 12, 9, 30, 10, 4, 12, 8",
+             "0.5, 12., 1.E-4, 1.", ["TOP, 1, 1, 30.", "TOP, 2, 2, 0."]),
+    "deep": ("crashbox-s mesh, deep crush: top ring pushed 75 mm down", 15,
+             "8, 12, 9, 30, 10, 6, 12, 8", "0.02, 15., 1.E-5, 0.25",
+             ["TOP, 1, 2, 0.", "TOP, 3, 3, -75."]),
+    "short": ("crashbox-s mesh, short crush: top ring pushed 4.8 mm down", 8,
+              "8, 12, 9, 30, 10, 6, 12, 8", "0.1, 8., 1.E-5, 0.5",
+              ["TOP, 1, 2, 0.", "TOP, 3, 3, -4.8"]),
+}
+
+
+def write_deck(nodes, elements, load, deck):
+    heading, outputs, controls, static, top_bc = LOADS[load]
     z = [n[3] for n in nodes]
     bottom = [n[0] for n in nodes if abs(n[3] - min(z)) < 1e-6]
     top = [n[0] for n in nodes if abs(n[3] - max(z)) < 1e-6]
-    out = ["*HEADING", "crashbox-s mesh, bent: top ring pushed 30 mm in x",
-           "*NODE, NSET=NALL"]
+    out = ["*HEADING", heading, "*NODE, NSET=NALL"]
     out += [f"{n}, {x:.6g}, {y:.6g}, {zz:.6g}" for n, x, y, zz in nodes]
     out.append("*ELEMENT, TYPE=S4, ELSET=EALL")
     out += [f"{e}, " + ", ".join(str(c) for c in corners) for e, corners in elements]
@@ -64,30 +86,32 @@ def write_deck(nodes, elements, deck):
     out += ["*MATERIAL, NAME=STEEL", "*ELASTIC", "210000., 0.3", "*PLASTIC", "250., 0.0",
             "300., 0.05", "380., 0.20", "450., 1.00", "*DENSITY", "7.85E-9",
             "*SHELL SECTION, ELSET=EALL, MATERIAL=STEEL", "1.5",
-            "*TIME POINTS, NAME=TOUT, GENERATE", "1., 12., 1.",
+            "*TIME POINTS, NAME=TOUT, GENERATE", f"1., {outputs}., 1.",
             "*STEP, NLGEOM, INC=1000", "*CONTROLS, PARAMETERS=TIME INCREMENTATION",
-            "8, 12, 9, 30, 10, 4, 12, 8", "*STATIC", "0.5, 12., 1.E-4, 1.", "*BOUNDARY",
-            "BOTTOM, 1, 3, 0.", "TOP, 1, 1, 30.", "TOP, 2, 2, 0.",
+            controls, "*STATIC", static, "*BOUNDARY",
+            "BOTTOM, 1, 3, 0."] + top_bc + [
             "*NODE FILE, OUTPUT=2D, TIME POINTS=TOUT", "U", "*END STEP", ""]
     with open(deck, "w") as f:
         f.write("\n".join(out))
 
 
 def main():
-    if len(sys.argv) != 3:
+    if len(sys.argv) not in (3, 4) or (len(sys.argv) == 4 and sys.argv[3] not in LOADS):
         sys.exit(__doc__)
     source, outdir = sys.argv[1], sys.argv[2]
+    load = sys.argv[3] if len(sys.argv) == 4 else "bent"
+    job = f"crashbox-{load}"
     os.makedirs(outdir, exist_ok=True)
     nodes, elements = read_mesh(source)
-    write_deck(nodes, elements, os.path.join(outdir, "crashbox-bent.inp"))
+    write_deck(nodes, elements, load, os.path.join(outdir, job + ".inp"))
     env = dict(os.environ, OMP_NUM_THREADS="1")
     with open(os.path.join(outdir, "ccx.log"), "w") as log:
-        run = subprocess.run(["ccx", "-i", "crashbox-bent"], cwd=outdir, stdout=log,
+        run = subprocess.run(["ccx", "-i", job], cwd=outdir, stdout=log,
                              stderr=subprocess.STDOUT, env=env)
     text = open(os.path.join(outdir, "ccx.log")).read()
     if run.returncode != 0 or "*ERROR" in text or "Job finished" not in text:
         sys.exit(f"ccx failed (see {outdir}/ccx.log)")
-    print(os.path.join(outdir, "crashbox-bent.frd"))
+    print(os.path.join(outdir, job + ".frd"))
 
 
 if __name__ == "__main__":
