@@ -79,6 +79,8 @@ inline constexpr NumberRange kPercent{0, 100};
 // Constraint-plane weights (SimplifyOptions::boundary_weight): 0 turns them off; far above the
 // default 1 they only pin the boundary harder, and 10^6 already pins it.
 inline constexpr NumberRange kBoundaryWeights{0, 1e6};
+// SimplifyOptions::independent_rounds: a fraction of the vertices, 0 for off.
+inline constexpr NumberRange kRoundFractions{0, 1};
 // Vertex and face numbers are 32-bit, with the top value meaning "none" (kNoIndex).
 inline constexpr uint64_t kMaxVertexCount = 0xfffffffeu;
 inline constexpr uint64_t kMaxFaceCount = 0xfffffffeu;

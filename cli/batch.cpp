@@ -27,10 +27,10 @@ namespace {
 
 // The flags 'dynpm batch' hands to every 'dynpm build' as they were given.
 const FlagSpec* const kBuildFlags[] = {
-    &kKeyStepsFlag,       &kLosslessFlag,        &kPositionErrorFlag, &kFieldBoundFlag,
-    &kBoundaryWeightFlag, &kFieldFlag,           &kFieldWeightFlag,   &kFieldCostFlag,
-    &kRegularizeFlag,     &kIgnorePartsFlag,     &kThreadsFlag,       &kNoMemoryCheckFlag,
-    &kSplitPolygonsFlag,  &kIntegrationPointFlag};
+    &kKeyStepsFlag,       &kLosslessFlag,      &kPositionErrorFlag,   &kFieldBoundFlag,
+    &kBoundaryWeightFlag, &kFieldFlag,         &kFieldWeightFlag,     &kFieldCostFlag,
+    &kRegularizeFlag,     &kRoundsFlag,        &kIgnorePartsFlag,     &kThreadsFlag,
+    &kNoMemoryCheckFlag,  &kSplitPolygonsFlag, &kIntegrationPointFlag};
 
 VerbSpec make_spec() {
   VerbSpec spec{

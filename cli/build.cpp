@@ -51,6 +51,7 @@ const VerbSpec kSpec{
      kFieldWeightFlag,
      kFieldCostFlag,
      kRegularizeFlag,
+     kRoundsFlag,
      kIgnorePartsFlag,
      kThreadsFlag,
      {"--json", "", false, "", "print the result as JSON"},

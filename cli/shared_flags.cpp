@@ -51,6 +51,11 @@ Status parse_simplify_flags(const Args& args, SimplifyOptions& options, KeyStepR
     else if (!combine.empty())
       return Status::error("--field-cost: unknown combination '" + combine + "' (add, scale)");
   }
+  if (auto v = args.value("--rounds")) {
+    auto r = parse_number("--rounds", *v, kRoundFractions);
+    if (!r) return r.status();
+    options.independent_rounds = *r;
+  }
   options.keep_part_boundaries = !args.has("--ignore-parts");
   if (const auto text = args.value("--threads")) {
     auto r = parse_whole("--threads", *text, 0, kMaxThreads);

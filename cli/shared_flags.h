@@ -35,12 +35,15 @@ inline const FlagSpec kFieldCostFlag{"--field-cost", "", true, "FORM[,COMBINE]",
 inline const FlagSpec kRegularizeFlag{"--regularize", "", true, "W",
                                       "shape term keeping flat regions well shaped (default 0: "
                                       "off; 0.001 measured)"};
+inline const FlagSpec kRoundsFlag{"--rounds", "", true, "F",
+                                  "collapse in rounds of independent collapses, each at most "
+                                  "F of the vertices (0: off, the default; docs/selective.md)"};
 inline const FlagSpec kIgnorePartsFlag{"--ignore-parts", "", false, "",
                                        "let collapses cross part boundaries"};
 
 // --key-steps (default all) into `key_steps`; --boundary-weight, --field, --field-weight,
 // --field-cost,
-// --regularize, --ignore-parts and --threads (kThreadsFlag, where the verb lists it) into
+// --regularize, --rounds, --ignore-parts and --threads (kThreadsFlag, where the verb lists it) into
 // `options`. The error is the usage message, without the
 // verb.
 Status parse_simplify_flags(const Args& args, SimplifyOptions& options, KeyStepRule& key_steps);

@@ -45,6 +45,7 @@ const VerbSpec kSpec{
      kFieldWeightFlag,
      kFieldCostFlag,
      kRegularizeFlag,
+     kRoundsFlag,
      kIgnorePartsFlag,
      {"--ascii", "", false, "", "write PLY and VTK as text"},
      {"--json", "", false, "", "print the result as JSON"},

@@ -335,6 +335,8 @@ TEST(Cli, NumericFlagsOutsideTheirRangeAreRefused) {
             "--position-error needs a number in (0, 1]"},
            {"build " + grid + " --boundary-weight nan -o " + model,
             "--boundary-weight needs a number in [0, 1000000]"},
+           {"build " + grid + " --rounds 1.5 -o " + model, "--rounds needs a number in [0, 1]"},
+           {"simplify " + grid + " --ratio 0.5 --rounds -0.1" + out, "--rounds needs"},
            {"simplify " + grid + " --ratio 1.5" + out,
             "--ratio needs a number in (0, 1], got '1.5'"},
            {"simplify " + grid + " --max-error nan" + out, "--max-error needs a number ≥ 0"},

@@ -20,28 +20,39 @@
 
 namespace dynpm::test {
 
+// The build's independent rounds (SimplifyOptions::independent_rounds): 0 unless
+// DYNPM_TEST_ROUNDS gives a fraction, to measure the refinement of both hierarchies
+// (docs/selective.md "Independent rounds").
+inline double test_rounds() {
+  const char* r = std::getenv("DYNPM_TEST_ROUNDS");
+  return r ? std::atof(r) : 0.0;
+}
+
 struct CrashboxModel {
   std::string dpm;  // the built file
   ProgressiveMesh mesh;
 };
 
 // `name`: a folder of ../shared/data holding NAME.frd.gz (crashbox-s, crashbox-mixed-5k,
-// crashbox-fields). nullptr when the data is missing; a failed build fails the test.
-inline const CrashboxModel* crashbox_model(const std::string& name) {
+// crashbox-fields), built with independent rounds of `rounds` (DYNPM_TEST_ROUNDS's when
+// negative). nullptr when the data is missing; a failed build fails the test.
+inline const CrashboxModel* crashbox_model(const std::string& name, double rounds = -1) {
   static TempDir dir;
   static std::map<std::string, std::unique_ptr<CrashboxModel>> built;
-  if (auto it = built.find(name); it != built.end()) return it->second.get();
+  const std::string fraction = std::to_string(rounds < 0 ? test_rounds() : rounds);
+  const std::string key = name + "-" + fraction;
+  if (auto it = built.find(key); it != built.end()) return it->second.get();
   const std::string gz = shared_data() + "/" + name + "/" + name + ".frd.gz";
-  const std::string frd = dir.file(name + ".frd"), dpm = dir.file(name + ".dpm");
+  const std::string frd = dir.file(name + ".frd"), dpm = dir.file(key + ".dpm");
   if (std::system(("zcat '" + gz + "' > '" + frd + "' 2>/dev/null").c_str()) != 0) return nullptr;
-  const CommandResult r =
-      run_command(std::string(DYNPM_CLI) + " build --lossless '" + frd + "' -o '" + dpm + "'");
+  const CommandResult r = run_command(std::string(DYNPM_CLI) + " build --lossless --rounds " +
+                                      fraction + " '" + frd + "' -o '" + dpm + "'");
   EXPECT_EQ(r.exit_code, 0) << r.output;
   auto mesh = read_dpm(dpm);
   EXPECT_TRUE(mesh.ok()) << mesh.message();
   if (r.exit_code != 0 || !mesh.ok()) return nullptr;
   auto model = std::make_unique<CrashboxModel>(CrashboxModel{dpm, std::move(mesh).value()});
-  return (built[name] = std::move(model)).get();
+  return (built[key] = std::move(model)).get();
 }
 
 // The crash box `name` cut into `bands` parts across its longest axis (by face centre at step
@@ -80,6 +91,7 @@ inline const ProgressiveMesh* crashbox_in_parts(const std::string& name, int ban
   }
   BuildOptions options;
   options.lossless = true;
+  options.simplify.independent_rounds = test_rounds();
   auto pm = build_progressive_mesh(a.topology, a.frames, options);
   EXPECT_TRUE(pm.ok()) << pm.message();
   if (!pm.ok()) return nullptr;
@@ -113,6 +125,7 @@ inline PartsShape parts_shape(const Topology& t) {
 }  // namespace dynpm::test
 
 // Skips a test without the shared data.
-#define DYNPM_CRASHBOX_OR_SKIP(var, name)                                        \
-  const ::dynpm::test::CrashboxModel* var = ::dynpm::test::crashbox_model(name); \
+#define DYNPM_CRASHBOX_OR_SKIP(var, name, ...)                        \
+  const ::dynpm::test::CrashboxModel* var =                           \
+      ::dynpm::test::crashbox_model(name __VA_OPT__(, ) __VA_ARGS__); \
   if (!var) GTEST_SKIP() << "../shared/data/" << name << " is missing"

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <iostream>
+#include <map>
 
 #include "crashbox_models.h"
 #include "dynpm/lod.h"
@@ -41,6 +42,9 @@ class Refinement {
         for (int b = 0; b < f.degree(); ++b)
           if (a != b) neighbours_[f.v[a]].push_back(f.v[b]);
   }
+
+  // The size bound check() asserts, in place of the read set's.
+  void bound_ratio(double r) { bound_ = r; }
 
   // Refines `target` at step t with the rest at `elsewhere` and checks everything.
   void check(const RefineTarget& target, double t, const std::string& elsewhere_text) {
@@ -88,11 +92,12 @@ class Refinement {
       std::cout << ", beyond " << h << " rows " << selective << " / " << level;
     }
     std::cout << "\n";
+    if (std::getenv("DYNPM_REFINE_DIAG")) diagnose(target, t, k, region, rows);
     // The issue asks for ≤ 1.3 × and, beyond a band of a few rows, the level's count within
     // 10 %: not met by derived dependencies (docs/selective.md "Measured"; up to 2.35 × with the
     // fan, 1.65 × with the face creators, and more than the level 4–16 rows out). These bounds
     // keep what is measured from getting worse.
-    EXPECT_LE(nav_.vertex_count(), max_ratio_ * double(budget));
+    EXPECT_LE(nav_.vertex_count(), (bound_ > 0 ? bound_ : max_ratio_) * double(budget));
   }
 
   // The largest |value| of a field the refined mesh shows at step t, and the original's.
@@ -105,6 +110,54 @@ class Refinement {
   }
 
  private:
+  // Where the closure's excess lies: splits wanted by neither the request nor the level, by
+  // element rows from the region and by dependency links from the request's splits.
+  void diagnose(const RefineTarget& target, double t, uint32_t k,
+                const std::vector<uint8_t>& region, const std::vector<uint32_t>& rows) const {
+    const uint32_t n = m_.split_count(), b = m_.base_vertex_count;
+    std::vector<uint8_t> marked(n, 0);
+    ASSERT_TRUE(targets_.mark(target, t, marked).ok());
+    // Links: reverse BFS from the marked splits along dependencies (only splits beyond k).
+    std::vector<uint32_t> depth(n, UINT32_MAX), queue;
+    for (uint32_t i = 0; i < n; ++i)
+      if (marked[i] && i >= k) depth[i] = 0, queue.push_back(i);
+    for (size_t q = 0; q < queue.size(); ++q) {
+      const uint32_t i = queue[q];
+      for (uint32_t d = deps_.dep_start[i]; d < deps_.dep_start[i + 1]; ++d) {
+        const uint32_t j = deps_.deps[d];
+        if (j < k || depth[j] != UINT32_MAX) continue;
+        depth[j] = depth[i] + 1, queue.push_back(j);
+      }
+    }
+    std::map<uint32_t, size_t> by_rows, by_depth;
+    std::map<uint32_t, size_t> by_stream;  // (i - k) * 10 / (n - k)
+    size_t excess = 0, in_region = 0;
+    for (uint32_t i = k; i < n; ++i) {
+      if (depth[i] == UINT32_MAX || depth[i] == 0) continue;
+      if (region[b + i]) {
+        ++in_region;
+        continue;
+      }
+      ++excess;
+      const uint32_t r = rows[b + i];
+      ++by_rows[r <= 2 ? 2 : r <= 4 ? 4 : r <= 8 ? 8 : r <= 16 ? 16 : 99];
+      ++by_depth[std::min(depth[i], 12u)];
+      ++by_stream[(i - k) * 10 / (n - k)];
+    }
+    // The region's first ring (one element row out) beyond the level: what a transition one
+    // row wide would add.
+    size_t ring = 0;
+    for (uint32_t v = 0; v < m_.vertex_count(); ++v) ring += rows[v] == 1 && v >= b + k;
+    std::cout << "[ diag ] first ring beyond the level " << ring << "; excess splits " << excess
+              << " (+" << in_region << " in region); by rows:";
+    for (auto [r, c] : by_rows) std::cout << " <=" << r << ":" << c;
+    std::cout << "; by links:";
+    for (auto [d, c] : by_depth) std::cout << " " << d << ":" << c;
+    std::cout << "; by stream decile beyond the level:";
+    for (auto [d, c] : by_stream) std::cout << " " << d << ":" << c;
+    std::cout << "\n";
+  }
+
   // Element rows (hops over face neighbours in the full mesh) from the region's vertices.
   std::vector<uint32_t> rows_from(const std::vector<uint8_t>& region) const {
     std::vector<uint32_t> rows(region.size(), UINT32_MAX), queue;
@@ -123,13 +176,29 @@ class Refinement {
   Topology full_;
   PartsShape original_;
   std::vector<std::vector<uint32_t>> neighbours_;
-  double max_ratio_;
+  double max_ratio_, bound_ = 0;
 };
 
 // The read sets measured: DYNPM_SPLIT_READS's (the face creators by default) and the fan.
 const SplitReads kRules[] = {test_reads(), SplitReads::kFan};
 
-// A box over the crushed end of the tube at the last step: a quarter of its length.
+// The model's box cut to [lo, hi] (fractions) along its longest axis.
+RefineTarget slab(const ProgressiveMesh& m, double lo, double hi) {
+  int axis = 0;
+  for (int c = 1; c < 3; ++c)
+    if (m.bbox_max[c] - m.bbox_min[c] > m.bbox_max[axis] - m.bbox_min[axis]) axis = c;
+  RefineTarget box;
+  for (int c = 0; c < 3; ++c) {
+    box.box[c] = m.bbox_min[c];
+    box.box[c + 3] = m.bbox_max[c];
+  }
+  box.box[axis] = m.bbox_min[axis] + lo * (m.bbox_max[axis] - m.bbox_min[axis]);
+  box.box[axis + 3] = m.bbox_min[axis] + hi * (m.bbox_max[axis] - m.bbox_min[axis]);
+  return box;
+}
+
+// A box over the crushed end of the tube at the last step (a quarter of its length), and one
+// over its middle fifth.
 TEST(Refine, BoxAtTheLastStep) {
   for (const char* name : {"crashbox-mixed-5k", "crashbox-fields"}) {
     SCOPED_TRACE(name);
@@ -137,21 +206,22 @@ TEST(Refine, BoxAtTheLastStep) {
     const ProgressiveMesh& m = model->mesh;
     for (SplitReads reads : kRules) {
       Refinement r(m, reads);
-      int axis = 0;
-      for (int c = 1; c < 3; ++c)
-        if (m.bbox_max[c] - m.bbox_min[c] > m.bbox_max[axis] - m.bbox_min[axis]) axis = c;
-      RefineTarget box;
-      for (int c = 0; c < 3; ++c) {
-        box.box[c] = m.bbox_min[c];
-        box.box[c + 3] = m.bbox_max[c];
-      }
-      box.box[axis + 3] = m.bbox_max[axis] - 0.75 * (m.bbox_max[axis] - m.bbox_min[axis]);
-      r.check(box, double(m.step_count() - 1), "5%");
-      box.box[axis] = m.bbox_min[axis] + 0.4 * (m.bbox_max[axis] - m.bbox_min[axis]);
-      box.box[axis + 3] = m.bbox_min[axis] + 0.6 * (m.bbox_max[axis] - m.bbox_min[axis]);
-      r.check(box, double(m.step_count() - 1), "5%");
+      r.check(slab(m, 0, 0.25), double(m.step_count() - 1), "5%");
+      r.check(slab(m, 0.4, 0.6), double(m.step_count() - 1), "5%");
     }
   }
+}
+
+// A build in independent rounds of 5 % (docs/selective.md "Independent rounds"): the box over
+// the crushed end meets the issue's 1.3 × (1.43 × in cost order), and nothing else gets worse.
+TEST(Refine, IndependentRoundsShortenTheChains) {
+  DYNPM_CRASHBOX_OR_SKIP(model, "crashbox-mixed-5k", 0.05);
+  const ProgressiveMesh& m = model->mesh;
+  Refinement r(m, SplitReads::kFaceCreators);
+  r.bound_ratio(1.3);
+  r.check(slab(m, 0, 0.25), double(m.step_count() - 1), "5%");
+  r.bound_ratio(1.45);  // 1.46 × in cost order
+  r.check(slab(m, 0.4, 0.6), double(m.step_count() - 1), "5%");
 }
 
 // Parts at every step of a sweep: the crash box cut into four bands, the second one refined.

@@ -295,6 +295,43 @@ TEST(Simplify, ListenerSeesEveryCollapse) {
   EXPECT_EQ(r->collapses, 49u - 10u);
 }
 
+// Independent rounds: within a round no collapse removes or keeps a vertex that an earlier
+// collapse of the round kept or left on its wings; the rounds follow one another, each at
+// most its fraction of the vertices; the mesh stays valid and the target is reached exactly.
+TEST(Simplify, IndependentRoundsKeepOffWhatTheirRoundChanged) {
+  struct Rounds : CollapseListener {
+    uint32_t round = 0;
+    size_t in_round = 0, rounds = 0, largest = 0;
+    std::set<uint32_t> touched;
+    void on_collapse(const CollapseRecord& r) override {
+      ASSERT_GE(r.round, round);
+      if (r.round == 0) return;  // no rounds
+      if (r.round != round) round = r.round, touched.clear(), in_round = 0, ++rounds;
+      EXPECT_FALSE(touched.count(r.v0)) << "round " << r.round;
+      EXPECT_FALSE(touched.count(r.v1)) << "round " << r.round;
+      touched.insert(r.v1);
+      for (int k = 0; k < r.wing_count; ++k) touched.insert(r.wings[k].vertex);
+      largest = std::max(largest, ++in_round);
+    }
+  } seen;
+  const auto m = mixed_grid(14, 12);
+  const Animation a = m.animation();
+  SimplifyOptions options;
+  options.target_vertices = 12;
+  options.independent_rounds = 0.1;
+  options.check_every_collapse = true;
+  auto r = simplify(a.topology, a.frames, options, &seen);
+  ASSERT_TRUE(r.ok()) << r.message();
+  EXPECT_EQ(r->topology.vertex_count, 12u);
+  EXPECT_LE(seen.largest, size_t{15 * 13 / 10});  // a tenth of the 195 vertices
+  EXPECT_GE(seen.rounds, 26u);  // 195 → 12 vertices, at most a tenth a round: ≥ 26 rounds
+  // Without rounds the same collapses come in one sequence, every record's round 0.
+  options.independent_rounds = 0;
+  Rounds none;
+  ASSERT_TRUE(simplify(a.topology, a.frames, options, &none).ok());
+  EXPECT_EQ(none.rounds, 0u);
+}
+
 TEST(Simplify, OptimalPlacementNeedsEveryStepAsKeyStep) {
   auto a = wavy_grid(6, 6).animation();
   a.frames.add_step(std::vector<float>(a.frames.step(0).begin(), a.frames.step(0).end()), 1.0);

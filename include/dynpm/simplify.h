@@ -33,6 +33,7 @@
 //         done: no legal collapse remains
 //       entry = pop the cheapest
 //       if stale(entry): continue                v0 or v1 changed since it was rated
+//       if rounds and locked(entry): defer it, continue      (independent rounds, below)
 //       if entry.error > max_error: done, target reached
 //       if not allows(entry.v0, entry.v1):       legality on pop, on the mesh as it is now
 //         rejected[entry.v0] = 1                 re-rated when its surroundings change
@@ -44,6 +45,8 @@
 //                                                vertices around it; drop the stale entries
 //                                                once the heap has doubled
 //       rated_again = false
+//       if rounds: lock the corners of v1's faces; when the round's quota is done, or the
+//         queue is empty, unlock all and push the deferred entries back
 //
 // The half-edge collapse v0 → v1, its wings and the vertex split that undoes it are drawn and
 // defined in split_record.h.
@@ -147,6 +150,13 @@ struct SimplifyOptions {
   // and fans. Not part of the planes' weight w. 0: off.
   double regularize = kDefaultRegularize;
 
+  // Independent rounds (docs/selective.md "Independent rounds"): collapses are taken in
+  // rounds; within one, no collapse touches a vertex of a face the round has already changed,
+  // so that the splits of a round never depend on one another and the dependency chains of
+  // selective refinement cross at most one split per round. A round ends after this fraction of
+  // the vertices alive at its start. 0: off (every collapse in cost order, the default).
+  double independent_rounds = 0;
+
   // Features: their vertices only slide along them, or stay (docs/simplify.md).
   bool keep_part_boundaries = true;  // edges between faces of different part ids
   std::vector<uint32_t> locked_vertices;
@@ -171,6 +181,7 @@ struct CollapseRecord {
   uint8_t wing_count = 0;                 // 1 at a boundary, 2 inside, 3+ at a T-joint
   std::span<const uint32_t> moved_faces;  // faces of v0 (not holding v1) that now hold v1
   double error = 0;                       // of this collapse, in bounding-box diagonals
+  uint32_t round = 0;  // SimplifyOptions::independent_rounds: its round (from 1); 0 without
   // Placement::kOptimal: v1's new position in each key step (xyz per step); empty otherwise.
   std::span<const float> v1_new_positions;
 };

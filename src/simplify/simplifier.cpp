@@ -104,6 +104,20 @@ class Simplifier {
   std::vector<uint8_t> rejected_;  // an entry of this vertex was dropped as illegal
   uint32_t time_ = 1;
 
+  // Independent rounds (SimplifyOptions::independent_rounds): round_of_[v] is the round whose
+  // collapse last changed a face of v; an entry touching such a vertex waits in deferred_ for
+  // the next round.
+  bool rounds() const { return options_.independent_rounds > 0; }
+  bool locked(const Entry& e) const {
+    return round_of_[e.v0] == round_ || round_of_[e.v1] == round_;
+  }
+  void lock_around(uint32_t v1);
+  bool end_round();
+  std::vector<uint32_t> round_of_;
+  std::vector<Entry> deferred_;
+  uint32_t round_ = 1;
+  size_t round_quota_ = 0;
+
   std::vector<uint32_t> moved_, ring_;
   size_t collapses_ = 0;
   double max_error_done_ = 0;
@@ -210,6 +224,7 @@ void Simplifier::drop_stale_entries() {
 Status Simplifier::collapse(uint32_t v0, uint32_t v1, double error, Scratch& s) {
   CollapseRecord record;
   record.error = error;
+  record.round = rounds() ? round_ : 0;
   mesh_.collapse(v0, v1, record, moved_);
   rules_.collapsed(v0);
   // Optimal placement: s.placement holds v1's new positions, computed with `error`.
@@ -236,6 +251,33 @@ Status Simplifier::collapse(uint32_t v0, uint32_t v1, double error, Scratch& s) 
   for (const Entry& e : fresh_) queue_.push(e);
   drop_stale_entries();
   return {};
+}
+
+// The corners of v1's faces after a collapse: this round's later collapses keep off them.
+void Simplifier::lock_around(uint32_t v1) {
+  for (uint32_t f : mesh_.faces_of(v1)) {
+    const Face& face = mesh_.face(f);
+    for (int k = 0; k < face.degree(); ++k) round_of_[face.v[k]] = round_;
+  }
+  if (round_quota_ > 0) --round_quota_;
+  if (round_quota_ == 0) end_round();
+}
+
+// Starts the next round: every vertex free again, the deferred entries back in the queue (those
+// still fresh), cheapest first. False when nothing was deferred.
+bool Simplifier::end_round() {
+  ++round_;
+  round_quota_ = std::max<size_t>(
+      1, static_cast<size_t>(options_.independent_rounds * double(mesh_.live_vertices())));
+  if (deferred_.empty()) return false;
+  // The queue raises keys below its last one to it and takes them last-in first-out: pushed
+  // dearest first, they come out cheapest first.
+  std::sort(deferred_.begin(), deferred_.end(),
+            [](const Entry& a, const Entry& b) { return a.error > b.error; });
+  for (const Entry& e : deferred_)
+    if (!stale(e)) queue_.push(e);
+  deferred_.clear();
+  return true;
 }
 
 Status Simplifier::check_mesh(size_t collapse_index) const {
@@ -299,6 +341,7 @@ Result<SimplifyResult> Simplifier::run(Adjacency adjacency) {
 
   changed_.assign(input_.vertex_count, 0);
   rejected_.assign(input_.vertex_count, 0);
+  if (rounds()) round_of_.assign(input_.vertex_count, 0), end_round();
   rate_all_edges();
   ++time_;
   Scratch s(input_.vertex_count);
@@ -314,6 +357,7 @@ Result<SimplifyResult> Simplifier::run(Adjacency adjacency) {
       break;
     }
     if (queue_.empty()) {
+      if (rounds() && end_round()) continue;
       if (!rated_again) {  // edges dropped as illegal may have become legal
         rate_all_edges();
         ++time_;
@@ -326,6 +370,10 @@ Result<SimplifyResult> Simplifier::run(Adjacency adjacency) {
     }
     const Entry entry = queue_.pop();
     if (stale(entry)) continue;
+    if (rounds() && locked(entry)) {
+      deferred_.push_back(entry);
+      continue;
+    }
     if (options_.max_error && entry.error > *options_.max_error) {
       result.target_reached = true;
       result.stop_reason = "the next collapse would exceed the maximum error";
@@ -343,6 +391,7 @@ Result<SimplifyResult> Simplifier::run(Adjacency adjacency) {
     // positions collapse() moves v1 to.
     const double error = cost(entry.v0, entry.v1, s);
     DYNPM_RETURN_IF_ERROR(collapse(entry.v0, entry.v1, error, s));
+    if (rounds()) lock_around(entry.v1);
     rated_again = false;
   }
 
