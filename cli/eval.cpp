@@ -35,8 +35,9 @@ const VerbSpec kSpec{
     "the chosen steps only). With --field, also each field's error (the largest difference\n"
     "between the original's and the level's value at corresponding surface points, at the same\n"
     "samples, in % of the field's range over all steps) and its peak ratio (largest |value|\n"
-    "shown / the original's largest at that step). ORIGINAL is a mesh file or a quoted glob of\n"
-    "step files.",
+    "shown / the original's largest at that step); at steps where the original passes through\n"
+    "itself (sheets crossing, a run without contact), the field error's max over the other steps\n"
+    "is reported beside. ORIGINAL is a mesh file or a quoted glob of step files.",
     {{"--dpm", "", true, "MODEL.dpm", "the progressive mesh (from dynpm build)"},
      kVariantFlag,
      {"--ratios", "", true, "R,R,…", "resolutions in % of the full vertex count, each in (0, 100]"},
@@ -108,6 +109,21 @@ void print_table(const std::vector<std::string>& files, const FrameSource& frame
       std::printf("  %.4g / %.3f\n", row.max.field_error_pct[f], row.max.peak_ratio[f]);
     }
   }
+  if (fields.empty() || table.crossings.empty()) return;
+  std::string steps;
+  for (const auto& [step, faces] : table.crossings)
+    steps += (steps.empty() ? "" : ", ") + std::to_string(step) + " (" + std::to_string(faces) +
+             " faces)";
+  std::printf(
+      "\nthe original passes through itself at step %s, where the field error measures\n"
+      "the crossing too; the field error's max over the measured steps where it does not:\n",
+      steps.c_str());
+  for (const LevelRow& row : table.rows) {
+    std::printf("%10s", (format_number(row.ratio) + " %").c_str());
+    for (size_t f = 0; f < fields.size(); ++f)
+      std::printf("  %s %.4g", fields[f].c_str(), row.max.field_error_untangled_pct[f]);
+    std::printf("\n");
+  }
 }
 
 // Each field's error and peak in one cell: {"NAME": {"field_error_pct", "peak_ratio",
@@ -126,6 +142,8 @@ void fields_json(Json& j, const std::vector<std::string>& fields, const LevelDis
     j.begin_array("field_error_at");
     for (double c : cell.field_error_at[f]) j.item(c);
     j.end_array();
+    // null: the original passes through itself at this step (in max: at every measured step)
+    j.value("field_error_untangled_pct", cell.field_error_untangled_pct[f]);
     j.end_object();
   }
   j.end_object();
@@ -157,6 +175,14 @@ std::string table_json(const std::vector<std::string>& files, const FrameSource&
     for (size_t f = 0; f < options.fields.size(); ++f)
       j.value(options.fields[f], table.field_ranges[f]);
     j.end_object();
+    j.begin_array("self_crossings");  // steps where the original passes through itself
+    for (const auto& [step, faces] : table.crossings) {
+      j.begin_object();
+      j.value("step", uint64_t{step});
+      j.value("faces", uint64_t{faces});
+      j.end_object();
+    }
+    j.end_array();
   }
   j.begin_array("ratios");
   for (const LevelRow& row : table.rows) {

@@ -6,7 +6,8 @@ For each input and field: `dynpm build` with fields in the cost (the default) an
 vertices over every step: the field error (% of the field's range; facing, the default, and
 beside it the closest point alone and the per-node measure, docs/eval.md), the peak ratio and the
 peak gap (how far the largest |value| shown is below the original's, % of the range; the
-stored bound is 0.1 %), and the two-sided Hausdorff distance (% of the diagonal).
+stored bound is 0.1 %), and the two-sided Hausdorff distance (% of the diagonal). Where the
+original passes through itself at some steps, also the field error's max over the other steps.
 
     python3 scripts/field_tables.py --dynpm build/release/cli/dynpm INPUT:FIELD[,FIELD]...
 
@@ -45,7 +46,8 @@ def measure(dynpm, source, fields, weight, work, extra=()):
     run([dynpm, "eval", source, "--dpm", dpm, "--ratios", ",".join(map(str, RATIOS)),
          "--field", ",".join(fields), "--steps", steps, "--json", out])
     with open(out) as f:
-        return {row["ratio_pct"]: row for row in json.load(f)["ratios"]}
+        table = json.load(f)
+    return {row["ratio_pct"]: row for row in table["ratios"]}, table.get("self_crossings", [])
 
 
 def main():
@@ -59,8 +61,8 @@ def main():
         source, fields = spec.rsplit(":", 1)
         fields = fields.split(",")
         with tempfile.TemporaryDirectory() as work:
-            with_fields = measure(a.dynpm, source, fields, None, work, a.with_args.split())
-            geometry = measure(a.dynpm, source, fields, 0, work)
+            with_fields, crossings = measure(a.dynpm, source, fields, None, work, a.with_args.split())
+            geometry, _ = measure(a.dynpm, source, fields, 0, work)
         name = os.path.basename(source)
         print("\n#### %s\n" % name)
         print("| ratio | field | field error (facing), geometry only → with fields (max over steps) | ratio | "
@@ -81,6 +83,21 @@ def main():
                     r, f.replace("|", "\\|"), " | ".join(pairs), w["fields"][f]["peak_ratio"],
                     w["fields"][f]["peak_gap_pct"], g["hausdorff_pct"], w["hausdorff_pct"],
                     100 * (w["hausdorff_pct"] / g["hausdorff_pct"] - 1) if g["hausdorff_pct"] > 0 else 0))
+        if crossings:
+            print("\nThe original passes through itself at step %s (docs/eval.md, \"Sheets through each "
+                  "other\"); the field error's max over the other steps, geometry only → with fields:\n"
+                  % ", ".join("%d (%d faces)" % (c["step"], c["faces"]) for c in crossings))
+            print("| ratio | field | field error (facing), untangled steps | ratio |")
+            print("|---|---|---|---|")
+            for r in RATIOS:
+                for f in fields:
+                    ge = geometry[r]["max"]["fields"][f]["field_error_untangled_pct"]
+                    we = with_fields[r]["max"]["fields"][f]["field_error_untangled_pct"]
+                    if ge is None or we is None:
+                        print("| %d %% | %s | every step crosses | – |" % (r, f.replace("|", "\\|")))
+                    else:
+                        print("| %d %% | %s | %.3g → %.3g | %.2f |" % (r, f.replace("|", "\\|"), ge, we,
+                                                                  we / ge if ge > 0 else 0))
         print("\nEvery step (field error %, geometry only → with fields; peak gap % with fields):\n")
         steps = [c["step"] for c in with_fields[RATIOS[0]]["steps"]]
         print("| field | ratio | " + " | ".join("t=%d" % t for t in steps) + " |")

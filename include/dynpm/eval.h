@@ -114,6 +114,11 @@ class TriangleBvh {
   // Every triangle closer to p than sqrt(max_squared_distance), with its closest point and
   // weights, appended to `out` in no set order.
   void within(const Point3& p, double max_squared_distance, std::vector<Hit>& out) const;
+  // Every triangle in a leaf whose box overlaps the box [lo, hi] (a superset of the triangles
+  // that do), as indices given to the constructor, appended to `out` in no set order. Defined
+  // in self_crossing.cpp, its one user.
+  void overlapping(const std::array<float, 3>& lo, const std::array<float, 3>& hi,
+                   std::vector<uint32_t>& out) const;
 
   size_t triangle_count() const { return triangles_.size(); }
   size_t node_count() const { return nodes_.size(); }
@@ -260,6 +265,13 @@ Result<Surface> prepare_surface(const char* name, const SurfaceTopology& topolog
 Status update_surface(const char* name, Surface& surface, std::span<const float> positions,
                       unsigned threads = 0);
 
+// The faces of one step of a surface that pass through another face sharing no vertex with
+// them, ascending: a sheet through a sheet, as a crash run without a contact definition lets
+// happen (docs/eval.md, "Sheets through each other"). Two faces cross where an edge of one's
+// triangles (a quad's star) pierces a triangle of the other; coplanar overlaps are not
+// counted. There a sample's closest point may lie on the crossing sheet however close the
+// level is, so the field error measures the crossing, not the level.
+std::vector<uint32_t> self_crossing_faces(const Surface& surface);
 // A against B, prepared; the same numbers as hausdorff() below on the same positions. With
 // fields, result.fields holds one FieldDistance per FieldPair. Errors: a field with the wrong
 // number of values or a non-finite value.

@@ -18,6 +18,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "dynpm/eval.h"
@@ -155,6 +156,11 @@ struct LevelDistance {
   // largest over the steps.
   std::vector<double> field_error_mean_pct;
   std::vector<Point3> field_error_at;  // the sample of field_error_pct (in max: its step's)
+  // field_error_pct where the original does not pass through itself at the step (no
+  // self_crossing_faces()), NaN where it does; in max the largest over such steps (NaN if
+  // none). Reported beside field_error_pct, never instead (docs/eval.md, "Sheets through each
+  // other"). Empty without fields.
+  std::vector<double> field_error_untangled_pct;
 };
 
 // One row of the table: one resolution.
@@ -173,7 +179,10 @@ struct LevelsTable {
   std::vector<size_t> steps;         // the chosen steps (the columns), ascending
   double reference_diagonal = 0;     // the length every percentage is of
   std::vector<double> field_ranges;  // per field: max − min over every step, what % are of
-  std::vector<LevelRow> rows;        // one per distinct ratio, ascending
+  // With fields: the measured steps where the original passes through itself, ascending, and
+  // the number of its faces that do (self_crossing_faces()).
+  std::vector<std::pair<size_t, uint32_t>> crossings;
+  std::vector<LevelRow> rows;  // one per distinct ratio, ascending
 };
 
 // An error if `model` was not built from this animation: other vertex, face or step counts. The

@@ -29,6 +29,8 @@ Status check_built_from(const Topology& original, const FrameSource& frames,
 
 namespace {
 
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
 // Each vertex of the full mesh → the vertex that stands for it at the navigator's level (itself
 // if present). A parent is created before its children, so one pass in vertex order does.
 std::vector<uint32_t> representatives_at(const Navigator& nav) {
@@ -129,6 +131,7 @@ Result<LevelsTable> evaluate_levels(const Topology& original, const FrameSource&
     row.max.field_error_node_pct.assign(field_count, 0);
     row.max.field_error_mean_pct.assign(field_count, 0);
     row.max.field_error_at.assign(field_count, Point3{0, 0, 0});
+    row.max.field_error_untangled_pct.assign(field_count, kNaN);
     table.rows.push_back(std::move(row));
     level_faces.push_back(nav.topology());
     auto prepared = prepare_topology("the level", level_faces.back());
@@ -174,6 +177,13 @@ Result<LevelsTable> evaluate_levels(const Topology& original, const FrameSource&
         update_surface("the original", original_step, original_xyz, h.threads);
     if (!original_ready.ok())
       return Status::error("step " + std::to_string(t) + ": " + original_ready.message());
+    // Where the original's sheets pass through each other the field error measures the
+    // crossing: found once per step, and the max over the other steps kept beside.
+    bool untangled = true;
+    if (field_count > 0) {
+      const size_t crossing = self_crossing_faces(original_step).size();
+      if (crossing > 0) table.crossings.push_back({t, uint32_t(crossing)}), untangled = false;
+    }
     for (size_t f = 0; f < field_count; ++f) {
       const bool per_face = source_fields[source_index[f]].location == FieldLocation::kElement;
       original_values[f].resize(per_face ? original.faces.size() : original.vertex_count);
@@ -226,8 +236,12 @@ Result<LevelsTable> evaluate_levels(const Topology& original, const FrameSource&
         cell.field_error_node_pct.push_back(
             source_fields[source_index[f]].location == FieldLocation::kNode
                 ? pct(node_error(model, representatives[i], original_values[f], level_values[f]))
-                : std::numeric_limits<double>::quiet_NaN());
+                : kNaN);
         cell.field_error_at.push_back(r->fields[f].max_at);
+        cell.field_error_untangled_pct.push_back(untangled ? cell.field_error_pct[f] : kNaN);
+        double& untangled_max = row.max.field_error_untangled_pct[f];
+        if (untangled && !(untangled_max >= cell.field_error_pct[f]))  // NaN: none yet
+          untangled_max = cell.field_error_pct[f];
         if (cell.field_error_pct[f] > row.max.field_error_pct[f] || k == 0)
           row.max.field_error_pct[f] = cell.field_error_pct[f],
           row.max.field_error_at[f] = cell.field_error_at[f];

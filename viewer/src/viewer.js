@@ -376,6 +376,9 @@ function updateLabels() {
     `${int(n)} of ${int(h.vertexCount)} vertices (${((100 * n) / h.vertexCount).toFixed(1)}%), ` +
     `error ${fmt(nav.error)} model units (${fmt((100 * nav.error) / diag, 3)}% of the box diagonal): ` +
     `how far this level's surface may lie from the full mesh's, at any step` +
+    // A model with fields is built with them in the cost by default (docs/simplify.md): its
+    // stated error is the geometric one raised by the spread of the values a vertex stands for.
+    (mesh.fields.length ? ', raised where the level merges different result values' : '') +
     (fieldIndex() >= 0 ? `, field error ${fmt(100 * nav.fieldError(fieldIndex()), 3)}% of its range` : '') +
     (mesh.splitsLoaded < h.splitCount ? `, ${int(mesh.vertexCountLoaded)} loaded` : '');
   const loaded = state.totalBytes
