@@ -6,7 +6,8 @@
 // with the first's legend range. When both files hold one hierarchy (compare_math.js) the
 // colour list offers |p_A(t) − p_B(t)|, drawn on both with a marker at its largest. B may be a
 // family file's member (`&compareVariant=NAME|INDEX`, as `?variant=` for the first; the same
-// file as the first's for two members of one family, which always hold one hierarchy).
+// file as the first's for two members of one family, which always hold one hierarchy: then B is
+// the member's view of the mesh the first's decode fills, fetched and decoded once).
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 
@@ -110,8 +111,37 @@ export class CompareView {
       onSplits: () => this.onSplits(),
       onNavigator,
     });
-    const decoder = await (worker ? decodeInWorker(decode) : decodeOnPage(decode));
-    if (!decoder.mesh?.hasBase) throw new Error(`${this.name}: ends before the base mesh`);
+    await (worker ? decodeInWorker(decode) : decodeOnPage(decode));
+    this.loaded();
+  }
+
+  // B in the first's own file (two members of one family, or a model beside itself): no fetch
+  // and no decode of its own. The first's decode callbacks (after its variant's wrapping) are
+  // returned wrapped, so that B's variant view follows the same decoded mesh; B's Navigator is
+  // made on the page after the first's has come.
+  alongside(callbacks) {
+    const mine = variantCallbacks(this.variant, { onBase: (mesh) => this.onBase(mesh), onSplits: () => this.onSplits() });
+    return {
+      ...callbacks,
+      onHead: (mesh) => (callbacks.onHead(mesh), (this.mesh = mesh)),
+      onBase: (mesh) => (callbacks.onBase(mesh), mine.onBase(mesh)),
+      onSplits: (mesh, first, n) => (callbacks.onSplits(mesh, first, n), mine.onSplits(mesh, first, n)),
+      onNavigator: (nav) => {
+        callbacks.onNavigator(nav);
+        requestAnimationFrame(() => setTimeout(() => this.nav instanceof Navigator || ((this.nav = new Navigator(this.mesh)), this.onSplits())));
+      },
+    };
+  }
+
+  // B alongside the first (alongside()): loaded once the first's decode is; an error is the
+  // first's, which the page shows.
+  follow(decoding) {
+    this.loading = decoding.then(() => this.loaded()).catch(() => {});
+  }
+
+  // B's mesh is whole: its Navigator (if not made yet) at B's linked level.
+  loaded() {
+    if (!this.mesh?.hasBase) throw new Error(`${this.name}: ends before the base mesh`);
     if (!(this.nav instanceof Navigator)) this.nav = new Navigator(this.mesh);
     this.onSplits();
   }

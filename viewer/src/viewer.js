@@ -472,14 +472,19 @@ async function load() {
   };
   // The decode runs in a worker (worker_decoder.js); ?worker=0 keeps it here, for comparison.
   state.worker = params.get('worker') !== '0';
-  compare && (compare.loading = compare.load(state.worker).catch(showError));  // its own worker
+  const url = new URL(file, location.href).href;
+  const alongside = compare?.url === url;  // two members of this file: one fetch, one decode
+  if (compare && !alongside) compare.loading = compare.load(state.worker).catch(showError);  // its own worker
   const onStart = (total, shared = false, rangeRequests = false) => Object.assign(state, { totalBytes: total, sharedMemory: shared, rangeRequests });
-  const decode = variants.callbacks({ url: new URL(file, location.href).href, name: state.name, onHead, onBase, onSplits, onStart, onProgress, onNavigator });
+  let decode = variants.callbacks({ url, name: state.name, onHead, onBase, onSplits, onStart, onProgress, onNavigator });
+  if (alongside) decode = compare.alongside(decode);
   const onFirstBytes = (at) => (timing.firstByte = at);
   // Fetched by ranges up to ?vertices=N (model_file.js); the slider asks for more.
   const onDependencies = (deps) => refine.dependenciesReady(deps);
   const worker = { ...decode, onDependencies, onFirstBytes, vertices: wantedVertices(params), control: state.decoder, onPaused: () => ((state.loading = false), state.nav && updateLabels()) };
-  const decoder = await (state.worker ? decodeInWorker(worker) : decodeOnPage(decode));
+  const decoding = state.worker ? decodeInWorker(worker) : decodeOnPage(decode);
+  if (alongside) compare.follow(decoding);
+  const decoder = await decoding;
   if (!decoder.mesh?.hasBase) throw new Error(`${state.name}: ends before the base mesh`);
   if (!decoder.complete) showError(`${state.name}: the file ends early (no END chunk): showing the ${int(decoder.mesh.vertexCountLoaded)} vertices it holds`);
   state.ranges.clear();
