@@ -107,7 +107,8 @@ export class CompareView {
   // object for both canvases) and the diverging scheme; else nothing.
   fieldDifference(mode, aggregate) {
     const k = mode.startsWith(FIELD_DIFFERENCE) ? Number(mode.slice(FIELD_DIFFERENCE.length)) : -1;
-    if (!this.fieldPairs.has(k)) return undefined;
+    // (A refined selectively: its items are not B's level; A shows its own field k meanwhile.)
+    if (!this.fieldPairs.has(k) || this.viewer.state.nav?.selective) return undefined;
     const key = `${k} ${aggregate}`, a = this.viewer.state.mesh;
     if (this.fieldDifferences.get(key)?.a.mesh !== a)  // (another member of A's family chosen)
       this.fieldDifferences.set(key, new FieldDifference(a, k, this.mesh, this.fieldPairs.get(k), aggregate));
