@@ -148,7 +148,7 @@ int run_extract(std::span<char* const> arguments) {
   if (step) limits.last_step = static_cast<size_t>(std::ceil(*step));
   limits.fields = format_from_extension(*output) != FileFormat::kObj;  // OBJ holds no fields
   std::optional<Phase> phase(std::in_place, "reading the model");
-  auto mesh = read_dpm_up_to_step(args.positional[0], limits);
+  auto mesh = read_dpm_of_variant(args, args.positional[0], limits);
   if (!mesh) return fail(kSpec.name, kExitFailure, mesh.message());
   if (!mesh->complete && !mesh->limited)
     note(kSpec.name, args.positional[0] + " is a prefix of a file; it holds " +

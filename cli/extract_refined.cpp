@@ -74,7 +74,7 @@ int run_refined_extract(const Args& args, const std::string& verb, const std::st
   for (const RefineTarget& t : targets) limits.fields |= t.kind == RefineTarget::Kind::kField;
   std::optional<Phase> phase(std::in_place, "reading the model");
   const std::string& path = args.positional[0];
-  auto mesh = read_dpm_up_to_step(path, limits);
+  auto mesh = read_dpm_of_variant(args, path, limits);
   if (!mesh) return fail(verb, kExitFailure, mesh.message());
   if (mesh->split_count() != mesh->full_split_count)
     return fail(verb, kExitFailure,

@@ -70,10 +70,9 @@ Status choose_variant(const Args& args, const std::string& verb, const std::stri
   return {};
 }
 
-Result<ProgressiveMesh> read_dpm_up_to_step(const std::string& path, DpmReadLimits limits) {
-  auto mesh = read_dpm(path, limits);
-  if (!mesh || !limits.last_step || mesh->variants.empty()) return mesh;
-  limits.last_step.reset();
+Result<ProgressiveMesh> read_dpm_of_variant(const Args& args, const std::string& path,
+                                            DpmReadLimits limits) {
+  limits.variant = args.value("--variant").value_or("0");
   return read_dpm(path, limits);
 }
 

@@ -33,11 +33,12 @@ Result<FamilyInputs> open_family(const Args& args, const std::string& output,
 Status choose_variant(const Args& args, const std::string& verb, const std::string& path,
                       ProgressiveMesh& mesh);
 
-// read_dpm() with `limits`. A family file read only up to a stored step (limits.last_step) is
-// read again without that limit: its variants' steps are not stored in their order (variant 0's
-// come reversed, docs/family.md "How it is built"), so a variant's steps up to T are not the
-// stored steps up to T.
-Result<ProgressiveMesh> read_dpm_up_to_step(const std::string& path, DpmReadLimits limits);
+// read_dpm() with `limits` for the variant choose_variant() will pick (--variant's, else 0):
+// a family file's variant steps up to limits.last_step are not the stored steps up to it
+// (variant 0's are stored reversed, docs/family.md "How it is built"), so the reader maps them
+// through the file's VARI and decodes what they need, in one pass (DpmReadLimits::variant).
+Result<ProgressiveMesh> read_dpm_of_variant(const Args& args, const std::string& path,
+                                            DpmReadLimits limits);
 
 class Json;
 // A family's variants as 'info --json' and the catalogue list them: "variants": [{"index",

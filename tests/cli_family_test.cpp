@@ -200,6 +200,93 @@ TEST_F(CrashboxFamily, ExtractOfOneStepIsThatStepOfTheVariant) {
   }
 }
 
+// A variant's steps up to T, read in one pass (DpmReadLimits::variant): the stored steps decoded
+// are those up to the last one its steps 0 … T use, no more (variant 0's are stored reversed, so
+// its step 0 is its last stored step; the bend's follow), and what they show is what the whole
+// file shows. Without a variant, last_step = 0 ('batch', the catalogue) is one stored step.
+TEST_F(CrashboxFamily, AVariantsStepsAreReadInOnePass) {
+  auto whole = read_dpm(family_);
+  ASSERT_TRUE(whole.ok()) << whole.message();
+  const size_t stored = whole->step_count();
+  for (size_t k = 0; k < 2; ++k)
+    for (size_t t : {size_t{0}, size_t{3}, size_t{12}}) {
+      SCOPED_TRACE("variant " + std::to_string(k) + ", step " + std::to_string(t));
+      DpmReadLimits limits;
+      limits.variant = k == 0 ? "crashbox-s" : "1";
+      limits.last_step = t;
+      auto mesh = read_dpm(family_, limits);
+      ASSERT_TRUE(mesh.ok()) << mesh.message();
+      const std::vector<uint32_t>& steps = whole->variants[k].steps;
+      const size_t needed = *std::max_element(steps.begin(), steps.begin() + t + 1) + 1;
+      EXPECT_EQ(mesh->steps_read, needed);
+      // The crush's 26 steps stored first, its step 0 last of them; the bend's step t after it.
+      EXPECT_EQ(needed, k == 0 ? 26u : 26u + t);
+      for (size_t s = 0; s < stored; ++s)
+        EXPECT_EQ(mesh->positions[s].empty(), s >= needed) << "stored step " << s;
+      EXPECT_EQ(mesh->variants.size(), 2u);  // the reader does not choose; select_variant() does
+      ProgressiveMesh all = *whole;
+      select_variant(*mesh, k);
+      select_variant(all, k);
+      ASSERT_GE(mesh->steps_read, t + 1);
+      for (size_t u = 0; u <= t; ++u) EXPECT_EQ(mesh->positions[u], all.positions[u]);
+    }
+  DpmReadLimits first;
+  first.last_step = 0;
+  auto one = read_dpm(family_, first);
+  ASSERT_TRUE(one.ok()) << one.message();
+  EXPECT_EQ(one->steps_read, 1u);
+  DpmReadLimits unknown;
+  unknown.variant = "crashbox-x";
+  auto refused = read_dpm(family_, unknown);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_NE(refused.message().find("no variant 'crashbox-x' (the variants: 0 crashbox-s, 1 "
+                                   "crashbox-bent)"),
+            std::string::npos)
+      << refused.message();
+}
+
+// 'extract --step' and '--refine' of a family file open it once (strace counts the opens), and
+// write what the whole file gives at that step: byte for byte the file that an extract of every
+// step writes for it.
+TEST_F(CrashboxFamily, ExtractOfAStepOpensTheFileOnce) {
+  if (test::run_command("strace -o /dev/null true").exit_code != 0)
+    GTEST_SKIP() << "strace cannot run here: the opens are not counted";
+  const std::string trace = dir_->file("opens.txt");
+  const auto opens = [&]() {
+    std::ifstream in(trace);
+    size_t count = 0;
+    for (std::string line; std::getline(in, line);)
+      count += line.find("family.dpm\"") != std::string::npos && line.find("= -1") == line.npos;
+    return count;
+  };
+  const auto read_all = [](const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  };
+  for (const std::string variant : {"", " --variant 1"}) {
+    SCOPED_TRACE(variant.empty() ? "variant 0" : variant);
+    auto r = dynpm_cli("extract '" + family_ + "' --ratio 0.2" + variant + " -o '" +
+                       dir_->file("every_{:03d}.vtu") + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    for (const std::string t : {"0", "3", "12"}) {
+      const std::string one = dir_->file("one.vtu");
+      r = test::run_command("strace -f -e trace=openat -o '" + trace + "' " + DYNPM_CLI +
+                            " extract '" + family_ + "' --ratio 0.2 --step " + t + variant +
+                            " -o '" + one + "'");
+      ASSERT_EQ(r.exit_code, 0) << r.output;
+      EXPECT_EQ(opens(), 1u) << "step " << t;
+      char every[32];
+      std::snprintf(every, sizeof every, "every_%03d.vtu", std::stoi(t));
+      EXPECT_EQ(read_all(one), read_all(dir_->file(every))) << "step " << t;
+    }
+    r = test::run_command("strace -f -e trace=openat -o '" + trace + "' " + DYNPM_CLI +
+                          " extract '" + family_ + "' --refine box:0,0,0,50,50,250 --elsewhere 5%" +
+                          " --step 5" + variant + " -o '" + dir_->file("refined.obj") + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_EQ(opens(), 1u) << "--refine";
+  }
+}
+
 // The largest Hausdorff distance over every step, absolute, of `model` at each of `ratios` (%),
 // measured as bench/family/family_bench.py does (eval's defaults, every step).
 std::vector<double> hausdorff(const std::string& input, const ProgressiveMesh& model,

@@ -183,8 +183,8 @@ void quantize_fields(ProgressiveMesh& mesh, double bound, bool lossless);
 Result<size_t> find_variant(const ProgressiveMesh& mesh, std::string_view which);
 // Makes `mesh` the one animation of variant `index` (< variants.size()): its times, its steps'
 // positions and field values (shared stored steps copied), its key steps; variants is left empty.
-// A mesh read up to a step (DpmReadLimits::last_step, in stored steps) keeps the variant's steps
-// whose stored step was read.
+// A mesh read up to a step (DpmReadLimits::last_step and variant) keeps the variant's steps whose
+// stored step was read.
 void select_variant(ProgressiveMesh& mesh, size_t index);
 
 // The file (docs/FORMAT.md). Written to a temporary name and renamed.
@@ -231,7 +231,14 @@ struct DpmReadLimits {
   std::optional<double> ratio;
   std::optional<double> error;
   bool error_of_diagonal = false;  // `error` is a fraction of the bounding-box diagonal
+  // Without `variant`: in stored steps (a family's steps as HEAD lists them).
   std::optional<size_t> last_step;
+  // A family file's variant (its name or index, as find_variant() takes them): last_step then
+  // counts that variant's steps, and only the stored steps they need are decoded — those up to
+  // the last of them, as each stored step is predicted from the one before (docs/family.md "How
+  // it is built"), so one pass reads what select_variant() will show. The mesh still lists every
+  // variant. A name the family lacks is an error; a file that is not a family ignores it.
+  std::optional<std::string> variant;
 };
 
 // Reads a whole file or a prefix of one (then complete == false), or only what `limits` asks

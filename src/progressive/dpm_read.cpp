@@ -67,6 +67,7 @@ class Decoder {
     }
     if (*got && tag == "VARI") {
       if (auto e = parse_variants(payload, mesh_)) return bad_at(*e);
+      DYNPM_RETURN_IF_ERROR(apply_variant_of_limits());
       got = next_chunk("BASE", tag, payload);
       if (!got) return got.status();
     }
@@ -140,6 +141,20 @@ class Decoder {
     steps_ = m.times.size();
     if (limits_.last_step) steps_ = std::min(steps_, *limits_.last_step + 1);
     mesh_.steps_read = steps_;
+  }
+
+  // The stored steps the variant asked for needs (DpmReadLimits::variant), once VARI is read:
+  // those up to the last stored step of its steps up to last_step.
+  Status apply_variant_of_limits() {
+    if (!limits_.variant) return {};
+    auto index = find_variant(mesh_, *limits_.variant);
+    if (!index) return Status::error(name_ + ": " + index.message());
+    const std::vector<uint32_t>& steps = mesh_.variants[*index].steps;
+    const size_t count =
+        limits_.last_step ? std::min(steps.size(), *limits_.last_step + 1) : steps.size();
+    steps_ = size_t{*std::max_element(steps.begin(), steps.begin() + count)} + 1;
+    mesh_.steps_read = steps_;
+    return {};
   }
 
   // Whether the splits read so far reach the level asked for; if they do, the splits beyond it

@@ -6,7 +6,8 @@
 // with the first's legend range. When both files hold one hierarchy (compare_math.js) the
 // colour list offers |p_A(t) − p_B(t)|, drawn on both with a marker at its largest. B may be a
 // family file's member (`&compareVariant=NAME|INDEX`, as `?variant=` for the first; the same
-// file as the first's for two members of one family, which always hold one hierarchy).
+// file as the first's for two members of one family, which always hold one hierarchy: then B is
+// the member's view of the mesh the first's decode fills, fetched and decoded once).
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 
@@ -15,6 +16,7 @@ import { Navigator, ProgressiveMesh, updateIndices } from './dpm.js';
 import { BaseLevel } from './base_level.js';
 import { growDrawBuffers, uploadIndices } from './draw_buffers.js';
 import { edgeMaterial, fieldColoursAtVertices } from './edge_lines.js';
+import { commonFields, FIELD_DIFFERENCE, FieldDifference } from './field_difference.js';
 import { FieldView } from './field_view.js';
 import { element, fmt, int } from './fringe.js';
 import { PartView } from './part_view.js';
@@ -97,6 +99,20 @@ export class CompareView {
     this.option = new Option('difference |p_A(t) − p_B(t)|', DIFFERENCE);
     this.option.disabled = true;
     viewer.ui.colour.add(this.option);
+    this.fieldPairs = new Map();  // A's field k → B's field of the same name (field_difference.js)
+    this.fieldDifferences = new Map();  // 'k aggregate' → the FieldDifference both canvases show
+  }
+
+  // For a field difference mode ('fielddiff:k'), FieldView's options to show it: the values (one
+  // object for both canvases) and the diverging scheme; else nothing.
+  fieldDifference(mode, aggregate) {
+    const k = mode.startsWith(FIELD_DIFFERENCE) ? Number(mode.slice(FIELD_DIFFERENCE.length)) : -1;
+    // (A refined selectively: its items are not B's level; A shows its own field k meanwhile.)
+    if (!this.fieldPairs.has(k) || this.viewer.state.nav?.selective) return undefined;
+    const key = `${k} ${aggregate}`, a = this.viewer.state.mesh;
+    if (this.fieldDifferences.get(key)?.a.mesh !== a)  // (another member of A's family chosen)
+      this.fieldDifferences.set(key, new FieldDifference(a, k, this.mesh, this.fieldPairs.get(k), aggregate));
+    return { shown: this.fieldDifferences.get(key), scheme: 'diverging' };
   }
 
   // Starts B's decode (in a worker of its own unless ?worker=0); resolves when B is loaded.
@@ -110,8 +126,37 @@ export class CompareView {
       onSplits: () => this.onSplits(),
       onNavigator,
     });
-    const decoder = await (worker ? decodeInWorker(decode) : decodeOnPage(decode));
-    if (!decoder.mesh?.hasBase) throw new Error(`${this.name}: ends before the base mesh`);
+    await (worker ? decodeInWorker(decode) : decodeOnPage(decode));
+    this.loaded();
+  }
+
+  // B in the first's own file (two members of one family, or a model beside itself): no fetch
+  // and no decode of its own. The first's decode callbacks (after its variant's wrapping) are
+  // returned wrapped, so that B's variant view follows the same decoded mesh; B's Navigator is
+  // made on the page after the first's has come.
+  alongside(callbacks) {
+    const mine = variantCallbacks(this.variant, { onBase: (mesh) => this.onBase(mesh), onSplits: () => this.onSplits() });
+    return {
+      ...callbacks,
+      onHead: (mesh) => (callbacks.onHead(mesh), (this.mesh = mesh)),
+      onBase: (mesh) => (callbacks.onBase(mesh), mine.onBase(mesh)),
+      onSplits: (mesh, first, n) => (callbacks.onSplits(mesh, first, n), mine.onSplits(mesh, first, n)),
+      onNavigator: (nav) => {
+        callbacks.onNavigator(nav);
+        requestAnimationFrame(() => setTimeout(() => this.nav instanceof Navigator || ((this.nav = new Navigator(this.mesh)), this.onSplits())));
+      },
+    };
+  }
+
+  // B alongside the first (alongside()): loaded once the first's decode is; an error is the
+  // first's, which the page shows.
+  follow(decoding) {
+    this.loading = decoding.then(() => this.loaded()).catch(() => {});
+  }
+
+  // B's mesh is whole: its Navigator (if not made yet) at B's linked level.
+  loaded() {
+    if (!this.mesh?.hasBase) throw new Error(`${this.name}: ends before the base mesh`);
     if (!(this.nav instanceof Navigator)) this.nav = new Navigator(this.mesh);
     this.onSplits();
   }
@@ -145,6 +190,10 @@ export class CompareView {
     this.why = hierarchyDifference(a, b, a.head.splitCount);
     this.option.disabled = this.why !== null;
     this.option.title = this.why ? `no difference fringe: ${this.why}` : '';
+    // Option(text, value): the field's name from FDEF is text.
+    if (this.why === null)
+      for (const [k, j] of commonFields(a, b))
+        this.fieldPairs.set(k, j), this.viewer.ui.colour.add(new Option(`${a.fields[k].name} A − B`, `${FIELD_DIFFERENCE}${k}`));
     return true;
   }
 
@@ -208,8 +257,9 @@ export class CompareView {
     const { state, ui } = this.viewer;
     const { colours, scratch, positions } = this.buffers;
     const mode = state.colour;
+    const difference = this.fieldDifference(mode, ui.aggregate.value);
     const fieldName = mode.startsWith('field:') ? state.mesh.fields[Number(mode.slice(6))].name : null;
-    const k = fieldName === null ? -1 : this.mesh.fields.findIndex((f) => f.name === fieldName);
+    const k = difference ? this.fieldPairs.get(Number(mode.slice(FIELD_DIFFERENCE.length))) : fieldName === null ? -1 : this.mesh.fields.findIndex((f) => f.name === fieldName);
     this.note = fieldName !== null && k < 0 ? `has no field ${fieldName}` : '';
     if (k < 0) this.fieldView?.hide();
     if (mode === 'part' || !state.fringe || (fieldName !== null && k < 0)) {
@@ -220,8 +270,9 @@ export class CompareView {
     } else if (k >= 0) {
       this.parts.hide();
       this.fieldView ??= new FieldView(this.scene, this.mesh, this.surface, this.markers[0].scale.x);
-      const options = { aggregate: ui.aggregate.value, range: 'all', min: state.fringe.lo, max: state.fringe.hi, bands: state.fringe.bands, scheme: ui.scheme.value, parts: this.parts };
-      this.surface.visible = this.fieldView.update(k, this.nav, this.step(), positions, options);
+      const options = { aggregate: ui.aggregate.value, range: 'all', min: state.fringe.lo, max: state.fringe.hi, bands: state.fringe.bands, scheme: ui.scheme.value, parts: this.parts, ...difference };
+      // A difference is at A's step (its B side clamped inside): the same object on both canvases.
+      this.surface.visible = this.fieldView.update(k, this.nav, difference ? state.t : this.step(), positions, options);
       fieldColoursAtVertices(this.fieldView, this.nav, colours);
     } else {
       this.parts.hide();
@@ -287,6 +338,14 @@ export class CompareView {
     return left;
   }
 
+  // The height the status line's strip takes below the canvases (CSS pixels; style.css:
+  // --compare-bottom): the line, one line high in compare, and its margins.
+  bottom(stats) {
+    const strip = stats.offsetHeight + 16;
+    document.body.style.setProperty('--compare-bottom', `${strip}px`);
+    return strip;
+  }
+
   resize(w, h) {
     this.renderer.setSize(w, h, false);
   }
@@ -313,6 +372,8 @@ export class CompareView {
       sameHierarchy: this.why === null,
       why: this.why,
       largest: this.peak() && { ...this.largest, positionA: this.markers[0].position.toArray(), positionB: this.markers[1].position.toArray() },
+      fieldDifferences: [...this.fieldPairs.keys()].map((k) => `${FIELD_DIFFERENCE}${k}`),
+      fieldPeak: this.fieldView?.shown instanceof FieldDifference ? { ...this.fieldView.peak, position: this.fieldView.marker.position.toArray() } : null,
       labels: this.labels.map((l) => l.textContent),
     };
   }

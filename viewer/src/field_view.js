@@ -52,18 +52,20 @@ export class FieldView {
   }
 
   // Field k at level nav.level and step round(t), with `options` {aggregate, range ('all' or
-  // 'step'), min, max (null: automatic), bands, scheme, parts (a PartView: its hidden parts)}. Returns whether the shared surface is
-  // the one to show (nodal).
+  // 'step'), min, max (null: automatic), bands, scheme, parts (a PartView: its hidden parts),
+  // shown (values to show instead of field k's own: a FieldDifference, with its own range and
+  // steps)}. Returns whether the shared surface is the one to show (nodal).
   update(k, nav, t, positions, options) {
     const { mesh } = this;
     const field = mesh.fields[k];
-    const step = Math.min(Math.max(Math.round(t), 0), mesh.head.stepCount - 1);
-    let s = this.shown;
+    const step = Math.min(Math.max(Math.round(t), 0), (options.shown?.stepCount ?? mesh.head.stepCount) - 1);
+    let s = options.shown ?? this.shown;
     const Shown = nav.ShownValues ?? ShownValues;  // a selective navigator's own (refine_view.js)
-    if (!s || s.field !== field || s.mean !== (options.aggregate === 'mean') || s.constructor !== Shown)
-      s = this.shown = new Shown(mesh, field, options.aggregate, nav);
+    if (!options.shown && (!s || s.field !== field || s.mean !== (options.aggregate === 'mean') || s.constructor !== Shown))
+      s = new Shown(mesh, field, options.aggregate, nav);
+    this.shown = s;
     if (s.step !== step || s.splits !== mesh.splitsLoaded || !s.setLevel(nav.level)) s.set(step, nav.level);
-    let [lo, hi] = options.range === 'step' ? [s.stepMin, s.stepMax] : [field.min, field.max];
+    let [lo, hi] = s.range ?? (options.range === 'step' ? [s.stepMin, s.stepMax] : [field.min, field.max]);
     if (options.min !== null) lo = options.min;
     if (options.max !== null) hi = options.max;
     const fringe = (this.fringe = new Fringe({ lo, hi, bands: options.bands, scheme: options.scheme }));

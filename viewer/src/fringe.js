@@ -1,5 +1,6 @@
 // Fringe colours and their legend (docs/viewer.md "Fields"): a value maps to a colour of a scheme
-// (viridis, or the rainbow blue → red of FE post-processors), either in N bands of equal width
+// (viridis, the rainbow blue → red of FE post-processors, or a diverging one for signed
+// differences), either in N bands of equal width
 // (each band one colour, as the legend shows it) or continuously. The legend is built from
 // elements and text nodes only: names and units come from the file.
 
@@ -18,6 +19,14 @@ export const SCHEMES = {
     [0, 1, 0],
     [1, 1, 0],
     [1, 0, 0],
+  ],
+  // Signed values about 0 (compare's field A − B): blue below, grey at 0, red above.
+  diverging: [
+    [0.23, 0.299, 0.754],
+    [0.552, 0.69, 0.996],
+    [0.866, 0.866, 0.866],
+    [0.956, 0.604, 0.486],
+    [0.706, 0.016, 0.15],
   ],
 };
 

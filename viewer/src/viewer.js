@@ -27,13 +27,14 @@ import { grownBox, Orientation, upAxisOf } from './orientation.js';
 import { Panel } from './panel.js';
 import { addPartsApi, PartList } from './part_list.js';
 import { PartView } from './part_view.js';
+import { drawLabels } from './labels.js';
 import { installRefine } from './refine_view.js';
 import { scrub } from './scrub.js';
 import { greySnapshot } from './snapshot.js';
 import { States } from './states.js';
 import { VariantList } from './variant_choice.js';
 import { decodeInWorker, decodeOnPage } from './worker_decoder.js';
-import { bytes, fmt, Fringe, fringeLegend, fringeOptions, int } from './fringe.js';
+import { Fringe, fringeLegend, fringeOptions, int } from './fringe.js';
 
 const $ = (id) => document.getElementById(id);
 const ui = {
@@ -143,7 +144,7 @@ function makeRoom(vertices, faces) {
 
 function resize() {
   const left = compare ? compare.left(panel) : 0;  // compare: half each of what the panel leaves
-  const w = (window.innerWidth - left) / (compare ? 2 : 1), h = window.innerHeight;
+  const w = (window.innerWidth - left) / (compare ? 2 : 1), h = window.innerHeight - (compare ? compare.bottom(ui.stats) : 0);
   renderer.setSize(w, h, false);
   compare?.resize(w, h);
   camera.aspect = w / h;
@@ -268,9 +269,10 @@ function partsChanged() {
   setColour(state.colour);
 }
 
-// The field shown ('field:k'), or −1.
+// The field shown ('field:k', or compare's A − B of it, 'fielddiff:k'), or −1.
 function fieldIndex() {
-  return state.colour.startsWith('field:') ? Number(state.colour.slice(6)) : -1;
+  const m = /^field(?:diff)?:(\d+)$/.exec(state.colour);
+  return m ? Number(m[1]) : -1;
 }
 
 // Displacement or a field, as colours of the visible vertices (or faces); then the legend.
@@ -283,7 +285,7 @@ function updateScalarColours() {
   if (k >= 0) {
     // Made on first use: its per-face buffers cost nothing to a model shown without fields.
     fieldView ??= new FieldView(scene, state.mesh, surface, fieldMarkerRadius);
-    smooth = fieldView.update(k, nav, state.t, positions, { ...options, parts });
+    smooth = fieldView.update(k, nav, state.t, positions, { ...options, parts, ...compare?.fieldDifference(state.colour, options.aggregate) });
     state.fringe = fieldView.fringe;
     fieldColoursAtVertices(fieldView, nav, colours);  // for the edges
   } else if (state.colour === DIFFERENCE) {
@@ -336,7 +338,7 @@ function drawLegend() {
   if (!state.fringe) return;
   const k = fieldIndex();
   const field = k >= 0 ? mesh.fields[k] : null;
-  const title = field ? `${field.name} (${field.perFace ? 'element' : 'node'}, step ${fieldView.shown.step})` : state.colour === DIFFERENCE ? 'difference |p_A(t) − p_B(t)|' : 'displacement';
+  const title = field ? `${field.name}${state.colour.startsWith('fielddiff:') ? ' A − B' : ''} (${field.perFace ? 'element' : 'node'}, step ${fieldView.shown.step})` : state.colour === DIFFERENCE ? 'difference |p_A(t) − p_B(t)|' : 'displacement';
   const peak = field ? fieldView.peak : compare?.peak();
   ui.legend.replaceChildren(...fringeLegend(state.fringe, { title, unit: field?.unit ?? '', peak }));
   Object.assign(ui.legend.dataset, { bands: String(state.fringe.bands), min: String(state.fringe.lo), max: String(state.fringe.hi) });
@@ -361,35 +363,10 @@ function setColour(mode) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Labels
+// Labels (labels.js): the time and resolution labels and the status line
 
 function updateLabels() {
-  const { mesh, nav, t } = state;
-  const h = mesh.head;
-  const step = Math.round(t * 100) / 100;
-  const t0 = Math.floor(t), t1 = Math.min(t0 + 1, h.stepCount - 1);
-  const time = h.times[t0] + (h.times[t1] - h.times[t0]) * (t - t0);
-  ui.timeLabel.textContent = `step ${step.toFixed(2)} / ${h.stepCount - 1}, time ${fmt(time)}`;
-  const diag = Math.hypot(...h.bboxMax.map((x, c) => x - h.bboxMin[c]));
-  const n = nav.activeVertexCount ?? nav.vertexCount;  // a selective navigator's prefix has gaps
-  ui.resolutionLabel.textContent = refine.active ? refine.describe() :
-    `${int(n)} of ${int(h.vertexCount)} vertices (${((100 * n) / h.vertexCount).toFixed(1)}%), ` +
-    `error ${fmt(nav.error)} model units (${fmt((100 * nav.error) / diag, 3)}% of the box diagonal): ` +
-    `how far this level's surface may lie from the full mesh's, at any step` +
-    // A model with fields is built with them in the cost by default (docs/simplify.md): its
-    // stated error is the geometric one raised by the spread of the values a vertex stands for.
-    (mesh.fields.length ? ', raised where the level merges different result values' : '') +
-    (fieldIndex() >= 0 ? `, field error ${fmt(100 * nav.fieldError(fieldIndex()), 3)}% of its range` : '') +
-    (mesh.splitsLoaded < h.splitCount ? `, ${int(mesh.vertexCountLoaded)} loaded` : '');
-  const loaded = state.totalBytes
-    ? `${bytes(state.bytesLoaded)} / ${bytes(state.totalBytes)}`
-    : bytes(state.bytesLoaded);
-  ui.stats.textContent =
-    `vertices ${int(n)} · triangles ${int(nav.triangleCount)} · quads ${int(nav.quadCount)} · ` +
-    (h.stepCount > 1 ? `step ${step.toFixed(2)} · time ${fmt(time)} · ` : '') +  // a mesh has no time
-    `error ${fmt(nav.error)} · ` +
-    `loaded ${loaded}${state.loading ? ' …' : ''}`;
-  ui.stats.dataset.faces = String(nav.faceCount);
+  drawLabels(state, ui, refine, fieldIndex());
 }
 
 function showError(e) {
@@ -475,14 +452,19 @@ async function load() {
   };
   // The decode runs in a worker (worker_decoder.js); ?worker=0 keeps it here, for comparison.
   state.worker = params.get('worker') !== '0';
-  compare && (compare.loading = compare.load(state.worker).catch(showError));  // its own worker
+  const url = new URL(file, location.href).href;
+  const alongside = compare?.url === url;  // two members of this file: one fetch, one decode
+  if (compare && !alongside) compare.loading = compare.load(state.worker).catch(showError);  // its own worker
   const onStart = (total, shared = false, rangeRequests = false) => Object.assign(state, { totalBytes: total, sharedMemory: shared, rangeRequests });
-  const decode = variants.callbacks({ url: new URL(file, location.href).href, name: state.name, onHead, onBase, onSplits, onStart, onProgress, onNavigator });
+  let decode = variants.callbacks({ url, name: state.name, onHead, onBase, onSplits, onStart, onProgress, onNavigator });
+  if (alongside) decode = compare.alongside(decode);
   const onFirstBytes = (at) => (timing.firstByte = at);
   // Fetched by ranges up to ?vertices=N (model_file.js); the slider asks for more.
   const onDependencies = (deps) => refine.dependenciesReady(deps);
   const worker = { ...decode, onDependencies, onFirstBytes, vertices: wantedVertices(params), control: state.decoder, onPaused: () => ((state.loading = false), state.nav && updateLabels()) };
-  const decoder = await (state.worker ? decodeInWorker(worker) : decodeOnPage(decode));
+  const decoding = state.worker ? decodeInWorker(worker) : decodeOnPage(decode);
+  if (alongside) compare.follow(decoding);
+  const decoder = await decoding;
   if (!decoder.mesh?.hasBase) throw new Error(`${state.name}: ends before the base mesh`);
   if (!decoder.complete) showError(`${state.name}: the file ends early (no END chunk): showing the ${int(decoder.mesh.vertexCountLoaded)} vertices it holds`);
   state.ranges.clear();

@@ -4,7 +4,8 @@
 // members whose motion is the sample's scaled by 0.5, 1, 1.5 and 2 (docs/family.md) — lists the
 // 20; two selected in the page open side by side with the difference fringe, whose largest
 // value and its vertex are the ones `dynpm extract` of both gives at a level and a step: two
-// separate files, then two members of the family (`extract --variant`), exact per vertex.
+// separate files, then two members of the family (`extract --variant`), exact per vertex, the
+// family file fetched and decoded once for both.
 // Screenshots: DYNPM_TEST_OUT/catalogue-compare/*.png.
 //
 // Environment (CTest): DYNPM_CLI, DYNPM_TEST_OUT, DYNPM_SAMPLE_DIR (the sample's frame_*.obj).
@@ -67,8 +68,16 @@ after(async () => {
   server?.kill('SIGTERM');
 });
 
+// The decode workers the pages start and the requests of each file ({range} per request).
+const workers = [];
+const requests = new Map();
 async function catalogue() {
   const page = await browser.newPage({ viewport: { width: 1280, height: 860 } });
+  page.on('worker', (w) => workers.push(w.url()));
+  page.on('request', (r) => {
+    const path = new URL(r.url()).pathname;
+    requests.set(path, [...(requests.get(path) ?? []), r.headers().range ?? null]);
+  });
   page.on('console', (m) => m.type() === 'error' && !/404/.test(m.text()) && errors.push(m.text()));
   page.on('pageerror', (e) => errors.push(String(e)));
   await page.goto(url);
@@ -141,14 +150,23 @@ test('dynpm serve lists 20 variants; two selected open side by side with the dif
 test('two members of one family file open side by side: one file, two variants, the fringe exact per vertex', async () => {
   const page = await catalogue();
   const member = (v) => `article[data-path="family.dpm"] li[data-variant="${v}"] .select`;
+  workers.length = 0;
+  requests.clear();
   const query = await compareTwo(page, [member('scale050'), member('scale200')]);
+  // One file: fetched once (its ranges cover it once, none twice) and decoded by one worker.
+  const file = join(dir, 'family.dpm');
+  const ranges = (requests.get('/files/family.dpm') ?? []).map((r) => r?.match(/^bytes=(\d+)-(\d+)$/)?.slice(1).map(Number));
+  assert.ok(ranges.length > 0 && ranges.every(Boolean), `family.dpm's requests: ${requests.get('/files/family.dpm')}`);
+  ranges.sort((x, y) => x[0] - y[0]);
+  ranges.forEach(([first], k) => assert.ok(k === 0 ? first === 0 : first === ranges[k - 1][1] + 1, `ranges ${JSON.stringify(ranges)}`));
+  assert.equal(ranges.at(-1)[1] + 1, readFileSync(file).length);
+  assert.equal(workers.filter((u) => u.endsWith('/decode_worker.js')).length, 1, `workers: ${workers}`);
   assert.deepEqual(Object.fromEntries(query), { model: '/files/family.dpm', variant: 'scale050', compare: '/files/family.dpm', compareVariant: 'scale200' });
   const c = await page.evaluate(() => window.dpmViewer.compare());
   assert.ok(c.sameHierarchy, c.why);
   assert.equal(c.variant, 'scale200');
   assert.match(c.labels[0], /^A: family\.dpm \[scale050\] — /);
   assert.match(c.labels[1], /^B: family\.dpm \[scale200\] — /);
-  const file = join(dir, 'family.dpm');
   const { mesh } = readDpm(new Uint8Array(readFileSync(file)), file);
   const largest = await checkFringe(page, {
     a: { file, extra: ['--variant', 'scale050'] }, b: { file, extra: ['--variant', 'scale200'] },
