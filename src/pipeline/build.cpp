@@ -50,6 +50,15 @@ class CollapseLog final : public CollapseListener {
     return {moved_faces_.data() + entries[i].moved_begin, end - entries[i].moved_begin};
   }
 
+  size_t wing_total() const { return wings_.size(); }
+  size_t moved_total() const { return moved_faces_.size(); }
+  // Its memory back, once the splits are made from it.
+  void release() {
+    std::vector<Entry>().swap(entries);
+    std::vector<SplitWing>().swap(wings_);
+    std::vector<uint32_t>().swap(moved_faces_);
+  }
+
   std::vector<Entry> entries;
 
  private:
@@ -153,6 +162,10 @@ Result<Recorded> record(const Topology& topology, const FrameSource& frames,
 
   pm.parent.reserve(splits);
   pm.error.reserve(splits);
+  pm.wings.reserve(log.wing_total());
+  pm.wing_start.reserve(size_t{splits} + 1);
+  pm.moved_faces.reserve(log.moved_total());
+  pm.moved_start.reserve(size_t{splits} + 1);
   for (uint32_t i = 0; i < splits; ++i) {
     const size_t j = splits - 1 - i;
     pm.parent.push_back(new_vertex[log.entries[j].v1]);
@@ -163,6 +176,7 @@ Result<Recorded> record(const Topology& topology, const FrameSource& frames,
     for (uint32_t f : log.moved_faces(j)) pm.moved_faces.push_back(new_face[f]);
     pm.moved_start.push_back(static_cast<uint32_t>(pm.moved_faces.size()));
   }
+  log.release();  // before the attributes, the box and the reordering take their memory
 
   // Attributes in the progressive numbering.
   pm.full_vertex_count = n;
@@ -204,6 +218,7 @@ Result<Recorded> record(const Topology& topology, const FrameSource& frames,
   auto absolute = [scale](double e) { return static_cast<float>(e * scale); };
   pm.base_error = absolute(prefix_max[splits]);
   for (uint32_t i = 0; i < splits; ++i) pm.error[i] = absolute(prefix_max[splits - 1 - i]);
+  std::vector<double>().swap(prefix_max);
   pm.key_steps = simplified->key_steps;
   pm.lossless = options.lossless;
   pm.max_error = options.lossless ? 0.0 : options.max_position_error * pm.diagonal();
@@ -263,9 +278,11 @@ Result<BuiltFile> build_dpm(const Topology& topology, const FrameSource& frames,
                             const BuildOptions& options) {
   auto recorded = record(topology, frames, options);
   if (!recorded) return recorded.status();
+  std::vector<uint32_t>().swap(recorded->new_face);  // the steps need only new_vertex
   if (options.progress) options.progress("coding the splits", 0, 1);  // ends at the next phase
   auto encoder = DpmStepEncoder::start(recorded->pm, options.simplify.threads);
   if (!encoder) return encoder.status();
+  DpmStepEncoder::release_coded(recorded->pm);  // the records are coded: room for the steps
   DYNPM_RETURN_IF_ERROR(for_each_progressive_step(
       frames, *recorded, options, "encoding positions",
       [&](size_t, std::span<const float> xyz) { encoder->add_step(xyz); }));

@@ -216,7 +216,7 @@ std::span<const float> KeyStepQuadrics::merge(uint32_t v0, uint32_t v1,
 
 void KeyStepQuadrics::drop_removed(const CollapseMesh& mesh) {
   const size_t rows = quadrics_.size() / std::max<size_t>(key_count_, 1);
-  if (size_t{mesh.live_vertices()} * 4 > rows * 3 || rows < 64) return;
+  if (size_t{mesh.live_vertices()} * 16 > rows * 15 || rows < 64) return;
   const uint32_t n = mesh.vertex_count();
   if (row_.empty()) {
     row_.resize(n);

@@ -70,7 +70,7 @@ std::vector<uint8_t> constrained_edges(const Topology& input, const Adjacency& a
 
 // Positions and quadrics of every vertex in every key step, vertex-major (one vertex's steps
 // together: rating an edge reads two short runs of memory): a row per vertex. Rows of removed
-// vertices are never read again; once a quarter of the rows are such, drop_removed() moves the
+// vertices are never read again; once a sixteenth of the rows are such, drop_removed() moves the
 // live rows to the front (in vertex order) and gives the rest back to the system, and a vertex
 // finds its row through row_ from then on. The collapse log grows while the rows shrink.
 class KeyStepQuadrics {
@@ -106,7 +106,7 @@ class KeyStepQuadrics {
       __builtin_prefetch(&positions_[row(v) * key_count_ * 3]);
     }
   }
-  // After a collapse: when a quarter of the rows belong to vertices `mesh` has removed, the
+  // After a collapse: when a sixteenth of the rows belong to vertices `mesh` has removed, the
   // live rows move to the front and the memory of the others is released.
   void drop_removed(const CollapseMesh& mesh);
 
