@@ -68,10 +68,8 @@ Result<ProgressiveMesh> build_progressive_mesh(const Topology& topology, const F
 // build_progressive_mesh() and encode_dpm() in one, the steps' positions coded as they are read
 // instead of held: the same bytes, in the memory of a few steps (build_memory_estimate()).
 struct BuiltFile {
-  // What a report of the build needs: all but the positions (empty) and, without fields, the
-  // split records and the split vertices' and faces' attributes (DpmStepEncoder::release_coded).
-  ProgressiveMesh mesh;
-  std::string bytes;  // the .dpm file
+  ProgressiveMesh mesh;  // all but the positions (empty): what a report of the build needs
+  std::string bytes;     // the .dpm file
 };
 Result<BuiltFile> build_dpm(const Topology& topology, const FrameSource& frames,
                             const BuildOptions& options);

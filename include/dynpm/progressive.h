@@ -202,10 +202,6 @@ class DpmStepEncoder {
  public:
   // The records' chunks, coded before the first step; an error as encode_dpm()'s.
   static Result<DpmStepEncoder> start(const ProgressiveMesh& mesh, unsigned threads = 0);
-  // After start(), what finish() will not read again, freed from the encoder's mesh: without
-  // fields, the split records and the attributes of the split vertices and of the faces the
-  // splits make (the split count stays: `parent` is kept). 76 B per split for the steps.
-  static void release_coded(ProgressiveMesh& mesh);
   // The next step's positions (steps 0, 1, … in order): every vertex, in the progressive
   // numbering, on the grid (as quantize_positions() leaves them).
   void add_step(std::span<const float> xyz);

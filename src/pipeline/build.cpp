@@ -6,6 +6,7 @@
 #include <functional>
 #include <numeric>
 #include <span>
+#include <type_traits>
 
 #include "build_fields.h"
 #include "dynpm/pipeline.h"
@@ -259,6 +260,26 @@ Status for_each_progressive_step(const FrameSource& frames, const Recorded& r,
       });
 }
 
+// After DpmStepEncoder::start() has coded the records: what finish() will not read again
+// (it reads the header's values, the base's attributes and faces, and, for the fields' chunks,
+// the records and every attribute), so that the steps have its room (76 B per split). Without
+// fields: the split records and the attributes of the split vertices and of the faces the
+// splits make; `parent` stays (the split count). BuiltFile::mesh is the report's.
+void release_coded_records(ProgressiveMesh& mesh) {
+  if (!mesh.fields.empty()) return;
+  const auto keep = [](auto& values, size_t count) {
+    count = std::min(count, values.size());
+    std::remove_reference_t<decltype(values)>(values.begin(), values.begin() + count).swap(values);
+  };
+  keep(mesh.wings, 0), keep(mesh.moved_faces, 0);
+  keep(mesh.wing_start, 1), keep(mesh.moved_start, 1);
+  keep(mesh.vertex_original_index, mesh.base_vertex_count);
+  keep(mesh.node_ids, mesh.base_vertex_count);
+  keep(mesh.face_original_index, mesh.base_face_count);
+  keep(mesh.part_ids, mesh.base_face_count);
+  keep(mesh.element_ids, mesh.base_face_count);
+}
+
 }  // namespace
 
 Result<ProgressiveMesh> build_progressive_mesh(const Topology& topology, const FrameSource& frames,
@@ -282,7 +303,7 @@ Result<BuiltFile> build_dpm(const Topology& topology, const FrameSource& frames,
   if (options.progress) options.progress("coding the splits", 0, 1);  // ends at the next phase
   auto encoder = DpmStepEncoder::start(recorded->pm, options.simplify.threads);
   if (!encoder) return encoder.status();
-  DpmStepEncoder::release_coded(recorded->pm);  // the records are coded: room for the steps
+  release_coded_records(recorded->pm);  // the records are coded: room for the steps
   DYNPM_RETURN_IF_ERROR(for_each_progressive_step(
       frames, *recorded, options, "encoding positions",
       [&](size_t, std::span<const float> xyz) { encoder->add_step(xyz); }));

@@ -204,21 +204,6 @@ Result<DpmStepEncoder> DpmStepEncoder::start(const ProgressiveMesh& mesh, unsign
   return DpmStepEncoder(std::move(state));
 }
 
-void DpmStepEncoder::release_coded(ProgressiveMesh& mesh) {
-  if (!mesh.fields.empty()) return;  // field_values() reads the records and every attribute
-  const auto keep = [](auto& values, size_t count) {
-    count = std::min(count, values.size());
-    std::remove_reference_t<decltype(values)>(values.begin(), values.begin() + count).swap(values);
-  };
-  keep(mesh.wings, 0), keep(mesh.moved_faces, 0);
-  keep(mesh.wing_start, 1), keep(mesh.moved_start, 1);
-  keep(mesh.vertex_original_index, mesh.base_vertex_count);
-  keep(mesh.node_ids, mesh.base_vertex_count);
-  keep(mesh.face_original_index, mesh.base_face_count);
-  keep(mesh.part_ids, mesh.base_face_count);
-  keep(mesh.element_ids, mesh.base_face_count);
-}
-
 void DpmStepEncoder::add_step(std::span<const float> xyz) {
   State& s = *state_;
   assert(s.steps_given < s.mesh.step_count() && xyz.size() == size_t{s.mesh.vertex_count()} * 3);

@@ -77,20 +77,20 @@ void CollapseMesh::reserve_list(uint32_t v, uint32_t size) {
 // old one was the simplifier's peak. The pool grows only when the lists and `extra` need more
 // than it holds, to a quarter more.
 void CollapseMesh::compact_pool(uint32_t extra) {
-  std::vector<uint32_t> live;
+  std::vector<uint64_t> live;  // start << 32 | vertex: sorted by start as plain integers
   size_t needed = extra;
   for (uint32_t v = 0; v < vertex_count(); ++v) {
     if (list_size_[v] == 0) {
       list_start_[v] = list_capacity_[v] = 0;
       continue;
     }
-    live.push_back(v);
+    live.push_back(uint64_t{list_start_[v]} << 32 | v);
     needed += list_capacity_[v];
   }
-  std::sort(live.begin(), live.end(),
-            [&](uint32_t a, uint32_t b) { return list_start_[a] < list_start_[b]; });
+  std::sort(live.begin(), live.end());
   uint32_t end = 0;
-  for (uint32_t v : live) {  // end ≤ list_start_[v]: each list moves down or stays
+  for (uint64_t key : live) {  // end ≤ list_start_[v]: each list moves down or stays
+    const auto v = static_cast<uint32_t>(key);
     std::copy_n(pool_.begin() + list_start_[v], list_size_[v], pool_.begin() + end);
     list_start_[v] = end;
     end += list_capacity_[v];
