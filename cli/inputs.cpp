@@ -18,9 +18,11 @@ namespace {
 // lists them instead.
 class FinitePositions final : public FrameSource {
  public:
+  // node_ids: the stream's own (moving the stream moves the vector, not its array), not a copy
+  // of 8 B per vertex that would only serve a message.
   FinitePositions(std::unique_ptr<FrameSource> source, std::vector<std::string> paths,
-                  std::vector<int64_t> node_ids)
-      : source_(std::move(source)), paths_(std::move(paths)), node_ids_(std::move(node_ids)) {}
+                  std::span<const int64_t> node_ids)
+      : source_(std::move(source)), paths_(std::move(paths)), node_ids_(node_ids) {}
   uint32_t vertex_count() const override { return source_->vertex_count(); }
   size_t step_count() const override { return source_->step_count(); }
   double step_time(size_t t) const override { return source_->step_time(t); }
@@ -50,7 +52,7 @@ class FinitePositions final : public FrameSource {
  private:
   std::unique_ptr<FrameSource> source_;
   std::vector<std::string> paths_;
-  std::vector<int64_t> node_ids_;
+  std::span<const int64_t> node_ids_;
 };
 
 // The first error validate() finds in the faces, named by the file they came from (the first

@@ -269,6 +269,65 @@ TEST(ExodusTest, MeshioWrittenFileRoundTrips) {
   EXPECT_EQ(r.stream->frames->field_names(), std::vector<std::string>{"temperature"});
 }
 
+// Steps and nodal fields are read a slab of 65,536 nodes at a time (issue 20): a grid of 75,250
+// nodes (three slabs) whose last column no face uses, so that the kept vertices skip a node in
+// every row and slab boundaries fall between them; every vertex gets its own node's values.
+TEST(ExodusTest, StepsReadInSlabsGiveEveryVertexItsNode) {
+  const std::string python = test::python_with("numpy, netCDF4");
+  DYNPM_REQUIRE_PYTHON(python, "python3-netcdf4");
+  test::TempDir dir;
+  const std::string script = dir.file("write.py"), out = dir.file("slabs.e");
+  constexpr int kWidth = 301, kRows = 250;  // column 300 is in no face
+  std::ofstream(script) <<                  // a classic file: the slabs are for uncompressed files
+      "import sys, netCDF4, numpy as np\n"
+      "w, rows = 301, 250\n"
+      "n = w * rows\n"
+      "i = np.arange(n)\n"
+      "q = np.array([[y * w + x, y * w + x + 1, (y + 1) * w + x + 1, (y + 1) * w + x]\n"
+      "              for y in range(rows - 1) for x in range(w - 2)]) + 1\n"
+      "names = ['DISPL_X', 'DISPL_Y', 'DISPL_Z', 'temperature']\n"
+      "f = i.astype(float)\n"
+      "values = [1e-3 * f, -5e-4 * f, np.ones(n), f]\n"
+      "nc = netCDF4.Dataset(sys.argv[1], 'w', format='NETCDF3_64BIT_OFFSET')\n"
+      "dims = [('len_name', 33), ('time_step', None), ('num_dim', 3), ('num_nodes', n),\n"
+      "        ('num_elem', len(q)), ('num_el_blk', 1), ('num_el_in_blk1', len(q)),\n"
+      "        ('num_nod_per_el1', 4), ('num_nod_var', len(names))]\n"
+      "for name, size in dims:\n"
+      "    nc.createDimension(name, size)\n"
+      "for axis, column in zip('xyz', [i % w, i // w, np.zeros(n)]):\n"
+      "    nc.createVariable('coord' + axis, 'f8', ('num_nodes',))[:] = column\n"
+      "nc.createVariable('eb_prop1', 'i4', ('num_el_blk',))[:] = [1]\n"
+      "connect = nc.createVariable('connect1', 'i4', ('num_el_in_blk1', 'num_nod_per_el1'))\n"
+      "connect.elem_type = 'SHELL4'\n"
+      "connect[:] = q\n"
+      "nc.createVariable('time_whole', 'f8', ('time_step',))[:] = [0.0]\n"
+      "text = nc.createVariable('name_nod_var', 'S1', ('num_nod_var', 'len_name'))\n"
+      "text[:] = netCDF4.stringtochar(np.array(names, dtype='S33'))\n"
+      "for k, v in enumerate(values):\n"
+      "    name = 'vals_nod_var%d' % (k + 1)\n"
+      "    nc.createVariable(name, 'f8', ('time_step', 'num_nodes'))[0, :] = v\n"
+      "nc.close()\n";
+  const auto run = test::run_command(python + " " + script + " " + out);
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+
+  Opened r = open(out);
+  ASSERT_TRUE(r.stream.ok()) << r.stream.message();
+  const Topology& top = r.stream->topology;
+  ASSERT_EQ(top.vertex_count, uint32_t{(kWidth - 1) * kRows});
+  const auto xyz = step(*r.stream, 0);
+  ASSERT_EQ(r.stream->frames->field_names(), std::vector<std::string>{"temperature"});
+  const auto temperature = field(*r.stream, 0, 0);
+  ASSERT_EQ(temperature.size(), top.vertex_count);
+  for (uint32_t v = 0; v < top.vertex_count; ++v) {
+    const int64_t node = top.node_ids[v] - 1;
+    ASSERT_NE(node % kWidth, kWidth - 1) << v;  // the unused column is dropped
+    ASSERT_NEAR(xyz[3 * v], double(node % kWidth) + 1e-3 * double(node), 1e-3) << v;
+    ASSERT_NEAR(xyz[3 * v + 1], double(node / kWidth) - 5e-4 * double(node), 1e-3) << v;
+    ASSERT_NEAR(xyz[3 * v + 2], 1.0, 1e-6) << v;
+    ASSERT_EQ(temperature[v], float(node)) << v;
+  }
+}
+
 // Issue 16: single-word corruptions of this netCDF-4 file made libhdf5 SIGSEGV inside nc_open
 // (fuzz/exodus_word_flips.py: 171 of 1,020 between bytes 7,780 and 11,860). HDF5 files are read
 // in a child process: dynpm must exit 1 with "damaged HDF5 file" naming the file, never crash.

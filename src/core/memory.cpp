@@ -1,4 +1,6 @@
+#include <sys/mman.h>
 #include <sys/resource.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -7,6 +9,7 @@
 #include <string>
 
 #include "dynpm/core.h"
+#include "pages.h"
 
 #if defined(__GLIBC__)
 #include <malloc.h>
@@ -66,6 +69,17 @@ void return_freed_arrays_to_the_system() {
 #if defined(__GLIBC__)
   // Setting the threshold also turns off glibc's moving of it (mallopt(3)).
   mallopt(M_MMAP_THRESHOLD, 1 << 20);
+#endif
+}
+
+void release_pages(const void* begin, const void* end) {
+#if defined(__linux__)
+  static const uintptr_t page = static_cast<uintptr_t>(sysconf(_SC_PAGESIZE));
+  const uintptr_t first = (reinterpret_cast<uintptr_t>(begin) + page - 1) / page * page;
+  const uintptr_t last = reinterpret_cast<uintptr_t>(end) / page * page;
+  if (first < last) madvise(reinterpret_cast<void*>(first), last - first, MADV_DONTNEED);
+#else
+  (void)begin, (void)end;
 #endif
 }
 

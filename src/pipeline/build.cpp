@@ -6,6 +6,7 @@
 #include <functional>
 #include <numeric>
 #include <span>
+#include <type_traits>
 
 #include "build_fields.h"
 #include "dynpm/pipeline.h"
@@ -48,6 +49,15 @@ class CollapseLog final : public CollapseListener {
   std::span<const uint32_t> moved_faces(size_t i) const {
     const size_t end = i + 1 < entries.size() ? entries[i + 1].moved_begin : moved_faces_.size();
     return {moved_faces_.data() + entries[i].moved_begin, end - entries[i].moved_begin};
+  }
+
+  size_t wing_total() const { return wings_.size(); }
+  size_t moved_total() const { return moved_faces_.size(); }
+  // Its memory back, once the splits are made from it.
+  void release() {
+    std::vector<Entry>().swap(entries);
+    std::vector<SplitWing>().swap(wings_);
+    std::vector<uint32_t>().swap(moved_faces_);
   }
 
   std::vector<Entry> entries;
@@ -153,6 +163,10 @@ Result<Recorded> record(const Topology& topology, const FrameSource& frames,
 
   pm.parent.reserve(splits);
   pm.error.reserve(splits);
+  pm.wings.reserve(log.wing_total());
+  pm.wing_start.reserve(size_t{splits} + 1);
+  pm.moved_faces.reserve(log.moved_total());
+  pm.moved_start.reserve(size_t{splits} + 1);
   for (uint32_t i = 0; i < splits; ++i) {
     const size_t j = splits - 1 - i;
     pm.parent.push_back(new_vertex[log.entries[j].v1]);
@@ -163,6 +177,7 @@ Result<Recorded> record(const Topology& topology, const FrameSource& frames,
     for (uint32_t f : log.moved_faces(j)) pm.moved_faces.push_back(new_face[f]);
     pm.moved_start.push_back(static_cast<uint32_t>(pm.moved_faces.size()));
   }
+  log.release();  // before the attributes, the box and the reordering take their memory
 
   // Attributes in the progressive numbering.
   pm.full_vertex_count = n;
@@ -204,6 +219,7 @@ Result<Recorded> record(const Topology& topology, const FrameSource& frames,
   auto absolute = [scale](double e) { return static_cast<float>(e * scale); };
   pm.base_error = absolute(prefix_max[splits]);
   for (uint32_t i = 0; i < splits; ++i) pm.error[i] = absolute(prefix_max[splits - 1 - i]);
+  std::vector<double>().swap(prefix_max);
   pm.key_steps = simplified->key_steps;
   pm.lossless = options.lossless;
   pm.max_error = options.lossless ? 0.0 : options.max_position_error * pm.diagonal();
@@ -244,6 +260,26 @@ Status for_each_progressive_step(const FrameSource& frames, const Recorded& r,
       });
 }
 
+// After DpmStepEncoder::start() has coded the records: what finish() will not read again
+// (it reads the header's values, the base's attributes and faces, and, for the fields' chunks,
+// the records and every attribute), so that the steps have its room (76 B per split). Without
+// fields: the split records and the attributes of the split vertices and of the faces the
+// splits make; `parent` stays (the split count). BuiltFile::mesh is the report's.
+void release_coded_records(ProgressiveMesh& mesh) {
+  if (!mesh.fields.empty()) return;
+  const auto keep = [](auto& values, size_t count) {
+    count = std::min(count, values.size());
+    std::remove_reference_t<decltype(values)>(values.begin(), values.begin() + count).swap(values);
+  };
+  keep(mesh.wings, 0), keep(mesh.moved_faces, 0);
+  keep(mesh.wing_start, 1), keep(mesh.moved_start, 1);
+  keep(mesh.vertex_original_index, mesh.base_vertex_count);
+  keep(mesh.node_ids, mesh.base_vertex_count);
+  keep(mesh.face_original_index, mesh.base_face_count);
+  keep(mesh.part_ids, mesh.base_face_count);
+  keep(mesh.element_ids, mesh.base_face_count);
+}
+
 }  // namespace
 
 Result<ProgressiveMesh> build_progressive_mesh(const Topology& topology, const FrameSource& frames,
@@ -263,9 +299,11 @@ Result<BuiltFile> build_dpm(const Topology& topology, const FrameSource& frames,
                             const BuildOptions& options) {
   auto recorded = record(topology, frames, options);
   if (!recorded) return recorded.status();
+  std::vector<uint32_t>().swap(recorded->new_face);  // the steps need only new_vertex
   if (options.progress) options.progress("coding the splits", 0, 1);  // ends at the next phase
   auto encoder = DpmStepEncoder::start(recorded->pm, options.simplify.threads);
   if (!encoder) return encoder.status();
+  release_coded_records(recorded->pm);  // the records are coded: room for the steps
   DYNPM_RETURN_IF_ERROR(for_each_progressive_step(
       frames, *recorded, options, "encoding positions",
       [&](size_t, std::span<const float> xyz) { encoder->add_step(xyz); }));

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "core/pages.h"
+
 namespace dynpm::simplification {
 
 CollapseMesh::CollapseMesh(const Topology& topology) : faces_(topology.faces) {
@@ -18,6 +20,7 @@ CollapseMesh::CollapseMesh(const Topology& topology) : faces_(topology.faces) {
     list_capacity_[v] += 2;  // room to grow before a list must move
     total += list_capacity_[v];
   }
+  pool_.reserve(total + total / 4);  // room for lists that grow: compact_pool() keeps it
   pool_.resize(total);
   for (uint32_t f = 0; f < faces_.size(); ++f)
     for (uint32_t c : faces_[f].v)
@@ -67,28 +70,36 @@ void CollapseMesh::reserve_list(uint32_t v, uint32_t size) {
   list_capacity_[v] = capacity;
 }
 
-// The pool is full. Growing it would keep every block that moved lists abandoned, and double
-// it: instead the live vertices' lists (with their room to grow, in their order: the quadrics
-// sum faces in list order) go to a fresh pool with a quarter more room than they and `extra`
-// need; removed vertices give theirs up.
+// The pool is full. Growing it would keep every block that moved lists abandoned: instead the
+// live vertices' lists (with their room to grow, each in its order: the quadrics sum faces in
+// list order) move to the front of the pool in the order they lie there, removed vertices give
+// theirs up, and the pages past them go back to the system. In place: a fresh pool beside the
+// old one was the simplifier's peak. The pool grows only when the lists and `extra` need more
+// than it holds, to a quarter more.
 void CollapseMesh::compact_pool(uint32_t extra) {
+  std::vector<uint64_t> live;  // start << 32 | vertex: sorted by start as plain integers
   size_t needed = extra;
-  for (uint32_t v = 0; v < vertex_count(); ++v)
-    if (list_size_[v] > 0) needed += list_capacity_[v];
-  std::vector<uint32_t> fresh;
-  fresh.reserve(needed + needed / 4);
   for (uint32_t v = 0; v < vertex_count(); ++v) {
     if (list_size_[v] == 0) {
       list_start_[v] = list_capacity_[v] = 0;
       continue;
     }
-    const uint32_t start = static_cast<uint32_t>(fresh.size());
-    fresh.insert(fresh.end(), pool_.begin() + list_start_[v],
-                 pool_.begin() + list_start_[v] + list_size_[v]);
-    fresh.resize(size_t{start} + list_capacity_[v]);
-    list_start_[v] = start;
+    live.push_back(uint64_t{list_start_[v]} << 32 | v);
+    needed += list_capacity_[v];
   }
-  pool_.swap(fresh);
+  std::sort(live.begin(), live.end());
+  uint32_t end = 0;
+  for (uint64_t key : live) {  // end ≤ list_start_[v]: each list moves down or stays
+    const auto v = static_cast<uint32_t>(key);
+    std::copy_n(pool_.begin() + list_start_[v], list_size_[v], pool_.begin() + end);
+    list_start_[v] = end;
+    end += list_capacity_[v];
+  }
+  pool_.resize(end);
+  if (needed + needed / 4 > pool_.capacity())
+    pool_.reserve(needed + needed / 4);
+  else
+    release_unused_capacity(pool_);
 }
 
 void CollapseMesh::collapse(uint32_t v0, uint32_t v1, CollapseRecord& record,

@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <optional>
 #include <string>
 
+#include "core/pages.h"
 #include "core/parallel.h"
 
 namespace dynpm::simplification {
@@ -210,6 +212,34 @@ std::span<const float> KeyStepQuadrics::merge(uint32_t v0, uint32_t v1,
   }
   fields_.merge(v0, v1, offsets_, moves_);
   return {position_data(v1, 0), key_count_ * 3};
+}
+
+void KeyStepQuadrics::drop_removed(const CollapseMesh& mesh) {
+  const size_t rows = quadrics_.size() / std::max<size_t>(key_count_, 1);
+  if (size_t{mesh.live_vertices()} * 16 > rows * 15 || rows < 64) return;
+  const uint32_t n = mesh.vertex_count();
+  if (row_.empty()) {
+    row_.resize(n);
+    std::iota(row_.begin(), row_.end(), uint32_t{0});
+  }
+  const size_t q = key_count_, p = key_count_ * 3;
+  uint32_t next = 0;
+  for (uint32_t v = 0; v < n; ++v) {
+    if (!mesh.vertex_alive(v)) {
+      row_[v] = kNoVertex;
+      continue;
+    }
+    const uint32_t from = row_[v];  // ≥ next: rows keep the vertex order
+    if (from != next) {
+      std::copy_n(&quadrics_[from * q], q, &quadrics_[next * q]);
+      std::copy_n(&positions_[from * p], p, &positions_[next * p]);
+    }
+    row_[v] = next++;
+  }
+  quadrics_.resize(next * q);
+  positions_.resize(next * p);
+  release_unused_capacity(quadrics_);
+  release_unused_capacity(positions_);
 }
 
 std::vector<float> KeyStepQuadrics::positions_of(std::span<const uint32_t> vertices,

@@ -69,7 +69,10 @@ std::vector<uint8_t> constrained_edges(const Topology& input, const Adjacency& a
                                        const FeatureEdges& features);
 
 // Positions and quadrics of every vertex in every key step, vertex-major (one vertex's steps
-// together: rating an edge reads two short runs of memory).
+// together: rating an edge reads two short runs of memory): a row per vertex. Rows of removed
+// vertices are never read again; once a sixteenth of the rows are such, drop_removed() moves the
+// live rows to the front (in vertex order) and gives the rest back to the system, and a vertex
+// finds its row through row_ from then on. The collapse log grows while the rows shrink.
 class KeyStepQuadrics {
  public:
   // Reads the key steps' positions (up to `threads` at once) and, in the same pass, the cost
@@ -88,16 +91,24 @@ class KeyStepQuadrics {
   const BoundingBox& box() const { return box_; }  // of the key steps' positions
   Vec3 position(uint32_t v, size_t k) const { return load(position_data(v, k)); }
   const float* position_data(uint32_t v, size_t k) const {
-    return &positions_[(size_t{v} * key_count_ + k) * 3];
+    return &positions_[(row(v) * key_count_ + k) * 3];
   }
   const LocalQuadric& quadric(uint32_t v, size_t k) const {
-    return quadrics_[size_t{v} * key_count_ + k];
+    return quadrics_[row(v) * key_count_ + k];
   }
-  // Asks for v's quadrics and positions ahead of use (they are scattered across neighbours).
-  void prefetch(uint32_t v) const {
-    __builtin_prefetch(&quadrics_[size_t{v} * key_count_]);
-    __builtin_prefetch(&positions_[size_t{v} * key_count_ * 3]);
+  // Asks for the quadrics and positions of `vertices` ahead of use (they are scattered across
+  // neighbours): their rows first, once rows have moved.
+  void prefetch(std::span<const uint32_t> vertices) const {
+    if (!row_.empty())
+      for (uint32_t v : vertices) __builtin_prefetch(&row_[v]);
+    for (uint32_t v : vertices) {
+      __builtin_prefetch(&quadrics_[row(v) * key_count_]);
+      __builtin_prefetch(&positions_[row(v) * key_count_ * 3]);
+    }
   }
+  // After a collapse: when a sixteenth of the rows belong to vertices `mesh` has removed, the
+  // live rows move to the front and the memory of the others is released.
+  void drop_removed(const CollapseMesh& mesh);
 
   // Q_t,v0 + Q_t,v1 with its origin at v1's position in key step k.
   Quadric merged_quadric(uint32_t v0, uint32_t v1, size_t k) const;
@@ -123,10 +134,9 @@ class KeyStepQuadrics {
   std::vector<float> positions_of(std::span<const uint32_t> vertices, size_t k) const;
 
  private:
-  float* position_data(uint32_t v, size_t k) {
-    return &positions_[(size_t{v} * key_count_ + k) * 3];
-  }
-  LocalQuadric& quadric(uint32_t v, size_t k) { return quadrics_[size_t{v} * key_count_ + k]; }
+  size_t row(uint32_t v) const { return row_.empty() ? v : row_[v]; }
+  float* position_data(uint32_t v, size_t k) { return &positions_[(row(v) * key_count_ + k) * 3]; }
+  LocalQuadric& quadric(uint32_t v, size_t k) { return quadrics_[row(v) * key_count_ + k]; }
   Quadric vertex_quadric(const Topology& input, const CollapseMesh& mesh, uint32_t v, size_t k,
                          std::span<const uint8_t> constrained, double boundary_weight,
                          double regularize) const;
@@ -134,6 +144,7 @@ class KeyStepQuadrics {
   size_t key_count_ = 0;
   std::vector<float> positions_;        // #V × #key steps × xyz
   std::vector<LocalQuadric> quadrics_;  // #V × #key steps, each around its own vertex
+  std::vector<uint32_t> row_;           // vertex → row, once rows have moved (else row v)
   double diagonal_ = 1;
   BoundingBox box_;
   FieldTerm fields_;
