@@ -12,9 +12,10 @@ cd "$(dirname "$0")"
 # against (meshio writes and reads files nobody here wrote, Exodus through python3-netcdf4;
 # python3-vtk9 is VTK's own reader; libcgal-dev's Hausdorff distance checks dynpm's; the viewer's
 # tests run in Node.js and Debian's headless Chromium; clang-format checks the C++ formatting;
+# strace counts the files a command opens;
 # slurm-wlm and munge run the one-node cluster that 'dynpm batch --slurm' is tested on).
 BUILD_PACKAGES=(g++ cmake ninja-build xz-utils pkg-config libzstd-dev libnetcdf-dev zlib1g-dev)
-TEST_PACKAGES=(libgtest-dev libgmock-dev clang-format python3-meshio python3-netcdf4 python3-vtk9 libcgal-dev nodejs npm chromium calculix-ccx slurm-wlm munge)
+TEST_PACKAGES=(libgtest-dev libgmock-dev clang-format strace python3-meshio python3-netcdf4 python3-vtk9 libcgal-dev nodejs npm chromium calculix-ccx slurm-wlm munge)
 # The peers bench/peers compares dynpm with (never needed to build or test dynpm).
 BENCH_PACKAGES=(libmeshoptimizer-dev libopenmesh-dev libcgal-dev gltfpack draco)
 
