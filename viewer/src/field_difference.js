@@ -44,6 +44,7 @@ export class FieldDifference {
     this.splits = 0;
     this.level = 0;
     this.largest = 0;  // the largest |difference| at this level and step
+    this.item = -1;  // where it is (peak())
   }
 
   itemCount(level) {
@@ -68,13 +69,14 @@ export class FieldDifference {
   subtract(k) {
     const n = this.itemCount(k);
     const { values } = this, va = this.a.values, vb = this.b.values;
-    let largest = 0;
+    let largest = 0, item = -1;
     for (let x = 0; x < n; x++) {
-      const d = (values[x] = va[x] - vb[x]);
-      if (Math.abs(d) > largest) largest = Math.abs(d);
+      const d = Math.abs((values[x] = va[x] - vb[x]));
+      if (d > largest || item < 0) (largest = d), (item = x);
     }
     this.level = k;
     this.largest = largest;
+    this.item = item;
   }
 
   // The fringe's range: symmetric, so that zero is the scheme's middle.
@@ -82,14 +84,8 @@ export class FieldDifference {
     return [-this.largest, this.largest];
   }
 
-  // The present item of largest |difference| (the first of equals), or −1.
+  // The present item of largest |difference| (the first of equals), or −1: found by subtract().
   peak() {
-    const n = this.itemCount(this.level);
-    let best = -1, m = -1;
-    for (let x = 0; x < n; x++) {
-      const d = Math.abs(this.values[x]);
-      if (d > m) (m = d), (best = x);
-    }
-    return best;
+    return this.item;
   }
 }
