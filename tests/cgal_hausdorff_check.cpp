@@ -4,10 +4,10 @@
 //
 // CGAL::Polygon_mesh_processing::approximate_Hausdorff_distance(tm1, tm2) is one-sided: the
 // largest distance from samples of tm1 (its own random sampling of vertices, edges and faces)
-// to tm2. So each direction of dynpm's result is compared with one CGAL call, within 2%, with
-// both sides sampled densely (≈ 1 M points) so that 2% measures the code and not the luck of
-// the draw. CGAL's bounded_error_Hausdorff_distance (a certified estimate within a given error
-// bound) is the third opinion: dynpm's sampled maximum can only be below the true value.
+// to tm2. Both sides are sampled densely (≈ 1 M points). CGAL's bounded_error_Hausdorff_distance
+// (a certified estimate within a given error bound) is the reference: each direction of dynpm's
+// result is within 2% of it, and dynpm's sampled maximum can only be below the true value.
+// CGAL's sampled estimate is a third opinion, met from below: dynpm is not more than 2% short.
 //
 // Quads are given to CGAL as their star triangulation (four triangles through the centroid),
 // which is the surface dynpm measures.
@@ -161,7 +161,10 @@ void expect_agreement(const std::string& name, const Mesh& a, const Mesh& b) {
        {std::tuple{"A→B", ours->a_to_b.max, cgal_ab, bounded_ab},
         std::tuple{"B→A", ours->b_to_a.max, cgal_ba, bounded_ba}}) {
     ASSERT_GT(approx, 0) << name << " " << label;
-    EXPECT_NEAR(mine, approx, 0.02 * approx) << name << " " << label << " vs approximate";
+    // CGAL's random sampling is a lower bound whose draw depends on its memory layout (the
+    // sanitizer build got 0.3997 where the plain one got 0.4083 for the certified 0.4089), so
+    // against it dynpm must only not fall more than 2% short; the certified value is two-sided.
+    EXPECT_GE(mine, 0.98 * approx) << name << " " << label << " vs approximate";
     EXPECT_NEAR(mine, bounded, 0.02 * bounded) << name << " " << label << " vs bounded-error";
     // A sampled maximum is a lower bound of the true one-sided distance.
     EXPECT_LE(mine, bounded + error_bound + 1e-9 * d) << name << " " << label;
