@@ -31,6 +31,13 @@ std::string unpacked(const test::TempDir& dir, const std::string& data, const st
   return std::system(unzip.c_str()) == 0 ? path : "";
 }
 
+// The real crash box, opened as the CLI opens it (an error when it cannot be unpacked).
+Result<AnimationStream> open_crashbox(const test::TempDir& dir) {
+  const std::string frd = unpacked(dir, "crashbox-s/crashbox-s.frd.gz", "crashbox-s.frd");
+  if (frd.empty()) return Status::error("cannot unpack crashbox-s.frd.gz");
+  return open_input(std::vector<std::string>{frd});
+}
+
 // The in-memory build's file and the streamed one, with `threads` for both.
 void expect_same_bytes(const Topology& topology, const FrameSource& frames, BuildOptions options,
                        unsigned threads) {
@@ -48,9 +55,7 @@ void expect_same_bytes(const Topology& topology, const FrameSource& frames, Buil
 
 TEST(BuildDpm, TheStreamedFileIsTheInMemoryBuildsOnAnyThreadCount) {
   test::TempDir dir;
-  const std::string frd = unpacked(dir, "crashbox-s/crashbox-s.frd.gz", "crashbox-s.frd");
-  ASSERT_FALSE(frd.empty());
-  auto stream = open_input(std::vector<std::string>{frd});
+  auto stream = open_crashbox(dir);
   ASSERT_TRUE(stream.ok()) << stream.message();
   const FrameSource& frames = *stream->frames;
   // auto:3 with the box of choose_key_steps()' pass, every step (the simplifier's box), a list
@@ -95,9 +100,7 @@ class OneNaN final : public FrameSource {
 
 TEST(BuildDpm, ANonFiniteCoordinateInTheLastPassIsAnErrorNamingItsStep) {
   test::TempDir dir;
-  const std::string frd = unpacked(dir, "crashbox-s/crashbox-s.frd.gz", "crashbox-s.frd");
-  ASSERT_FALSE(frd.empty());
-  auto stream = open_input(std::vector<std::string>{frd});
+  auto stream = open_crashbox(dir);
   ASSERT_TRUE(stream.ok()) << stream.message();
   auto choice = choose_key_steps(*stream->frames, parse_key_step_rule("auto:3").value());
   ASSERT_TRUE(choice.ok()) << choice.message();
