@@ -94,7 +94,7 @@ std::string check_memory(const Topology& input, const FrameSource& frames, const
   for (const FieldInfo& f : frames.fields())
     field_values += f.location == FieldLocation::kElement ? input.faces.size() : vertices;
   const auto estimate = [&](uint64_t keys) {
-    return build_memory_estimate(vertices, steps, keys, threads, field_values);
+    return build_memory_estimate(vertices, input.faces.size(), steps, keys, threads, field_values);
   };
   const uint64_t keys = key_step_count(rule, steps);
   const uint64_t need = estimate(keys);

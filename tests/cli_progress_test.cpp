@@ -5,10 +5,12 @@
 
 #include <cctype>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <iterator>
 #include <sstream>
 
+#include "dynpm/sanitizers.h"
 #include "fixtures.h"
 #include "third_party.h"
 
@@ -98,6 +100,33 @@ TEST(CliProgress, ARedirectedBuildPrintsALineAtTheEndOfEveryPhase) {
   EXPECT_NE(run.err.find("encoding positions done: 26 in"), std::string::npos) << run.err;
   // stdout keeps its report only.
   EXPECT_EQ(run.out.find("done"), std::string::npos) << run.out;
+}
+
+// The estimate printed before the work is never below the peak resident memory the build
+// reports at its end, and not far above it (build_memory_estimate(), docs/build.md): the real
+// crash box (quads) with 3 key steps and with all 26, and a triangle mesh (fandisk: two faces
+// per vertex); about 19–23 MB measured, mostly the program.
+TEST(CliProgress, TheMemoryEstimateCoversTheBuildsPeak) {
+  if (kAddressSanitizer) GTEST_SKIP() << "ASan's shadow memory is not the build's";
+  test::TempDir dir;
+  const std::string frd = crashbox_frd(dir);
+  ASSERT_FALSE(frd.empty());
+  const std::string fandisk = test::shared_data() + "/meshes/fandisk.obj";
+  for (const std::string& input :
+       {frd + " --key-steps auto:3", frd + " --key-steps all", "'" + fandisk + "'"}) {
+    const CliRun run =
+        dynpm_run(dir, "build " + input + " --progress json -o " + dir.file("m.dpm"));
+    ASSERT_EQ(run.exit_code, 0) << run.err;
+    unsigned long long need = 0;
+    ASSERT_EQ(std::sscanf(run.err.c_str(), "{\"memory_estimate_bytes\":%llu,", &need), 1)
+        << run.err;
+    const size_t at = run.out.find("peak memory ");
+    ASSERT_NE(at, std::string::npos) << run.out;
+    const double peak_mib = std::atof(run.out.c_str() + at + 12);  // printed in 2^20 bytes
+    const double need_mib = double(need) / (1 << 20);
+    EXPECT_GE(need_mib, peak_mib - 0.5) << input << "\n" << run.out;
+    EXPECT_LE(need_mib, 1.5 * peak_mib) << input << "\n" << run.out;
+  }
 }
 
 TEST(CliProgress, QuietPrintsNothingOnStderr) {

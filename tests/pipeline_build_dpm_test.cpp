@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <string>
 
 #include "dynpm/io.h"
@@ -30,6 +31,13 @@ std::string unpacked(const test::TempDir& dir, const std::string& data, const st
   return std::system(unzip.c_str()) == 0 ? path : "";
 }
 
+// The real crash box, opened as the CLI opens it (an error when it cannot be unpacked).
+Result<AnimationStream> open_crashbox(const test::TempDir& dir) {
+  const std::string frd = unpacked(dir, "crashbox-s/crashbox-s.frd.gz", "crashbox-s.frd");
+  if (frd.empty()) return Status::error("cannot unpack crashbox-s.frd.gz");
+  return open_input(std::vector<std::string>{frd});
+}
+
 // The in-memory build's file and the streamed one, with `threads` for both.
 void expect_same_bytes(const Topology& topology, const FrameSource& frames, BuildOptions options,
                        unsigned threads) {
@@ -47,9 +55,7 @@ void expect_same_bytes(const Topology& topology, const FrameSource& frames, Buil
 
 TEST(BuildDpm, TheStreamedFileIsTheInMemoryBuildsOnAnyThreadCount) {
   test::TempDir dir;
-  const std::string frd = unpacked(dir, "crashbox-s/crashbox-s.frd.gz", "crashbox-s.frd");
-  ASSERT_FALSE(frd.empty());
-  auto stream = open_input(std::vector<std::string>{frd});
+  auto stream = open_crashbox(dir);
   ASSERT_TRUE(stream.ok()) << stream.message();
   const FrameSource& frames = *stream->frames;
   // auto:3 with the box of choose_key_steps()' pass, every step (the simplifier's box), a list
@@ -69,6 +75,48 @@ TEST(BuildDpm, TheStreamedFileIsTheInMemoryBuildsOnAnyThreadCount) {
     for (unsigned threads : {1u, 2u, 3u})
       expect_same_bytes(stream->topology, frames, options, threads);
   }
+}
+
+// The crash box's steps with one coordinate of one step made NaN (the last pass, which checks
+// each step on every thread, is the first to read that step when the key steps and the box are
+// given).
+class OneNaN final : public FrameSource {
+ public:
+  OneNaN(const FrameSource& inner, size_t step, size_t vertex)
+      : inner_(inner), step_(step), vertex_(vertex) {}
+  uint32_t vertex_count() const override { return inner_.vertex_count(); }
+  size_t step_count() const override { return inner_.step_count(); }
+  double step_time(size_t t) const override { return inner_.step_time(t); }
+  Status read_step(size_t t, std::span<float> out) const override {
+    DYNPM_RETURN_IF_ERROR(inner_.read_step(t, out));
+    if (t == step_) out[vertex_ * 3 + 1] = std::numeric_limits<float>::quiet_NaN();
+    return {};
+  }
+
+ private:
+  const FrameSource& inner_;
+  size_t step_, vertex_;
+};
+
+TEST(BuildDpm, ANonFiniteCoordinateInTheLastPassIsAnErrorNamingItsStep) {
+  test::TempDir dir;
+  auto stream = open_crashbox(dir);
+  ASSERT_TRUE(stream.ok()) << stream.message();
+  auto choice = choose_key_steps(*stream->frames, parse_key_step_rule("auto:3").value());
+  ASSERT_TRUE(choice.ok()) << choice.message();
+  ASSERT_EQ(choice->steps, (std::vector<size_t>{0, 12, 25}));
+  BuildOptions options;
+  options.simplify.key_steps = choice->steps;
+  options.all_steps_box = choice->all_steps_box;
+  // The last vertex (the last of the threads' ranges) and one in the middle.
+  for (const size_t vertex : {size_t{3002}, size_t{1500}})
+    for (const unsigned threads : {1u, 2u}) {
+      options.simplify.threads = threads;
+      const OneNaN frames(*stream->frames, 7, vertex);
+      auto built = build_dpm(stream->topology, frames, options);
+      ASSERT_FALSE(built.ok()) << threads << " threads";
+      EXPECT_EQ(built.message(), "time step 7 has a non-finite coordinate");
+    }
 }
 
 TEST(BuildDpm, FieldsAndLosslessStreamToTheSameBytes) {

@@ -2,6 +2,7 @@
 // vertex splits in the progressive numbering, and read every step's positions once more, in that
 // order: into memory (build_progressive_mesh) or straight into the file's coder (build_dpm).
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <functional>
 #include <numeric>
@@ -9,6 +10,7 @@
 #include <type_traits>
 
 #include "build_fields.h"
+#include "core/parallel.h"
 #include "dynpm/pipeline.h"
 #include "split_order.h"
 
@@ -245,15 +247,26 @@ Status for_each_progressive_step(const FrameSource& frames, const Recorded& r,
   std::iota(every.begin(), every.end(), size_t{0});
   const uint32_t n = static_cast<uint32_t>(r.new_vertex.size());
   std::vector<float> out(size_t{n} * 3);
+  const unsigned threads = thread_count(options.simplify.threads);
+  const size_t parts = std::max<size_t>(1, n / 65536);
   if (options.progress) options.progress(phase, 0, steps);
   return for_each_step(
       frames, every, options.simplify.threads, [&](size_t t, std::span<const float> step) {
-        for (float c : step)
-          if (!std::isfinite(c))
-            return Status::error("time step " + std::to_string(t) + " has a non-finite coordinate");
-        for (uint32_t v = 0; v < n; ++v)
-          std::copy_n(&step[size_t{v} * 3], 3, &out[r.new_vertex[v] * size_t{3}]);
-        quantize_step(r.pm, out);
+        // Checked, renumbered and put on the grid on every thread (each vertex's own slots).
+        std::atomic<bool> finite{true};
+        parallel_for(n, parts, threads, [&](size_t begin, size_t end, size_t) {
+          for (size_t v = begin; v < end; ++v) {
+            const float* xyz = &step[v * 3];
+            if (!std::isfinite(xyz[0]) || !std::isfinite(xyz[1]) || !std::isfinite(xyz[2]))
+              finite = false;
+            std::copy_n(xyz, 3, &out[r.new_vertex[v] * size_t{3}]);
+          }
+        });
+        if (!finite)
+          return Status::error("time step " + std::to_string(t) + " has a non-finite coordinate");
+        parallel_for(n, parts, threads, [&](size_t begin, size_t end, size_t) {
+          quantize_step(r.pm, std::span(out).subspan(begin * 3, (end - begin) * 3));
+        });
         use(t, out);
         if (options.progress) options.progress(phase, t + 1, steps);
         return Status{};

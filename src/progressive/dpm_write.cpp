@@ -209,8 +209,12 @@ void DpmStepEncoder::add_step(std::span<const float> xyz) {
   assert(s.steps_given < s.mesh.step_count() && xyz.size() == size_t{s.mesh.vertex_count()} * 3);
   const Grid g = grid_of(s.mesh);
   std::vector<uint32_t> q(xyz.size());
-  for (size_t k = 0; k < xyz.size(); ++k)
-    q[k] = static_cast<uint32_t>(g.q(xyz[k], static_cast<int>(k % 3)));
+  const size_t vertices = xyz.size() / 3;
+  parallel_for(vertices, std::max<size_t>(1, vertices / 65536), s.threads,
+               [&](size_t begin, size_t end, size_t) {
+                 for (size_t k = begin * 3; k < end * 3; ++k)
+                   q[k] = static_cast<uint32_t>(g.q(xyz[k], static_cast<int>(k % 3)));
+               });
   s.base_q.emplace_back(q.begin(), q.begin() + size_t{s.mesh.base_vertex_count} * 3);
   s.positions->add_step(std::move(q));
   ++s.steps_given;

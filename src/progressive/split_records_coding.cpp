@@ -62,8 +62,9 @@ struct Record {
   std::vector<uint32_t> moved;
 };
 
-Record record_of(const ProgressiveMesh& mesh, uint32_t i) {
-  Record r;
+// Fills r with split i (r's lists keep their memory from split to split).
+void record_of(const ProgressiveMesh& mesh, uint32_t i, Record& r) {
+  r.wings = {};
   r.parent = mesh.parent[i];
   r.error = mesh.error[i];
   r.wing_count = mesh.wing_start[i + 1] - mesh.wing_start[i];
@@ -71,12 +72,11 @@ Record record_of(const ProgressiveMesh& mesh, uint32_t i) {
     r.wings[k] = mesh.wings[mesh.wing_start[i] + k];
   r.moved.assign(mesh.moved_faces.begin() + mesh.moved_start[i],
                  mesh.moved_faces.begin() + mesh.moved_start[i + 1]);
-  return r;
 }
 
 // v's neighbours: the corners next to it in its faces, ascending, each once.
-std::vector<uint32_t> neighbours(const RecordModels& st, uint32_t v) {
-  std::vector<uint32_t> out;
+void neighbours(const RecordModels& st, uint32_t v, std::vector<uint32_t>& out) {
+  out.clear();
   for (uint32_t f : st.vertex_faces_[v]) {
     const Face& face = st.faces_[f];
     const int n = face.degree(), a = corner_of(face, v);
@@ -85,7 +85,20 @@ std::vector<uint32_t> neighbours(const RecordModels& st, uint32_t v) {
   }
   std::sort(out.begin(), out.end());
   out.erase(std::unique(out.begin(), out.end()), out.end());
-  return out;
+}
+
+// std::stable_partition without its temporary buffer: the values for which front(v) holds
+// first, each part in its order; `rest` is room.
+template <class Front>
+void stable_front(std::vector<uint32_t>& values, std::vector<uint32_t>& rest, Front front) {
+  rest.clear();
+  size_t k = 0;
+  for (const uint32_t v : values)
+    if (front(v))
+      values[k++] = v;  // k never passes the value being read
+    else
+      rest.push_back(v);
+  std::copy(rest.begin(), rest.end(), values.begin() + static_cast<ptrdiff_t>(k));
 }
 
 // A re-created triangle's orientation, predicted from a face of v1 on the edge v1–w: a mesh
@@ -111,7 +124,11 @@ int orientation_guess(const RecordModels& st, uint32_t v1, uint32_t w, const Mov
 // and how many moved faces hold them. A wing vertex ends an edge that one moved face holds (the
 // frontier between v0's faces and v1's) and is not yet a wing vertex of this split.
 struct MovedFan {
-  std::vector<uint32_t> edge_ends, edge_uses, used;
+  explicit MovedFan(RecordModels::Scratch& s)
+      : edge_ends(s.edge_ends), edge_uses(s.edge_uses), used(s.used) {
+    edge_ends.clear(), edge_uses.clear(), used.clear();
+  }
+  std::vector<uint32_t>&edge_ends, &edge_uses, &used;
 
   void add(const Face& face, uint32_t v1) {
     const int n = face.degree(), a = corner_of(face, v1);
@@ -175,8 +192,9 @@ std::string code_record(Coder<kDecode>& c, RecordModels& st, uint32_t i, uint32_
   // Moved faces first: a bit per face of v1 (ascending), by its kind and how many moved so far.
   // v0's old faces then say where its wings are: each wing vertex is a corner of a moved face.
   c.part = kMoved;
-  std::vector<uint32_t> moved;
-  MovedFan edges;
+  std::vector<uint32_t>& moved = st.scratch_.moved;
+  moved.clear();
+  MovedFan edges(st.scratch_);
   st.near_v0_.clear();
   auto near_v0 = [&](uint32_t v) { return st.near_v0_.contains(v); };
   size_t next = 0;  // encoder: r.moved is ascending
@@ -194,7 +212,7 @@ std::string code_record(Coder<kDecode>& c, RecordModels& st, uint32_t i, uint32_
   }
   if (!kDecode && moved.size() != r.moved.size())
     return at_split(i, "a moved face is not a face of the parent, or they are not ascending");
-  r.moved = std::move(moved);
+  r.moved.swap(moved);
   auto taken = [&](uint32_t f) {  // moved, or already a quad wing of this split
     return std::binary_search(r.moved.begin(), r.moved.end(), f);
   };
@@ -204,14 +222,16 @@ std::string code_record(Coder<kDecode>& c, RecordModels& st, uint32_t i, uint32_
   if (wings > 4) return at_split(i, "more than 4 wings");
   r.wing_count = static_cast<uint32_t>(wings);
   uint32_t created = 0;
-  std::vector<uint32_t> quads;  // this split's quad wings so far
+  std::vector<uint32_t>& quads = st.scratch_.quads;  // this split's quad wings so far
+  quads.clear();
   for (uint32_t k = 0; k < r.wing_count; ++k) {
     SplitWing& w = r.wings[k];
     // A quad wing's face: an index into v1's free triangles (not moved, not a wing yet) that
     // hold a corner of a moved face, or into all of them when none does; those on the frontier
     // first, each part ascending. Whether there are any, on the frontier or not, predicts the
     // wing's kind.
-    std::vector<uint32_t> triangles, beside;
+    std::vector<uint32_t>&triangles = st.scratch_.triangles, &beside = st.scratch_.beside;
+    triangles.clear(), beside.clear();
     bool on_frontier = false;
     for (uint32_t f : fan) {
       const Face& face = st.faces_[f];
@@ -223,8 +243,8 @@ std::string code_record(Coder<kDecode>& c, RecordModels& st, uint32_t i, uint32_
       on_frontier |= edges.frontier_triangle(face, v1);
     }
     if (!beside.empty()) triangles.swap(beside);
-    std::stable_partition(triangles.begin(), triangles.end(),
-                          [&](uint32_t f) { return edges.frontier_triangle(st.faces_[f], v1); });
+    stable_front(triangles, st.scratch_.rest,
+                 [&](uint32_t f) { return edges.frontier_triangle(st.faces_[f], v1); });
     const size_t candidates = triangles.empty() ? 0 : on_frontier ? 2 : 1;
     const size_t ctx = 16 * candidates + 4 * (r.wing_count - 1) + k;  // and by count, by place
     c.part = kWingKind;
@@ -269,9 +289,10 @@ std::string code_record(Coder<kDecode>& c, RecordModels& st, uint32_t i, uint32_
     }
     // A triangle wing: w as an index into v1's neighbours (those on the frontier first, then the
     // others near v0, then the rest), or the escape and v0 − 1 − w.
-    std::vector<uint32_t> near = neighbours(st, v1);
-    std::stable_partition(near.begin(), near.end(), near_v0);
-    std::stable_partition(near.begin(), near.end(), [&](uint32_t v) { return edges.frontier(v); });
+    std::vector<uint32_t>& near = st.scratch_.near;
+    neighbours(st, v1, near);
+    stable_front(near, st.scratch_.rest, near_v0);
+    stable_front(near, st.scratch_.rest, [&](uint32_t v) { return edges.frontier(v); });
     c.part = kTriangleVertex;
     uint64_t index = near.size();
     if constexpr (!kDecode) {
@@ -480,8 +501,9 @@ Result<std::array<std::string, kRecordParts>> encode_parts(const ProgressiveMesh
     attributes.out[p] = &encoders[per_part ? p : 1];
   }
   ProgressiveMesh& m = const_cast<ProgressiveMesh&>(mesh);  // the encoder only reads it
+  Record r;
   for (uint32_t i = first; i < last; ++i) {
-    Record r = record_of(mesh, i);
+    record_of(mesh, i, r);
     std::string problem = code_record(records, st, i, mesh.base_vertex_count + i, r);
     if (problem.empty()) problem = apply(st, mesh, i);
     if (problem.empty()) problem = code_attributes(attributes, st, m, i);
@@ -521,8 +543,9 @@ std::optional<PayloadError> decode_split_records(std::string_view records,
   Coder<true> rc, ac;
   rc.in = &rd, ac.in = &ad;
   auto problem = [](std::string what) { return PayloadError{std::move(what), 0}; };
+  Record r;
   for (uint32_t i = first; i < first + count; ++i) {
-    Record r;
+    r.wing_count = 0, r.wings = {};
     std::string what = code_record(rc, st, i, mesh.base_vertex_count + i, r);
     if (!rd.ok()) return problem("the split records section is cut short or damaged");
     if (!what.empty()) return problem(what);

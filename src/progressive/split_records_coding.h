@@ -70,6 +70,12 @@ class RecordModels {
   double error_reference_ = 1;
   uint32_t error_code_ = kTopErrorCode;  // the last split's (first: the base's)
   uint32_t last_parent_ = kNoVertex;     // the last split's
+  // Lists a split's coding fills, kept between splits for their memory (a million splits
+  // would otherwise allocate and free several lists each).
+  struct Scratch {
+    std::vector<uint32_t> moved, quads, triangles, beside, near, rest;
+    std::vector<uint32_t> edge_ends, edge_uses, used;  // MovedFan's
+  } scratch_;
 };
 
 // Called after split i was applied to models.faces(): the positions' stencils are read there.
