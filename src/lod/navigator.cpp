@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "core/prefetch.h"
 #include "dynpm/lod.h"
 #include "shown_merge.h"
 
@@ -33,17 +34,8 @@ struct SplitStream {
   const SplitWing* wings;
 };
 
-// GCC 12 at -O2 deletes a loop whose only effect is __builtin_prefetch (it counts as none under
-// -ffinite-loops), so the navigator's prefetches were never made: the empty asm that takes the
-// address is an effect the loop must keep, and costs no instruction.
-inline void prefetch_face(const Face* face) {
-#if defined(__GNUC__)
-  __builtin_prefetch(face, 1);
-  asm volatile("" : : "r"(face));
-#else
-  (void)face;
-#endif
-}
+// core/prefetch.h: a bare __builtin_prefetch loop is deleted by GCC at -O2.
+inline void prefetch_face(const Face* face) { prefetch_for_write(face); }
 
 void prefetch_faces(const SplitStream& m, uint32_t i, const Face* faces) {
   for (uint32_t k = m.moved_start[i]; k < m.moved_start[i + 1]; ++k)
