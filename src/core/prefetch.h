@@ -7,18 +7,10 @@ namespace dynpm {
 // GCC 12 at -O2 deletes a loop whose only effect is __builtin_prefetch (under -ffinite-loops it
 // counts as no effect), so loops of bare prefetches were never made. The empty asm that takes the
 // address is an effect the loop must keep, and costs no instruction.
-inline void prefetch_for_read(const void* address) {
+template <bool kForWrite = false>
+inline void prefetch(const void* address) {
 #if defined(__GNUC__)
-  __builtin_prefetch(address, 0);
-  asm volatile("" : : "r"(address));
-#else
-  (void)address;
-#endif
-}
-
-inline void prefetch_for_write(const void* address) {
-#if defined(__GNUC__)
-  __builtin_prefetch(address, 1);
+  __builtin_prefetch(address, kForWrite ? 1 : 0);
   asm volatile("" : : "r"(address));
 #else
   (void)address;

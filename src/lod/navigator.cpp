@@ -35,7 +35,7 @@ struct SplitStream {
 };
 
 // core/prefetch.h: a bare __builtin_prefetch loop is deleted by GCC at -O2.
-inline void prefetch_face(const Face* face) { prefetch_for_write(face); }
+inline void prefetch_face(const Face* face) { prefetch<true>(face); }
 
 void prefetch_faces(const SplitStream& m, uint32_t i, const Face* faces) {
   for (uint32_t k = m.moved_start[i]; k < m.moved_start[i + 1]; ++k)

@@ -101,10 +101,10 @@ class KeyStepQuadrics {
   // neighbours): their rows first, once rows have moved.
   void prefetch(std::span<const uint32_t> vertices) const {
     if (!row_.empty())
-      for (uint32_t v : vertices) prefetch_for_read(&row_[v]);
+      for (uint32_t v : vertices) dynpm::prefetch(&row_[v]);
     for (uint32_t v : vertices) {
-      prefetch_for_read(&quadrics_[row(v) * key_count_]);
-      prefetch_for_read(&positions_[row(v) * key_count_ * 3]);
+      dynpm::prefetch(&quadrics_[row(v) * key_count_]);
+      dynpm::prefetch(&positions_[row(v) * key_count_ * 3]);
     }
   }
   // After a collapse: when a sixteenth of the rows belong to vertices `mesh` has removed, the
