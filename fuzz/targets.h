@@ -15,6 +15,7 @@
 #include <fstream>
 #include <string>
 #include <string_view>
+#include <system_error>
 #include <vector>
 
 #include "dynpm/core.h"
@@ -72,15 +73,23 @@ inline void run_vtk(std::string_view bytes) {
   (void)io::parse_pvd(bytes, "fuzz.pvd");
 }
 
-// A per-process folder holding only the input file (d3plot looks for d3plot01, … beside it).
+// A per-process folder holding only the input file (d3plot looks for d3plot01, … beside it),
+// removed when the process ends so that test runs leave nothing behind.
+struct InputFolder {
+  std::filesystem::path path =
+      std::filesystem::temp_directory_path() / ("dynpm-fuzz-" + std::to_string(::getpid()));
+  InputFolder() { std::filesystem::create_directories(path); }
+  InputFolder(const InputFolder&) = delete;
+  InputFolder& operator=(const InputFolder&) = delete;
+  ~InputFolder() {
+    std::error_code ignored;
+    std::filesystem::remove_all(path, ignored);
+  }
+};
+
 inline std::string input_path(const char* file_name) {
-  static const std::filesystem::path dir = [] {
-    std::filesystem::path d =
-        std::filesystem::temp_directory_path() / ("dynpm-fuzz-" + std::to_string(::getpid()));
-    std::filesystem::create_directories(d);
-    return d;
-  }();
-  return (dir / file_name).string();
+  static const InputFolder folder;
+  return (folder.path / file_name).string();
 }
 
 // Every step and every field of a stream that opened.
