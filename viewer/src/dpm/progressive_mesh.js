@@ -208,14 +208,26 @@ export class DirtyFaces {
     this.mark = new Uint8Array(faceCount);
     this.list = new Uint32Array(faceCount + 1);  // + 1: add() writes before it counts
     this.count = 0;
+    this.all = false;  // every face counts as touched (addAll())
   }
   add(f) {
     this.list[this.count] = f;
     this.count += 1 - this.mark[f];
     this.mark[f] = 1;
   }
+  // Every face counts as touched: for a change that touches most of them, which then need not
+  // be listed one by one.
+  addAll() {
+    this.all = true;
+  }
   // The faces touched since the last call (a view, valid until the next change).
   take() {
+    if (this.all) {
+      const { list } = this, n = list.length - 1;
+      this.clear();
+      for (let f = 0; f < n; f++) list[f] = f;
+      return list.subarray(0, n);
+    }
     const list = this.list.subarray(0, this.count);
     this.clear();
     return list;
@@ -223,7 +235,8 @@ export class DirtyFaces {
   // Forgets the touched faces (list[0, count) stays as it was until the next add()).
   clear() {
     const { list, mark } = this;
-    for (let i = 0; i < this.count; i++) mark[list[i]] = 0;
+    if (this.all) mark.fill(0), (this.all = false);
+    else for (let i = 0; i < this.count; i++) mark[list[i]] = 0;
     this.count = 0;
   }
 }
