@@ -1,7 +1,7 @@
 // The mesh at one level (C++: Navigator, src/lod/navigator.cpp): splits applied or undone in
 // place between levels, touching only the faces their records name.
 import { DpmError } from './bytes.js';
-import { DirtyFaces, WING_SLOT_SHIFT, WING_V1_FOLLOWS_V0, WING_WAS_TRIANGLE } from './progressive_mesh.js';
+import { DirtyFaces, splitRecords, WING_SLOT_SHIFT, WING_V1_FOLLOWS_V0, WING_WAS_TRIANGLE } from './progressive_mesh.js';
 
 // Holds the current faces (4 corner slots, −1 in slot 3 of a triangle) for levels up to what has
 // been loaded. Changes are recorded as a list of touched faces, which the renderer drains
@@ -147,12 +147,7 @@ function grown(array, n) {
 // returns the quads they make.
 function applyKnown(nav, from, to, track) {
   const { mesh, corners, dirty, movedSlot, wingSlots, wingOpposite } = nav;
-  const b = mesh.head.baseVertexCount;
-  const { parent, movedStart, wingStart } = mesh;
-  const movedFaces = mesh.movedFaces.data;
-  const wingFlags = mesh.wingFlags.data;
-  const wingVertex = mesh.wingVertex.data;
-  const wingFace = mesh.wingFace.data;
+  const { b, parent, movedStart, wingStart, movedFaces, wingFlags, wingVertex, wingFace } = splitRecords(mesh);
   const { mark, list } = dirty;
   let n = dirty.count;
   let quads = 0;
@@ -189,11 +184,7 @@ function applyKnown(nav, from, to, track) {
 // back into triangles.
 function undoKnown(nav, from, to, track) {
   const { mesh, corners, dirty, movedSlot, wingSlots, wingOpposite } = nav;
-  const { parent, movedStart, wingStart } = mesh;
-  const movedFaces = mesh.movedFaces.data;
-  const wingFlags = mesh.wingFlags.data;
-  const wingVertex = mesh.wingVertex.data;
-  const wingFace = mesh.wingFace.data;
+  const { parent, movedStart, wingStart, movedFaces, wingFlags, wingVertex, wingFace } = splitRecords(mesh);
   const { mark, list } = dirty;
   let n = dirty.count;
   let quads = 0;
@@ -232,12 +223,7 @@ function undoKnown(nav, from, to, track) {
 // refused. Returns the quads they make.
 function learnAndApply(nav, from, to, track) {
   const { mesh, corners, dirty, movedSlot, wingSlots, wingOpposite } = nav;
-  const b = mesh.head.baseVertexCount;
-  const { parent, movedStart, wingStart } = mesh;
-  const movedFaces = mesh.movedFaces.data;
-  const wingFlags = mesh.wingFlags.data;
-  const wingVertex = mesh.wingVertex.data;
-  const wingFace = mesh.wingFace.data;
+  const { b, parent, movedStart, wingStart, movedFaces, wingFlags, wingVertex, wingFace } = splitRecords(mesh);
   const { mark, list } = dirty;
   let n = dirty.count;
   let quads = 0;

@@ -271,17 +271,22 @@ function dirtyFor(corners) {
   return single;
 }
 
+// The split records as the loops over them take them: each array in a local (the Growables'
+// current arrays), b the base vertex count (split i creates v0 = b + i).
+export function splitRecords(mesh) {
+  const { parent, movedStart, wingStart } = mesh;
+  return {
+    b: mesh.head.baseVertexCount, parent, movedStart, wingStart, movedFaces: mesh.movedFaces.data,
+    wingFlags: mesh.wingFlags.data, wingVertex: mesh.wingVertex.data, wingFace: mesh.wingFace.data,
+  };
+}
+
 // Splits [from, to) in order, the faces they change added to `dirty`; the quads they make. The
 // navigator's hot path: every array in a local, and no branch on a face's contents (at 1 M
 // vertices nearly every face a split names is a cache miss; a mispredicted branch on what one
 // holds would hold back the next one's load until it arrived).
 export function applySplits(mesh, from, to, corners, dirty) {
-  const b = mesh.head.baseVertexCount;
-  const { parent, movedStart, wingStart } = mesh;
-  const movedFaces = mesh.movedFaces.data;
-  const wingFlags = mesh.wingFlags.data;
-  const wingVertex = mesh.wingVertex.data;
-  const wingFace = mesh.wingFace.data;
+  const { b, parent, movedStart, wingStart, movedFaces, wingFlags, wingVertex, wingFace } = splitRecords(mesh);
   const { mark, list } = dirty;
   let n = dirty.count;
   let quads = 0;
@@ -336,11 +341,7 @@ export function applySplits(mesh, from, to, corners, dirty) {
 // Undoes splits [to, from) from the last (from > to): each is the collapse v0 → v1; the quads
 // they turn back into triangles.
 export function undoSplits(mesh, from, to, corners, dirty) {
-  const b = mesh.head.baseVertexCount;
-  const { parent, movedStart, wingStart } = mesh;
-  const movedFaces = mesh.movedFaces.data;
-  const wingFlags = mesh.wingFlags.data;
-  const wingFace = mesh.wingFace.data;
+  const { b, parent, movedStart, wingStart, movedFaces, wingFlags, wingFace } = splitRecords(mesh);
   const { mark, list } = dirty;
   let n = dirty.count;
   let quads = 0;
