@@ -1,11 +1,19 @@
 // The mesh at one level (C++: Navigator, src/lod/navigator.cpp): splits applied or undone in
 // place between levels, touching only the faces their records name.
 import { DpmError } from './bytes.js';
-import { DirtyFaces, applySplits, undoSplits } from './progressive_mesh.js';
+import { DirtyFaces, splitRecords, WING_SLOT_SHIFT, WING_V1_FOLLOWS_V0, WING_WAS_TRIANGLE } from './progressive_mesh.js';
 
 // Holds the current faces (4 corner slots, −1 in slot 3 of a triangle) for levels up to what has
 // been loaded. Changes are recorded as a list of touched faces, which the renderer drains
 // (takeDirty) to rewrite just those faces' index entries (draw_indices.js).
+//
+// Its own loops apply and undo the splits (as the C++ navigator's, without applySplits()'s
+// checks), and they write faces without reading them: at 1 M vertices nearly every face a split
+// names is a cache miss, and JavaScript has no prefetch, so a loop that reads a face waits for
+// it (the reorder buffer fills behind the load) while stores drain from the store buffer in the
+// background. What a write needs besides the record is learned the first time a split is
+// applied (levels are a function of the split count, so it never changes): the slot of the
+// parent in each moved face, and for each wing the slots of v1 and w and the fourth corner.
 export class Navigator {
   constructor(mesh) {
     if (!mesh.hasBase) throw new DpmError('Navigator needs the BASE chunk');
@@ -22,6 +30,15 @@ export class Navigator {
     // The touched faces, each once.
     this.dirty = new DirtyFaces(F);
     for (let f = 0; f < nf; f++) this.dirty.add(f);
+    // Splits [0, learned) have been applied once, and their slots below are known.
+    this.learned = 0;
+    // per moved face (as mesh.movedFaces): the slot where v1 is (and v0 will be)
+    this.movedSlot = new Uint8Array(0);
+    // per wing (as mesh.wingFace), in the face with the split applied: v1's slot | w's slot << 2
+    this.wingSlots = new Uint8Array(0);
+    // per wing: the corner in the remaining slot (6 − the other three): a quad wing's corner
+    // opposite v0, −1 (slot 3) for a triangle wing
+    this.wingOpposite = new Int32Array(0);
   }
 
   get vertexCount() {
@@ -71,14 +88,32 @@ export class Navigator {
 
   // Applies splits [level, k): split i re-creates v0 = b + i from its parent.
   refine(k = this.level + 1) {
-    this.quads += applySplits(this.mesh, this.level, k, this.corners, this.dirty);
+    const track = this.tracks(this.level, k);
+    const known = Math.min(k, this.learned);
+    if (this.level < known) this.quads += applyKnown(this, this.level, known, track);
+    if (known < k) {
+      this.makeRoom(k);
+      this.quads += learnAndApply(this, known, k, track);
+      this.learned = k;
+    }
     this.level = k;
   }
 
   // Undoes splits [k, level) from the last: each is the collapse v0 → v1.
   coarsen(k = this.level - 1) {
-    this.quads -= undoSplits(this.mesh, this.level, k, this.corners, this.dirty);
+    this.quads -= undoKnown(this, this.level, k, this.tracks(k, this.level));
     this.level = k;
+  }
+
+  // Whether a move over splits [from, to) lists the faces it touches: one whose records name
+  // more faces than half the mesh has marks every face touched instead, since the renderer
+  // then rewrites every face in order, cheaper than half of them in random order.
+  tracks(from, to) {
+    const { movedStart, wingStart } = this.mesh;
+    const named = movedStart[to] - movedStart[from] + wingStart[to] - wingStart[from];
+    if (named <= this.corners.length >> 3) return true;
+    this.dirty.addAll();
+    return false;
   }
 
   // Face f's corners at this level (for tests and exports).
@@ -89,4 +124,164 @@ export class Navigator {
   degree(f) {
     return this.corners[4 * f + 3] < 0 ? 3 : 4;
   }
+
+  // Room in the learned slots for the records of splits [0, k) (grown by doubling: the records
+  // grow as the file arrives).
+  makeRoom(k) {
+    const moved = this.mesh.movedStart[k], wings = this.mesh.wingStart[k];
+    if (moved > this.movedSlot.length) this.movedSlot = grown(this.movedSlot, moved);
+    if (wings > this.wingSlots.length) {
+      this.wingSlots = grown(this.wingSlots, wings);
+      this.wingOpposite = grown(this.wingOpposite, wings);
+    }
+  }
+}
+
+function grown(array, n) {
+  const out = new array.constructor(Math.max(n, 2 * array.length));
+  out.set(array);
+  return out;
+}
+
+// Splits [from, to), all learned: nothing but stores to the faces (and the touched-face list);
+// returns the quads they make.
+function applyKnown(nav, from, to, track) {
+  const { mesh, corners, dirty, movedSlot, wingSlots, wingOpposite } = nav;
+  const { b, parent, movedStart, wingStart, movedFaces, wingFlags, wingVertex, wingFace } = splitRecords(mesh);
+  const { mark, list } = dirty;
+  let n = dirty.count;
+  let quads = 0;
+  for (let i = from; i < to; i++) {
+    const v0 = b + i;
+    const v1 = parent[i];
+    for (let j = movedStart[i], end = movedStart[i + 1]; j < end; j++) {
+      const f = movedFaces[j];
+      corners[4 * f + movedSlot[j]] = v0;
+      if (track) (list[n] = f), (n += 1 - mark[f]), (mark[f] = 1);
+    }
+    // Both kinds of wing alike: v0, v1, w and the fourth corner (the quad's, or −1 in slot 3 of
+    // a re-created triangle) each to its slot.
+    for (let j = wingStart[i], end = wingStart[i + 1]; j < end; j++) {
+      const flags = wingFlags[j];
+      const f = wingFace[j];
+      const s = (flags >> WING_SLOT_SHIFT) & 3;
+      const slots = wingSlots[j];
+      const s1 = slots & 3, sw = slots >> 2;
+      const c = 4 * f;
+      corners[c + s] = v0;
+      corners[c + s1] = v1;
+      corners[c + sw] = wingVertex[j];
+      corners[c + 6 - s - s1 - sw] = wingOpposite[j];
+      quads += 1 - (flags & WING_WAS_TRIANGLE);
+      if (track) (list[n] = f), (n += 1 - mark[f]), (mark[f] = 1);
+    }
+  }
+  dirty.count = n;
+  return quads;
+}
+
+// Undoes splits [to, from) from the last (all learned): stores only; returns the quads they turn
+// back into triangles.
+function undoKnown(nav, from, to, track) {
+  const { mesh, corners, dirty, movedSlot, wingSlots, wingOpposite } = nav;
+  const { parent, movedStart, wingStart, movedFaces, wingFlags, wingVertex, wingFace } = splitRecords(mesh);
+  const { mark, list } = dirty;
+  let n = dirty.count;
+  let quads = 0;
+  for (let i = from - 1; i >= to; i--) {
+    const v1 = parent[i];
+    for (let j = wingStart[i + 1] - 1; j >= wingStart[i]; j--) {
+      const f = wingFace[j];
+      const flags = wingFlags[j];
+      const c = 4 * f;
+      if (!(flags & WING_WAS_TRIANGLE)) {
+        // The quad without v0: the corners after slot s one slot down.
+        const s = (flags >> WING_SLOT_SHIFT) & 3;
+        const slots = wingSlots[j];
+        const s1 = slots & 3, sw = slots >> 2, sx = 6 - s - s1 - sw;
+        corners[c + s1 - ((s - s1) >>> 31)] = v1;
+        corners[c + sw - ((s - sw) >>> 31)] = wingVertex[j];
+        corners[c + sx - ((s - sx) >>> 31)] = wingOpposite[j];
+        quads++;
+      }
+      corners[c + 3] = -1;  // a re-created triangle is removed: beyond the face count now
+      if (track) (list[n] = f), (n += 1 - mark[f]), (mark[f] = 1);
+    }
+    for (let j = movedStart[i], end = movedStart[i + 1]; j < end; j++) {
+      const f = movedFaces[j];
+      corners[4 * f + movedSlot[j]] = v1;
+      if (track) (list[n] = f), (n += 1 - mark[f]), (mark[f] = 1);
+    }
+  }
+  dirty.count = n;
+  return quads;
+}
+
+// Splits [from, to) applied for the first time, face by face as applySplits() goes (a face
+// named twice finds v1 gone the second time), with what applyKnown() needs recorded. The records
+// passed the decoder's checks (checkSplit(), touchedFacesValid()); what those rule out is still
+// refused. Returns the quads they make.
+function learnAndApply(nav, from, to, track) {
+  const { mesh, corners, dirty, movedSlot, wingSlots, wingOpposite } = nav;
+  const { b, parent, movedStart, wingStart, movedFaces, wingFlags, wingVertex, wingFace } = splitRecords(mesh);
+  const { mark, list } = dirty;
+  let n = dirty.count;
+  let quads = 0;
+  for (let i = from; i < to; i++) {
+    const v0 = b + i;
+    const v1 = parent[i];
+    for (let j = movedStart[i], end = movedStart[i + 1]; j < end; j++) {
+      const f = movedFaces[j];
+      const c = 4 * f;
+      const x0 = corners[c], x1 = corners[c + 1], x2 = corners[c + 2], x3 = corners[c + 3];
+      if (((x0 === v1) | (x1 === v1) | (x2 === v1) | (x3 === v1)) === 0) {
+        dirty.count = n;
+        throw new DpmError(`split ${i}: moved face ${f} is named twice`);
+      }
+      const slot = (x1 === v1 ? 1 : 0) + (x2 === v1 ? 2 : 0) + (x3 === v1 ? 3 : 0);
+      movedSlot[j] = slot;
+      corners[c + slot] = v0;
+      if (track) (list[n] = f), (n += 1 - mark[f]), (mark[f] = 1);
+    }
+    for (let j = wingStart[i], end = wingStart[i + 1]; j < end; j++) {
+      const flags = wingFlags[j];
+      const w = wingVertex[j];
+      const f = wingFace[j];
+      const s = (flags >> WING_SLOT_SHIFT) & 3;
+      const c = 4 * f;
+      let s1, sw;
+      if (flags & WING_WAS_TRIANGLE) {
+        // [s] = v0, [s+1] = v1, [s+2] = w (mod 3) when v1 follows v0, else w and v1 swapped.
+        const follows = (flags & WING_V1_FOLLOWS_V0) !== 0;
+        s1 = (s + (follows ? 1 : 2)) % 3;
+        sw = (s + (follows ? 2 : 1)) % 3;
+        wingOpposite[j] = -1;
+      } else {
+        // The triangle's corners from slot s on move one slot up.
+        const x1 = corners[c + 1], x2 = corners[c + 2];
+        const t1 = (x1 === v1 ? 1 : 0) + (x2 === v1 ? 2 : 0), tw = (x1 === w ? 1 : 0) + (x2 === w ? 2 : 0);
+        if (corners[c + t1] !== v1 || corners[c + tw] !== w || corners[c + 3] >= 0) {
+          dirty.count = n;
+          throw new DpmError(`split ${i}: wing face ${f} is not a triangle holding the parent and the wing vertex`);
+        }
+        s1 = t1 + (t1 >= s ? 1 : 0);
+        sw = tw + (tw >= s ? 1 : 0);
+        wingOpposite[j] = corners[c + 3 - t1 - tw];
+        quads++;
+      }
+      wingSlots[j] = s1 | (sw << 2);
+      corners[c + s] = v0;
+      corners[c + s1] = v1;
+      corners[c + sw] = w;
+      corners[c + 6 - s - s1 - sw] = wingOpposite[j];
+      if (track) (list[n] = f), (n += 1 - mark[f]), (mark[f] = 1);
+    }
+  }
+  dirty.count = n;
+  return quads;
+}
+
+function slotOf(corners, f, v) {
+  for (let k = 0; k < 4; k++) if (corners[4 * f + k] === v) return k;
+  return -1;
 }

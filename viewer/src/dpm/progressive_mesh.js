@@ -208,14 +208,26 @@ export class DirtyFaces {
     this.mark = new Uint8Array(faceCount);
     this.list = new Uint32Array(faceCount + 1);  // + 1: add() writes before it counts
     this.count = 0;
+    this.all = false;  // every face counts as touched (addAll())
   }
   add(f) {
     this.list[this.count] = f;
     this.count += 1 - this.mark[f];
     this.mark[f] = 1;
   }
+  // Every face counts as touched: for a change that touches most of them, which then need not
+  // be listed one by one.
+  addAll() {
+    this.all = true;
+  }
   // The faces touched since the last call (a view, valid until the next change).
   take() {
+    if (this.all) {
+      const { list } = this, n = list.length - 1;
+      this.clear();
+      for (let f = 0; f < n; f++) list[f] = f;
+      return list.subarray(0, n);
+    }
     const list = this.list.subarray(0, this.count);
     this.clear();
     return list;
@@ -223,7 +235,8 @@ export class DirtyFaces {
   // Forgets the touched faces (list[0, count) stays as it was until the next add()).
   clear() {
     const { list, mark } = this;
-    for (let i = 0; i < this.count; i++) mark[list[i]] = 0;
+    if (this.all) mark.fill(0), (this.all = false);
+    else for (let i = 0; i < this.count; i++) mark[list[i]] = 0;
     this.count = 0;
   }
 }
@@ -258,17 +271,22 @@ function dirtyFor(corners) {
   return single;
 }
 
+// The split records as the loops over them take them: each array in a local (the Growables'
+// current arrays), b the base vertex count (split i creates v0 = b + i).
+export function splitRecords(mesh) {
+  const { parent, movedStart, wingStart } = mesh;
+  return {
+    b: mesh.head.baseVertexCount, parent, movedStart, wingStart, movedFaces: mesh.movedFaces.data,
+    wingFlags: mesh.wingFlags.data, wingVertex: mesh.wingVertex.data, wingFace: mesh.wingFace.data,
+  };
+}
+
 // Splits [from, to) in order, the faces they change added to `dirty`; the quads they make. The
 // navigator's hot path: every array in a local, and no branch on a face's contents (at 1 M
 // vertices nearly every face a split names is a cache miss; a mispredicted branch on what one
 // holds would hold back the next one's load until it arrived).
 export function applySplits(mesh, from, to, corners, dirty) {
-  const b = mesh.head.baseVertexCount;
-  const { parent, movedStart, wingStart } = mesh;
-  const movedFaces = mesh.movedFaces.data;
-  const wingFlags = mesh.wingFlags.data;
-  const wingVertex = mesh.wingVertex.data;
-  const wingFace = mesh.wingFace.data;
+  const { b, parent, movedStart, wingStart, movedFaces, wingFlags, wingVertex, wingFace } = splitRecords(mesh);
   const { mark, list } = dirty;
   let n = dirty.count;
   let quads = 0;
@@ -323,11 +341,7 @@ export function applySplits(mesh, from, to, corners, dirty) {
 // Undoes splits [to, from) from the last (from > to): each is the collapse v0 → v1; the quads
 // they turn back into triangles.
 export function undoSplits(mesh, from, to, corners, dirty) {
-  const b = mesh.head.baseVertexCount;
-  const { parent, movedStart, wingStart } = mesh;
-  const movedFaces = mesh.movedFaces.data;
-  const wingFlags = mesh.wingFlags.data;
-  const wingFace = mesh.wingFace.data;
+  const { b, parent, movedStart, wingStart, movedFaces, wingFlags, wingFace } = splitRecords(mesh);
   const { mark, list } = dirty;
   let n = dirty.count;
   let quads = 0;
