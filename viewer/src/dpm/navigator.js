@@ -280,8 +280,3 @@ function learnAndApply(nav, from, to, track) {
   dirty.count = n;
   return quads;
 }
-
-function slotOf(corners, f, v) {
-  for (let k = 0; k < 4; k++) if (corners[4 * f + k] === v) return k;
-  return -1;
-}
