@@ -90,18 +90,24 @@ export class Navigator {
   refine(k = this.level + 1) {
     const track = this.tracks(this.level, k);
     const known = Math.min(k, this.learned);
-    if (this.level < known) this.quads += applyKnown(this, this.level, known, track);
+    const records = splitRecords(this.mesh);
+    if (this.level < known) this.quads += applyKnown(this, records, this.level, known, track);
     if (known < k) {
       this.makeRoom(k);
-      this.quads += learnAndApply(this, known, k, track);
-      this.learned = k;
+      // Applied for the first time, one by one: each split's slots are learned from the faces as
+      // the splits before it left them; those applied count even if a later one is refused.
+      for (let i = known; i < k; i++) {
+        learnSlots(this, records, i);
+        this.quads += applyKnown(this, records, i, i + 1, track);
+        this.learned = this.level = i + 1;
+      }
     }
     this.level = k;
   }
 
   // Undoes splits [k, level) from the last: each is the collapse v0 → v1.
   coarsen(k = this.level - 1) {
-    this.quads -= undoKnown(this, this.level, k, this.tracks(k, this.level));
+    this.quads -= undoKnown(this, splitRecords(this.mesh), this.level, k, this.tracks(k, this.level));
     this.level = k;
   }
 
@@ -143,140 +149,107 @@ function grown(array, n) {
   return out;
 }
 
-// Splits [from, to), all learned: nothing but stores to the faces (and the touched-face list);
-// returns the quads they make.
-function applyKnown(nav, from, to, track) {
-  const { mesh, corners, dirty, movedSlot, wingSlots, wingOpposite } = nav;
-  const { b, parent, movedStart, wingStart, movedFaces, wingFlags, wingVertex, wingFace } = splitRecords(mesh);
-  const { mark, list } = dirty;
-  let n = dirty.count;
-  let quads = 0;
-  for (let i = from; i < to; i++) {
-    const v0 = b + i;
-    const v1 = parent[i];
-    for (let j = movedStart[i], end = movedStart[i + 1]; j < end; j++) {
-      const f = movedFaces[j];
+// Splits [from, to), all learned (r: splitRecords()): nothing but stores to the faces and, when
+// tracking, to the touched-face list; returns the quads they make.
+function applyKnown(nav, r, from, to, track) {
+  const { corners, dirty, movedSlot, wingSlots, wingOpposite } = nav;
+  const touched = dirty.list, seen = dirty.mark;
+  let count = dirty.count, quads = 0;
+  for (let i = from, v0 = r.b + from; i < to; i++, v0++) {
+    const v1 = r.parent[i];
+    for (let j = r.movedStart[i], jEnd = r.movedStart[i + 1]; j < jEnd; j++) {
+      const f = r.movedFaces[j];
       corners[4 * f + movedSlot[j]] = v0;
-      if (track) (list[n] = f), (n += 1 - mark[f]), (mark[f] = 1);
+      if (track) (touched[count] = f), (count += 1 - seen[f]), (seen[f] = 1);
     }
     // Both kinds of wing alike: v0, v1, w and the fourth corner (the quad's, or −1 in slot 3 of
     // a re-created triangle) each to its slot.
-    for (let j = wingStart[i], end = wingStart[i + 1]; j < end; j++) {
-      const flags = wingFlags[j];
-      const f = wingFace[j];
+    for (let j = r.wingStart[i], jEnd = r.wingStart[i + 1]; j < jEnd; j++) {
+      const flags = r.wingFlags[j];
+      const f = r.wingFace[j];
       const s = (flags >> WING_SLOT_SHIFT) & 3;
-      const slots = wingSlots[j];
-      const s1 = slots & 3, sw = slots >> 2;
+      const s1 = wingSlots[j] & 3, sw = wingSlots[j] >> 2;
       const c = 4 * f;
       corners[c + s] = v0;
       corners[c + s1] = v1;
-      corners[c + sw] = wingVertex[j];
+      corners[c + sw] = r.wingVertex[j];
       corners[c + 6 - s - s1 - sw] = wingOpposite[j];
       quads += 1 - (flags & WING_WAS_TRIANGLE);
-      if (track) (list[n] = f), (n += 1 - mark[f]), (mark[f] = 1);
+      if (track) (touched[count] = f), (count += 1 - seen[f]), (seen[f] = 1);
     }
   }
-  dirty.count = n;
+  dirty.count = count;
   return quads;
 }
 
 // Undoes splits [to, from) from the last (all learned): stores only; returns the quads they turn
 // back into triangles.
-function undoKnown(nav, from, to, track) {
-  const { mesh, corners, dirty, movedSlot, wingSlots, wingOpposite } = nav;
-  const { parent, movedStart, wingStart, movedFaces, wingFlags, wingVertex, wingFace } = splitRecords(mesh);
-  const { mark, list } = dirty;
-  let n = dirty.count;
-  let quads = 0;
+function undoKnown(nav, r, from, to, track) {
+  const { corners, dirty, movedSlot, wingSlots, wingOpposite } = nav;
+  const touched = dirty.list, seen = dirty.mark;
+  let count = dirty.count, quads = 0;
   for (let i = from - 1; i >= to; i--) {
-    const v1 = parent[i];
-    for (let j = wingStart[i + 1] - 1; j >= wingStart[i]; j--) {
-      const f = wingFace[j];
-      const flags = wingFlags[j];
+    const v1 = r.parent[i];
+    for (let j = r.wingStart[i + 1] - 1; j >= r.wingStart[i]; j--) {
+      const f = r.wingFace[j];
       const c = 4 * f;
-      if (!(flags & WING_WAS_TRIANGLE)) {
+      if (!(r.wingFlags[j] & WING_WAS_TRIANGLE)) {
         // The quad without v0: the corners after slot s one slot down.
-        const s = (flags >> WING_SLOT_SHIFT) & 3;
-        const slots = wingSlots[j];
-        const s1 = slots & 3, sw = slots >> 2, sx = 6 - s - s1 - sw;
+        const s = (r.wingFlags[j] >> WING_SLOT_SHIFT) & 3;
+        const s1 = wingSlots[j] & 3, sw = wingSlots[j] >> 2, sx = 6 - s - s1 - sw;
         corners[c + s1 - ((s - s1) >>> 31)] = v1;
-        corners[c + sw - ((s - sw) >>> 31)] = wingVertex[j];
+        corners[c + sw - ((s - sw) >>> 31)] = r.wingVertex[j];
         corners[c + sx - ((s - sx) >>> 31)] = wingOpposite[j];
         quads++;
       }
       corners[c + 3] = -1;  // a re-created triangle is removed: beyond the face count now
-      if (track) (list[n] = f), (n += 1 - mark[f]), (mark[f] = 1);
+      if (track) (touched[count] = f), (count += 1 - seen[f]), (seen[f] = 1);
     }
-    for (let j = movedStart[i], end = movedStart[i + 1]; j < end; j++) {
-      const f = movedFaces[j];
+    for (let j = r.movedStart[i], jEnd = r.movedStart[i + 1]; j < jEnd; j++) {
+      const f = r.movedFaces[j];
       corners[4 * f + movedSlot[j]] = v1;
-      if (track) (list[n] = f), (n += 1 - mark[f]), (mark[f] = 1);
+      if (track) (touched[count] = f), (count += 1 - seen[f]), (seen[f] = 1);
     }
   }
-  dirty.count = n;
+  dirty.count = count;
   return quads;
 }
 
-// Splits [from, to) applied for the first time, face by face as applySplits() goes (a face
-// named twice finds v1 gone the second time), with what applyKnown() needs recorded. The records
+// What applyKnown() needs of split i, read from the faces before it is applied. The records
 // passed the decoder's checks (checkSplit(), touchedFacesValid()); what those rule out is still
-// refused. Returns the quads they make.
-function learnAndApply(nav, from, to, track) {
-  const { mesh, corners, dirty, movedSlot, wingSlots, wingOpposite } = nav;
-  const { b, parent, movedStart, wingStart, movedFaces, wingFlags, wingVertex, wingFace } = splitRecords(mesh);
-  const { mark, list } = dirty;
-  let n = dirty.count;
-  let quads = 0;
-  for (let i = from; i < to; i++) {
-    const v0 = b + i;
-    const v1 = parent[i];
-    for (let j = movedStart[i], end = movedStart[i + 1]; j < end; j++) {
-      const f = movedFaces[j];
-      const c = 4 * f;
-      const x0 = corners[c], x1 = corners[c + 1], x2 = corners[c + 2], x3 = corners[c + 3];
-      if (((x0 === v1) | (x1 === v1) | (x2 === v1) | (x3 === v1)) === 0) {
-        dirty.count = n;
-        throw new DpmError(`split ${i}: moved face ${f} is named twice`);
-      }
-      const slot = (x1 === v1 ? 1 : 0) + (x2 === v1 ? 2 : 0) + (x3 === v1 ? 3 : 0);
-      movedSlot[j] = slot;
-      corners[c + slot] = v0;
-      if (track) (list[n] = f), (n += 1 - mark[f]), (mark[f] = 1);
-    }
-    for (let j = wingStart[i], end = wingStart[i + 1]; j < end; j++) {
-      const flags = wingFlags[j];
-      const w = wingVertex[j];
-      const f = wingFace[j];
-      const s = (flags >> WING_SLOT_SHIFT) & 3;
-      const c = 4 * f;
-      let s1, sw;
-      if (flags & WING_WAS_TRIANGLE) {
-        // [s] = v0, [s+1] = v1, [s+2] = w (mod 3) when v1 follows v0, else w and v1 swapped.
-        const follows = (flags & WING_V1_FOLLOWS_V0) !== 0;
-        s1 = (s + (follows ? 1 : 2)) % 3;
-        sw = (s + (follows ? 2 : 1)) % 3;
-        wingOpposite[j] = -1;
-      } else {
-        // The triangle's corners from slot s on move one slot up.
-        const x1 = corners[c + 1], x2 = corners[c + 2];
-        const t1 = (x1 === v1 ? 1 : 0) + (x2 === v1 ? 2 : 0), tw = (x1 === w ? 1 : 0) + (x2 === w ? 2 : 0);
-        if (corners[c + t1] !== v1 || corners[c + tw] !== w || corners[c + 3] >= 0) {
-          dirty.count = n;
-          throw new DpmError(`split ${i}: wing face ${f} is not a triangle holding the parent and the wing vertex`);
-        }
-        s1 = t1 + (t1 >= s ? 1 : 0);
-        sw = tw + (tw >= s ? 1 : 0);
-        wingOpposite[j] = corners[c + 3 - t1 - tw];
-        quads++;
-      }
-      wingSlots[j] = s1 | (sw << 2);
-      corners[c + s] = v0;
-      corners[c + s1] = v1;
-      corners[c + sw] = w;
-      corners[c + 6 - s - s1 - sw] = wingOpposite[j];
-      if (track) (list[n] = f), (n += 1 - mark[f]), (mark[f] = 1);
-    }
+// refused: a moved face without the parent or named twice (applied face by face, the second
+// would find the parent gone), a quad wing that is not a triangle holding v1 and w.
+function learnSlots(nav, r, i) {
+  const { corners, movedSlot, wingSlots, wingOpposite } = nav;
+  const v1 = r.parent[i];
+  const firstMoved = r.movedStart[i];
+  for (let j = firstMoved; j < r.movedStart[i + 1]; j++) {
+    const f = r.movedFaces[j];
+    const c = 4 * f;
+    let named = 0;
+    for (let k = firstMoved; k < j; k++) named |= r.movedFaces[k] === f;
+    const holds = (corners[c] === v1) | (corners[c + 1] === v1) | (corners[c + 2] === v1) | (corners[c + 3] === v1);
+    if (named || !holds) throw new DpmError(`split ${i}: moved face ${f} is named twice`);
+    movedSlot[j] = (corners[c + 1] === v1 ? 1 : 0) + (corners[c + 2] === v1 ? 2 : 0) + (corners[c + 3] === v1 ? 3 : 0);
   }
-  dirty.count = n;
-  return quads;
+  for (let j = r.wingStart[i]; j < r.wingStart[i + 1]; j++) {
+    const flags = r.wingFlags[j];
+    const w = r.wingVertex[j];
+    const s = (flags >> WING_SLOT_SHIFT) & 3;
+    if (flags & WING_WAS_TRIANGLE) {
+      // [s] = v0, [s+1] = v1, [s+2] = w (mod 3) when v1 follows v0, else w and v1 swapped.
+      const follows = (flags & WING_V1_FOLLOWS_V0) !== 0;
+      wingSlots[j] = ((s + (follows ? 1 : 2)) % 3) | (((s + (follows ? 2 : 1)) % 3) << 2);
+      wingOpposite[j] = -1;
+      continue;
+    }
+    // A quad wing: the triangle's corners from slot s on move one slot up.
+    const c = 4 * r.wingFace[j];
+    const x1 = corners[c + 1], x2 = corners[c + 2];
+    const t1 = (x1 === v1 ? 1 : 0) + (x2 === v1 ? 2 : 0), tw = (x1 === w ? 1 : 0) + (x2 === w ? 2 : 0);
+    if (corners[c + t1] !== v1 || corners[c + tw] !== w || corners[c + 3] >= 0)
+      throw new DpmError(`split ${i}: wing face ${r.wingFace[j]} is not a triangle holding the parent and the wing vertex`);
+    wingSlots[j] = (t1 + (t1 >= s ? 1 : 0)) | ((tw + (tw >= s ? 1 : 0)) << 2);
+    wingOpposite[j] = corners[c + 3 - t1 - tw];
+  }
 }
