@@ -149,8 +149,9 @@ int run_build(std::span<char* const> arguments) {
     if (!opened) return fail(kSpec.name, kExitFailure, opened.message());
     family.emplace(std::move(*opened));
     options.variants = family->steps->variants();
+    options.simplify.checked = family->checked;
   } else {
-    auto opened = open_input_to_simplify(args, *output);
+    auto opened = open_input_to_simplify(args, *output, options.simplify.checked);
     if (!opened) return fail(kSpec.name, kExitFailure, opened.message());
     stream.emplace(std::move(*opened));
   }

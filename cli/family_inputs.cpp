@@ -33,7 +33,8 @@ Result<FamilyInputs> open_family(const Args& args, const std::string& output,
     Phase phase("reading the inputs");
     for (const std::string& input : args.positional) {
       const std::string one[] = {input};
-      auto stream = open_inputs(one, args, InputChecks::kSimplifiable);
+      auto stream = open_inputs(one, args, InputChecks::kSimplifiable,
+                                family.members.empty() ? &family.checked : nullptr);
       if (!stream) return stream.status();
       family.members.push_back(std::move(*stream));
     }

@@ -18,8 +18,9 @@ inline const FlagSpec kVariantFlag{"--variant", "", true, "NAME|INDEX",
                                    "a family file's variant (INDEX from 0; default 0)"};
 
 struct FamilyInputs {
-  std::vector<AnimationStream> members;  // one per input, in the order given
-  std::unique_ptr<FamilySteps> steps;    // their distinct steps, the build's FrameSource
+  std::vector<AnimationStream> members;    // one per input, in the order given
+  std::unique_ptr<FamilySteps> steps;      // their distinct steps, the build's FrameSource
+  std::optional<ValidationProof> checked;  // of the first member's faces (the build's mesh)
 };
 
 // The output's folder first, then each input opened as 'build' opens one (a d3plot family's

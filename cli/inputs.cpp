@@ -56,9 +56,11 @@ class FinitePositions final : public FrameSource {
 };
 
 // The first error validate() finds in the faces, named by the file they came from (the first
-// one of a sequence), with the element or node number where the file has one.
-Status check_faces(const Topology& topology, const std::string& file) {
-  const ValidationReport report = validate(topology);
+// one of a sequence), with the element or node number where the file has one; else the proof
+// that there is none in `proof`.
+Status check_faces(const Topology& topology, const std::string& file,
+                   std::optional<ValidationProof>& proof) {
+  const ValidationReport report = check_topology(topology, proof);
   for (const Problem& p : report.problems) {
     if (p.severity != Severity::kError) continue;
     std::string message = file + ": " + p.message;
@@ -93,7 +95,7 @@ Result<ReadOptions> read_options(const Args& args) {
 }  // namespace
 
 Result<AnimationStream> open_inputs(std::span<const std::string> arguments, const Args& args,
-                                    InputChecks checks) {
+                                    InputChecks checks, std::optional<ValidationProof>* checked) {
   auto read = read_options(args);
   if (!read) return read.status();
   auto paths = expand_inputs(arguments);
@@ -102,8 +104,11 @@ Result<AnimationStream> open_inputs(std::span<const std::string> arguments, cons
   options.warn = [](const std::string& note) { std::cerr << "warning: " << note << "\n"; };
   auto stream = open_input(*paths, options);
   if (!stream || checks == InputChecks::kNone) return stream;
-  if (checks == InputChecks::kSimplifiable)
-    DYNPM_RETURN_IF_ERROR(check_faces(stream->topology, paths->front()));
+  if (checks == InputChecks::kSimplifiable) {
+    std::optional<ValidationProof> proof;
+    DYNPM_RETURN_IF_ERROR(check_faces(stream->topology, paths->front(), proof));
+    if (checked) *checked = proof;
+  }
   stream->frames = std::make_unique<FinitePositions>(std::move(stream->frames), *paths,
                                                      stream->topology.node_ids);
   return stream;
@@ -115,10 +120,11 @@ std::optional<int> require_inputs_and_output(const Args& args, const VerbSpec& s
   return fail(spec.name, kExitUsage, "needs INPUT... and -o " + output_name, help_text(spec));
 }
 
-Result<AnimationStream> open_input_to_simplify(const Args& args, const std::string& output) {
+Result<AnimationStream> open_input_to_simplify(const Args& args, const std::string& output,
+                                               std::optional<ValidationProof>& checked) {
   DYNPM_RETURN_IF_ERROR(check_output_folder(output));
   Phase phase("reading the input");
-  return open_inputs(args.positional, args, InputChecks::kSimplifiable);
+  return open_inputs(args.positional, args, InputChecks::kSimplifiable, &checked);
 }
 
 }  // namespace dynpm::cli

@@ -27,9 +27,11 @@ enum class InputChecks {
 };
 
 // Globs → files, then open them as one animation with the reading flags of args
-// (--split-polygons, --integration-point); reader notes go to stderr.
+// (--split-polygons, --integration-point); reader notes go to stderr. With kSimplifiable,
+// `checked` (when given) gets the proof that the faces were checked (SimplifyOptions::checked).
 Result<AnimationStream> open_inputs(std::span<const std::string> arguments, const Args& args,
-                                    InputChecks checks = InputChecks::kFinite);
+                                    InputChecks checks = InputChecks::kFinite,
+                                    std::optional<ValidationProof>* checked = nullptr);
 
 // A verb that reads INPUT... and writes -o OUTPUT: the exit code of the usage failure when
 // either is missing ("dynpm convert: needs INPUT... and -o OUTPUT", then the help).
@@ -37,7 +39,9 @@ std::optional<int> require_inputs_and_output(const Args& args, const VerbSpec& s
                                              const std::string& output_name);
 
 // The input of 'build' and 'simplify': first the output's folder (so that the work is not lost
-// at the end), then the inputs opened with InputChecks::kSimplifiable ("reading the input").
-Result<AnimationStream> open_input_to_simplify(const Args& args, const std::string& output);
+// at the end), then the inputs opened with InputChecks::kSimplifiable ("reading the input");
+// `checked` gets the proof of that check, for the simplifier not to check again.
+Result<AnimationStream> open_input_to_simplify(const Args& args, const std::string& output,
+                                               std::optional<ValidationProof>& checked);
 
 }  // namespace dynpm::cli

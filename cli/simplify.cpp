@@ -98,7 +98,7 @@ int run_simplify(std::span<char* const> arguments) {
   if (!can_write(format_from_extension(*output)))
     return usage(*output + ": use .obj, .ply, .vtk or .vtu");
 
-  auto stream = open_input_to_simplify(args, *output);
+  auto stream = open_input_to_simplify(args, *output, options.checked);
   if (!stream) return fail(kSpec.name, kExitFailure, stream.message());
   std::optional<Phase> phase(std::in_place, "reading the input");
   const Topology& input = stream->topology;

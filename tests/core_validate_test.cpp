@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "fixtures.h"
 
@@ -177,6 +178,32 @@ TEST(Validate, ManyProblemsAreCountedButTheListIsBounded) {
   const ValidationReport r = validate(a);
   EXPECT_EQ(r.count(ProblemKind::kNonFinitePosition), 61u * 61u);
   EXPECT_EQ(r.problems.size(), ValidationReport::kMaxListedPerKind);
+}
+
+// check_topology() proves only the mesh it checked: a broken one gets no proof, and the proof
+// of a good one proves the same faces anywhere but not a face, the vertex count or an id
+// array changed since (the simplifier then checks that mesh itself).
+TEST(Validate, AProofProvesTheCheckedMeshOnly) {
+  const Topology good = quad_grid(3, 3).topology;
+  std::optional<ValidationProof> proof;
+  ASSERT_TRUE(check_topology(good, proof).ok());
+  ASSERT_TRUE(proof.has_value());
+  Topology other = good;
+  EXPECT_TRUE(proof->proves(other));
+  other.faces[4].v[3] = 1000;
+  EXPECT_FALSE(proof->proves(other));
+  std::optional<ValidationProof> none = proof;
+  EXPECT_FALSE(check_topology(other, none).ok());
+  EXPECT_FALSE(none.has_value());
+  other = good;
+  std::swap(other.faces[0].v[0], other.faces[0].v[2]);
+  EXPECT_FALSE(proof->proves(other));
+  other = good;
+  ++other.vertex_count;
+  EXPECT_FALSE(proof->proves(other));
+  other = good;
+  other.part_ids.pop_back();
+  EXPECT_FALSE(proof->proves(other));
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include <fstream>
 #include <limits>
 #include <string>
+#include <string_view>
 
 #include "dynpm/io.h"
 #include "dynpm/pipeline.h"
@@ -179,6 +180,41 @@ TEST(BuildDpm, TheCrashBoxFilesAreTheOnesBuiltBefore) {
 
 // A later OBJ file of a sequence with one face rewired: the build stops before writing, naming
 // that file, its line and the face.
+// 'dynpm build' checks the mesh when it reads it and hands the proof down
+// (SimplifyOptions::checked): the build then skips its own check and writes the same bytes.
+// Without a proof, or with the proof of other faces, build_dpm() refuses a broken mesh itself.
+TEST(BuildDpm, AProvenMeshIsCheckedOnceAndABrokenOneIsStillRefused) {
+  test::TempDir dir;
+  auto stream = open_crashbox(dir);
+  ASSERT_TRUE(stream.ok()) << stream.message();
+  BuildOptions options;
+  options.simplify.key_steps = {0, 12, 25};
+  size_t checks = 0;
+  options.progress = [&checks](std::string_view phase, size_t done, size_t) {
+    if (phase == "checking the mesh" && done == 0) ++checks;
+  };
+  auto unproven = build_dpm(stream->topology, *stream->frames, options);
+  ASSERT_TRUE(unproven.ok()) << unproven.message();
+  EXPECT_EQ(checks, 1u);
+  ASSERT_TRUE(check_topology(stream->topology, options.simplify.checked).ok());
+  auto proven = build_dpm(stream->topology, *stream->frames, options);
+  ASSERT_TRUE(proven.ok()) << proven.message();
+  EXPECT_EQ(checks, 1u);
+  EXPECT_TRUE(proven->bytes == unproven->bytes);
+
+  Topology broken = stream->topology;  // face 7 repeats a corner
+  broken.faces[7].v[1] = broken.faces[7].v[0];
+  for (const bool with_the_good_proof : {false, true}) {
+    BuildOptions o = options;
+    if (!with_the_good_proof) o.simplify.checked.reset();
+    auto refused = build_dpm(broken, *stream->frames, o);
+    ASSERT_FALSE(refused.ok());
+    EXPECT_EQ(refused.message().rfind("invalid input mesh: face 7 (", 0), 0u) << refused.message();
+    EXPECT_NE(refused.message().find("appears twice"), std::string::npos) << refused.message();
+  }
+  EXPECT_EQ(checks, 3u);
+}
+
 TEST(BuildDpm, ASequenceWhoseLaterFileHasOtherFacesIsRefusedNamingIt) {
   test::TempDir dir;
   const std::string from = test::shared_data() + "/crashbox-s/obj";

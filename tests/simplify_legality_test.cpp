@@ -19,7 +19,7 @@ std::vector<uint32_t> faces_of_edge(const CollapseMesh& mesh, uint32_t v0, uint3
 }
 
 bool p1_star(const CollapseMesh& mesh, uint32_t v0, uint32_t v1) {
-  VertexMarks marks(mesh.vertex_count());
+  VertexMarks marks;
   return simplification::second_order_neighbours_ok(mesh, v0, v1, faces_of_edge(mesh, v0, v1),
                                                     marks);
 }

@@ -321,6 +321,24 @@ inline ValidationReport validate(const Animation& animation) {
   return validate(animation.topology, &animation.frames, animation.fields);
 }
 
+// The proof that validate() found no error in a topology (its faces, its vertex count and the
+// sizes of its id arrays), so that simplify() and build_dpm(), handed it
+// (SimplifyOptions::checked), do not check the same mesh again. Only check_topology() makes one.
+// It keeps a fingerprint of what it checked, never a reference: a proof of other faces (another
+// topology, or this one changed since) proves nothing, and the mesh is checked as without it.
+class ValidationProof {
+ public:
+  bool proves(const Topology& topology) const { return fingerprint_ == fingerprint(topology); }
+
+ private:
+  friend ValidationReport check_topology(const Topology&, std::optional<ValidationProof>&);
+  explicit ValidationProof(uint64_t fingerprint) : fingerprint_(fingerprint) {}
+  static uint64_t fingerprint(const Topology& topology);
+  uint64_t fingerprint_;
+};
+// validate(topology), with the proof in `proof` when it found no error (else empty).
+ValidationReport check_topology(const Topology& topology, std::optional<ValidationProof>& proof);
+
 const char* to_string(ProblemKind kind);
 const char* to_string(Severity severity);
 

@@ -28,7 +28,8 @@
 namespace dynpm {
 
 struct BuildOptions {
-  // Key steps, placement limits, features and threads as for simplify(). Placement must be
+  // Key steps, placement limits, features, threads and the proof that the caller checked the
+  // mesh (SimplifyOptions::checked) as for simplify(). Placement must be
   // kHalfEdge (positions stay original, one per vertex per step serves every level); stop
   // conditions are ignored: the build collapses until no legal collapse remains.
   SimplifyOptions simplify;

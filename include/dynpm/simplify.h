@@ -162,12 +162,16 @@ struct SimplifyOptions {
   std::vector<uint32_t> locked_vertices;
   std::vector<Edge> feature_edges;  // user feature lines (vertex pairs joined by an edge)
 
+  // The proof that the caller's check_topology() found no error in this topology: the mesh is
+  // then not checked again (no "checking the mesh" phase). Without one, or with a proof of other
+  // faces, simplify() checks it itself.
+  std::optional<ValidationProof> checked;
   // Test mode: validate() the whole mesh after every collapse and fail at the first problem.
   bool check_every_collapse = false;
   unsigned threads = 0;  // 0: one per hardware thread
-  // Phases "checking the mesh" (faces), "reading key steps" (steps), "quadrics" (vertices) and
-  // "collapsing" (vertices removed, of those to remove; it ends at the collapses made). May be
-  // empty.
+  // Phases "checking the mesh" (faces; not with a proof in `checked`), "reading key steps" (steps),
+  // "quadrics" (vertices) and "collapsing" (vertices removed, of those to remove; it ends at the
+  // collapses made). May be empty.
   ProgressCallback progress;
 };
 
@@ -216,8 +220,9 @@ Result<std::vector<CostField>> cost_fields(const SimplifyOptions& options,
                                            const FrameSource& frames);
 
 // Simplifies the animation; the input is not changed. Errors: invalid input (validate()
-// errors), unreadable steps, options that cannot hold (optimal placement without every step as
-// a key step), or, in test mode, the first collapse after which validation fails.
+// errors, unless SimplifyOptions::checked proves there are none), unreadable steps, options that
+// cannot hold (optimal placement without every step as a key step), or, in test mode, the first
+// collapse after which validation fails.
 Result<SimplifyResult> simplify(const Topology& topology, const FrameSource& frames,
                                 const SimplifyOptions& options,
                                 CollapseListener* listener = nullptr);

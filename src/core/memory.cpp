@@ -72,6 +72,12 @@ void return_freed_arrays_to_the_system() {
 #endif
 }
 
+void release_free_heap() {
+#if defined(__GLIBC__)
+  malloc_trim(0);
+#endif
+}
+
 void release_pages(const void* begin, const void* end) {
 #if defined(__linux__)
   static const uintptr_t page = static_cast<uintptr_t>(sysconf(_SC_PAGESIZE));

@@ -11,6 +11,10 @@ namespace dynpm {
 // elsewhere nothing happens). The range stays the caller's: touched again it reads as zeros.
 void release_pages(const void* begin, const void* end);
 
+// The free memory the C library keeps in its heaps (arrays under 1 MB freed below arrays still
+// in use, and worker threads' heaps) back to the system: glibc malloc_trim(); elsewhere nothing.
+void release_free_heap();
+
 // A vector's capacity past its size, without the copy of shrink_to_fit(): a vector writes its
 // elements before it reads them, so the released pages are never read as they were.
 template <class T>

@@ -23,16 +23,17 @@ bool second_order_neighbours_ok(const CollapseMesh& mesh, uint32_t v0, uint32_t 
                                 std::span<const uint32_t> edge_faces, VertexMarks& marks) {
   // Mark v1's second-order neighbours, then the corners of the edge's faces with another
   // stamp; no corner of v0's faces may still carry the first.
-  const uint32_t in_v1_ring = marks.stamp += 2, in_edge_face = in_v1_ring + 1;
+  const uint32_t in_v1_ring = marks.begin(), in_edge_face = in_v1_ring + 1;
   for (uint32_t f : mesh.faces_of(v1))
     for (uint32_t z : mesh.face(f).v)
-      if (z != kNoVertex) marks.mark[z] = in_v1_ring;
+      if (z != kNoVertex) marks.set(z, in_v1_ring, in_v1_ring);
   for (uint32_t f : edge_faces)
     for (uint32_t z : mesh.face(f).v)
-      if (z != kNoVertex) marks.mark[z] = in_edge_face;
+      if (z != kNoVertex) marks.set(z, in_edge_face, in_v1_ring);
   for (uint32_t f : mesh.faces_of(v0))
     for (uint32_t z : mesh.face(f).v)
-      if (z != kNoVertex && z != v0 && z != v1 && marks.mark[z] == in_v1_ring) return false;
+      if (z != kNoVertex && z != v0 && z != v1 && marks.get(z, in_v1_ring) == in_v1_ring)
+        return false;
   return true;
 }
 
@@ -124,6 +125,10 @@ void CollapseRules::classify_vertices(const Adjacency& adjacency) {
     }
     if (mesh_.vertex_alive(v)) ++component_live_[c];
     component_[v] = c;
+  }
+  if (component_live_.size() <= 65536) {  // 2 B per vertex instead of 4 for the whole run
+    small_component_.assign(component_.begin(), component_.end());
+    std::vector<uint32_t>().swap(component_);
   }
 }
 
@@ -259,7 +264,7 @@ bool CollapseRules::allows(uint32_t v0, uint32_t v1, VertexMarks& marks,
   // (P3): a component keeps more than 4 vertices, or more than 3 at a boundary.
   const bool at_border =
       class_[v0] != VertexClass::kInterior || class_[v1] != VertexClass::kInterior;
-  if (component_live_[component_[v0]] <= (at_border ? 3u : 4u)) return false;
+  if (component_live_[component_of(v0)] <= (at_border ? 3u : 4u)) return false;
   // No sheet or part may lose its last face between two boundary or feature edges.
   if (!keeps_every_sheet(v0, v1, edge)) return false;
   // (P1*): otherwise the collapse leaves a vertex of valence two (paper Fig. 4 and 5).

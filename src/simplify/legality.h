@@ -14,6 +14,7 @@
 // only along its feature line, and a locked vertex never moves.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 
 namespace dynpm::simplification {
@@ -54,11 +55,62 @@ namespace dynpm::simplification {
 
 class KeyStepQuadrics;  // quadrics.h
 
-// Marks per vertex, reused across tests: a vertex is marked when mark[v] == the current stamp.
-struct VertexMarks {
-  explicit VertexMarks(uint32_t vertex_count) : mark(vertex_count, 0) {}
-  std::vector<uint32_t> mark;
-  uint32_t stamp = 0;
+// Stamps on the few vertices one legality test marks (a few dozen), reused across tests: an
+// open-addressed table that grows with the most one test marks, where a stamp per vertex of the
+// mesh took 4 B per vertex at the simplifier's peak. A test takes two fresh stamps (begin());
+// a slot with an older stamp counts as empty.
+class VertexMarks {
+ public:
+  // A test begins: the first of its two stamps, above every stamp before (when they run out,
+  // the table is emptied and they start again).
+  uint32_t begin() {
+    if (stamp_ > UINT32_MAX - 4) {
+      std::fill(slots_.begin(), slots_.end(), Slot{});
+      stamp_ = 0;
+    }
+    used_ = 0;
+    return stamp_ += 2;
+  }
+  // The stamp of v in this test: `since` or later, else 0. Stamps of one test are ≥ since.
+  uint32_t get(uint32_t v, uint32_t since) const {
+    for (size_t i = slot_of(v);; i = (i + 1) & mask()) {
+      if (slots_[i].stamp < since) return 0;
+      if (slots_[i].vertex == v) return slots_[i].stamp;
+    }
+  }
+  void set(uint32_t v, uint32_t value, uint32_t since) {
+    if (2 * (used_ + 1) > slots_.size()) grow(since);
+    for (size_t i = slot_of(v);; i = (i + 1) & mask()) {
+      if (slots_[i].stamp < since) {
+        slots_[i] = {v, value};
+        ++used_;
+        return;
+      }
+      if (slots_[i].vertex == v) {
+        slots_[i].stamp = value;
+        return;
+      }
+    }
+  }
+
+ private:
+  struct Slot {
+    uint32_t vertex = 0, stamp = 0;
+  };
+  size_t mask() const { return slots_.size() - 1; }
+  size_t slot_of(uint32_t v) const { return (v * 0x9e3779b1u) >> shift_; }  // the high bits
+  void grow(uint32_t since) {
+    std::vector<Slot> old(slots_.size() * 2);
+    old.swap(slots_);
+    --shift_;
+    used_ = 0;
+    for (const Slot& s : old)
+      if (s.stamp >= since) set(s.vertex, s.stamp, since);
+  }
+  std::vector<Slot> slots_ = std::vector<Slot>(64);
+  size_t used_ = 0;
+  uint32_t stamp_ = 0;
+  int shift_ = 32 - 6;  // 2^6 slots
 };
 
 // (P1*) (paper §2): every vertex that shares a face with v0 and a face with v1 shares one face
@@ -101,7 +153,7 @@ class CollapseRules {
   bool allows(uint32_t v0, uint32_t v1, VertexMarks& marks, std::vector<Vec3>& placement) const;
 
   // After the collapse v0 → v1: v0's component has one vertex less.
-  void collapsed(uint32_t v0) { --component_live_[component_[v0]]; }
+  void collapsed(uint32_t v0) { --component_live_[component_of(v0)]; }
 
  private:
   struct EdgeFaces;
@@ -119,7 +171,13 @@ class CollapseRules {
   FeatureEdges features_;
   double cos_max_rotation_;
   std::vector<VertexClass> class_;
-  std::vector<uint32_t> component_, component_live_;  // (P3) per connected component
+  uint32_t component_of(uint32_t v) const {
+    return small_component_.empty() ? component_[v] : small_component_[v];
+  }
+  // (P3) per connected component: each vertex's (in 16 bits when there are at most 65,536), and
+  // the live vertices of each.
+  std::vector<uint32_t> component_, component_live_;
+  std::vector<uint16_t> small_component_;
 };
 
 }  // namespace dynpm::simplification

@@ -71,8 +71,10 @@ class MonotoneQueue {
   static constexpr size_t kBuckets = 33;
   static constexpr uint32_t kNone = UINT32_MAX;
   static constexpr uint32_t kBlockItems = (4096 - 8) / sizeof(T);
+  // count and next are set when a block is taken (push_to()): a new slab's pages are touched
+  // only as its blocks come into use, not all 2 MB at once.
   struct Block {
-    uint32_t count = 0, next = kNone;
+    uint32_t count, next;
     T items[kBlockItems];
   };
 
@@ -90,7 +92,8 @@ class MonotoneQueue {
       uint32_t block;
       if (free_.empty()) {
         block = made_;
-        if (made_++ % kSlabBlocks == 0) slabs_.push_back(std::make_unique<Block[]>(kSlabBlocks));
+        if (made_++ % kSlabBlocks == 0)
+          slabs_.push_back(std::make_unique_for_overwrite<Block[]>(kSlabBlocks));
       } else {
         block = free_.back();
         free_.pop_back();

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 #include <optional>
 #include <string>
 
@@ -218,28 +217,32 @@ void KeyStepQuadrics::drop_removed(const CollapseMesh& mesh) {
   const size_t rows = quadrics_.size() / std::max<size_t>(key_count_, 1);
   if (size_t{mesh.live_vertices()} * 16 > rows * 15 || rows < 64) return;
   const uint32_t n = mesh.vertex_count();
-  if (row_.empty()) {
-    row_.resize(n);
-    std::iota(row_.begin(), row_.end(), uint32_t{0});
-  }
+  // The first time, rows are still vertices: the table is made after the rows have moved and
+  // their pages are released, so that its 4 B per vertex never add to the collapse's peak.
+  const bool first = row_.empty();
   const size_t q = key_count_, p = key_count_ * 3;
   uint32_t next = 0;
   for (uint32_t v = 0; v < n; ++v) {
     if (!mesh.vertex_alive(v)) {
-      row_[v] = kNoVertex;
+      if (!first) row_[v] = kNoVertex;
       continue;
     }
-    const uint32_t from = row_[v];  // ≥ next: rows keep the vertex order
+    const uint32_t from = first ? v : row_[v];  // ≥ next: rows keep the vertex order
     if (from != next) {
       std::copy_n(&quadrics_[from * q], q, &quadrics_[next * q]);
       std::copy_n(&positions_[from * p], p, &positions_[next * p]);
     }
-    row_[v] = next++;
+    if (!first) row_[v] = next;
+    ++next;
   }
   quadrics_.resize(next * q);
   positions_.resize(next * p);
   release_unused_capacity(quadrics_);
   release_unused_capacity(positions_);
+  if (!first) return;
+  row_.resize(n);
+  next = 0;
+  for (uint32_t v = 0; v < n; ++v) row_[v] = mesh.vertex_alive(v) ? next++ : kNoVertex;
 }
 
 std::vector<float> KeyStepQuadrics::positions_of(std::span<const uint32_t> vertices,

@@ -29,6 +29,7 @@
 #include <string>
 
 #include "collapse_mesh.h"
+#include "core/pages.h"
 #include "core/parallel.h"
 #include "dynpm/simplify.h"
 #include "legality.h"
@@ -41,7 +42,6 @@ namespace {
 
 // Scratch space for one thread.
 struct Scratch {
-  explicit Scratch(uint32_t vertex_count) : marks(vertex_count) {}
   std::vector<uint32_t> neighbours;
   std::vector<Vec3> placement;  // per key step, for the collapse under test
   VertexMarks marks;
@@ -101,7 +101,7 @@ class Simplifier {
   size_t queue_size_after_cleanup_ = 0;
   std::vector<Entry> fresh_;
   std::vector<uint32_t> changed_;
-  std::vector<uint8_t> rejected_;  // an entry of this vertex was dropped as illegal
+  std::vector<bool> rejected_;  // an entry of this vertex was dropped as illegal
   uint32_t time_ = 1;
 
   // Independent rounds (SimplifyOptions::independent_rounds): round_of_[v] is the round whose
@@ -200,7 +200,7 @@ void Simplifier::rate_all_edges() {
   const unsigned threads = thread_count(options_.threads);
   constexpr uint32_t kRoundVertices = 1u << 16;
   std::vector<std::vector<Entry>> parts(threads);
-  std::vector<Scratch> scratch(threads, Scratch(0));
+  std::vector<Scratch> scratch(threads);
   queue_.clear();
   for (uint32_t first = 0; first < n; first += std::min(kRoundVertices, n - first)) {
     const uint32_t count = std::min(kRoundVertices, n - first);
@@ -216,7 +216,7 @@ void Simplifier::rate_all_edges() {
     }
   }
   queue_size_after_cleanup_ = queue_.size();
-  std::fill(rejected_.begin(), rejected_.end(), 0);
+  std::fill(rejected_.begin(), rejected_.end(), false);
 }
 
 // Stale entries are dropped when the queue has doubled since the last time.
@@ -254,7 +254,7 @@ Status Simplifier::collapse(uint32_t v0, uint32_t v1, double error, Scratch& s) 
   mesh_.second_order_neighbours(v1, ring_);
   for (uint32_t w : ring_) {
     if (!rejected_[w]) continue;
-    rejected_[w] = 0;
+    rejected_[w] = false;
     rate_edges_of(w, s, fresh_);
   }
   for (const Entry& e : fresh_) queue_.push(e);
@@ -340,6 +340,7 @@ Result<SimplifyResult> Simplifier::run(Adjacency adjacency) {
   quadrics_.build(input_, mesh_, constrained, options_.boundary_weight, options_.regularize,
                   thread_count(options_.threads));
   constrained = {};
+  release_free_heap();  // the adjacency's small arrays, before the queue
 
   target_vertices_ = options_.target_vertices.value_or(0);
   if (options_.target_ratio) {
@@ -349,11 +350,11 @@ Result<SimplifyResult> Simplifier::run(Adjacency adjacency) {
   }
 
   changed_.assign(input_.vertex_count, 0);
-  rejected_.assign(input_.vertex_count, 0);
+  rejected_.assign(input_.vertex_count, false);
   if (rounds()) round_of_.assign(input_.vertex_count, 0), end_round();
   rate_all_edges();
   ++time_;
-  Scratch s(input_.vertex_count);
+  Scratch s;
   report("quadrics", vertices, vertices);
 
   SimplifyResult result;
@@ -389,7 +390,7 @@ Result<SimplifyResult> Simplifier::run(Adjacency adjacency) {
       break;
     }
     if (!rules_.allows(entry.v0, entry.v1, s.marks, s.placement)) {
-      rejected_[entry.v0] = 1;
+      rejected_[entry.v0] = true;
       if (!entry.one_way) {
         queue_.push(
             {static_cast<float>(cost(entry.v1, entry.v0, s)), entry.v1, entry.v0, time_, 1});
@@ -456,11 +457,11 @@ Result<std::vector<CostField>> cost_fields(const SimplifyOptions& options,
 Result<SimplifyResult> simplify(const Topology& topology, const FrameSource& frames,
                                 const SimplifyOptions& options, CollapseListener* listener) {
   std::optional<Adjacency> adjacency;
-  const size_t faces = topology.faces.size();
-  if (options.progress) options.progress("checking the mesh", 0, faces);
-  const ValidationReport report = validate(topology, adjacency);
-  if (options.progress) options.progress("checking the mesh", faces, faces);
-  if (!report.ok()) {
+  if (!(options.checked && options.checked->proves(topology))) {
+    const size_t faces = topology.faces.size();
+    if (options.progress) options.progress("checking the mesh", 0, faces);
+    const ValidationReport report = validate(topology, adjacency);
+    if (options.progress) options.progress("checking the mesh", faces, faces);
     for (const Problem& p : report.problems)
       if (p.severity == Severity::kError) return Status::error("invalid input mesh: " + p.message);
   }
