@@ -91,7 +91,10 @@ export class Navigator {
     const track = this.tracks(this.level, k);
     const known = Math.min(k, this.learned);
     const records = splitRecords(this.mesh);
-    if (this.level < known) this.quads += applyKnown(this, records, this.level, known, track);
+    if (this.level < known) {
+      this.quads += applyKnown(this, records, this.level, known, track);
+      this.level = known;
+    }
     if (known < k) {
       this.makeRoom(k);
       // Applied for the first time, one by one: each split's slots are learned from the faces as
@@ -102,7 +105,6 @@ export class Navigator {
         this.learned = this.level = i + 1;
       }
     }
-    this.level = k;
   }
 
   // Undoes splits [k, level) from the last: each is the collapse v0 → v1.
