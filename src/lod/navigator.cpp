@@ -191,7 +191,12 @@ constexpr size_t kCachedFaceBytes = size_t{1} << 20;
 void Navigator::set_level(uint32_t k) {
   const ProgressiveMesh& mesh = *mesh_;
   k = std::min(k, mesh.split_count());
-  if (k > learned_) {  // room for what splits [learned_, k) will learn
+  if (k > learned_) {     // room for what splits [learned_, k) will learn
+    if (learned_ == 0) {  // all of it at once, not twice by growing: pages are given as touched
+      moved_slot_.reserve(mesh.moved_faces.size());
+      wing_slots_.reserve(mesh.wings.size());
+      wing_opposite_.reserve(mesh.wings.size());
+    }
     moved_slot_.resize(mesh.moved_start[k]);
     wing_slots_.resize(mesh.wing_start[k]);
     wing_opposite_.resize(mesh.wing_start[k]);
