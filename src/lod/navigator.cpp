@@ -47,19 +47,16 @@ struct SplitStream {
 
 // core/prefetch.h: a bare __builtin_prefetch loop is deleted by GCC at -O2. Moved face or wing k
 // being written, the one kAhead on (back, when undoing) is asked for.
+inline uint32_t entry_ahead(uint32_t k, uint32_t last, bool back) {
+  return back ? k - std::min(k, kAhead) : std::min(k + kAhead, last);
+}
 template <bool kPrefetch>
 inline void ask_moved(const SplitStream& m, const Face* faces, uint32_t k, bool back = false) {
-  if (kPrefetch)
-    prefetch<true>(
-        faces +
-        m.moved_faces[back ? (k >= kAhead ? k - kAhead : 0) : std::min(k + kAhead, m.last_moved)]);
+  if (kPrefetch) prefetch<true>(faces + m.moved_faces[entry_ahead(k, m.last_moved, back)]);
 }
 template <bool kPrefetch>
 inline void ask_wing(const SplitStream& m, const Face* faces, uint32_t k, bool back = false) {
-  if (kPrefetch)
-    prefetch<true>(
-        faces +
-        m.wings[back ? (k >= kAhead ? k - kAhead : 0) : std::min(k + kAhead, m.last_wing)].face);
+  if (kPrefetch) prefetch<true>(faces + m.wings[entry_ahead(k, m.last_wing, back)].face);
 }
 
 // Undoing reads the records backwards, which the hardware's prefetchers follow less well: at
