@@ -1,7 +1,8 @@
 // Navigator throughput: full refine and full coarsen of a .dpm, in splits (collapses) per
 // second, and decode speed. Median of repeated runs (the machine is shared and noisy): in wall
 // time, and in this thread's CPU time (_cpu), which time spent waiting for a core does not count.
-//   navigator_bench MODEL.dpm [repeats]
+//   navigator_bench MODEL.dpm [repeats [decodes]]
+// The first refine also learns what each split writes (navigator.cpp); it is one of the repeats.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -18,20 +19,21 @@ using dynpm::bench::seconds_since;
 
 int main(int argc, char** argv) {
   if (argc < 2) {
-    std::fprintf(stderr, "usage: navigator_bench MODEL.dpm [repeats]\n");
+    std::fprintf(stderr, "usage: navigator_bench MODEL.dpm [repeats [decodes]]\n");
     return 2;
   }
   const int repeats = argc > 2 ? std::atoi(argv[2]) : 9;
+  const int decodes = std::max(1, argc > 3 ? std::atoi(argv[3]) : std::min(repeats, 3));
   auto bytes = dynpm::read_file(argv[1]);
   if (!bytes) {
     std::fprintf(stderr, "%s\n", bytes.message().c_str());
     return 1;
   }
-  // Decoding is slow at this size and not what is measured here: at most 3 decodes; the
-  // navigator refines and coarsens `repeats` times on the last one.
+  // Decoding is slow at this size and not what is measured here: at most 3 decodes unless told;
+  // the navigator refines and coarsens `repeats` times on the last one.
   std::vector<double> decode, refine, coarsen, refine_cpu, coarsen_cpu;
   dynpm::Result<dynpm::ProgressiveMesh> mesh = dynpm::Status::error("not decoded");
-  for (int r = 0; r < std::min(repeats, 3); ++r) {
+  for (int r = 0; r < decodes; ++r) {
     const auto start = std::chrono::steady_clock::now();
     mesh = dynpm::decode_dpm(*bytes, argv[1]);
     decode.push_back(seconds_since(start));

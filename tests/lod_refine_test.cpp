@@ -261,48 +261,5 @@ TEST(Refine, FieldAtEveryStep) {
   }
 }
 
-// The navigator applies and undoes splits in its own loop (prefetching ahead, no checks):
-// every level, reached split by split and in long jumps both ways, holds exactly the faces
-// apply_split() and undo_split() make, on the crash boxes' quads and triangles.
-TEST(Navigator, EveryLevelIsWhatApplySplitMakes) {
-  for (const char* name : {"crashbox-mixed-5k", "crashbox-fields"}) {
-    SCOPED_TRACE(name);
-    DYNPM_CRASHBOX_OR_SKIP(model, name);
-    const ProgressiveMesh& m = model->mesh;
-    const uint32_t splits = m.split_count();
-    std::vector<Face> faces(m.base_faces);  // apply_split()'s, in step with the navigator
-    faces.resize(m.face_count_after(splits));
-    uint32_t face_count = m.base_face_count;
-    auto same = [&](const Navigator& nav) {
-      return std::ranges::equal(nav.faces(), std::span(faces.data(), face_count));
-    };
-    auto reach = [&](uint32_t k) {  // apply_split() from the base mesh up to level k
-      std::copy(m.base_faces.begin(), m.base_faces.end(), faces.begin());
-      face_count = m.base_face_count;
-      for (uint32_t i = 0; i < k; ++i) apply_split(m, i, faces, face_count);
-    };
-    Navigator nav(m);
-    for (uint32_t k = 1; k <= splits; ++k) {
-      ASSERT_TRUE(apply_split(m, k - 1, faces, face_count));
-      nav.set_level(k);
-      ASSERT_TRUE(same(nav)) << "refined to level " << k;
-    }
-    for (uint32_t k = splits; k-- > 0;) {
-      undo_split(m, k, faces, face_count);
-      nav.set_level(k);
-      ASSERT_TRUE(same(nav)) << "coarsened to level " << k;
-    }
-    uint32_t jumps = 0;
-    for (uint32_t k = splits; k > 0; k /= 3, ++jumps) {
-      for (uint32_t level : {k, splits - k, splits, 0u, k / 2}) {
-        reach(level);
-        nav.set_level(level);
-        ASSERT_TRUE(same(nav)) << "jumped to level " << level;
-      }
-    }
-    EXPECT_GE(jumps, 7u);
-  }
-}
-
 }  // namespace
 }  // namespace dynpm

@@ -69,6 +69,13 @@ class Navigator {
   std::vector<Face> faces_;  // every face the mesh holds; [0, face_count_) are current
   uint32_t level_ = 0;
   uint32_t face_count_ = 0;
+  // What splits [0, learned_) write besides their records, learned from the faces the first
+  // time each is applied, so that later applies and undos only store (navigator.cpp): 1 B per
+  // moved face, 5 B per wing.
+  uint32_t learned_ = 0;
+  std::vector<uint8_t> moved_slot_;      // per moved face: the parent's slot
+  std::vector<uint8_t> wing_slots_;      // per wing, split applied: v1's slot | w's slot << 2
+  std::vector<uint32_t> wing_opposite_;  // per wing: the fourth corner (kNoVertex: a triangle)
 };
 
 // The fully refined mesh in the input's vertex and face order (what build read), with

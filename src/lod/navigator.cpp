@@ -2,7 +2,6 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
-#include <cstring>
 
 #include "core/prefetch.h"
 #include "dynpm/lod.h"
@@ -18,13 +17,21 @@ Navigator::Navigator(const ProgressiveMesh& mesh)
 namespace {
 
 // Consecutive splits touch faces spread over the whole mesh: at 1 M vertices nearly every face a
-// split names is a cache miss. The records say which faces split i will touch long before it
-// runs, so the navigator asks for them this many splits ahead and the misses overlap.
-constexpr uint32_t kPrefetchSplits = 8;
+// split names is a cache miss. The records say which faces the splits ahead will touch, so the
+// loops ask for the face this many entries on in the moved-face and wing arrays (6–8 splits
+// ahead) as they go, and the misses overlap.
+constexpr uint32_t kAhead = 16;
 constexpr int kNext[] = {1, 2, 0, 1};  // the corner after slot s of a triangle is kNext[s]
 
-// The split records as plain pointers held in locals: the face stores (uint32_t) cannot then
-// alias them or the navigator's counters, which the compiler would otherwise reload after each.
+// The split records, and what the navigator learned of them, as plain pointers held in locals:
+// the face stores (uint32_t) cannot then alias them or the navigator's counters, which the
+// compiler would otherwise reload after each.
+//
+// What is learned: what a split writes besides its record, read from the faces as the splits
+// before it left them the first time it is applied (a level's faces are a function of the split
+// count, so it never changes). Later applies and undos then only store to the faces: the loops
+// do not wait for a face to arrive (the stores drain in the background), and they have no branch
+// on what they find.
 struct SplitStream {
   uint32_t base_vertex_count;
   const uint32_t* parent;
@@ -32,112 +39,144 @@ struct SplitStream {
   const uint32_t* moved_faces;
   const uint32_t* wing_start;
   const SplitWing* wings;
+  uint32_t last_moved, last_wing;  // the last entry of moved_faces and of wings
+  const uint8_t* moved_slot;       // per moved face: the parent's slot
+  const uint8_t* wing_slots;       // per wing, split applied: v1's slot | w's slot << 2
+  const uint32_t* wing_opposite;   // per wing: the fourth corner, kNoVertex in a triangle
 };
 
-// core/prefetch.h: a bare __builtin_prefetch loop is deleted by GCC at -O2.
-inline void prefetch_face(const Face* face) { prefetch<true>(face); }
-
-void prefetch_faces(const SplitStream& m, uint32_t i, const Face* faces) {
-  for (uint32_t k = m.moved_start[i]; k < m.moved_start[i + 1]; ++k)
-    prefetch_face(faces + m.moved_faces[k]);
-  for (uint32_t k = m.wing_start[i]; k < m.wing_start[i + 1]; ++k)
-    prefetch_face(faces + m.wings[k].face);
+// core/prefetch.h: a bare __builtin_prefetch loop is deleted by GCC at -O2. Moved face or wing k
+// being written, the one kAhead on (back, when undoing) is asked for.
+inline uint32_t entry_ahead(uint32_t k, uint32_t last, bool back) {
+  return back ? k - std::min(k, kAhead) : std::min(k + kAhead, last);
+}
+template <bool kPrefetch>
+inline void ask_moved(const SplitStream& m, const Face* faces, uint32_t k, bool back = false) {
+  if (kPrefetch) prefetch<true>(faces + m.moved_faces[entry_ahead(k, m.last_moved, back)]);
+}
+template <bool kPrefetch>
+inline void ask_wing(const SplitStream& m, const Face* faces, uint32_t k, bool back = false) {
+  if (kPrefetch) prefetch<true>(faces + m.wings[entry_ahead(k, m.last_wing, back)].face);
 }
 
-// apply_split() and undo_split() in stream order without their checks, inlined into the loops
-// of set_level(): the same faces in fewer instructions per split (at 1 M vertices the faces
-// mostly arrive with the prefetches, and the time goes to the work per split).
-#if defined(__GNUC__)
-using Corners = uint32_t __attribute__((vector_size(16)));
-// The corner holding `from` takes `to`: one compare and select over the whole face.
-inline void replace_corner(Face& face, uint32_t from, uint32_t to) {
-  static_assert(sizeof(Face) == sizeof(Corners));
-  Corners c;
-  std::memcpy(&c, face.v.data(), sizeof c);
-  const Corners hit = (Corners)(c == Corners{from, from, from, from});
-  c = (c & ~hit) | (Corners{to, to, to, to} & hit);
-  std::memcpy(face.v.data(), &c, sizeof c);
-}
-#else
-inline void replace_corner(Face& face, uint32_t from, uint32_t to) {
-  for (uint32_t& c : face.v) c = c == from ? to : c;
-}
-#endif
-
-// A triangle's corners from slot s on move one slot up and v0 takes slot s; remove_corner() is
-// the inverse. Selects rather than a loop, which GCC makes a call to memmove.
-inline void insert_corner(Face& face, int s, uint32_t v0) {
-  const auto [a, b, c, d] = face.v;
-  (void)d;  // kNoVertex: the face is a triangle
-  face.v = {s == 0 ? v0 : a, s == 1 ? v0 : (s == 0 ? a : b), s == 2 ? v0 : (s <= 1 ? b : c),
-            s == 3 ? v0 : c};
+// Undoing reads the records backwards, which the hardware's prefetchers follow less well: at
+// 1 M vertices undoing went at 0.7 times the speed of applying, and the same once each stream's
+// records kBehind splits back are asked for (the wings', 24 B a split, mattered most).
+constexpr uint32_t kBehind = 64;
+inline void ask_records_behind(const SplitStream& m, uint32_t i) {
+  auto behind = [](uint32_t k) { return k - std::min(k, kBehind); };
+  prefetch(m.parent + behind(i));
+  prefetch(m.moved_start + behind(i));
+  prefetch(m.wing_start + behind(i));
+  prefetch(m.moved_slot + behind(m.moved_start[i]));
+  prefetch(m.wing_slots + behind(m.wing_start[i]));
+  prefetch(m.wing_opposite + behind(m.wing_start[i]));
+  prefetch(m.wings + behind(m.wing_start[i]));
+  prefetch(m.moved_faces + behind(m.moved_start[i]));
 }
 
-inline void remove_corner(Face& face, int s) {
-  const auto [a, b, c, d] = face.v;
-  face.v = {s == 0 ? b : a, s <= 1 ? c : b, s <= 2 ? d : c, kNoVertex};
+inline int slot_of(const Face& face, uint32_t v) {  // without a branch on which slot it is
+  return (face.v[1] == v) + 2 * (face.v[2] == v) + 3 * (face.v[3] == v);
 }
 
-inline void refine_split(const SplitStream& m, uint32_t i, Face* faces, uint32_t& face_count) {
-  const uint32_t v0 = m.base_vertex_count + i;
+struct LearnedSlots {  // where learn_split() writes: SplitStream's last three, writable
+  uint8_t* moved_slot;
+  uint8_t* wing_slots;
+  uint32_t* wing_opposite;
+};
+
+// Reads the faces split i will write (before it is applied) and records its slots.
+template <bool kPrefetch>
+inline void learn_split(const SplitStream& m, uint32_t i, const Face* faces,
+                        const LearnedSlots& out) {
   const uint32_t v1 = m.parent[i];
-  for (uint32_t k = m.moved_start[i], end = m.moved_start[i + 1]; k < end; ++k)
-    replace_corner(faces[m.moved_faces[k]], v1, v0);
+  for (uint32_t k = m.moved_start[i], end = m.moved_start[i + 1]; k < end; ++k) {
+    ask_moved<kPrefetch>(m, faces, k);
+    const Face& face = faces[m.moved_faces[k]];
+    out.moved_slot[k] = static_cast<uint8_t>(slot_of(face, v1));
+    assert(face.v[out.moved_slot[k]] == v1);  // a face named twice would have lost it
+  }
   for (uint32_t k = m.wing_start[i], end = m.wing_start[i + 1]; k < end; ++k) {
+    ask_wing<kPrefetch>(m, faces, k);
     const SplitWing& w = m.wings[k];
     const int s = w.v0_slot();
-    if (w.was_triangle()) {  // the triangle the collapse removed comes back
-      Face& face = faces[face_count++];
-      const bool follows = w.v1_follows_v0();
-      face.v[3] = kNoVertex;
-      face.v[s] = v0;
-      face.v[kNext[s]] = follows ? v1 : w.vertex;
-      face.v[kNext[s + 1]] = follows ? w.vertex : v1;
-    } else {  // the triangle becomes the quad again: v0 back into its slot
-      insert_corner(faces[w.face], s, v0);
+    int s1, sw;
+    if (w.was_triangle()) {  // v0, then v1 and w in the record's orientation
+      s1 = w.v1_follows_v0() ? kNext[s] : kNext[s + 1];
+      sw = 3 - s - s1;
+      out.wing_opposite[k] = kNoVertex;
+    } else {  // a triangle (v1, w, x) whose corners from slot s on move one slot up
+      const Face& face = faces[w.face];
+      const int t1 = slot_of(face, v1), tw = slot_of(face, w.vertex);
+      assert(face.v[t1] == v1 && face.v[tw] == w.vertex && face.is_triangle());
+      s1 = t1 + (t1 >= s);
+      sw = tw + (tw >= s);
+      out.wing_opposite[k] = face.v[3 - t1 - tw];
     }
+    out.wing_slots[k] = static_cast<uint8_t>(s1 | sw << 2);
   }
 }
 
-inline void coarsen_split(const SplitStream& m, uint32_t i, Face* faces, uint32_t& face_count) {
+// Split i, learned: stores only. Both kinds of wing alike: v0, v1, w and the fourth corner each
+// to its slot (a re-created triangle's face is the next one, face_count).
+template <bool kPrefetch>
+inline void apply_known(const SplitStream& m, uint32_t i, Face* faces, uint32_t& face_count) {
   const uint32_t v0 = m.base_vertex_count + i;
   const uint32_t v1 = m.parent[i];
-  for (uint32_t k = m.wing_start[i + 1], begin = m.wing_start[i]; k-- > begin;) {
-    const SplitWing& w = m.wings[k];
-    if (w.was_triangle()) {
-      --face_count;
-    } else {
-      remove_corner(faces[w.face], w.v0_slot());
-    }
+  for (uint32_t k = m.moved_start[i], end = m.moved_start[i + 1]; k < end; ++k) {
+    ask_moved<kPrefetch>(m, faces, k);
+    faces[m.moved_faces[k]].v[m.moved_slot[k]] = v0;
   }
-  for (uint32_t k = m.moved_start[i], end = m.moved_start[i + 1]; k < end; ++k)
-    replace_corner(faces[m.moved_faces[k]], v0, v1);
+  for (uint32_t k = m.wing_start[i], end = m.wing_start[i + 1]; k < end; ++k) {
+    ask_wing<kPrefetch>(m, faces, k);
+    const SplitWing& w = m.wings[k];
+    const int s = w.v0_slot(), s1 = m.wing_slots[k] & 3, sw = m.wing_slots[k] >> 2;
+    uint32_t* c = faces[w.face].v.data();
+    c[s] = v0;
+    c[s1] = v1;
+    c[sw] = w.vertex;
+    c[6 - s - s1 - sw] = m.wing_opposite[k];
+    face_count += w.was_triangle();
+  }
 }
 
-}  // namespace
-
-namespace {
-
-// Levels level → k with the faces of the split kPrefetchSplits ahead asked for, or without
-// (kPrefetch false: the faces stay in cache and the prefetches would only cost instructions).
+// Undoes split i, learned: stores only. A quad wing loses v0, its corners after slot s one slot
+// down. A re-created triangle leaves the current faces (face_count); it is written the same way,
+// where it no longer counts, so that no branch depends on the kind of wing.
 template <bool kPrefetch>
-void move_levels(const SplitStream& m, uint32_t& level, uint32_t k, Face* faces,
-                 uint32_t& face_count) {
-  if (kPrefetch)
-    for (uint32_t i = level; i < std::min(k, level + kPrefetchSplits); ++i)
-      prefetch_faces(m, i, faces);
+inline void undo_known(const SplitStream& m, uint32_t i, Face* faces, uint32_t& face_count) {
+  const uint32_t v1 = m.parent[i];
+  if (kPrefetch) ask_records_behind(m, i);
+  for (uint32_t k = m.wing_start[i + 1], begin = m.wing_start[i]; k-- > begin;) {
+    ask_wing<kPrefetch>(m, faces, k, true);
+    const SplitWing& w = m.wings[k];
+    const int s = w.v0_slot(), s1 = m.wing_slots[k] & 3, sw = m.wing_slots[k] >> 2;
+    const int sx = 6 - s - s1 - sw;
+    uint32_t* c = faces[w.face].v.data();
+    c[s1 - (s1 > s)] = v1;
+    c[sw - (sw > s)] = w.vertex;
+    c[sx - (sx > s)] = m.wing_opposite[k];
+    c[3] = kNoVertex;
+    face_count -= w.was_triangle();
+  }
+  for (uint32_t k = m.moved_start[i], end = m.moved_start[i + 1]; k < end; ++k) {
+    ask_moved<kPrefetch>(m, faces, k, true);
+    faces[m.moved_faces[k]].v[m.moved_slot[k]] = v1;
+  }
+}
+
+// Levels level → k, all learned below max(level, k) but splits [learned, k), which are learned
+// first (kPrefetch false: the faces stay in cache and the prefetches would only cost
+// instructions).
+template <bool kPrefetch>
+void move_levels(const SplitStream& m, const LearnedSlots& out, uint32_t learned, uint32_t& level,
+                 uint32_t k, Face* faces, uint32_t& face_count) {
+  for (; level < std::min(k, learned); ++level) apply_known<kPrefetch>(m, level, faces, face_count);
   for (; level < k; ++level) {
-    if (kPrefetch && level + kPrefetchSplits < k) prefetch_faces(m, level + kPrefetchSplits, faces);
-    refine_split(m, level, faces, face_count);
+    learn_split<kPrefetch>(m, level, faces, out);
+    apply_known<false>(m, level, faces, face_count);  // the faces are in cache now
   }
-  if (kPrefetch)
-    for (uint32_t i = level; i-- > k && i + kPrefetchSplits >= level;) prefetch_faces(m, i, faces);
-  while (level > k) {
-    --level;
-    if (kPrefetch && level >= k + kPrefetchSplits)
-      prefetch_faces(m, level - kPrefetchSplits, faces);
-    coarsen_split(m, level, faces, face_count);
-  }
+  while (level > k) undo_known<kPrefetch>(m, --level, faces, face_count);
 }
 
 // Face arrays up to this many bytes stay in a core's L2 cache (1–2 MB on current x86 cores);
@@ -147,15 +186,36 @@ constexpr size_t kCachedFaceBytes = size_t{1} << 20;
 }  // namespace
 
 void Navigator::set_level(uint32_t k) {
-  const SplitStream m{mesh_->base_vertex_count,  mesh_->parent.data(),
-                      mesh_->moved_start.data(), mesh_->moved_faces.data(),
-                      mesh_->wing_start.data(),  mesh_->wings.data()};
+  const ProgressiveMesh& mesh = *mesh_;
+  k = std::min(k, mesh.split_count());
+  if (k > learned_) {     // room for what splits [learned_, k) will learn
+    if (learned_ == 0) {  // all of it at once, not twice by growing: pages are given as touched
+      moved_slot_.reserve(mesh.moved_faces.size());
+      wing_slots_.reserve(mesh.wings.size());
+      wing_opposite_.reserve(mesh.wings.size());
+    }
+    moved_slot_.resize(mesh.moved_start[k]);
+    wing_slots_.resize(mesh.wing_start[k]);
+    wing_opposite_.resize(mesh.wing_start[k]);
+  }
+  const SplitStream m{mesh.base_vertex_count,
+                      mesh.parent.data(),
+                      mesh.moved_start.data(),
+                      mesh.moved_faces.data(),
+                      mesh.wing_start.data(),
+                      mesh.wings.data(),
+                      static_cast<uint32_t>(mesh.moved_faces.size() - 1),
+                      static_cast<uint32_t>(mesh.wings.size() - 1),
+                      moved_slot_.data(),
+                      wing_slots_.data(),
+                      wing_opposite_.data()};
+  const LearnedSlots out{moved_slot_.data(), wing_slots_.data(), wing_opposite_.data()};
   uint32_t level = level_, face_count = face_count_;
-  k = std::min(k, mesh_->split_count());
   if (faces_.size() * sizeof(Face) > kCachedFaceBytes)
-    move_levels<true>(m, level, k, faces_.data(), face_count);
+    move_levels<true>(m, out, learned_, level, k, faces_.data(), face_count);
   else
-    move_levels<false>(m, level, k, faces_.data(), face_count);
+    move_levels<false>(m, out, learned_, level, k, faces_.data(), face_count);
+  learned_ = std::max(learned_, k);
   level_ = level;
   face_count_ = face_count;
 }
