@@ -135,27 +135,12 @@ class TriangleBvh {
     uint32_t count = 0;
   };
 
-  // What a query reads at an inner node, in one 64-byte cache line: both children's boxes
-  // (lo and hi per axis, child 0 the left one), the right child's index, and for a child that
-  // is a leaf its triangles [first, first + count) (count 0: an inner node). A box test of the
-  // far child then costs no load of its own, and a leaf child's triangles are found without
-  // reading its node.
-  struct alignas(64) Children {
-    std::array<std::array<float, 2>, 3> lo, hi;  // [axis][child]
-    uint32_t right = 0;
-    std::array<uint32_t, 2> first{0, 0};
-    std::array<uint16_t, 2> count{0, 0};
-  };
-
  private:
   struct Best;
   void descend(const Point3& p, uint32_t node, Best& best, double enough = 0) const;
-  void test_leaf(const Point3& p, uint32_t first, uint32_t count, Best& best) const;
-  void set_children(uint32_t node);
   Hit hit(const Best& best, bool with_weights = true) const;
 
   std::vector<Node> nodes_;
-  std::vector<Children> children_;          // per node; used at inner nodes only
   std::vector<uint32_t> parent_;            // per node; kNoIndex for the root
   std::vector<uint8_t> depth_;              // per node; 0 for the root
   std::vector<SurfaceTriangle> triangles_;  // in leaf order

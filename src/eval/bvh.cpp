@@ -90,17 +90,6 @@ double squared_distance_to_box(const Point3& p, const TriangleBvh::Node& node) {
   return d2;
 }
 
-// The same for child k of a Children entry, from the same floats: the same value.
-double squared_distance_to_child(const Point3& p, const TriangleBvh::Children& c, int k) {
-  double d2 = 0;
-  for (int a = 0; a < 3; ++a) {
-    const double below = double(c.lo[a][k]) - p[a], above = p[a] - double(c.hi[a][k]);
-    const double gap = std::max(std::max(below, above), 0.0);
-    d2 += gap * gap;
-  }
-  return d2;
-}
-
 struct Box {
   std::array<float, 3> lo{kInf, kInf, kInf}, hi{-kInf, -kInf, -kInf};
   static constexpr float kInf = std::numeric_limits<float>::infinity();
@@ -411,8 +400,6 @@ TriangleBvh::TriangleBvh(std::span<const SurfaceTriangle> triangles, unsigned th
     leaf_position_[original_[i]] = i;
   }
   for (const Node& n : nodes_) box_area_ += half_area(n);
-  children_.resize(nodes_.size());
-  for (uint32_t n = 0; n < nodes_.size(); ++n) set_children(n);
   parent_.assign(nodes_.size(), kNoIndex);
   depth_.assign(nodes_.size(), 0);
   leaf_of_.resize(triangles.size());
@@ -424,20 +411,6 @@ TriangleBvh::TriangleBvh(std::span<const SurfaceTriangle> triangles, unsigned th
     } else {
       for (uint32_t i = node.first; i < node.first + node.count; ++i) leaf_of_[i] = n;
     }
-  }
-}
-
-void TriangleBvh::set_children(uint32_t node) {
-  const Node& n = nodes_[node];
-  if (n.count > 0) return;
-  Children& c = children_[node];
-  c.right = n.first;
-  for (int k = 0; k < 2; ++k) {
-    const Node& child = nodes_[k == 0 ? node + 1 : n.first];
-    for (int a = 0; a < 3; ++a) c.lo[a][k] = child.lo[a], c.hi[a][k] = child.hi[a];
-    assert(child.count <= std::numeric_limits<uint16_t>::max());
-    c.first[k] = child.first;
-    c.count[k] = static_cast<uint16_t>(child.count);
   }
 }
 
@@ -461,7 +434,6 @@ bool TriangleBvh::refit(std::span<const SurfaceTriangle> triangles) {
     }
     node.lo = box.lo, node.hi = box.hi;
     area += half_area(node);
-    set_children(static_cast<uint32_t>(n));
   }
   return area <= 1.5 * box_area_;
 }
@@ -473,62 +445,44 @@ struct TriangleBvh::Best {
   Point3 point{0, 0, 0};
 };
 
-void TriangleBvh::test_leaf(const Point3& p, uint32_t first, uint32_t count, Best& best) const {
-  for (uint32_t i = first; i < first + count; ++i) {
-    const SurfaceTriangle& t = triangles_[i];
-    const Point3 q = closest_point_on_triangle(p, to_point(t.a), to_point(t.b), to_point(t.c));
-    const double d2 = squared_distance(p, q);
-    if (d2 < best.d2) best = {d2, i, q};
-  }
-}
-
 // Depth-first search of the subtree at `node`, nearer child first; a pending entry keeps its
 // box distance so that it can be dropped once something closer has been found. Stops at once
-// when a triangle nearer than sqrt(enough) has been found. An inner node's Children entry
-// holds all that a visit reads: both boxes, and where a leaf child's triangles are.
+// when a triangle nearer than sqrt(enough) has been found.
 void TriangleBvh::descend(const Point3& p, uint32_t node, Best& best, double enough) const {
-  if (nodes_[node].count > 0) {
-    test_leaf(p, nodes_[node].first, nodes_[node].count, best);
-    return;
-  }
   struct Pending {
-    uint32_t node;  // an inner node, or the first triangle of a leaf (count > 0)
-    uint32_t count;
+    uint32_t node;
     double d2;
   };
   std::array<Pending, kMaxDepth> stack;
   size_t top = 0;
   while (node != kNoIndex) {
-    const Children& c = children_[node];
-    const uint32_t left = node + 1;
-    int near = 0, far = 1;
-    double near_d2 = squared_distance_to_child(p, c, 0);
-    double far_d2 = squared_distance_to_child(p, c, 1);
-    if (far_d2 < near_d2) std::swap(near, far), std::swap(near_d2, far_d2);
-    node = kNoIndex;
-    if (near_d2 < best.d2) {
-      if (far_d2 < best.d2) {
-        assert(top < stack.size());
-        stack[top++] = {c.count[far] > 0 ? c.first[far] : (far == 0 ? left : c.right), c.count[far],
-                        far_d2};
+    const Node& n = nodes_[node];
+    if (n.count > 0) {
+      for (uint32_t i = n.first; i < n.first + n.count; ++i) {
+        const SurfaceTriangle& t = triangles_[i];
+        const Point3 q = closest_point_on_triangle(p, to_point(t.a), to_point(t.b), to_point(t.c));
+        const double d2 = squared_distance(p, q);
+        if (d2 < best.d2) best = {d2, i, q};
       }
-      if (c.count[near] == 0) {
-        node = near == 0 ? left : c.right;
+      if (best.d2 < enough) return;
+    } else {
+      uint32_t near = node + 1, far = n.first;
+      double near_d2 = squared_distance_to_box(p, nodes_[near]);
+      double far_d2 = squared_distance_to_box(p, nodes_[far]);
+      if (far_d2 < near_d2) std::swap(near, far), std::swap(near_d2, far_d2);
+      if (near_d2 < best.d2) {
+        if (far_d2 < best.d2) {
+          assert(top < stack.size());
+          stack[top++] = {far, far_d2};
+        }
+        node = near;
         continue;
       }
-      test_leaf(p, c.first[near], c.count[near], best);
-      if (best.d2 < enough) return;
     }
-    // The next pending box that may still hold something closer.
+    node = kNoIndex;  // the next pending box that may still hold something closer
     while (top > 0 && node == kNoIndex) {
       const Pending& pending = stack[--top];
-      if (!(pending.d2 < best.d2)) continue;
-      if (pending.count == 0) {
-        node = pending.node;
-      } else {
-        test_leaf(p, pending.node, pending.count, best);
-        if (best.d2 < enough) return;
-      }
+      if (pending.d2 < best.d2) node = pending.node;
     }
   }
 }
@@ -621,16 +575,12 @@ TriangleBvh::Hit TriangleBvh::closest(const Point3& p, Cursor& cursor, bool with
     const double reach = (stamped - travel) - 1e-12 * (std::abs(stamped) + travel);
     if (reach > 0 && best.d2 <= reach * reach) break;
     const uint32_t parent = parent_[node];
-    const Children& pair = children_[parent];
-    const int side = node == parent + 1 ? 1 : 0;  // the sibling's side
-    const double d2 = squared_distance_to_child(p, pair, side);
+    const uint32_t sibling = node == parent + 1 ? nodes_[parent].first : parent + 1;
+    const double d2 = squared_distance_to_box(p, nodes_[sibling]);
     c.sibling[depth] = std::sqrt(d2) + travel;
     if (d2 < best.d2) {
       const uint32_t before = best.triangle;
-      if (pair.count[side] > 0)
-        test_leaf(p, pair.first[side], pair.count[side], best);
-      else
-        descend(p, side == 0 ? parent + 1 : pair.right, best, enough);
+      descend(p, sibling, best, enough);
       if (best.triangle != before) improved_at = depth;
       if (best.d2 < enough) break;  // the levels from here down are reset below
     }
