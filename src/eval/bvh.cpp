@@ -12,10 +12,8 @@
 // the nearer child first and skips every box farther away than the best triangle so far, so
 // the answer is the exact minimum over all triangles: pruning only skips boxes that cannot hold
 // anything closer. Samples come in runs of close neighbours, so a query may start from the
-// previous answer's leaf (a Cursor) and climb towards the root (a bottom-up traversal): the
-// leaf's distance bounds the search at once, at each level one box test usually shows the
-// sibling is too far, and the box distances remembered from the previous query (less the
-// distance moved since) let the climb stop early, often at the leaf itself.
+// previous answer's leaf (a Cursor) and climb towards the root: the leaf's distance bounds the
+// search at once, and box distances remembered from earlier queries let the climb stop early.
 #include <algorithm>
 #include <cassert>
 #include <cmath>
