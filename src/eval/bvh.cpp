@@ -12,10 +12,8 @@
 // the nearer child first and skips every box farther away than the best triangle so far, so
 // the answer is the exact minimum over all triangles: pruning only skips boxes that cannot hold
 // anything closer. Samples come in runs of close neighbours, so a query may start from the
-// previous answer's leaf (a Cursor) and climb towards the root (a bottom-up traversal): the
-// leaf's distance bounds the search at once, at each level one box test usually shows the
-// sibling is too far, and the box distances remembered from the previous query (less the
-// distance moved since) let the climb stop early, often at the leaf itself.
+// previous answer's leaf (a Cursor) and climb towards the root: the leaf's distance bounds the
+// search at once, and box distances remembered from earlier queries let the climb stop early.
 #include <algorithm>
 #include <cassert>
 #include <cmath>
@@ -446,8 +444,9 @@ struct TriangleBvh::Best {
 };
 
 // Depth-first search of the subtree at `node`, nearer child first; a pending entry keeps its
-// box distance so that it can be dropped once something closer has been found.
-void TriangleBvh::descend(const Point3& p, uint32_t node, Best& best) const {
+// box distance so that it can be dropped once something closer has been found. Stops at once
+// when a triangle nearer than sqrt(enough) has been found.
+void TriangleBvh::descend(const Point3& p, uint32_t node, Best& best, double enough) const {
   struct Pending {
     uint32_t node;
     double d2;
@@ -463,6 +462,7 @@ void TriangleBvh::descend(const Point3& p, uint32_t node, Best& best) const {
         const double d2 = squared_distance(p, q);
         if (d2 < best.d2) best = {d2, i, q};
       }
+      if (best.d2 < enough) return;
     } else {
       uint32_t near = node + 1, far = n.first;
       double near_d2 = squared_distance_to_box(p, nodes_[near]);
@@ -539,7 +539,8 @@ bool TriangleBvh::previous_closer_than(const Point3& p, double squared_distance,
   return dynpm::squared_distance(p, q) < squared_distance;
 }
 
-TriangleBvh::Hit TriangleBvh::closest(const Point3& p, Cursor& cursor, bool with_weights) const {
+TriangleBvh::Hit TriangleBvh::closest(const Point3& p, Cursor& cursor, bool with_weights,
+                                      double enough) const {
   constexpr double kInfinity = std::numeric_limits<double>::infinity();
   Best best{kInfinity};
   if (nodes_.empty()) return hit(best);
@@ -558,7 +559,11 @@ TriangleBvh::Hit TriangleBvh::closest(const Point3& p, Cursor& cursor, bool with
   c.travel += std::sqrt(squared_distance(p, c.last));
   c.last = p;
   const double travel = c.travel;
-  descend(p, c.leaf, best);
+  descend(p, c.leaf, best, enough);
+  if (best.d2 < enough) {
+    c.triangle = best.triangle;
+    return hit(best, with_weights);
+  }
   const uint32_t leaf_depth = depth_[c.leaf];
   uint32_t node = c.leaf, depth = leaf_depth;
   uint32_t improved_at = 0;  // depth of the sibling subtree holding the answer; 0: the leaf
@@ -573,8 +578,9 @@ TriangleBvh::Hit TriangleBvh::closest(const Point3& p, Cursor& cursor, bool with
     c.sibling[depth] = std::sqrt(d2) + travel;
     if (d2 < best.d2) {
       const uint32_t before = best.triangle;
-      descend(p, sibling, best);
+      descend(p, sibling, best, enough);
       if (best.triangle != before) improved_at = depth;
+      if (best.d2 < enough) break;  // the levels from here down are reset below
     }
     node = parent;
   }

@@ -131,14 +131,16 @@ struct Tally {
   double max = -1;  // -1: no sample yet
   Point3 max_at{0, 0, 0};
   FieldTally fields;
-  double area_sum = 0, area_sum2 = 0;  // over the area samples
-  double all_sum = 0, all_sum2 = 0;    // over every sample (for a surface without area)
+  double area_sum = 0, area_sum2 = 0;  // over the area samples in the mean
+  uint64_t mean_samples = 0;
+  double all_sum = 0, all_sum2 = 0;  // over every sample (for a surface without area)
   uint64_t vertex_samples = 0, edge_samples = 0, face_samples = 0;
 
   void merge(const Tally& t) {  // in job order, so ties keep the earlier sample
     if (t.max > max) max = t.max, max_at = t.max_at;
     fields.merge(t.fields);
     area_sum += t.area_sum, area_sum2 += t.area_sum2;
+    mean_samples += t.mean_samples;
     all_sum += t.all_sum, all_sum2 += t.all_sum2;
     vertex_samples += t.vertex_samples, edge_samples += t.edge_samples;
     face_samples += t.face_samples;
@@ -151,9 +153,9 @@ struct Tally {
     d.vertex_samples = vertex_samples, d.edge_samples = edge_samples;
     d.face_samples = face_samples;
     const uint64_t all = vertex_samples + edge_samples + face_samples;
-    if (face_samples > 0) {
-      d.mean = area_sum / double(face_samples);
-      d.rms = std::sqrt(area_sum2 / double(face_samples));
+    if (mean_samples > 0) {
+      d.mean = area_sum / double(mean_samples);
+      d.rms = std::sqrt(area_sum2 / double(mean_samples));
     } else if (all > 0) {
       d.mean = all_sum / double(all);
       d.rms = std::sqrt(all_sum2 / double(all));
@@ -168,8 +170,9 @@ enum SampleKind : uint32_t { kVertexSamples, kEdgeSamples, kFaceSamples };
 struct Direction {
   const Surface* from = nullptr;
   const Surface* to = nullptr;
-  double face_density = 0;  // area samples per unit area
-  double edge_density = 0;  // edge samples per unit length
+  double face_density = 0;   // area samples per unit area
+  uint64_t mean_stride = 1;  // the mean and RMS take every mean_stride-th area sample of a job
+  double edge_density = 0;   // edge samples per unit length
   std::vector<FieldSides> fields;
   double field_tolerance = 0, facing_reach = 0;  // HausdorffOptions::field_…
   std::vector<Point3> vertex_normals;            // of `from`, with a facing reach
@@ -223,14 +226,20 @@ void sample_triangle(uint64_t n, Random& random, const Emit& emit) {
   assert(wanted == 0);
 }
 
-// `known_max` ≥ 0: a distance that some sample of this direction reaches (the area samples'
-// maximum), set only when a vertex or edge sample can matter through the maximum alone (no
-// fields, and the mean and RMS come from area samples). A sample then needs no closest point if
-// it is nearer than that — or than this job's maximum so far — to the previous answer's
-// triangle: it cannot be the (first) sample at the maximum. The margin keeps a distance that
-// would round to the maximum itself measured.
-Tally run_job(const Job& job, const Direction& d, uint64_t seed, size_t job_index,
-              double known_max) {
+// Which of a job's area samples a run measures: all, or (when the mean takes every
+// mean_stride-th) those of the mean in a first pass and the others in a second. Both passes
+// draw the same samples; each counts its own.
+enum class AreaPart { kAll, kMean, kRest };
+
+// `known_max` ≥ 0: a distance that some sample of this direction reaches (the mean's area
+// samples' maximum, then every area sample's), set only when a sample outside the mean — a
+// vertex or edge sample, or an area sample the mean skips — can matter through the maximum
+// alone (no fields). Such a sample needs no closest point if it is nearer than that — or than
+// this job's maximum so far — to a triangle of the previous answer's leaf: it cannot be the
+// (first) sample at the maximum. The margin keeps a distance that would round to the maximum
+// itself measured.
+Tally run_job(const Job& job, const Direction& d, uint64_t seed, size_t job_index, double known_max,
+              AreaPart part) {
   Random random(job_seed(seed, job.direction, job.kind, job_index));
   Tally tally;
   tally.fields = FieldTally(d.fields.size());
@@ -240,20 +249,32 @@ Tally run_job(const Job& job, const Direction& d, uint64_t seed, size_t job_inde
   std::vector<double> values(d.fields.size());
   // `own(k)`: field k's value at p on `from` (NaN: none there, an element field off a face);
   // `normal`: the way p faces (zero: not needed).
+  uint64_t area_index = 0;  // the job's area samples so far
   auto measure = [&](const Point3& p, const Point3& normal, uint64_t& counter, bool area_sample,
                      const auto& own) {
-    if (known_max >= 0 && !area_sample) {
+    const bool in_mean = area_sample && area_index++ % d.mean_stride == 0;
+    if (area_sample && part != AreaPart::kAll && in_mean != (part == AreaPart::kMean)) return;
+    double enough = 0;  // a hit nearer than sqrt(enough) cannot raise the maximum
+    if (known_max >= 0 && !in_mean) {
       const double below = std::max(known_max, tally.max);
-      if (below > 0 && d.to->bvh.previous_closer_than(p, below * below * (1 - 1e-12), cursor)) {
+      enough = below * below * (1 - 1e-12);
+      if (below > 0 && d.to->bvh.previous_closer_than(p, enough, cursor)) {
         ++counter;
         return;
       }
     }
-    const TriangleBvh::Hit hit = d.to->bvh.closest(p, cursor, with_weights);
+    const TriangleBvh::Hit hit = d.to->bvh.closest(p, cursor, with_weights, enough);
+    if (hit.squared_distance < enough) {
+      ++counter;
+      return;
+    }
     const double distance = std::sqrt(hit.squared_distance);
     if (distance > tally.max) tally.max = distance, tally.max_at = p;
     tally.all_sum += distance, tally.all_sum2 += distance * distance;
-    if (area_sample) tally.area_sum += distance, tally.area_sum2 += distance * distance;
+    if (in_mean) {
+      tally.area_sum += distance, tally.area_sum2 += distance * distance;
+      ++tally.mean_samples;
+    }
     ++counter;
     if (d.fields.empty()) return;
     for (size_t k = 0; k < d.fields.size(); ++k) values[k] = own(k);
@@ -398,6 +419,9 @@ Result<HausdorffResult> evaluate(const Surface& a, const Surface& b,
     const SurfaceTopology& from = *d.from->topology;
     if (d.from->area > 0 && area_samples > 0) {
       d.face_density = area_samples / d.from->area;
+      if (fields.empty() && options.mean_samples > 0 && area_samples > double(options.mean_samples))
+        d.mean_stride =
+            static_cast<uint64_t>(std::ceil(area_samples / double(options.mean_samples)));
       if (options.sample_edges) d.edge_density = std::sqrt(d.face_density);
     }
     if (options.sample_vertices) add_jobs(jobs, k, kVertexSamples, from.vertices.size(), 1);
@@ -411,29 +435,43 @@ Result<HausdorffResult> evaluate(const Surface& a, const Surface& b,
 
   // The area samples first: their maximum then spares most vertex and edge samples a closest
   // point when nothing but the maximum needs them (run_job). Either way the result is the same.
-  std::vector<Tally> tallies(jobs.size());
+  // When the mean takes a part of the area samples, those first: their maximum then spares
+  // most other area samples a closest point. Then the rest of the area samples, and last the
+  // vertex and edge samples, spared by the maximum of all area samples. Either way the result
+  // is the same.
+  const bool strided = directions[0].mean_stride > 1 || directions[1].mean_stride > 1;
+  std::vector<Tally> mean_tallies(strided ? jobs.size() : 0), tallies(jobs.size());
   std::array<double, 2> known_max{-1, -1};
-  for (const bool area_pass : {true, false}) {
+  auto run = [&](bool area, AreaPart part, std::vector<Tally>& out) {
     std::vector<size_t> pass;
     for (size_t i = 0; i < jobs.size(); ++i)
-      if ((jobs[i].kind == kFaceSamples) == area_pass) pass.push_back(i);
+      if ((jobs[i].kind == kFaceSamples) == area) pass.push_back(i);
     // One part per job, taken by whichever thread is free (jobs differ in cost).
     parallel_for(pass.size(), pass.size(), std::min(threads, 1024u),
                  [&](size_t begin, size_t end, size_t) {
                    for (size_t j = begin; j < end; ++j) {
                      const Job& job = jobs[pass[j]];
-                     tallies[pass[j]] = run_job(job, directions[job.direction], options.seed,
-                                                pass[j], known_max[job.direction]);
+                     out[pass[j]] = run_job(job, directions[job.direction], options.seed, pass[j],
+                                            known_max[job.direction], part);
                    }
                  });
-    if (!area_pass || !fields.empty()) continue;
-    std::array<Tally, 2> area;
-    for (size_t i : pass) area[jobs[i].direction].merge(tallies[i]);
+    if (!area || !fields.empty()) return;
+    std::array<Tally, 2> measured;
+    for (size_t i : pass) {
+      if (strided) measured[jobs[i].direction].merge(mean_tallies[i]);
+      measured[jobs[i].direction].merge(tallies[i]);
+    }
     for (int k = 0; k < 2; ++k)
-      if (area[k].face_samples > 0) known_max[k] = std::max(area[k].max, 0.0);
-  }
+      if (measured[k].face_samples > 0) known_max[k] = std::max(measured[k].max, 0.0);
+  };
+  if (strided) run(true, AreaPart::kMean, mean_tallies);
+  run(true, strided ? AreaPart::kRest : AreaPart::kAll, tallies);
+  run(false, AreaPart::kAll, tallies);
   std::array<Tally, 2> total;
-  for (size_t i = 0; i < jobs.size(); ++i) total[jobs[i].direction].merge(tallies[i]);
+  for (size_t i = 0; i < jobs.size(); ++i) {
+    if (strided) total[jobs[i].direction].merge(mean_tallies[i]);
+    total[jobs[i].direction].merge(tallies[i]);
+  }
 
   HausdorffResult r;
   r.a_to_b = total[0].result();
@@ -472,33 +510,6 @@ Result<HausdorffResult> evaluate(const Surface& a, const Surface& b,
   return r;
 }
 
-Result<HausdorffResult> measure_step(const SurfaceTopology& a, std::span<const float> a_positions,
-                                     const SurfaceTopology& b, std::span<const float> b_positions,
-                                     const HausdorffOptions& options) {
-  auto a_step = prepare_step("A", a, a_positions, options.threads);
-  if (!a_step) return a_step.status();
-  auto b_step = prepare_step("B", b, b_positions, options.threads);
-  if (!b_step) return b_step.status();
-  return evaluate(*a_step, *b_step, options, {});
-}
-
-void summarize(HausdorffSteps& s) {
-  auto over = [&](auto&& value) {
-    OverSteps o;
-    for (const HausdorffResult& r : s.steps) {
-      o.mean += value(r);
-      o.max = std::max(o.max, value(r));
-    }
-    if (!s.steps.empty()) o.mean /= double(s.steps.size());
-    return o;
-  };
-  s.hausdorff = over([](const HausdorffResult& r) { return r.hausdorff; });
-  s.mean = over([](const HausdorffResult& r) { return r.mean; });
-  s.rms = over([](const HausdorffResult& r) { return r.rms; });
-  s.a_to_b_max = over([](const HausdorffResult& r) { return r.a_to_b.max; });
-  s.b_to_a_max = over([](const HausdorffResult& r) { return r.b_to_a.max; });
-}
-
 }  // namespace
 
 Result<HausdorffResult> hausdorff(const Topology& a_topology, std::span<const float> a_positions,
@@ -508,7 +519,11 @@ Result<HausdorffResult> hausdorff(const Topology& a_topology, std::span<const fl
   if (!a) return a.status();
   auto b = prepare("B", b_topology);
   if (!b) return b.status();
-  return measure_step(*a, a_positions, *b, b_positions, options);
+  auto a_step = prepare_step("A", *a, a_positions, options.threads);
+  if (!a_step) return a_step.status();
+  auto b_step = prepare_step("B", *b, b_positions, options.threads);
+  if (!b_step) return b_step.status();
+  return evaluate(*a_step, *b_step, options, {});
 }
 
 Result<SurfaceTopology> prepare_topology(const char* name, const Topology& topology) {
@@ -530,68 +545,6 @@ Result<HausdorffResult> hausdorff(const Surface& a, const Surface& b,
                                   const HausdorffOptions& options,
                                   std::span<const FieldPair> fields) {
   return evaluate(a, b, options, fields);
-}
-
-Result<HausdorffSteps> hausdorff_steps(const Topology& a_topology, const FrameSource& a_frames,
-                                       const Topology& b_topology, const FrameSource& b_frames,
-                                       const StepsOptions& options) {
-  const size_t a_steps = a_frames.step_count(), b_steps = b_frames.step_count();
-  if (a_steps == 0 || b_steps == 0) return Status::error("no time steps to compare");
-  if (a_steps != b_steps && a_steps != 1 && b_steps != 1)
-    return Status::error("A has " + std::to_string(a_steps) + " time steps and B " +
-                         std::to_string(b_steps) + "; step-by-step comparison needs equal counts");
-  if (a_frames.vertex_count() != a_topology.vertex_count ||
-      b_frames.vertex_count() != b_topology.vertex_count)
-    return Status::error("the time steps and the faces disagree on the vertex count");
-  auto a = prepare("A", a_topology);
-  if (!a) return a.status();
-  auto b = prepare("B", b_topology);
-  if (!b) return b.status();
-
-  HausdorffSteps result;
-  const size_t steps = std::max(a_steps, b_steps);
-  std::vector<float> a_xyz(size_t{a_topology.vertex_count} * 3);
-  std::vector<float> b_xyz(size_t{b_topology.vertex_count} * 3);
-  BoundingBox a_box;
-  for (size_t t = 0; t < steps; ++t) {
-    if (t == 0 || a_steps > 1) {
-      DYNPM_RETURN_IF_ERROR(a_frames.read_step(t, a_xyz));
-      a_box.extend(a_xyz);
-    }
-    if (t == 0 || b_steps > 1) DYNPM_RETURN_IF_ERROR(b_frames.read_step(t, b_xyz));
-    auto r = measure_step(*a, a_xyz, *b, b_xyz, options.hausdorff);
-    if (!r) return Status::error("step " + std::to_string(t) + ": " + r.message());
-    result.steps.push_back(*r);
-    if (options.progress) options.progress(t + 1, steps);
-  }
-  result.diagonal = options.hausdorff.reference_diagonal > 0 ? options.hausdorff.reference_diagonal
-                                                             : a_box.diagonal();
-  for (HausdorffResult& r : result.steps) r.diagonal = result.diagonal;
-  summarize(result);
-  return result;
-}
-
-HausdorffResult as_one_result(const HausdorffSteps& s) {
-  HausdorffResult all;
-  all.diagonal = s.diagonal;
-  const double n = double(s.steps.size());
-  for (const HausdorffResult& r : s.steps) {
-    for (auto [to, d] : {std::pair{&all.a_to_b, &r.a_to_b}, std::pair{&all.b_to_a, &r.b_to_a}}) {
-      if (d->max > to->max || &r == &s.steps.front()) to->max_at = d->max_at;
-      to->max = std::max(to->max, d->max);
-      to->mean += d->mean / n;
-      to->rms += d->rms * d->rms / n;
-      to->vertex_samples += d->vertex_samples, to->edge_samples += d->edge_samples;
-      to->face_samples += d->face_samples;
-    }
-    all.mean += r.mean / n;
-    all.rms += r.rms * r.rms / n;
-  }
-  all.a_to_b.rms = std::sqrt(all.a_to_b.rms);
-  all.b_to_a.rms = std::sqrt(all.b_to_a.rms);
-  all.rms = std::sqrt(all.rms);
-  all.hausdorff = std::max(all.a_to_b.max, all.b_to_a.max);
-  return all;
 }
 
 }  // namespace dynpm
