@@ -73,6 +73,25 @@ console.log(`${h.splitCount} splits, median of 7${repeat > 1 ? ` runs of ${repea
 report('refine', 'splits', runs.refine, runs.refineIdx);
 report('coarsen', 'collapses', runs.coarsen, runs.coarsenIdx);
 
+// The page's moves: steps of 65,536 splits (viewer.js SPLITS_PER_STEP), up to the full level and
+// down again, the index update after each step; medians of 5 in CPU time.
+const PAGE_STEP = 65536;
+const page = [];
+for (let r = 0; r < 5; r++) {
+  let moving = 0, indexing = 0;
+  for (const up of [true, false]) {
+    while (up ? nav.level < h.splitCount : nav.level > 0) {
+      const k = up ? Math.min(h.splitCount, nav.level + PAGE_STEP) : Math.max(0, nav.level - PAGE_STEP);
+      moving += timed(() => nav.setLevel(k))[1];
+      indexing += timed(() => updateIndices(nav, tri, edges))[1];
+    }
+  }
+  page.push([moving, indexing]);
+}
+const [pageMove, pageIndex] = [0, 1].map((k) => median(page.map((x) => x[k])));
+console.log(`the page's steps of ${PAGE_STEP} splits, up and down (cpu): navigator ${pageMove.toFixed(0)} ms, ` +
+  `index update ${pageIndex.toFixed(0)} ms, ${(2 * h.splitCount / (pageMove + pageIndex) / 1e3).toFixed(2)} M moves/s with it`);
+
 const visible = visibleArg > 0 ? Number(process.argv[visibleArg + 1]) : Math.min(100000, h.vertexCount);
 nav.setVertexCount(visible);
 const out = new Float32Array(3 * h.vertexCount);

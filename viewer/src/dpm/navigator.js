@@ -193,18 +193,19 @@ function undoKnown(nav, r, from, to, track) {
   for (let i = from - 1; i >= to; i--) {
     const v1 = r.parent[i];
     for (let j = r.wingStart[i + 1] - 1; j >= r.wingStart[i]; j--) {
+      const flags = r.wingFlags[j];
       const f = r.wingFace[j];
       const c = 4 * f;
-      if (!(r.wingFlags[j] & WING_WAS_TRIANGLE)) {
-        // The quad without v0: the corners after slot s one slot down.
-        const s = (r.wingFlags[j] >> WING_SLOT_SHIFT) & 3;
-        const s1 = wingSlots[j] & 3, sw = wingSlots[j] >> 2, sx = 6 - s - s1 - sw;
-        corners[c + s1 - ((s - s1) >>> 31)] = v1;
-        corners[c + sw - ((s - sw) >>> 31)] = r.wingVertex[j];
-        corners[c + sx - ((s - sx) >>> 31)] = wingOpposite[j];
-        quads++;
-      }
-      corners[c + 3] = -1;  // a re-created triangle is removed: beyond the face count now
+      // A quad wing loses v0: the corners after slot s move one slot down. A re-created triangle
+      // is removed (it lies beyond the face count now), so the same stores may scribble on it:
+      // no branch on the wing's kind, which is random on a large mesh (as in the C++ navigator).
+      const s = (flags >> WING_SLOT_SHIFT) & 3;
+      const s1 = wingSlots[j] & 3, sw = wingSlots[j] >> 2, sx = 6 - s - s1 - sw;
+      corners[c + s1 - ((s - s1) >>> 31)] = v1;
+      corners[c + sw - ((s - sw) >>> 31)] = r.wingVertex[j];
+      corners[c + sx - ((s - sx) >>> 31)] = wingOpposite[j];
+      corners[c + 3] = -1;
+      quads += 1 - (flags & WING_WAS_TRIANGLE);
       if (track) (touched[count] = f), (count += 1 - seen[f]), (seen[f] = 1);
     }
     for (let j = r.movedStart[i], jEnd = r.movedStart[i + 1]; j < jEnd; j++) {
