@@ -549,7 +549,8 @@ window.dpmViewer = {
   memory: () => memoryUse(state.mesh, state.nav, { positions, colours, triIndex, edgeIndex, scratch }, { base0: state.base0 }),
   fringe: () => (fieldView?.shown ? fieldView.describe(state.nav) : null),
   partSlots: () => parts?.describe(state.nav),
-  compare: () => compare && { ...compare.describe(), done: compare.loading.then(() => true) },
+  // done: both files in and the page's load ended (its last compare.sync() checks the hierarchy).
+  compare: () => compare && { ...compare.describe(), done: Promise.all([compare.loading, done]).then(() => true) },
   compareSnapshot: (size = 64) => compare.snapshot(size),
   snapshot: (size = 64) => greySnapshot(renderer, scene, camera, size),
   // Sets the resolution as the slider does and renders; returns the milliseconds taken by the
