@@ -1,5 +1,8 @@
 // The shortcuts of `dynpm eval` at scale (issue 18), none of which may change a result.
 //
+// Space order: the samples of many jobs measured in the Morton order of their vertices, edges
+// and triangles must give every number drawing order gives, to the bit.
+//
 // Samples spared a closest point: without fields, a vertex or edge
 // sample nearer to its predecessor's closest triangle than the area samples' maximum cannot
 // change any reported value, so it gets no query. These tests would fail if that shortcut ever
@@ -8,8 +11,11 @@
 // sample reaches must still be found.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
+#include <numeric>
 #include <random>
 
 #include "dynpm/eval.h"
@@ -50,13 +56,49 @@ test::Mesh plate(
   return m;
 }
 
+// A copy of m with its vertices and faces in a random order, as a level's are in progressive
+// order: consecutive faces lie anywhere.
+test::Mesh scrambled(const test::Mesh& m, uint32_t seed) {
+  std::mt19937 engine(seed);
+  std::vector<uint32_t> new_index(m.topology.vertex_count);
+  std::iota(new_index.begin(), new_index.end(), 0u);
+  std::shuffle(new_index.begin(), new_index.end(), engine);
+  test::Mesh s = m;
+  for (uint32_t v = 0; v < m.topology.vertex_count; ++v)
+    for (int k = 0; k < 3; ++k) s.positions[3 * new_index[v] + k] = m.positions[3 * v + k];
+  for (Face& f : s.topology.faces)
+    for (int i = 0; i < f.degree(); ++i) f.v[i] = new_index[f.v[i]];
+  std::shuffle(s.topology.faces.begin(), s.topology.faces.end(), engine);
+  return s;
+}
+
+// Every distance of two measurements equal, to the bit, both ways: the maxima and where they
+// are, the means, the RMS and the sample counts.
+void expect_same_distances(const HausdorffResult& x, const HausdorffResult& y, unsigned threads) {
+  EXPECT_EQ(x.hausdorff, y.hausdorff) << threads << " threads";
+  EXPECT_EQ(x.mean, y.mean);
+  EXPECT_EQ(x.rms, y.rms);
+  for (auto [s, t] : {std::pair{&x.a_to_b, &y.a_to_b}, std::pair{&x.b_to_a, &y.b_to_a}}) {
+    EXPECT_EQ(s->max, t->max) << threads << " threads";
+    EXPECT_EQ(s->max_at, t->max_at) << threads << " threads";
+    EXPECT_EQ(s->mean, t->mean);
+    EXPECT_EQ(s->rms, t->rms);
+    EXPECT_EQ(s->vertex_samples, t->vertex_samples);
+    EXPECT_EQ(s->edge_samples, t->edge_samples);
+    EXPECT_EQ(s->face_samples, t->face_samples);
+  }
+}
+
 // The distances of A against B measured twice: as they are (vertex and edge samples may be
-// skipped) and with a zero node field on both (nothing skipped). Every value must be equal.
+// skipped, and measured in space order from `space_order_triangles` on) and with a zero node
+// field on both (nothing skipped, drawing order). Every value must be equal.
 void expect_same_with_and_without_skipping(const test::Mesh& a, const test::Mesh& b,
-                                           unsigned threads) {
+                                           unsigned threads,
+                                           size_t space_order_triangles = size_t{1} << 16) {
   const auto pa = prepare(a), pb = prepare(b);
   HausdorffOptions options;
   options.threads = threads;
+  options.space_order_triangles = space_order_triangles;
   auto skipping = hausdorff(pa->surface, pb->surface, options);
   ASSERT_TRUE(skipping.ok()) << skipping.message();
   const std::vector<float> zero_a(a.topology.vertex_count, 0.0f),
@@ -65,19 +107,7 @@ void expect_same_with_and_without_skipping(const test::Mesh& a, const test::Mesh
   auto every_sample = hausdorff(pa->surface, pb->surface, options, {&field, 1});
   ASSERT_TRUE(every_sample.ok()) << every_sample.message();
   EXPECT_EQ(every_sample->fields.at(0).max, 0.0);
-  EXPECT_EQ(skipping->hausdorff, every_sample->hausdorff);
-  EXPECT_EQ(skipping->mean, every_sample->mean);
-  EXPECT_EQ(skipping->rms, every_sample->rms);
-  for (auto [x, y] : {std::pair{&skipping->a_to_b, &every_sample->a_to_b},
-                      std::pair{&skipping->b_to_a, &every_sample->b_to_a}}) {
-    EXPECT_EQ(x->max, y->max) << threads << " threads";
-    EXPECT_EQ(x->max_at, y->max_at) << threads << " threads";
-    EXPECT_EQ(x->mean, y->mean);
-    EXPECT_EQ(x->rms, y->rms);
-    EXPECT_EQ(x->vertex_samples, y->vertex_samples);
-    EXPECT_EQ(x->edge_samples, y->edge_samples);
-    EXPECT_EQ(x->face_samples, y->face_samples);
-  }
+  expect_same_distances(*skipping, *every_sample, threads);
 }
 
 TEST(EvalSkippedSamples, ChangeNoDistanceOnNoisyPlates) {
@@ -89,6 +119,50 @@ TEST(EvalSkippedSamples, ChangeNoDistanceOnNoisyPlates) {
     expect_same_with_and_without_skipping(fine, coarse, threads);
     expect_same_with_and_without_skipping(coarse, fine, threads);
   }
+}
+
+// Space order (HausdorffOptions::space_order_triangles) measures the samples of many jobs in
+// the Morton order of their vertices, edges and triangles and counts them in drawing order:
+// no number may differ from drawing order's, to the bit, on any thread count.
+void expect_same_in_space_and_drawing_order(const test::Mesh& a, const test::Mesh& b,
+                                            HausdorffOptions options) {
+  const auto pa = prepare(a), pb = prepare(b);
+  options.space_order_triangles = 0;  // always
+  auto space = hausdorff(pa->surface, pb->surface, options);
+  options.space_order_triangles = std::numeric_limits<size_t>::max();  // never
+  auto drawing = hausdorff(pa->surface, pb->surface, options);
+  ASSERT_TRUE(space.ok() && drawing.ok());
+  expect_same_distances(*space, *drawing, options.threads);
+}
+
+TEST(EvalSpaceOrder, MeasuresAsDrawingOrderDoes) {
+  // A fine noisy plate against a coarse one in scrambled order and back, with the mean over
+  // every 9th area sample (so that the passes of the mean, of the other area samples and of
+  // the vertices and edges all run), and with every sample in the mean.
+  const auto wave = [](double x, double y) { return 0.4 * std::sin(x) * std::cos(0.7 * y); };
+  const test::Mesh fine = plate(60, 0.05, 11, wave);
+  const test::Mesh coarse = scrambled(plate(11, 0.0, 12, wave), 13);
+  for (unsigned threads : {1u, 2u, 3u})
+    for (uint64_t mean_samples : {uint64_t{4000}, uint64_t{0}}) {
+      HausdorffOptions options;
+      options.threads = threads;
+      options.mean_samples = mean_samples;
+      expect_same_in_space_and_drawing_order(fine, coarse, options);
+      expect_same_in_space_and_drawing_order(coarse, fine, options);
+    }
+  // And against the measurement with a field, where nothing is skipped.
+  expect_same_with_and_without_skipping(coarse, fine, 2, 0);
+  expect_same_with_and_without_skipping(fine, coarse, 2, 0);
+}
+
+TEST(EvalSpaceOrder, AJobOfMoreSamplesThanABatchIsMeasuredAlone) {
+  // One quad (four triangles, one job) holds all 600 k area samples of its side, more than a
+  // batch of space order takes at once (2^19): that job is measured in drawing order.
+  const test::Mesh fine = plate(12, 0.05, 14), quad = plate(1, 0.0, 15);
+  HausdorffOptions options;
+  options.face_samples = 600000;
+  options.threads = 2;
+  expect_same_in_space_and_drawing_order(quad, fine, options);
 }
 
 TEST(EvalSkippedSamples, AMaximumOnlyAVertexReachesIsFound) {

@@ -177,6 +177,12 @@ struct HausdorffOptions {
   double reference_diagonal = 0;
   // Worker threads; 0 means std::thread::hardware_concurrency().
   unsigned threads = 0;
+  // Without fields, the samples of a direction whose other surface has at least this many
+  // triangles are measured in space order rather than in the order they are drawn in (a level's
+  // faces in progressive order scatter them): the queries then find the tree in the caches.
+  // Every result is the same either way; below about 64 Ki triangles the tree fits in the
+  // caches and the reordering only costs.
+  size_t space_order_triangles = size_t{1} << 16;
   // The field error's correspondence tolerance, absolute: points of the other surface within
   // this distance of the closest one are as good a match for a sample, and its field error is
   // the smallest difference among them. Where two sheets touch (a crash fold's contact), the

@@ -19,18 +19,15 @@
 //                  evenly.
 //      N, the area sample count, is 10 × the face count of the larger mesh by default.
 //   2. For each sample p, d(p) = |p − closest point of T| from a BVH over T's triangles
-//      (bvh.cpp): an exact distance, not an approximation.
+//      (bvh.cpp): an exact distance, not an approximation. The samples are measured in space
+//      order where that pays (sample_jobs.cpp), which changes no number.
 //   3. max over all samples; mean and RMS over the area samples only, so that they estimate
 //      the surface integrals (1/|S|) ∫ d and sqrt((1/|S|) ∫ d²) without the vertex and edge
 //      samples tilting them.
 //
-// Both directions are measured and the Hausdorff distance is the larger maximum.
-//
-// Determinism: the samples are cut into jobs by position in the vertex, edge and triangle lists
-// (never by thread), each job draws from its own generator seeded from (seed, direction, kind,
-// job), and job results are combined in job order. So the result depends on the seed only, not
-// on the thread count or scheduling. The generator is SplitMix64 (Steele, Lea, Flood 2014),
-// written here because std::uniform_real_distribution differs between standard libraries.
+// Both directions are measured and the Hausdorff distance is the larger maximum. The samples
+// are drawn and measured in jobs (sample_jobs.cpp); here the jobs are made and run in passes,
+// and their tallies combined.
 #include <algorithm>
 #include <cassert>
 #include <cmath>
@@ -38,35 +35,18 @@
 #include <string>
 #include <thread>
 
-#include "core/face_geometry.h"
 #include "core/parallel.h"
 #include "dynpm/eval.h"
 #include "field_distance.h"
+#include "sample_jobs.h"
 
 namespace dynpm {
 namespace {
 
-// SplitMix64: a 64-bit counter passed through a strong mixing function.
-class Random {
- public:
-  explicit Random(uint64_t seed) : state_(seed) {}
-  uint64_t next() { return mix(state_ += 0x9e3779b97f4a7c15ull); }
-  double uniform() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }  // [0, 1)
-  static uint64_t mix(uint64_t z) {
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    return z ^ (z >> 31);
-  }
-
- private:
-  uint64_t state_;
-};
-
-uint64_t job_seed(uint64_t seed, uint64_t direction, uint64_t kind, uint64_t job) {
-  uint64_t h = Random::mix(seed + 0x632be59bd9b4e019ull);
-  for (uint64_t part : {direction, kind, job}) h = Random::mix(h ^ (part + 0x9e3779b97f4a7c15ull));
-  return h;
-}
+using sampling::AreaPart, sampling::Direction, sampling::Job, sampling::Tally, sampling::add_jobs,
+    sampling::run_job, sampling::run_jobs_in_space_order, sampling::triangle_area;
+using sampling::kBatchSamples, sampling::kEdgeSamples, sampling::kFaceSamples,
+    sampling::kVertexSamples;
 
 // ---------------------------------------------------------------------------------------------
 // The inputs: checked once per topology, positions once per step.
@@ -122,232 +102,6 @@ Status check_positions(const char* name, const Topology& topology,
       return Status::error(std::string(name) + ": vertex " + std::to_string(i / 3) +
                            " has a non-finite coordinate");
   return Status();
-}
-
-// ---------------------------------------------------------------------------------------------
-// Sampling one surface and measuring against the other.
-
-struct Tally {
-  double max = -1;  // -1: no sample yet
-  Point3 max_at{0, 0, 0};
-  FieldTally fields;
-  double area_sum = 0, area_sum2 = 0;  // over the area samples in the mean
-  uint64_t mean_samples = 0;
-  double all_sum = 0, all_sum2 = 0;  // over every sample (for a surface without area)
-  uint64_t vertex_samples = 0, edge_samples = 0, face_samples = 0;
-
-  void merge(const Tally& t) {  // in job order, so ties keep the earlier sample
-    if (t.max > max) max = t.max, max_at = t.max_at;
-    fields.merge(t.fields);
-    area_sum += t.area_sum, area_sum2 += t.area_sum2;
-    mean_samples += t.mean_samples;
-    all_sum += t.all_sum, all_sum2 += t.all_sum2;
-    vertex_samples += t.vertex_samples, edge_samples += t.edge_samples;
-    face_samples += t.face_samples;
-  }
-
-  OneSidedDistance result() const {
-    OneSidedDistance d;
-    d.max = std::max(max, 0.0);
-    d.max_at = max_at;
-    d.vertex_samples = vertex_samples, d.edge_samples = edge_samples;
-    d.face_samples = face_samples;
-    const uint64_t all = vertex_samples + edge_samples + face_samples;
-    if (mean_samples > 0) {
-      d.mean = area_sum / double(mean_samples);
-      d.rms = std::sqrt(area_sum2 / double(mean_samples));
-    } else if (all > 0) {
-      d.mean = all_sum / double(all);
-      d.rms = std::sqrt(all_sum2 / double(all));
-    }
-    return d;
-  }
-};
-
-enum SampleKind : uint32_t { kVertexSamples, kEdgeSamples, kFaceSamples };
-
-// One direction: samples on `from`, distances to `to`.
-struct Direction {
-  const Surface* from = nullptr;
-  const Surface* to = nullptr;
-  double face_density = 0;   // area samples per unit area
-  uint64_t mean_stride = 1;  // the mean and RMS take every mean_stride-th area sample of a job
-  double edge_density = 0;   // edge samples per unit length
-  std::vector<FieldSides> fields;
-  double field_tolerance = 0, facing_reach = 0;  // HausdorffOptions::field_…
-  std::vector<Point3> vertex_normals;            // of `from`, with a facing reach
-};
-
-struct Job {
-  uint32_t direction;
-  SampleKind kind;
-  size_t begin, end;  // a range of vertices, edges or triangles of `from`
-};
-
-double triangle_area(const SurfaceTriangle& t) {
-  const Vec3 p[3] = {load(t.a.data()), load(t.b.data()), load(t.c.data())};
-  return 0.5 * length(doubled_vector_area(p, 3));
-}
-
-// ⌊expected + u⌋: an integer whose mean is `expected`.
-uint64_t random_round(double expected, Random& random) {
-  const double whole = std::floor(expected);
-  return static_cast<uint64_t>(whole) + (random.uniform() < expected - whole ? 1 : 0);
-}
-
-// n points uniformly distributed on a triangle, stratified: the triangle is cut into k² similar
-// triangles (k = ⌈√n⌉, k rows of "up" and "down" cells), n of the cells are chosen uniformly
-// at random (Knuth's selection sampling), and each gets one uniform point. Every point of the
-// triangle is equally likely, as with plain uniform sampling, but the points cover it evenly,
-// and the cells are visited row by row in alternating directions, so each point is close to
-// the previous one and the previous answer is a good hint for the next query.
-// emit(u, v) receives coordinates along the edges ab and ac (u, v ≥ 0, u + v ≤ 1).
-template <class Emit>
-void sample_triangle(uint64_t n, Random& random, const Emit& emit) {
-  if (n == 0) return;
-  const uint64_t k = static_cast<uint64_t>(std::ceil(std::sqrt(double(n))));
-  const double scale = 1.0 / double(k);
-  uint64_t cells_left = k * k, wanted = n;
-  for (uint64_t row = 0; row < k; ++row) {
-    const uint64_t cells = 2 * (k - row) - 1;  // up, down, up, …, up
-    for (uint64_t c = 0; c < cells; ++c, --cells_left) {
-      if (random.uniform() * double(cells_left) >= double(wanted)) continue;
-      --wanted;
-      const uint64_t cell = row % 2 == 0 ? c : cells - 1 - c;
-      const double u0 = double(cell / 2), v0 = double(row);
-      double r = random.uniform(), s = random.uniform();
-      if (r + s > 1) r = 1 - r, s = 1 - s;
-      if (cell % 2 == 0)  // up: (u0, v0), (u0 + 1, v0), (u0, v0 + 1)
-        emit((u0 + r) * scale, (v0 + s) * scale);
-      else  // down: (u0 + 1, v0 + 1), (u0, v0 + 1), (u0 + 1, v0)
-        emit((u0 + 1 - r) * scale, (v0 + 1 - s) * scale);
-    }
-  }
-  assert(wanted == 0);
-}
-
-// Which of a job's area samples a run measures: all, or (when the mean takes every
-// mean_stride-th) those of the mean in a first pass and the others in a second. Both passes
-// draw the same samples; each counts its own.
-enum class AreaPart { kAll, kMean, kRest };
-
-// `known_max` ≥ 0: a distance that some sample of this direction reaches (the mean's area
-// samples' maximum, then every area sample's), set only when a sample outside the mean — a
-// vertex or edge sample, or an area sample the mean skips — can matter through the maximum
-// alone (no fields). Such a sample needs no closest point if it is nearer than that — or than
-// this job's maximum so far — to a triangle of the previous answer's leaf: it cannot be the
-// (first) sample at the maximum. The margin keeps a distance that would round to the maximum
-// itself measured.
-Tally run_job(const Job& job, const Direction& d, uint64_t seed, size_t job_index, double known_max,
-              AreaPart part) {
-  Random random(job_seed(seed, job.direction, job.kind, job_index));
-  Tally tally;
-  tally.fields = FieldTally(d.fields.size());
-  TriangleBvh::Cursor cursor;  // consecutive samples are close: start where the last one ended
-  const bool with_weights = !d.fields.empty();
-  FieldSampler sampler(*d.to, d.fields, d.field_tolerance, d.facing_reach);
-  std::vector<double> values(d.fields.size());
-  // `own(k)`: field k's value at p on `from` (NaN: none there, an element field off a face);
-  // `normal`: the way p faces (zero: not needed).
-  uint64_t area_index = 0;  // the job's area samples so far
-  auto measure = [&](const Point3& p, const Point3& normal, uint64_t& counter, bool area_sample,
-                     const auto& own) {
-    const bool in_mean = area_sample && area_index++ % d.mean_stride == 0;
-    if (area_sample && part != AreaPart::kAll && in_mean != (part == AreaPart::kMean)) return;
-    double enough = 0;  // a hit nearer than sqrt(enough) cannot raise the maximum
-    if (known_max >= 0 && !in_mean) {
-      const double below = std::max(known_max, tally.max);
-      enough = below * below * (1 - 1e-12);
-      if (below > 0 && d.to->bvh.previous_closer_than(p, enough, cursor)) {
-        ++counter;
-        return;
-      }
-    }
-    const TriangleBvh::Hit hit = d.to->bvh.closest(p, cursor, with_weights, enough);
-    if (hit.squared_distance < enough) {
-      ++counter;
-      return;
-    }
-    const double distance = std::sqrt(hit.squared_distance);
-    if (distance > tally.max) tally.max = distance, tally.max_at = p;
-    tally.all_sum += distance, tally.all_sum2 += distance * distance;
-    if (in_mean) {
-      tally.area_sum += distance, tally.area_sum2 += distance * distance;
-      ++tally.mean_samples;
-    }
-    ++counter;
-    if (d.fields.empty()) return;
-    for (size_t k = 0; k < d.fields.size(); ++k) values[k] = own(k);
-    sampler.measure(p, normal, hit, values, area_sample, tally.fields);
-  };
-  const std::vector<float>& positions = d.from->positions;
-  auto vertex = [&](uint32_t v) {
-    const float* x = &positions[3 * size_t{v}];
-    return Point3{x[0], x[1], x[2]};
-  };
-  constexpr double kNone = std::numeric_limits<double>::quiet_NaN();
-  auto node_value = [&](size_t k, uint32_t v) {
-    const SurfaceField& f = d.fields[k].from;
-    return f.location == FieldLocation::kNode ? double(f.values[v]) : kNone;
-  };
-  auto vertex_normal = [&](uint32_t v) {
-    return d.vertex_normals.empty() ? Point3{0, 0, 0} : d.vertex_normals[v];
-  };
-  switch (job.kind) {
-    case kVertexSamples:
-      for (size_t i = job.begin; i < job.end; ++i) {
-        const uint32_t v = d.from->topology->vertices[i];
-        measure(vertex(v), vertex_normal(v), tally.vertex_samples, false,
-                [&](size_t k) { return node_value(k, v); });
-      }
-      break;
-    case kEdgeSamples:
-      for (size_t i = job.begin; i < job.end; ++i) {
-        const Edge& e = d.from->topology->edges[i];
-        const Point3 a = vertex(e.a), b = vertex(e.b);
-        const Point3 ab{b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-        const double length = std::sqrt(ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2]);
-        const uint64_t n = random_round(length * d.edge_density, random);
-        const Point3 na = vertex_normal(e.a), nb = vertex_normal(e.b);
-        const Point3 normal{na[0] + nb[0], na[1] + nb[1], na[2] + nb[2]};
-        for (uint64_t j = 0; j < n; ++j) {  // one point in each of n equal pieces
-          const double t = (double(j) + random.uniform()) / double(n);
-          measure({a[0] + t * ab[0], a[1] + t * ab[1], a[2] + t * ab[2]}, normal,
-                  tally.edge_samples, false,
-                  [&](size_t k) { return (1 - t) * node_value(k, e.a) + t * node_value(k, e.b); });
-        }
-      }
-      break;
-    case kFaceSamples:
-      for (size_t i = job.begin; i < job.end; ++i) {
-        const SurfaceTriangle& t = d.from->triangles[i];
-        const uint64_t n = random_round(triangle_area(t) * d.face_density, random);
-        const Point3 a{t.a[0], t.a[1], t.a[2]};
-        const Point3 ab{double(t.b[0]) - a[0], double(t.b[1]) - a[1], double(t.b[2]) - a[2]};
-        const Point3 ac{double(t.c[0]) - a[0], double(t.c[1]) - a[1], double(t.c[2]) - a[2]};
-        const Point3 normal = d.facing_reach > 0 ? triangle_normal(t) : Point3{0, 0, 0};
-        sample_triangle(n, random, [&](double u, double v) {
-          measure({a[0] + u * ab[0] + v * ac[0], a[1] + u * ab[1] + v * ac[1],
-                   a[2] + u * ab[2] + v * ac[2]},
-                  normal, tally.face_samples, true, [&](size_t k) {
-                    return interpolate((*d.fields[k].from_corners)[i], {1 - u - v, u, v});
-                  });
-        });
-      }
-      break;
-  }
-  return tally;
-}
-
-// Jobs of about kSamplesPerJob samples each, cut by list position only.
-constexpr double kSamplesPerJob = 8192;
-
-void add_jobs(std::vector<Job>& jobs, uint32_t direction, SampleKind kind, size_t count,
-              double samples_per_item) {
-  const size_t per_job = static_cast<size_t>(
-      std::clamp(kSamplesPerJob / std::max(samples_per_item, 1e-9), 16.0, 65536.0));
-  for (size_t begin = 0; begin < count; begin += per_job)
-    jobs.push_back({direction, kind, begin, std::min(count, begin + per_job)});
 }
 
 // The surface at `positions`, in the memory of `s` (which holds its topology's last step, or
@@ -442,25 +196,55 @@ Result<HausdorffResult> evaluate(const Surface& a, const Surface& b,
   const bool strided = directions[0].mean_stride > 1 || directions[1].mean_stride > 1;
   std::vector<Tally> mean_tallies(strided ? jobs.size() : 0), tallies(jobs.size());
   std::array<double, 2> known_max{-1, -1};
+  // Space order pays where the closest points are searched in a tree larger than the caches
+  // (a BVH of 64 Ki triangles takes some 4 MB), and only without fields
+  // (run_jobs_in_space_order).
+  std::array<bool, 2> in_space_order;
+  for (int k = 0; k < 2; ++k)
+    in_space_order[k] =
+        fields.empty() && directions[k].to->triangles.size() >= options.space_order_triangles;
   auto run = [&](bool area, AreaPart part, std::vector<Tally>& out) {
-    std::vector<size_t> pass;
-    for (size_t i = 0; i < jobs.size(); ++i)
-      if ((jobs[i].kind == kFaceSamples) == area) pass.push_back(i);
-    // One part per job, taken by whichever thread is free (jobs differ in cost).
-    parallel_for(pass.size(), pass.size(), std::min(threads, 1024u),
-                 [&](size_t begin, size_t end, size_t) {
-                   for (size_t j = begin; j < end; ++j) {
-                     const Job& job = jobs[pass[j]];
-                     out[pass[j]] = run_job(job, directions[job.direction], options.seed, pass[j],
-                                            known_max[job.direction], part);
-                   }
-                 });
+    // Batches of consecutive jobs of one direction and kind: about kBatchSamples samples in
+    // all, measured together in space order when that pays (see in_space_order), else one job.
+    // One part per batch, taken by whichever thread is free (batches differ in cost).
+    struct Batch {
+      size_t begin, end;  // jobs
+      double samples;
+    };
+    std::vector<Batch> pass;
+    for (size_t i = 0; i < jobs.size(); ++i) {
+      if ((jobs[i].kind == kFaceSamples) != area) continue;
+      if (pass.empty() || pass.back().end != i || !in_space_order[jobs[i].direction] ||
+          pass.back().samples + jobs[i].samples > double(kBatchSamples) ||
+          jobs[i].direction != jobs[i - 1].direction || jobs[i].kind != jobs[i - 1].kind)
+        pass.push_back({i, i, 0});
+      ++pass.back().end;
+      pass.back().samples += jobs[i].samples;
+    }
+    parallel_for(
+        pass.size(), pass.size(), std::min(threads, 1024u), [&](size_t first, size_t last, size_t) {
+          for (size_t n = first; n < last; ++n) {
+            const Batch batch = pass[n];
+            const Job& job = jobs[batch.begin];
+            const Direction& d = directions[job.direction];
+            if (!in_space_order[job.direction]) {
+              out[batch.begin] =
+                  run_job(job, d, options.seed, batch.begin, known_max[job.direction], part);
+              continue;
+            }
+            std::vector<Tally> measured = run_jobs_in_space_order(
+                std::span(jobs).subspan(batch.begin, batch.end - batch.begin), d, options.seed,
+                batch.begin, known_max[job.direction], part);
+            std::move(measured.begin(), measured.end(), out.begin() + batch.begin);
+          }
+        });
     if (!area || !fields.empty()) return;
     std::array<Tally, 2> measured;
-    for (size_t i : pass) {
-      if (strided) measured[jobs[i].direction].merge(mean_tallies[i]);
-      measured[jobs[i].direction].merge(tallies[i]);
-    }
+    for (const Batch& batch : pass)
+      for (size_t i = batch.begin; i < batch.end; ++i) {
+        if (strided) measured[jobs[i].direction].merge(mean_tallies[i]);
+        measured[jobs[i].direction].merge(tallies[i]);
+      }
     for (int k = 0; k < 2; ++k)
       if (measured[k].face_samples > 0) known_max[k] = std::max(measured[k].max, 0.0);
   };
