@@ -181,7 +181,9 @@ TEST(EvalSkippedSamples, AMaximumOnlyAVertexReachesIsFound) {
   expect_same_with_and_without_skipping(spiked, flat, 2);
 }
 
-TEST(EvalBvh, PreviousCloserThanIsTheDistanceToThePreviousAnswer) {
+TEST(EvalBvh, EnoughTestsThePreviousAnswerFirst) {
+  // closest(q, cursor, …, enough) tests the previous answer's triangle first: when it is nearer
+  // than sqrt(enough) it is the hit, and otherwise the hit is a nearer triangle or the closest.
   const test::Mesh m = plate(20, 0.3, 5);
   const std::vector<SurfaceTriangle> triangles = surface_triangles(m.topology, m.positions);
   const TriangleBvh bvh(triangles, 1);
@@ -190,7 +192,6 @@ TEST(EvalBvh, PreviousCloserThanIsTheDistanceToThePreviousAnswer) {
   auto coordinate = [&](double lo, double hi) {
     return lo + (hi - lo) * (engine() / 4294967296.0);
   };
-  EXPECT_FALSE(bvh.previous_closer_than({1, 1, 1}, 1e30, cursor));  // no previous answer yet
   for (int i = 0; i < 500; ++i) {
     const Point3 p{coordinate(-1, 11), coordinate(-1, 11), coordinate(-2, 2)};
     const TriangleBvh::Hit previous = bvh.closest(p, cursor);
@@ -200,10 +201,16 @@ TEST(EvalBvh, PreviousCloserThanIsTheDistanceToThePreviousAnswer) {
                                                {t.b[0], t.b[1], t.b[2]}, {t.c[0], t.c[1], t.c[2]});
     const double d2 = (q[0] - c[0]) * (q[0] - c[0]) + (q[1] - c[1]) * (q[1] - c[1]) +
                       (q[2] - c[2]) * (q[2] - c[2]);
-    EXPECT_TRUE(bvh.previous_closer_than(q, d2 * 1.000001, cursor)) << i;
-    EXPECT_FALSE(bvh.previous_closer_than(q, d2 * 0.999999, cursor)) << i;
-    // An upper bound of the true distance: true whenever the closest point is that far.
-    EXPECT_LE(bvh.closest(q).squared_distance, d2) << i;
+    const double closest = bvh.closest(q).squared_distance;
+    EXPECT_LE(closest, d2) << i;  // the previous answer's distance is an upper bound
+    TriangleBvh::Cursor at = cursor;
+    const TriangleBvh::Hit settled = bvh.closest(q, at, false, d2 * 1.000001);
+    EXPECT_EQ(settled.triangle, previous.triangle) << i;
+    EXPECT_EQ(settled.squared_distance, d2) << i;
+    at = cursor;
+    const TriangleBvh::Hit searched = bvh.closest(q, at, false, d2 * 0.999999);
+    EXPECT_TRUE(searched.squared_distance < d2 * 0.999999 || searched.squared_distance == closest)
+        << i;
   }
 }
 

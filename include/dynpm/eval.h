@@ -105,14 +105,10 @@ class TriangleBvh {
   };
   // Without weights, Hit::weights is left at {1, 0, 0} (a distance alone does not need them).
   // With `enough` > 0 the search stops at the first triangle it meets that is nearer than
-  // sqrt(enough): the hit is then that one, not necessarily the closest (a sample that cannot
-  // raise a maximum needs no more); the cursor moves to it all the same.
+  // sqrt(enough), the previous answer's triangle tested first: the hit is then that one, not
+  // necessarily the closest (a sample that cannot raise a maximum needs no more); the cursor
+  // moves to it all the same.
   Hit closest(const Point3& p, Cursor& cursor, bool with_weights = true, double enough = 0) const;
-
-  // Whether the triangle of the cursor's previous answer is closer to p than
-  // sqrt(squared_distance): one triangle test, an upper bound on p's distance that often settles
-  // whether p can matter (a sample that cannot raise a maximum). The cursor is not moved.
-  bool previous_closer_than(const Point3& p, double squared_distance, const Cursor& cursor) const;
 
   // Every triangle closer to p than sqrt(max_squared_distance), with its closest point and
   // weights, appended to `out` in no set order.
@@ -137,7 +133,9 @@ class TriangleBvh {
 
  private:
   struct Best;
-  void descend(const Point3& p, uint32_t node, Best& best, double enough = 0) const;
+  // `tested`: a triangle already in `best`, not tested again.
+  void descend(const Point3& p, uint32_t node, Best& best, double enough = 0,
+               uint32_t tested = kNoIndex) const;
   Hit hit(const Best& best, bool with_weights = true) const;
 
   std::vector<Node> nodes_;

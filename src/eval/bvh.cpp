@@ -1,10 +1,8 @@
 // Exact closest-point queries on a triangulated surface: the measuring half of the Metro-style
-// Hausdorff distance (hausdorff.cpp is the sampling half).
-//
+// Hausdorff distance (hausdorff.cpp and sample_jobs.cpp are the sampling half).
 // closest_point_on_triangle() follows Ericson, Real-Time Collision Detection (2005), §5.1.5:
 // the plane of the triangle is cut into seven Voronoi regions (three vertices, three edges, the
 // face) and p's region is found from six dot products, without a square root.
-//
 // TriangleBvh is a bounding-volume hierarchy built top down by the surface area heuristic
 // (MacDonald and Booth 1990) evaluated in 16 bins along the longest axis of the centroids
 // (Wald 2007, "On fast construction of SAH-based bounding volume hierarchies"). Nodes are
@@ -446,7 +444,8 @@ struct TriangleBvh::Best {
 // Depth-first search of the subtree at `node`, nearer child first; a pending entry keeps its
 // box distance so that it can be dropped once something closer has been found. Stops at once
 // when a triangle nearer than sqrt(enough) has been found.
-void TriangleBvh::descend(const Point3& p, uint32_t node, Best& best, double enough) const {
+void TriangleBvh::descend(const Point3& p, uint32_t node, Best& best, double enough,
+                          uint32_t tested) const {
   struct Pending {
     uint32_t node;
     double d2;
@@ -457,6 +456,7 @@ void TriangleBvh::descend(const Point3& p, uint32_t node, Best& best, double eno
     const Node& n = nodes_[node];
     if (n.count > 0) {
       for (uint32_t i = n.first; i < n.first + n.count; ++i) {
+        if (i == tested) continue;
         const SurfaceTriangle& t = triangles_[i];
         const Point3 q = closest_point_on_triangle(p, to_point(t.a), to_point(t.b), to_point(t.c));
         const double d2 = squared_distance(p, q);
@@ -530,15 +530,6 @@ void TriangleBvh::within(const Point3& p, double max_squared_distance,
   }
 }
 
-bool TriangleBvh::previous_closer_than(const Point3& p, double squared_distance,
-                                       const Cursor& cursor) const {
-  if (cursor.triangle == kNoIndex) return false;
-  assert(cursor.triangle < triangles_.size());
-  const SurfaceTriangle& t = triangles_[cursor.triangle];
-  const Point3 q = closest_point_on_triangle(p, to_point(t.a), to_point(t.b), to_point(t.c));
-  return dynpm::squared_distance(p, q) < squared_distance;
-}
-
 TriangleBvh::Hit TriangleBvh::closest(const Point3& p, Cursor& cursor, bool with_weights,
                                       double enough) const {
   constexpr double kInfinity = std::numeric_limits<double>::infinity();
@@ -559,7 +550,16 @@ TriangleBvh::Hit TriangleBvh::closest(const Point3& p, Cursor& cursor, bool with
   c.travel += std::sqrt(squared_distance(p, c.last));
   c.last = p;
   const double travel = c.travel;
-  descend(p, c.leaf, best, enough);
+  // With `enough`, the previous answer first (not for an exact query: a tie would go elsewhere).
+  uint32_t tested = kNoIndex;
+  if (enough > 0 && c.triangle != kNoIndex) {
+    const SurfaceTriangle& t = triangles_[c.triangle];
+    const Point3 q = closest_point_on_triangle(p, to_point(t.a), to_point(t.b), to_point(t.c));
+    best = {squared_distance(p, q), c.triangle, q};
+    if (best.d2 < enough) return hit(best, with_weights);
+    tested = c.triangle;
+  }
+  descend(p, c.leaf, best, enough, tested);
   if (best.d2 < enough) {
     c.triangle = best.triangle;
     return hit(best, with_weights);

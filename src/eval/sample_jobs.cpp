@@ -171,9 +171,10 @@ void count_distance(Tally& tally, const Point3& p, double distance, bool in_mean
 // samples' maximum, then every area sample's), set only when a sample outside the mean — a
 // vertex or edge sample, or an area sample the mean skips — can matter through the maximum
 // alone (no fields). Such a sample needs no closest point if it is nearer than that — or than
-// the largest distance measured so far in its jobs — to a triangle of the previous answer's leaf:
-// it cannot be the (first) sample at the maximum. The margin keeps a distance that would round
-// to the maximum itself measured. Returns the sample's distance, or NaN when it cannot matter.
+// the largest distance measured so far in its jobs — to some triangle (closest() with `enough`
+// tests the previous answer's triangle first, then searches until it meets one): it cannot be
+// the (first) sample at the maximum. The margin keeps a distance that would round to the
+// maximum itself measured. Returns the sample's distance, or NaN when it cannot matter.
 double sample_distance(const Direction& d, const Point3& p, bool in_mean, double known_max,
                        double max_so_far, TriangleBvh::Cursor& cursor, bool with_weights,
                        TriangleBvh::Hit& hit) {
@@ -181,8 +182,6 @@ double sample_distance(const Direction& d, const Point3& p, bool in_mean, double
   if (known_max >= 0 && !in_mean) {
     const double below = std::max(known_max, max_so_far);
     enough = below * below * (1 - 1e-12);
-    if (below > 0 && d.to->bvh.previous_closer_than(p, enough, cursor))
-      return std::numeric_limits<double>::quiet_NaN();
   }
   hit = d.to->bvh.closest(p, cursor, with_weights, enough);
   if (hit.squared_distance < enough) return std::numeric_limits<double>::quiet_NaN();
