@@ -163,6 +163,21 @@ TEST(EvalSpaceOrder, AJobOfMoreSamplesThanABatchIsMeasuredAlone) {
   options.face_samples = 600000;
   options.threads = 2;
   expect_same_in_space_and_drawing_order(quad, fine, options);
+  // A large quad first and a fine plate after it in one surface: the first job (the quad's
+  // four triangles and 192 small ones) draws 594 k samples and is measured alone; the small
+  // jobs after it in the same batch are measured in space order, and each keeps its own tally.
+  test::Mesh both = plate(1, 0.0, 16);
+  for (size_t v = 0; v < both.positions.size(); v += 3)
+    both.positions[v] *= 10, both.positions[v + 1] *= 10, both.positions[v + 2] = 3;
+  const test::Mesh small = plate(60, 0.05, 17);
+  const uint32_t offset = both.topology.vertex_count;
+  both.positions.insert(both.positions.end(), small.positions.begin(), small.positions.end());
+  for (Face f : small.topology.faces) {
+    for (int i = 0; i < f.degree(); ++i) f.v[i] += offset;
+    both.topology.faces.push_back(f);
+  }
+  both.topology.vertex_count += small.topology.vertex_count;
+  expect_same_in_space_and_drawing_order(both, fine, options);
 }
 
 TEST(EvalSkippedSamples, AMaximumOnlyAVertexReachesIsFound) {

@@ -325,7 +325,7 @@ std::vector<Tally> run_jobs_in_space_order(std::span<const Job> jobs, const Dire
         tallies[next] = run_job(jobs[next], d, seed, first_job_index + next, known_max, part);
         max_so_far = std::max(max_so_far, tallies[next].max);
         ++next;
-        continue;
+        break;  // the jobs after it in a batch of their own (job_end counts from first_job)
       }
       size_t item = std::numeric_limits<size_t>::max();
       draw_samples(jobs[next], d, seed, first_job_index + next, part,
