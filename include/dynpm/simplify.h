@@ -24,12 +24,15 @@
 //                           with f = max_t sqrt(F[t]) / diagonal
 //     without cost fields both are max_t sqrt(G[t]) / diagonal
 //   legality (legality.h): CollapseRules::allows(), every rule, cheapest first
-//   the loop (simplifier.cpp, Simplifier::run(), line for line):
+//   the loop (simplifier.cpp, Simplifier::run() and advance(), line for line; with islands,
+//   each island runs it with a queue of its own, and its collapses are told in key order at the
+//   end: SimplifyOptions::island_min_vertices, islands.h):
 //     rate_all_edges()                           every edge once, for its cheaper direction
 //     loop:
 //       if stop_reached(): done, target reached
 //       if queue empty:
-//         if not rated_again: rate_all_edges(), rated_again = true, continue
+//         if not rated_again: rate_all_edges() (an island: its own), rated_again = true,
+//           continue
 //         done: no legal collapse remains
 //       entry = pop the cheapest
 //       if stale(entry): continue                v0 or v1 changed since it was rated
@@ -166,9 +169,16 @@ struct SimplifyOptions {
   // then not checked again (no "checking the mesh" phase). Without one, or with a proof of other
   // faces, simplify() checks it itself.
   std::optional<ValidationProof> checked;
-  // Test mode: validate() the whole mesh after every collapse and fail at the first problem.
+  // Test mode: validate() the whole mesh after every collapse and fail at the first problem
+  // (with islands: after every round of them).
   bool check_every_collapse = false;
   unsigned threads = 0;  // 0: one per hardware thread
+  // Islands (docs/simplify.md "Islands"): without a stop condition, optimal placement or
+  // independent rounds, a mesh of at least this many vertices in faces and of several connected
+  // components is cut into islands of whole components, each simplified with a queue of its own
+  // on any free thread, and the collapses are told in the order of their keys (island by
+  // island where keys tie). The result does not depend on the thread count. UINT32_MAX: never.
+  uint32_t island_min_vertices = uint32_t{1} << 16;
   // Phases "checking the mesh" (faces; not with a proof in `checked`), "reading key steps" (steps),
   // "quadrics" (vertices) and "collapsing" (vertices removed, of those to remove; it ends at the
   // collapses made). May be empty.
@@ -204,6 +214,7 @@ struct SimplifyResult {
   std::vector<size_t> key_steps;
   BoundingBox key_step_box;  // of every key step's positions (the error's unit is its diagonal)
   size_t collapses = 0;
+  size_t islands = 1;           // SimplifyOptions::island_min_vertices: 1 is the whole mesh
   double max_error = 0;         // largest collapse error done, in diagonals
   bool target_reached = false;  // false: no legal collapse remained first
   std::string stop_reason;

@@ -1,6 +1,7 @@
 #include "collapse_mesh.h"
 
 #include <algorithm>
+#include <cassert>
 
 #include "core/pages.h"
 
@@ -8,25 +9,70 @@ namespace dynpm::simplification {
 
 CollapseMesh::CollapseMesh(const Topology& topology) : faces_(topology.faces) {
   const uint32_t n = topology.vertex_count;
+  islands_.resize(1);
+  islands_[0].vertices = n;
+  if (n > 0) islands_[0].runs.push_back({0, n});
   list_start_.assign(n, 0);
   list_size_.assign(n, 0);
   list_capacity_.assign(n, 0);
   for (const Face& f : faces_)
     for (uint32_t c : f.v)
       if (c != kNoVertex) ++list_capacity_[c];
-  uint32_t total = 0;
-  for (uint32_t v = 0; v < n; ++v) {
-    list_start_[v] = total;
-    list_capacity_[v] += 2;  // room to grow before a list must move
-    total += list_capacity_[v];
-  }
-  pool_.reserve(total + total / 4);  // room for lists that grow: compact_pool() keeps it
-  pool_.resize(total);
+  for (uint32_t v = 0; v < n; ++v) list_capacity_[v] += 2;  // room to grow before a list must move
+  Island& whole = islands_[0];
+  lay_out(whole);
   for (uint32_t f = 0; f < faces_.size(); ++f)
     for (uint32_t c : faces_[f].v)
-      if (c != kNoVertex) pool_[list_start_[c] + list_size_[c]++] = f;
-  for (uint32_t v = 0; v < n; ++v) live_vertices_ += list_size_[v] > 0 ? 1 : 0;
-  live_faces_ = faces_.size();
+      if (c != kNoVertex) whole.pool[list_start_[c] + list_size_[c]++] = f;
+  for (uint32_t v = 0; v < n; ++v) whole.live_vertices += list_size_[v] > 0 ? 1 : 0;
+  whole.live_faces = faces_.size();
+}
+
+void CollapseMesh::lay_out(Island& island) {
+  uint32_t total = 0;
+  for_each_member(island, [&](uint32_t v) {
+    list_start_[v] = total;
+    total += list_capacity_[v];
+  });
+  island.pool.reserve(total + total / 4);  // room for lists that grow: compact_pool() keeps it
+  island.pool.resize(total);
+}
+
+void CollapseMesh::split_into_islands(std::vector<uint16_t> island_of, size_t count) {
+  assert(islands_.size() == 1 && count <= 65536 && island_of.size() == vertex_count());
+  std::vector<Island> islands(count);
+  for (uint32_t v = 0; v < vertex_count(); ++v) {
+    Island& island = islands[island_of[v]];
+    if (island.runs.empty() || island.runs.back().second != v) island.runs.push_back({v, v});
+    ++island.runs.back().second;
+    ++island.vertices;
+  }
+  const std::vector<uint32_t> old_pool = std::move(islands_[0].pool);
+  islands_ = std::move(islands);
+  island_of_ = std::move(island_of);
+  const std::vector<uint32_t> old_start = list_start_;
+  for (Island& island : islands_) {
+    lay_out(island);
+    for_each_member(island, [&](uint32_t v) {
+      std::copy_n(old_pool.begin() + old_start[v], list_size_[v],
+                  island.pool.begin() + list_start_[v]);
+      island.live_vertices += list_size_[v] > 0 ? 1 : 0;
+    });
+  }
+  for (const Face& f : faces_)
+    if (f.v[0] != kNoVertex) ++islands_[island_of_[f.v[0]]].live_faces;
+}
+
+uint32_t CollapseMesh::live_vertices() const {
+  uint32_t live = 0;
+  for (const Island& island : islands_) live += island.live_vertices;
+  return live;
+}
+
+size_t CollapseMesh::live_faces() const {
+  size_t live = 0;
+  for (const Island& island : islands_) live += island.live_faces;
+  return live;
 }
 
 void CollapseMesh::neighbours(uint32_t v, std::vector<uint32_t>& out) const {
@@ -49,7 +95,7 @@ void CollapseMesh::second_order_neighbours(uint32_t v, std::vector<uint32_t>& ou
 }
 
 void CollapseMesh::remove_face_from(uint32_t v, uint32_t f) {
-  uint32_t* list = pool_.data() + list_start_[v];
+  uint32_t* list = islands_[island_of(v)].pool.data() + list_start_[v];
   uint32_t& size = list_size_[v];
   for (uint32_t k = 0; k < size; ++k) {
     if (list[k] != f) continue;
@@ -62,44 +108,47 @@ void CollapseMesh::reserve_list(uint32_t v, uint32_t size) {
   if (size <= list_capacity_[v]) return;
   // Move the list to the end of the pool with room to grow; the old block is abandoned.
   const uint32_t capacity = size + size / 2 + 2;
-  if (pool_.size() + capacity > pool_.capacity()) compact_pool(capacity);
-  const uint32_t start = static_cast<uint32_t>(pool_.size());
-  pool_.resize(pool_.size() + capacity);
-  std::copy_n(pool_.begin() + list_start_[v], list_size_[v], pool_.begin() + start);
+  Island& island = islands_[island_of(v)];
+  std::vector<uint32_t>& pool = island.pool;
+  if (pool.size() + capacity > pool.capacity()) compact_pool(island, capacity);
+  const uint32_t start = static_cast<uint32_t>(pool.size());
+  pool.resize(pool.size() + capacity);
+  std::copy_n(pool.begin() + list_start_[v], list_size_[v], pool.begin() + start);
   list_start_[v] = start;
   list_capacity_[v] = capacity;
 }
 
-// The pool is full. Growing it would keep every block that moved lists abandoned: instead the
-// live vertices' lists (with their room to grow, each in its order: the quadrics sum faces in
+// An island's pool is full. Growing it would keep every block that moved lists abandoned: instead
+// the live vertices' lists (with their room to grow, each in its order: the quadrics sum faces in
 // list order) move to the front of the pool in the order they lie there, removed vertices give
 // theirs up, and the pages past them go back to the system. In place: a fresh pool beside the
 // old one was the simplifier's peak. The pool grows only when the lists and `extra` need more
 // than it holds, to a quarter more.
-void CollapseMesh::compact_pool(uint32_t extra) {
+void CollapseMesh::compact_pool(Island& island, uint32_t extra) {
+  std::vector<uint32_t>& pool = island.pool;
   std::vector<uint64_t> live;  // start << 32 | vertex: sorted by start as plain integers
   size_t needed = extra;
-  for (uint32_t v = 0; v < vertex_count(); ++v) {
+  for_each_member(island, [&](uint32_t v) {
     if (list_size_[v] == 0) {
       list_start_[v] = list_capacity_[v] = 0;
-      continue;
+      return;
     }
     live.push_back(uint64_t{list_start_[v]} << 32 | v);
     needed += list_capacity_[v];
-  }
+  });
   std::sort(live.begin(), live.end());
   uint32_t end = 0;
   for (uint64_t key : live) {  // end ≤ list_start_[v]: each list moves down or stays
     const auto v = static_cast<uint32_t>(key);
-    std::copy_n(pool_.begin() + list_start_[v], list_size_[v], pool_.begin() + end);
+    std::copy_n(pool.begin() + list_start_[v], list_size_[v], pool.begin() + end);
     list_start_[v] = end;
     end += list_capacity_[v];
   }
-  pool_.resize(end);
-  if (needed + needed / 4 > pool_.capacity())
-    pool_.reserve(needed + needed / 4);
+  pool.resize(end);
+  if (needed + needed / 4 > pool.capacity())
+    pool.reserve(needed + needed / 4);
   else
-    release_unused_capacity(pool_);
+    release_unused_capacity(pool);
 }
 
 void CollapseMesh::collapse(uint32_t v0, uint32_t v1, CollapseRecord& record,
@@ -145,7 +194,7 @@ void CollapseMesh::collapse(uint32_t v0, uint32_t v1, CollapseRecord& record,
       for (uint32_t c : face.v)
         if (c != v0 && c != kNoVertex) remove_face_from(c, f);
       face.v = {kNoVertex, kNoVertex, kNoVertex, kNoVertex};
-      --live_faces_;
+      --islands_[island_of(v0)].live_faces;
     } else {  // a quad becomes a triangle: drop v0, keep the cyclic order
       for (int k = i0; k < 3; ++k) face.v[k] = face.v[k + 1];
       face.v[3] = kNoVertex;
@@ -153,9 +202,10 @@ void CollapseMesh::collapse(uint32_t v0, uint32_t v1, CollapseRecord& record,
   }
 
   reserve_list(v1, list_size_[v1] + static_cast<uint32_t>(moved.size()));
-  for (uint32_t f : moved) pool_[list_start_[v1] + list_size_[v1]++] = f;
+  Island& island = islands_[island_of(v1)];
+  for (uint32_t f : moved) island.pool[list_start_[v1] + list_size_[v1]++] = f;
   list_size_[v0] = 0;
-  --live_vertices_;
+  --island.live_vertices;
   // Legality ((P2), (P1*)) guarantees no vertex but v0 is left without faces.
   for (uint8_t k = 0; k < record.wing_count; ++k)
     assert(list_size_[record.wings[k].vertex] > 0 && "a collapse orphaned a wing vertex");
@@ -176,9 +226,10 @@ Topology CollapseMesh::to_topology(const Topology& input,
   out.vertex_count = static_cast<uint32_t>(original_vertex.size());
   out.node_ids.reserve(original_vertex.size());
   for (uint32_t v : original_vertex) out.node_ids.push_back(input.node_ids[v]);
-  out.faces.reserve(live_faces_);
-  out.part_ids.reserve(live_faces_);
-  out.element_ids.reserve(live_faces_);
+  const size_t live = live_faces();
+  out.faces.reserve(live);
+  out.part_ids.reserve(live);
+  out.element_ids.reserve(live);
   for (uint32_t f = 0; f < faces_.size(); ++f) {
     if (!face_alive(f)) continue;
     Face face = faces_[f];

@@ -1,6 +1,11 @@
 // The mesh being simplified: faces that change in place (a quad that loses a corner becomes a
 // triangle with kNoVertex in slot 3; a vanished triangle gets kNoVertex in every slot) and, per
-// vertex, the list of its live faces in one pooled array. Face ids stay the input's.
+// vertex, the list of its live faces in a pooled array. Face ids stay the input's.
+//
+// Islands (docs/simplify.md "Islands"): sets of whole connected components whose collapses run on
+// separate threads. Each keeps its vertices' face lists in a pool of its own and counts its live
+// vertices and faces, so that a collapse writes nothing another island reads. Until
+// split_into_islands() the whole mesh is one island.
 #pragma once
 
 #include <span>
@@ -19,11 +24,25 @@ class CollapseMesh {
   const Face& face(uint32_t f) const { return faces_[f]; }
   bool face_alive(uint32_t f) const { return faces_[f].v[0] != kNoVertex; }
   std::span<const uint32_t> faces_of(uint32_t v) const {
-    return {pool_.data() + list_start_[v], list_size_[v]};
+    return {islands_[island_of(v)].pool.data() + list_start_[v], list_size_[v]};
   }
   bool vertex_alive(uint32_t v) const { return list_size_[v] > 0; }
-  uint32_t live_vertices() const { return live_vertices_; }
-  size_t live_faces() const { return live_faces_; }
+  uint32_t live_vertices() const;
+  size_t live_faces() const;
+
+  // Makes islands: vertex v goes to island island_of[v] (< count, each a union of connected
+  // components). The lists keep their faces in their order.
+  void split_into_islands(std::vector<uint16_t> island_of, size_t count);
+  size_t island_count() const { return islands_.size(); }
+  uint32_t island_of(uint32_t v) const { return island_of_.empty() ? 0 : island_of_[v]; }
+  uint32_t island_vertex_count(size_t i) const { return islands_[i].vertices; }
+  uint32_t island_live_vertices(size_t i) const { return islands_[i].live_vertices; }
+  // visit(v) for each vertex of island i, ascending.
+  template <class Visit>
+  void for_each_island_vertex(size_t i, Visit&& visit) const {
+    for (const auto& [begin, end] : islands_[i].runs)
+      for (uint32_t v = begin; v < end; ++v) visit(v);
+  }
 
   // Vertices joined to v by an edge, and vertices sharing a face with v (second-order
   // neighbours, paper §2); each once, v excluded. `out` is cleared first.
@@ -39,14 +58,29 @@ class CollapseMesh {
   Topology to_topology(const Topology& input, std::vector<uint32_t>& original_vertex) const;
 
  private:
+  struct Island {
+    // Its vertices as runs [begin, end) of consecutive numbers (a mesh's parts are mostly
+    // numbered in runs: a few bytes an island where a list took 4 B a vertex).
+    std::vector<std::pair<uint32_t, uint32_t>> runs;
+    uint32_t vertices = 0;
+    std::vector<uint32_t> pool;  // the face lists of its vertices
+    uint32_t live_vertices = 0;
+    size_t live_faces = 0;  // faces whose first corner lies in it
+  };
   void remove_face_from(uint32_t v, uint32_t f);
   void reserve_list(uint32_t v, uint32_t size);
-  void compact_pool(uint32_t extra);
+  void compact_pool(Island& island, uint32_t extra);
+  // Lays out the lists of `island`'s vertices in its pool, with room to grow.
+  void lay_out(Island& island);
+  template <class Visit>
+  void for_each_member(const Island& island, Visit&& visit) const {
+    for_each_island_vertex(static_cast<size_t>(&island - islands_.data()), visit);
+  }
 
   std::vector<Face> faces_;
-  std::vector<uint32_t> list_start_, list_size_, list_capacity_, pool_;
-  uint32_t live_vertices_ = 0;
-  size_t live_faces_ = 0;
+  std::vector<uint32_t> list_start_, list_size_, list_capacity_;  // list_start_: into its pool
+  std::vector<Island> islands_;
+  std::vector<uint16_t> island_of_;  // empty while there is one island
 };
 
 }  // namespace dynpm::simplification

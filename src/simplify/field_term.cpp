@@ -226,3 +226,40 @@ size_t FieldTerm::floats_per_vertex_step() const {
 }
 
 }  // namespace dynpm::simplification
+
+namespace dynpm {
+
+Result<std::vector<CostField>> cost_fields(const SimplifyOptions& options,
+                                           const FrameSource& frames) {
+  const bool valid_weight = std::isfinite(options.field_weight) && options.field_weight >= 0;
+  if (!valid_weight) return Status::error("the field weight must be a number ≥ 0");
+  std::vector<CostField> chosen;
+  const std::vector<std::string> names = options.field_weights.empty() && options.field_weight == 0
+                                             ? std::vector<std::string>{}
+                                             : frames.field_names();
+  if (options.field_weights.empty()) {
+    for (size_t f = 0; f < names.size(); ++f) chosen.push_back({f, options.field_weight});
+  }
+  for (const SimplifyOptions::FieldWeight& fw : options.field_weights) {
+    const auto it = std::find(names.begin(), names.end(), fw.name);
+    if (it == names.end()) {
+      std::string available;
+      for (const std::string& name : names) {
+        if (!available.empty()) available += ", ";
+        available += name;
+      }
+      return Status::error(
+          "unknown field '" + fw.name + "' (" +
+          (names.empty() ? std::string("the input has no fields") : "the input has " + available) +
+          ")");
+    }
+    const double weight = fw.weight.value_or(options.field_weight);
+    if (!std::isfinite(weight) || weight < 0)
+      return Status::error("field " + fw.name + ": the weight must be a number ≥ 0");
+    chosen.push_back({size_t(it - names.begin()), weight});
+  }
+  std::erase_if(chosen, [](const CostField& c) { return c.weight == 0; });
+  return chosen;
+}
+
+}  // namespace dynpm

@@ -155,6 +155,14 @@ class CollapseRules {
   // After the collapse v0 → v1: v0's component has one vertex less.
   void collapsed(uint32_t v0) { --component_live_[component_of(v0)]; }
 
+  // Connected components, numbered in the order of their first vertex; with their live vertices
+  // at the start they size the islands (simplifier.cpp).
+  uint32_t component_of(uint32_t v) const {
+    return small_component_.empty() ? component_[v] : small_component_[v];
+  }
+  size_t component_count() const { return component_live_.size(); }
+  uint32_t component_live(uint32_t c) const { return component_live_[c]; }
+
  private:
   struct EdgeFaces;
   EdgeFaces edge_faces(uint32_t v0, uint32_t v1) const;
@@ -171,9 +179,6 @@ class CollapseRules {
   FeatureEdges features_;
   double cos_max_rotation_;
   std::vector<VertexClass> class_;
-  uint32_t component_of(uint32_t v) const {
-    return small_component_.empty() ? component_[v] : small_component_[v];
-  }
   // (P3) per connected component: each vertex's (in 16 bits when there are at most 65,536), and
   // the live vertices of each.
   std::vector<uint32_t> component_, component_live_;

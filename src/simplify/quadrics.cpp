@@ -193,15 +193,18 @@ std::pair<double, double> KeyStepQuadrics::half_edge_errors(uint32_t a, uint32_t
 }
 
 std::span<const float> KeyStepQuadrics::merge(uint32_t v0, uint32_t v1,
-                                              const std::vector<Vec3>* placement) {
-  offsets_.resize(key_count_);
-  moves_.resize(placement ? key_count_ : 0);
+                                              const std::vector<Vec3>* placement,
+                                              MergeScratch& scratch) {
+  std::vector<Vec3>& offsets = scratch.offsets;
+  std::vector<Vec3>& moves = scratch.moves;
+  offsets.resize(key_count_);
+  moves.resize(placement ? key_count_ : 0);
   for (size_t k = 0; k < key_count_; ++k) {
     Quadric q = merged_quadric(v0, v1, k);  // around v1's position
-    offsets_[k] = position(v1, k) - position(v0, k);
+    offsets[k] = position(v1, k) - position(v0, k);
     if (placement) {
       const Vec3 before = position(v1, k);
-      moves_[k] = (*placement)[k] - before;
+      moves[k] = (*placement)[k] - before;
       float* p = position_data(v1, k);
       p[0] = static_cast<float>((*placement)[k].x), p[1] = static_cast<float>((*placement)[k].y),
       p[2] = static_cast<float>((*placement)[k].z);
@@ -209,13 +212,19 @@ std::span<const float> KeyStepQuadrics::merge(uint32_t v0, uint32_t v1,
     }
     quadric(v1, k) = LocalQuadric::narrow(q);
   }
-  fields_.merge(v0, v1, offsets_, moves_);
+  fields_.merge(v0, v1, offsets, moves);
   return {position_data(v1, 0), key_count_ * 3};
+}
+
+size_t KeyStepQuadrics::collapses_before_drop(const CollapseMesh& mesh) const {
+  const size_t rows = quadrics_.size() / std::max<size_t>(key_count_, 1);
+  const size_t live = mesh.live_vertices();
+  return live * 16 > rows * 15 ? live - rows * 15 / 16 : 0;
 }
 
 void KeyStepQuadrics::drop_removed(const CollapseMesh& mesh) {
   const size_t rows = quadrics_.size() / std::max<size_t>(key_count_, 1);
-  if (size_t{mesh.live_vertices()} * 16 > rows * 15 || rows < 64) return;
+  if (collapses_before_drop(mesh) > 0 || rows < 64) return;
   const uint32_t n = mesh.vertex_count();
   // The first time, rows are still vertices: the table is made after the rows have moved and
   // their pages are released, so that its 4 B per vertex never add to the collapse's peak.

@@ -110,6 +110,8 @@ class KeyStepQuadrics {
   // After a collapse: when a sixteenth of the rows belong to vertices `mesh` has removed, the
   // live rows move to the front and the memory of the others is released.
   void drop_removed(const CollapseMesh& mesh);
+  // How many more collapses the next drop_removed() waits for.
+  size_t collapses_before_drop(const CollapseMesh& mesh) const;
 
   // Q_t,v0 + Q_t,v1 with its origin at v1's position in key step k.
   Quadric merged_quadric(uint32_t v0, uint32_t v1, size_t k) const;
@@ -128,8 +130,13 @@ class KeyStepQuadrics {
 
   // After the collapse v0 → v1: Q_t,v1 = Q_t,v0 + Q_t,v1, and with a placement v1 moved there
   // (its quadric re-centred on the new position); placement is null for half-edge collapses.
-  // Returns v1's positions, xyz per key step.
-  std::span<const float> merge(uint32_t v0, uint32_t v1, const std::vector<Vec3>* placement);
+  // Returns v1's positions, xyz per key step. Collapses of different islands may merge at once,
+  // each with a scratch of its own.
+  struct MergeScratch {
+    std::vector<Vec3> offsets, moves;  // per key step
+  };
+  std::span<const float> merge(uint32_t v0, uint32_t v1, const std::vector<Vec3>* placement,
+                               MergeScratch& scratch);
 
   // Positions of the given vertices in key step k, xyz each.
   std::vector<float> positions_of(std::span<const uint32_t> vertices, size_t k) const;
@@ -150,7 +157,6 @@ class KeyStepQuadrics {
   BoundingBox box_;
   FieldTerm fields_;
   FieldCombine combine_ = FieldCombine::kAdd;
-  std::vector<Vec3> offsets_, moves_;  // merge()'s, per key step
 };
 
 }  // namespace dynpm::simplification

@@ -23,6 +23,10 @@
 // runs dry before the target, every edge is rated again once: only if that finds no legal
 // collapse does the simplifier report that none remains. The queue itself is a radix heap
 // (monotone_queue.h); quadrics are kept in floats around their own vertex (quadrics.h).
+//
+// Islands (islands.h): run to the end, a large mesh of several connected components is cut into
+// islands of whole components, and each runs this loop with a queue, time and scratch of its own,
+// in rounds on whatever thread is free; the collapses are told afterwards in key order.
 #include <algorithm>
 #include <cmath>
 #include <numeric>
@@ -32,6 +36,7 @@
 #include "core/pages.h"
 #include "core/parallel.h"
 #include "dynpm/simplify.h"
+#include "islands.h"
 #include "legality.h"
 #include "monotone_queue.h"
 #include "quadrics.h"
@@ -40,11 +45,12 @@ namespace dynpm {
 namespace simplification {
 namespace {
 
-// Scratch space for one thread.
+// Scratch space for one island's loop.
 struct Scratch {
   std::vector<uint32_t> neighbours;
   std::vector<Vec3> placement;  // per key step, for the collapse under test
   VertexMarks marks;
+  KeyStepQuadrics::MergeScratch merge;
 };
 
 class Simplifier {
@@ -61,12 +67,19 @@ class Simplifier {
   double cost(uint32_t v0, uint32_t v1, Scratch& s) const;
 
   struct Entry;
+  struct Lane;
   bool stale(const Entry& e) const;
-  void rate_edges_of(uint32_t v, Scratch& s, std::vector<Entry>& out,
+  void rate_edges_of(uint32_t v, Scratch& s, std::vector<Entry>& out, uint32_t time,
                      bool larger_only = false) const;
   void rate_all_edges();
-  void drop_stale_entries();
-  Status collapse(uint32_t v0, uint32_t v1, double error, Scratch& s);
+  void rate_island_again(Lane& lane);
+  void drop_stale_entries(Lane& lane);
+  enum class Next { kCollapsed, kMaxError, kExhausted };
+  Status advance(Lane& lane, Next& next);
+  Status collapse(Lane& lane, uint32_t v0, uint32_t v1, double error);
+  bool use_islands(size_t vertices) const;
+  Status run_islands();
+  size_t collapses() const;
   Status check_mesh(size_t collapse_index) const;
   bool stop_reached(std::string& reason) const;
   void report(std::string_view phase, size_t done, size_t total) const {
@@ -86,10 +99,11 @@ class Simplifier {
   CollapseRules rules_{input_, options_, mesh_, quadrics_};
   TopologyStats initial_stats_;
 
-  // The queue (see the top of this file). time_ counts collapses; changed_[v] is the time v's
-  // quadric last changed; an entry rated before that time is stale. One entry per edge, for
-  // its cheaper direction v0 → v1; when that is illegal, the other direction is queued at its
-  // own cost (one_way marks an entry whose other direction is not allowed or already queued).
+  // The queue (see the top of this file). A lane's time counts its collapses; changed_[v] is
+  // the time v's quadric last changed; an entry rated before that time is stale. One entry per
+  // edge, for its cheaper direction v0 → v1; when that is illegal, the other direction is queued
+  // at its own cost (one_way marks an entry whose other direction is not allowed or already
+  // queued).
   struct Entry {
     float error;
     uint32_t v0, v1;
@@ -97,12 +111,30 @@ class Simplifier {
     uint32_t one_way : 1;
     float key() const { return error; }
   };
-  MonotoneQueue<Entry> queue_;
-  size_t queue_size_after_cleanup_ = 0;
-  std::vector<Entry> fresh_;
+  // One island's loop: the whole mesh's, or with islands each island's (mesh_.island_of()).
+  struct Lane {
+    MonotoneQueue<Entry> queue;
+    size_t queue_size_after_cleanup = 0;
+    std::vector<Entry> fresh;
+    std::vector<uint32_t> moved, ring;
+    Scratch scratch;
+    uint32_t time = 1;
+    bool rated_again = false;  // every edge was re-rated since the last collapse
+    bool exhausted = false;
+    size_t collapses = 0;
+    double max_error_done = 0;
+    IslandLog log;  // with islands, until every island is done
+  };
+  std::vector<Lane> lanes_;
+  // Per vertex: the time it last changed (31 bits) and, in the top bit, whether an entry of it was
+  // dropped as illegal. In one word, because islands write their vertices' at once (a vector of
+  // bits would share words between them).
   std::vector<uint32_t> changed_;
-  std::vector<bool> rejected_;  // an entry of this vertex was dropped as illegal
-  uint32_t time_ = 1;
+  static constexpr uint32_t kRejected = 1u << 31;
+  uint32_t changed(uint32_t v) const { return changed_[v] & ~kRejected; }
+  void set_changed(uint32_t v, uint32_t time) { changed_[v] = (changed_[v] & kRejected) | time; }
+  bool rejected(uint32_t v) const { return (changed_[v] & kRejected) != 0; }
+  void set_rejected(uint32_t v, bool r) { changed_[v] = changed(v) | (r ? kRejected : 0); }
 
   // Independent rounds (SimplifyOptions::independent_rounds): round_of_[v] is the round whose
   // collapse last changed a face of v; an entry touching such a vertex waits in deferred_ for
@@ -118,9 +150,6 @@ class Simplifier {
   uint32_t round_ = 1;
   size_t round_quota_ = 0;
 
-  std::vector<uint32_t> moved_, ring_;
-  size_t collapses_ = 0;
-  double max_error_done_ = 0;
   uint32_t target_vertices_ = 0;
   size_t collapse_goal_ = 0;  // vertices to remove to reach the target (progress only)
 };
@@ -162,12 +191,12 @@ double Simplifier::cost(uint32_t v0, uint32_t v1, Scratch& s) const {
 }
 
 bool Simplifier::stale(const Entry& e) const {
-  return changed_[e.v0] > e.time || changed_[e.v1] > e.time;
+  return changed(e.v0) > e.time || changed(e.v1) > e.time;
 }
 
 // Every edge at v (with larger_only, those to a larger vertex) that the vertex classes allow in
 // some direction, queued for its cheaper allowed direction.
-void Simplifier::rate_edges_of(uint32_t v, Scratch& s, std::vector<Entry>& out,
+void Simplifier::rate_edges_of(uint32_t v, Scratch& s, std::vector<Entry>& out, uint32_t time,
                                bool larger_only) const {
   mesh_.neighbours(v, s.neighbours);
   // The neighbours' quadrics and positions are scattered in memory: ask for all of them before
@@ -182,84 +211,155 @@ void Simplifier::rate_edges_of(uint32_t v, Scratch& s, std::vector<Entry>& out,
     if (forward && backward) {
       const auto [there, back] =
           optimal() ? std::pair{cost(v, w, s), cost(w, v, s)} : quadrics_.half_edge_errors(v, w);
-      out.push_back(there <= back ? Entry{static_cast<float>(there), v, w, time_, 0}
-                                  : Entry{static_cast<float>(back), w, v, time_, 0});
+      out.push_back(there <= back ? Entry{static_cast<float>(there), v, w, time, 0}
+                                  : Entry{static_cast<float>(back), w, v, time, 0});
     } else {
       const uint32_t a = forward ? v : w, b = forward ? w : v;
-      out.push_back({static_cast<float>(cost(a, b, s)), a, b, time_, 1});
+      out.push_back({static_cast<float>(cost(a, b, s)), a, b, time, 1});
     }
   }
 }
 
-// Every edge once, in parallel: at the start, and when the queue runs dry. In rounds of
-// vertices, each queued before the next is rated, so that the entries wait beside the queue a
+// Every edge once, in parallel: at the start, and when the whole mesh's queue runs dry. In rounds
+// of vertices, each queued before the next is rated, so that the entries wait beside the queue a
 // round at a time, not all of them (that was 16 B per edge at the simplifier's peak); queued in
-// vertex order all the same.
+// vertex order all the same, each in its island's queue.
 void Simplifier::rate_all_edges() {
   const uint32_t n = input_.vertex_count;
   const unsigned threads = thread_count(options_.threads);
   constexpr uint32_t kRoundVertices = 1u << 16;
   std::vector<std::vector<Entry>> parts(threads);
   std::vector<Scratch> scratch(threads);
-  queue_.clear();
+  for (Lane& lane : lanes_) lane.queue.clear();
+  const uint32_t time = lanes_[0].time;  // every lane's, at the start
   for (uint32_t first = 0; first < n; first += std::min(kRoundVertices, n - first)) {
     const uint32_t count = std::min(kRoundVertices, n - first);
     parallel_for_chunks(count, threads, [&](size_t begin, size_t end, size_t t) {
       for (size_t i = begin; i < end; ++i) {
         const auto v = static_cast<uint32_t>(first + i);
-        if (mesh_.vertex_alive(v)) rate_edges_of(v, scratch[t], parts[t], true);
+        if (mesh_.vertex_alive(v)) rate_edges_of(v, scratch[t], parts[t], time, true);
       }
     });
     for (auto& part : parts) {
-      for (const Entry& e : part) queue_.push(e);
+      for (const Entry& e : part) lanes_[mesh_.island_of(e.v0)].queue.push(e);
       part.clear();
     }
   }
-  queue_size_after_cleanup_ = queue_.size();
-  std::fill(rejected_.begin(), rejected_.end(), false);
+  for (Lane& lane : lanes_) lane.queue_size_after_cleanup = lane.queue.size();
+  for (uint32_t v = 0; v < n; ++v) set_rejected(v, false);
+}
+
+// An island's queue ran dry: its edges once more, on its own thread, in vertex order.
+void Simplifier::rate_island_again(Lane& lane) {
+  lane.queue.clear();
+  mesh_.for_each_island_vertex(static_cast<size_t>(&lane - lanes_.data()), [&](uint32_t v) {
+    set_rejected(v, false);
+    if (!mesh_.vertex_alive(v)) return;
+    lane.fresh.clear();
+    rate_edges_of(v, lane.scratch, lane.fresh, lane.time, true);
+    for (const Entry& e : lane.fresh) lane.queue.push(e);
+  });
+  lane.queue_size_after_cleanup = lane.queue.size();
 }
 
 // Stale entries are dropped when the queue has doubled since the last time.
-void Simplifier::drop_stale_entries() {
-  if (queue_.size() <= 2 * queue_size_after_cleanup_ + 1024) return;
-  queue_.remove_if([&](const Entry& e) { return stale(e); });
-  queue_size_after_cleanup_ = queue_.size();
+void Simplifier::drop_stale_entries(Lane& lane) {
+  if (lane.queue.size() <= 2 * lane.queue_size_after_cleanup + 1024) return;
+  lane.queue.remove_if([&](const Entry& e) { return stale(e); });
+  lane.queue_size_after_cleanup = lane.queue.size();
 }
 
 // ---------------------------------------------------------------------------------------------
 // The loop
 
-Status Simplifier::collapse(uint32_t v0, uint32_t v1, double error, Scratch& s) {
+Status Simplifier::collapse(Lane& lane, uint32_t v0, uint32_t v1, double error) {
+  Scratch& s = lane.scratch;
   CollapseRecord record;
   record.error = error;
   record.round = rounds() ? round_ : 0;
-  mesh_.collapse(v0, v1, record, moved_);
+  mesh_.collapse(v0, v1, record, lane.moved);
   rules_.collapsed(v0);
   // Optimal placement: s.placement holds v1's new positions, computed with `error`.
   const std::span<const float> v1_positions =
-      quadrics_.merge(v0, v1, optimal() ? &s.placement : nullptr);
+      quadrics_.merge(v0, v1, optimal() ? &s.placement : nullptr, s.merge);
   if (optimal()) record.v1_new_positions = v1_positions;
-  changed_[v0] = changed_[v1] = ++time_;  // their queued entries are now stale
-  ++collapses_;
-  if (collapses_ % kCollapsesPerReport == 0) report("collapsing", collapses_, collapse_goal_);
-  max_error_done_ = std::max(max_error_done_, error);
-  if (listener_) listener_->on_collapse(record);
-  quadrics_.drop_removed(mesh_);  // after the listener: v1_positions may move
-  if (options_.check_every_collapse) DYNPM_RETURN_IF_ERROR(check_mesh(collapses_));
+  ++lane.time;  // v0's and v1's queued entries are now stale
+  set_changed(v0, lane.time);
+  set_changed(v1, lane.time);
+  ++lane.collapses;
+  lane.max_error_done = std::max(lane.max_error_done, error);
+  if (lanes_.size() > 1) {  // islands: told in key order at the end, rows dropped between rounds
+    if (listener_) lane.log.add(record);
+  } else {
+    if (lane.collapses % kCollapsesPerReport == 0)
+      report("collapsing", lane.collapses, collapse_goal_);
+    if (listener_) listener_->on_collapse(record);
+    quadrics_.drop_removed(mesh_);  // after the listener: v1_positions may move
+    if (options_.check_every_collapse) DYNPM_RETURN_IF_ERROR(check_mesh(lane.collapses));
+  }
 
   // v1's quadric changed: re-rate its edges. Neighbours with a dropped entry get another
   // chance, since their surroundings changed.
-  fresh_.clear();
-  rate_edges_of(v1, s, fresh_);
-  mesh_.second_order_neighbours(v1, ring_);
-  for (uint32_t w : ring_) {
-    if (!rejected_[w]) continue;
-    rejected_[w] = false;
-    rate_edges_of(w, s, fresh_);
+  lane.fresh.clear();
+  rate_edges_of(v1, s, lane.fresh, lane.time);
+  mesh_.second_order_neighbours(v1, lane.ring);
+  for (uint32_t w : lane.ring) {
+    if (!rejected(w)) continue;
+    set_rejected(w, false);
+    rate_edges_of(w, s, lane.fresh, lane.time);
   }
-  for (const Entry& e : fresh_) queue_.push(e);
-  drop_stale_entries();
+  for (const Entry& e : lane.fresh) lane.queue.push(e);
+  drop_stale_entries(lane);
   return {};
+}
+
+// Takes the lane's entries until one collapses, the next would exceed the maximum error, or no
+// legal collapse remains (once the queue ran dry, every edge is rated again once: edges dropped
+// as illegal may have become legal).
+Status Simplifier::advance(Lane& lane, Next& next) {
+  while (true) {
+    if (lane.queue.empty()) {
+      if (rounds() && end_round()) continue;
+      if (!lane.rated_again) {
+        if (lanes_.size() > 1)
+          rate_island_again(lane);
+        else
+          rate_all_edges();
+        ++lane.time;
+        lane.rated_again = true;
+        continue;
+      }
+      next = Next::kExhausted;
+      return {};
+    }
+    const Entry entry = lane.queue.pop();
+    if (stale(entry)) continue;
+    if (rounds() && locked(entry)) {
+      deferred_.push_back(entry);
+      continue;
+    }
+    if (options_.max_error && entry.error > *options_.max_error) {
+      next = Next::kMaxError;
+      return {};
+    }
+    Scratch& s = lane.scratch;
+    if (!rules_.allows(entry.v0, entry.v1, s.marks, s.placement)) {
+      set_rejected(entry.v0, true);
+      if (!entry.one_way) {
+        lane.queue.push(
+            {static_cast<float>(cost(entry.v1, entry.v0, s)), entry.v1, entry.v0, lane.time, 1});
+      }
+      continue;
+    }
+    // The cost exactly as rated (the heap keeps it as float), and with optimal placement the
+    // positions collapse() moves v1 to.
+    const double error = cost(entry.v0, entry.v1, s);
+    DYNPM_RETURN_IF_ERROR(collapse(lane, entry.v0, entry.v1, error));
+    if (rounds()) lock_around(entry.v1);
+    lane.rated_again = false;
+    next = Next::kCollapsed;
+    return {};
+  }
 }
 
 // The corners of v1's faces after a collapse: this round's later collapses keep off them.
@@ -284,7 +384,7 @@ bool Simplifier::end_round() {
   std::sort(deferred_.begin(), deferred_.end(),
             [](const Entry& a, const Entry& b) { return a.error > b.error; });
   for (const Entry& e : deferred_)
-    if (!stale(e)) queue_.push(e);
+    if (!stale(e)) lanes_[0].queue.push(e);  // no islands with rounds
   deferred_.clear();
   return true;
 }
@@ -337,6 +437,13 @@ Result<SimplifyResult> Simplifier::run(Adjacency adjacency) {
   rules_.classify_vertices(adjacency);
   constrained = constrained_edges(input_, adjacency, rules_.features());
   adjacency = {};
+  if (use_islands(vertices)) {
+    size_t count = 0;  // islands of about a 64th of the mesh: work for many cores, fresh caches
+    auto island_of =
+        form_islands(rules_, mesh_, std::max<uint32_t>(1, uint32_t(vertices / 64)), count);
+    if (count > 1) mesh_.split_into_islands(std::move(island_of), count);
+  }
+  lanes_ = std::vector<Lane>(mesh_.island_count());
   quadrics_.build(input_, mesh_, constrained, options_.boundary_weight, options_.regularize,
                   thread_count(options_.threads));
   constrained = {};
@@ -350,67 +457,40 @@ Result<SimplifyResult> Simplifier::run(Adjacency adjacency) {
   }
 
   changed_.assign(input_.vertex_count, 0);
-  rejected_.assign(input_.vertex_count, false);
   if (rounds()) round_of_.assign(input_.vertex_count, 0), end_round();
   rate_all_edges();
-  ++time_;
-  Scratch s;
+  for (Lane& lane : lanes_) ++lane.time;
   report("quadrics", vertices, vertices);
 
   SimplifyResult result;
   collapse_goal_ = vertices - std::min<size_t>(target_vertices_, vertices);
   report("collapsing", 0, collapse_goal_);
-  bool rated_again = false;  // every edge was re-rated since the last collapse
-  while (true) {
-    if (stop_reached(result.stop_reason)) {
-      result.target_reached = true;
-      break;
-    }
-    if (queue_.empty()) {
-      if (rounds() && end_round()) continue;
-      if (!rated_again) {  // edges dropped as illegal may have become legal
-        rate_all_edges();
-        ++time_;
-        rated_again = true;
-        continue;
+  if (lanes_.size() > 1) {
+    DYNPM_RETURN_IF_ERROR(run_islands());
+  } else {
+    while (!stop_reached(result.stop_reason)) {
+      Next next = Next::kCollapsed;
+      DYNPM_RETURN_IF_ERROR(advance(lanes_[0], next));
+      if (next == Next::kMaxError) {
+        result.stop_reason = "the next collapse would exceed the maximum error";
+        break;
       }
-      result.stop_reason =
-          "no legal collapse remains at " + std::to_string(mesh_.live_vertices()) + " vertices";
-      break;
+      if (next == Next::kExhausted) break;
     }
-    const Entry entry = queue_.pop();
-    if (stale(entry)) continue;
-    if (rounds() && locked(entry)) {
-      deferred_.push_back(entry);
-      continue;
-    }
-    if (options_.max_error && entry.error > *options_.max_error) {
-      result.target_reached = true;
-      result.stop_reason = "the next collapse would exceed the maximum error";
-      break;
-    }
-    if (!rules_.allows(entry.v0, entry.v1, s.marks, s.placement)) {
-      rejected_[entry.v0] = true;
-      if (!entry.one_way) {
-        queue_.push(
-            {static_cast<float>(cost(entry.v1, entry.v0, s)), entry.v1, entry.v0, time_, 1});
-      }
-      continue;
-    }
-    // The cost exactly as rated (the heap keeps it as float), and with optimal placement the
-    // positions collapse() moves v1 to.
-    const double error = cost(entry.v0, entry.v1, s);
-    DYNPM_RETURN_IF_ERROR(collapse(entry.v0, entry.v1, error, s));
-    if (rounds()) lock_around(entry.v1);
-    rated_again = false;
   }
+  result.target_reached = !result.stop_reason.empty();
+  if (!result.target_reached)
+    result.stop_reason =
+        "no legal collapse remains at " + std::to_string(mesh_.live_vertices()) + " vertices";
 
-  report("collapsing", collapses_, collapses_);
+  report("collapsing", collapses(), collapses());
   result.topology = mesh_.to_topology(input_, result.original_vertex);
   result.key_steps = key_steps_;
   result.key_step_box = quadrics_.box();
-  result.collapses = collapses_;
-  result.max_error = max_error_done_;
+  result.collapses = collapses();
+  result.islands = lanes_.size();
+  for (const Lane& lane : lanes_)
+    result.max_error = std::max(result.max_error, lane.max_error_done);
   if (optimal()) {
     for (size_t k = 0; k < key_count(); ++k)
       result.key_step_positions.push_back(quadrics_.positions_of(result.original_vertex, k));
@@ -418,41 +498,63 @@ Result<SimplifyResult> Simplifier::run(Adjacency adjacency) {
   return result;
 }
 
+size_t Simplifier::collapses() const {
+  size_t total = 0;
+  for (const Lane& lane : lanes_) total += lane.collapses;
+  return total;
+}
+
+// Islands only where nothing needs one global order as it happens: no stop condition (the
+// collapses are ordered after the last), no moving vertices, no rounds, and a mesh large enough
+// for threads to pay.
+bool Simplifier::use_islands(size_t vertices) const {
+  const SimplifyOptions& o = options_;
+  return !o.target_vertices && !o.target_faces && !o.target_ratio && !o.max_error && !optimal() &&
+         !rounds() && vertices >= o.island_min_vertices && rules_.component_count() > 1;
+}
+
+// Every island to its end, in rounds: in each, every island not yet done takes up to a 32nd of
+// its live vertices in collapses (at least 256) on whichever thread is free. Where a round ends
+// changes nothing an island does; between rounds the removed vertices' rows are dropped,
+// progress is told and in test mode the mesh is checked. Then the collapses are told in key
+// order.
+Status Simplifier::run_islands() {
+  const unsigned threads = thread_count(options_.threads);
+  std::vector<Status> failed(lanes_.size());
+  bool all_done = false;
+  while (!all_done) {
+    // A round ends about when the rows are next dropped: their memory is the collapse's peak.
+    const double share = std::min(1.0 / 32, double(quadrics_.collapses_before_drop(mesh_) + 1) /
+                                                double(mesh_.live_vertices() + 1));
+    parallel_for(lanes_.size(), lanes_.size(), threads, [&](size_t begin, size_t end, size_t) {
+      for (size_t i = begin; i < end; ++i) {
+        Lane& lane = lanes_[i];
+        const size_t quota = std::max<size_t>(
+            16, static_cast<size_t>(std::ceil(share * mesh_.island_live_vertices(i))));
+        for (size_t done = 0; done < quota && !lane.exhausted; ++done) {
+          Next next = Next::kCollapsed;
+          failed[i] = advance(lane, next);
+          lane.exhausted = !failed[i].ok() || next != Next::kCollapsed;
+        }
+      }
+    });
+    for (const Status& status : failed) DYNPM_RETURN_IF_ERROR(status);
+    quadrics_.drop_removed(mesh_);
+    report("collapsing", collapses(), collapse_goal_);
+    if (options_.check_every_collapse) DYNPM_RETURN_IF_ERROR(check_mesh(collapses()));
+    all_done = std::all_of(lanes_.begin(), lanes_.end(), [](const Lane& l) { return l.exhausted; });
+  }
+  std::vector<IslandLog*> logs;
+  for (Lane& lane : lanes_) {
+    lane.queue = {};  // its blocks back before the log is told
+    logs.push_back(&lane.log);
+  }
+  if (listener_) IslandLog::tell_in_key_order(logs, *listener_);
+  return {};
+}
+
 }  // namespace
 }  // namespace simplification
-
-Result<std::vector<CostField>> cost_fields(const SimplifyOptions& options,
-                                           const FrameSource& frames) {
-  const bool valid_weight = std::isfinite(options.field_weight) && options.field_weight >= 0;
-  if (!valid_weight) return Status::error("the field weight must be a number ≥ 0");
-  std::vector<CostField> chosen;
-  const std::vector<std::string> names = options.field_weights.empty() && options.field_weight == 0
-                                             ? std::vector<std::string>{}
-                                             : frames.field_names();
-  if (options.field_weights.empty()) {
-    for (size_t f = 0; f < names.size(); ++f) chosen.push_back({f, options.field_weight});
-  }
-  for (const SimplifyOptions::FieldWeight& fw : options.field_weights) {
-    const auto it = std::find(names.begin(), names.end(), fw.name);
-    if (it == names.end()) {
-      std::string available;
-      for (const std::string& name : names) {
-        if (!available.empty()) available += ", ";
-        available += name;
-      }
-      return Status::error(
-          "unknown field '" + fw.name + "' (" +
-          (names.empty() ? std::string("the input has no fields") : "the input has " + available) +
-          ")");
-    }
-    const double weight = fw.weight.value_or(options.field_weight);
-    if (!std::isfinite(weight) || weight < 0)
-      return Status::error("field " + fw.name + ": the weight must be a number ≥ 0");
-    chosen.push_back({size_t(it - names.begin()), weight});
-  }
-  std::erase_if(chosen, [](const CostField& c) { return c.weight == 0; });
-  return chosen;
-}
 
 Result<SimplifyResult> simplify(const Topology& topology, const FrameSource& frames,
                                 const SimplifyOptions& options, CollapseListener* listener) {

@@ -1,0 +1,87 @@
+// Islands (docs/simplify.md "Islands"): sets of whole connected components that the simplifier
+// collapses on separate threads, each with a queue of its own. A collapse in one island never
+// reads what another writes, so each island does the same whatever runs beside it; what is kept
+// per island until the end, and the order in which its collapses are then told, are here.
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <memory>
+#include <new>
+#include <type_traits>
+#include <vector>
+
+#include "collapse_mesh.h"
+#include "dynpm/simplify.h"
+#include "legality.h"
+
+namespace dynpm::simplification {
+
+// Each vertex's island: the components in the order of their first vertex, gathered until an
+// island holds at least `least` live vertices (the last may hold fewer); `count` gets the number
+// of islands (at most 65,536).
+std::vector<uint16_t> form_islands(const CollapseRules& rules, const CollapseMesh& mesh,
+                                   uint32_t least, size_t& count);
+
+// An array that grows in chunks (no copy as it grows) and is read once from the front, giving
+// back each chunk as the reading passes it: while the collapses are told, the listener's own log
+// grows as these shrink. Chunks of 2 MB go to the system when freed (glibc maps them apart; the
+// mmap threshold is pinned at 1 MB, core/pages.h) and cost only the pages written.
+template <class T>
+class ChunkedArray {
+  static_assert(std::is_trivially_copyable_v<T>);
+
+ public:
+  void push_back(const T& item) {
+    // Raw memory: T's default member initializers would write (and so take) the whole chunk.
+    if (size_ % kChunk == 0) chunks_.emplace_back(static_cast<T*>(::operator new(kChunkBytes)));
+    chunks_[size_ / kChunk].get()[size_ % kChunk] = item;
+    ++size_;
+  }
+  size_t size() const { return size_; }
+  const T& operator[](size_t i) const { return chunks_[i / kChunk].get()[i % kChunk]; }
+  // Items before `i` are never read again.
+  void release_before(size_t i) {
+    for (size_t c = released_; c < i / kChunk; ++c) chunks_[c].reset();
+    released_ = std::max(released_, i / kChunk);
+  }
+
+ private:
+  static constexpr size_t kChunkBytes = size_t{2} << 20;
+  static constexpr size_t kChunk = kChunkBytes / sizeof(T);
+  struct Free {
+    void operator()(T* chunk) const { ::operator delete(chunk); }
+  };
+  std::vector<std::unique_ptr<T, Free>> chunks_;
+  size_t size_ = 0, released_ = 0;
+};
+
+// One island's collapses in the order it made them. Each is told under a key: the largest error
+// (as the queue's float) of the island's collapses so far, so that keys never fall within an
+// island, as the queue orders them. 24 B a collapse plus 12 B a wing and 4 B a moved face.
+class IslandLog {
+ public:
+  void add(const CollapseRecord& record);
+  size_t size() const { return entries_.size(); }
+
+  // Tells every island's collapses to `listener`: the smallest key first, the lower island on a
+  // tie, each island's in its own order. The logs are emptied as they are told.
+  static void tell_in_key_order(std::vector<IslandLog*> logs, CollapseListener& listener);
+
+ private:
+  struct Entry {
+    uint32_t v0, v1, moved_count;
+    uint8_t wing_count;
+    double error;
+  };
+  // Tells the next collapse; false when none is left.
+  bool tell_next(CollapseListener& listener, CollapseRecord& record, std::vector<uint32_t>& moved);
+  float next_key() const { return static_cast<float>(entries_[next_].error); }
+
+  ChunkedArray<Entry> entries_;
+  ChunkedArray<SplitWing> wings_;
+  ChunkedArray<uint32_t> moved_faces_;
+  size_t next_ = 0, next_wing_ = 0, next_moved_ = 0;  // the reading's
+};
+
+}  // namespace dynpm::simplification

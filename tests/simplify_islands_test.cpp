@@ -1,0 +1,175 @@
+// Islands (docs/simplify.md "Islands"): a mesh of several connected components, simplified to the
+// end, runs each island's queue on its own on any free thread. The collapses and the result must
+// not depend on the thread count, every round must leave a valid mesh, the collapses are told in
+// key order, and a progressive mesh built that way gives the input back exactly.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <map>
+#include <vector>
+
+#include "dynpm/io.h"
+#include "dynpm/pipeline.h"
+#include "dynpm/simplify.h"
+#include "fixtures.h"
+#include "round_trip.h"
+
+namespace dynpm {
+namespace {
+
+// The real crash box (CalculiX, 3,003 nodes, 26 steps), every step in memory.
+const Animation* crashbox() {
+  static test::TempDir dir;
+  static std::optional<Animation> loaded;
+  if (loaded) return &*loaded;
+  const std::string frd = dir.file("crashbox-s.frd");
+  const std::string unzip =
+      "zcat '" + test::shared_data() + "/crashbox-s/crashbox-s.frd.gz' > '" + frd + "'";
+  if (std::system(unzip.c_str()) != 0) return nullptr;
+  auto stream = open_input(std::vector<std::string>{frd});
+  if (!stream.ok()) return nullptr;
+  auto all = load_all_steps(std::move(stream).value());
+  if (!all.ok()) return nullptr;
+  loaded = std::move(all).value();
+  return &*loaded;
+}
+
+// `copies` crash boxes side by side, each its own part and component, and a lone quad. With
+// `interleaved`, copy k's vertex v is numbered v · copies + k, so that no island is one run of
+// numbers.
+Animation tiled(const Animation& box, uint32_t copies, bool interleaved) {
+  const uint32_t n = box.topology.vertex_count;
+  auto id = [&](uint32_t k, uint32_t v) { return interleaved ? v * copies + k : k * n + v; };
+  Animation a;
+  a.topology = Topology::with_vertices(n * copies + 4);
+  for (uint32_t k = 0; k < copies; ++k)
+    for (const Face& f : box.topology.faces) {
+      Face g = f;
+      for (uint32_t& c : g.v)
+        if (c != kNoVertex) c = id(k, c);
+      a.topology.add_face(g, static_cast<int32_t>(k + 1));
+    }
+  const uint32_t q = n * copies;
+  a.topology.add_quad(q, q + 1, q + 2, q + 3, static_cast<int32_t>(copies + 1));
+  a.frames.set_vertex_count(a.topology.vertex_count);
+  for (size_t t = 0; t < box.step_count(); ++t) {
+    const auto step = box.frames.step(t);
+    std::vector<float> xyz(size_t{a.topology.vertex_count} * 3);
+    for (uint32_t k = 0; k < copies; ++k)
+      for (uint32_t v = 0; v < n; ++v)
+        for (int c = 0; c < 3; ++c)
+          xyz[size_t{id(k, v)} * 3 + c] = step[size_t{v} * 3 + c] + (c == 0 ? 400.0f * k : 0.0f);
+    const float quad[12] = {-100, 0, 0, -90, 0, 0, -90, 10, float(t), -100, 10, 0};
+    std::copy(quad, quad + 12, xyz.begin() + size_t{q} * 3);
+    a.frames.add_step(std::move(xyz), box.frames.step_time(t));
+  }
+  return a;
+}
+
+// Every collapse as told, whole.
+struct Told final : CollapseListener {
+  struct Collapse {
+    uint32_t v0, v1;
+    double error;
+    std::vector<uint32_t> wings, moved;
+    bool operator==(const Collapse&) const = default;
+  };
+  std::vector<Collapse> collapses;
+  void on_collapse(const CollapseRecord& r) override {
+    Collapse c{r.v0, r.v1, r.error, {}, {r.moved_faces.begin(), r.moved_faces.end()}};
+    for (uint8_t w = 0; w < r.wing_count; ++w)
+      c.wings.insert(c.wings.end(), {r.wings[w].face, r.wings[w].vertex, r.wings[w].flags});
+    collapses.push_back(std::move(c));
+  }
+};
+
+SimplifyOptions island_options(unsigned threads) {
+  SimplifyOptions o;
+  o.key_steps = {0, 12, 25};
+  o.island_min_vertices = 0;  // islands on a small mesh too
+  o.threads = threads;
+  return o;
+}
+
+TEST(Islands, TheSameCollapsesAndMeshOnAnyThreadCount) {
+  const Animation* box = crashbox();
+  ASSERT_NE(box, nullptr);
+  for (bool interleaved : {false, true}) {
+    SCOPED_TRACE(interleaved ? "interleaved numbers" : "copies in runs");
+    const Animation a = tiled(*box, 3, interleaved);
+    Told first;
+    auto reference = simplify(a.topology, a.frames, island_options(1), &first);
+    ASSERT_TRUE(reference.ok()) << reference.message();
+    EXPECT_EQ(reference->islands, 4u);  // three boxes and the quad, each a 64th or more
+    EXPECT_EQ(reference->collapses, first.collapses.size());
+    EXPECT_GT(reference->collapses, 2u * 2900);
+    for (unsigned threads : {2u, 3u, 8u}) {
+      Told told;
+      auto r = simplify(a.topology, a.frames, island_options(threads), &told);
+      ASSERT_TRUE(r.ok()) << r.message();
+      EXPECT_TRUE(told.collapses == first.collapses) << threads << " threads";
+      EXPECT_EQ(r->topology.faces, reference->topology.faces) << threads << " threads";
+      EXPECT_EQ(r->original_vertex, reference->original_vertex) << threads << " threads";
+    }
+  }
+}
+
+TEST(Islands, EveryRoundLeavesAValidMeshAndKeysNeverFall) {
+  const Animation* box = crashbox();
+  ASSERT_NE(box, nullptr);
+  const Animation a = tiled(*box, 3, true);
+  SimplifyOptions o = island_options(2);
+  o.check_every_collapse = true;  // with islands: the whole mesh after every round
+  Told told;
+  auto r = simplify(a.topology, a.frames, o, &told);
+  ASSERT_TRUE(r.ok()) << r.message();
+  EXPECT_EQ(r->islands, 4u);
+  EXPECT_FALSE(r->target_reached);  // run to the end: no legal collapse remains
+  // Each island's key is the largest error (as a float) of its collapses so far; told in key
+  // order, those keys never fall. An island here is a box (vertex v of box v mod 3) or the quad.
+  const uint32_t boxes = 3 * box->topology.vertex_count;
+  std::map<uint32_t, float> key;
+  float told_key = 0;
+  for (const Told::Collapse& c : told.collapses) {
+    const uint32_t island = c.v0 < boxes ? c.v0 % 3 : 3;
+    EXPECT_EQ(c.v1 < boxes ? c.v1 % 3 : 3, island);
+    float& k = key[island];
+    k = std::max(k, static_cast<float>(c.error));
+    EXPECT_GE(k, told_key);
+    told_key = k;
+  }
+  EXPECT_EQ(key.size(), 4u);  // the lone quad collapsed too (into a triangle)
+  // The serial loop on the same mesh reaches a base of the same size within a few vertices.
+  SimplifyOptions serial = o;
+  serial.island_min_vertices = UINT32_MAX;
+  serial.check_every_collapse = false;
+  auto whole = simplify(a.topology, a.frames, serial);
+  ASSERT_TRUE(whole.ok()) << whole.message();
+  EXPECT_EQ(whole->islands, 1u);
+  EXPECT_NEAR(double(r->topology.vertex_count), double(whole->topology.vertex_count),
+              0.05 * whole->topology.vertex_count);
+}
+
+TEST(Islands, AProgressiveMeshBuiltOnIslandsGivesTheInputBack) {
+  const Animation* box = crashbox();
+  ASSERT_NE(box, nullptr);
+  const Animation a = tiled(*box, 3, true);
+  BuildOptions options;
+  options.simplify.key_steps = {0, 12, 25};
+  options.simplify.island_min_vertices = 0;
+  options.lossless = true;
+  std::string first;
+  for (unsigned threads : {1u, 2u}) {
+    options.simplify.threads = threads;
+    auto pm = build_progressive_mesh(a.topology, a.frames, options);
+    ASSERT_TRUE(pm.ok()) << pm.message();
+    test::expect_input_back(a, test::through_file(*pm));
+    const std::string bytes = encode_dpm(*pm, 1).value();
+    if (first.empty()) first = bytes;
+    EXPECT_TRUE(bytes == first) << threads << " threads";
+  }
+}
+
+}  // namespace
+}  // namespace dynpm
