@@ -151,6 +151,52 @@ TEST(Islands, EveryRoundLeavesAValidMeshAndKeysNeverFall) {
               0.05 * whole->topology.vertex_count);
 }
 
+// With a stop condition the islands still run to their ends; the cut is made in key order and
+// the result is the input with the told collapses replayed: exact targets, a valid mesh, the
+// same on any thread count, and every told collapse within the maximum error.
+TEST(Islands, AStopConditionCutsTheCollapsesInKeyOrder) {
+  const Animation* box = crashbox();
+  ASSERT_NE(box, nullptr);
+  const Animation a = tiled(*box, 3, true);
+  const uint32_t referenced = 3 * box->topology.vertex_count + 4;
+  for (int stop = 0; stop < 3; ++stop) {
+    SCOPED_TRACE(stop);
+    Topology first_mesh;
+    Told first;
+    for (unsigned threads : {1u, 2u, 3u}) {
+      SimplifyOptions o = island_options(threads);
+      o.check_every_collapse = true;  // every round and the mesh at the cut
+      if (stop == 0) o.target_ratio = 0.1;
+      if (stop == 1) o.target_faces = 1500;
+      if (stop == 2) o.max_error = 0.002;
+      Told told;
+      auto r = simplify(a.topology, a.frames, o, &told);
+      ASSERT_TRUE(r.ok()) << r.message();
+      EXPECT_EQ(r->islands, 4u);
+      EXPECT_TRUE(r->target_reached) << r->stop_reason;
+      EXPECT_EQ(r->collapses, told.collapses.size());
+      EXPECT_EQ(r->topology.vertex_count, referenced - told.collapses.size());
+      if (stop == 0) {
+        EXPECT_EQ(r->topology.vertex_count, uint32_t(std::ceil(0.1 * referenced)));
+      }
+      if (stop == 1) {
+        EXPECT_EQ(r->topology.faces.size(), 1500u);
+      }
+      if (stop == 2) {
+        EXPECT_NE(r->stop_reason.find("maximum error"), std::string::npos) << r->stop_reason;
+        for (const Told::Collapse& c : told.collapses)
+          EXPECT_LE(static_cast<float>(c.error), 0.002f);
+      }
+      if (threads == 1) {
+        first_mesh = r->topology, first = told;
+        continue;
+      }
+      EXPECT_EQ(r->topology.faces, first_mesh.faces) << threads << " threads";
+      EXPECT_TRUE(told.collapses == first.collapses) << threads << " threads";
+    }
+  }
+}
+
 TEST(Islands, AProgressiveMeshBuiltOnIslandsGivesTheInputBack) {
   const Animation* box = crashbox();
   ASSERT_NE(box, nullptr);

@@ -173,11 +173,12 @@ struct SimplifyOptions {
   // (with islands: after every round of them).
   bool check_every_collapse = false;
   unsigned threads = 0;  // 0: one per hardware thread
-  // Islands (docs/simplify.md "Islands"): without a stop condition, optimal placement or
-  // independent rounds, a mesh of at least this many vertices in faces and of several connected
-  // components is cut into islands of whole components, each simplified with a queue of its own
-  // on any free thread, and the collapses are told in the order of their keys (island by
-  // island where keys tie). The result does not depend on the thread count. UINT32_MAX: never.
+  // Islands (docs/simplify.md "Islands"): without optimal placement or independent rounds, a
+  // mesh of at least this many vertices in faces and of several connected components is cut
+  // into islands of whole components, each simplified to its end with a queue of its own on any
+  // free thread; the collapses are told in the order of their keys (island by island where keys
+  // tie) up to the stop condition. The result does not depend on the thread count. UINT32_MAX:
+  // never.
   uint32_t island_min_vertices = uint32_t{1} << 16;
   // Phases "checking the mesh" (faces; not with a proof in `checked`), "reading key steps" (steps),
   // "quadrics" (vertices) and "collapsing" (vertices removed, of those to remove; it ends at the

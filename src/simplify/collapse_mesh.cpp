@@ -213,12 +213,34 @@ void CollapseMesh::collapse(uint32_t v0, uint32_t v1, CollapseRecord& record,
   record.moved_faces = moved;
 }
 
-Topology CollapseMesh::to_topology(const Topology& input,
-                                   std::vector<uint32_t>& original_vertex) const {
+void collapse_faces(std::span<Face> faces, const CollapseRecord& record) {
+  for (uint32_t f : record.moved_faces)
+    for (uint32_t& c : faces[f].v)
+      if (c == record.v0) c = record.v1;
+  for (uint8_t w = 0; w < record.wing_count; ++w) {
+    Face& face = faces[record.wings[w].face];
+    if (record.wings[w].was_triangle()) {
+      face.v = {kNoVertex, kNoVertex, kNoVertex, kNoVertex};
+      continue;
+    }
+    for (int k = record.wings[w].v0_slot(); k < 3; ++k) face.v[k] = face.v[k + 1];
+    face.v[3] = kNoVertex;
+  }
+}
+
+Topology live_topology(const Topology& input, std::span<const Face> faces,
+                       std::vector<uint32_t>& original_vertex) {
   std::vector<uint32_t> new_id(input.vertex_count, kNoVertex);
+  size_t live = 0;
+  for (const Face& face : faces) {
+    if (face.v[0] == kNoVertex) continue;
+    ++live;
+    for (uint32_t c : face.v)
+      if (c != kNoVertex) new_id[c] = 0;  // alive; numbered below
+  }
   original_vertex.clear();
   for (uint32_t v = 0; v < input.vertex_count; ++v) {
-    if (!vertex_alive(v)) continue;
+    if (new_id[v] == kNoVertex) continue;
     new_id[v] = static_cast<uint32_t>(original_vertex.size());
     original_vertex.push_back(v);
   }
@@ -226,13 +248,12 @@ Topology CollapseMesh::to_topology(const Topology& input,
   out.vertex_count = static_cast<uint32_t>(original_vertex.size());
   out.node_ids.reserve(original_vertex.size());
   for (uint32_t v : original_vertex) out.node_ids.push_back(input.node_ids[v]);
-  const size_t live = live_faces();
   out.faces.reserve(live);
   out.part_ids.reserve(live);
   out.element_ids.reserve(live);
-  for (uint32_t f = 0; f < faces_.size(); ++f) {
-    if (!face_alive(f)) continue;
-    Face face = faces_[f];
+  for (uint32_t f = 0; f < faces.size(); ++f) {
+    if (faces[f].v[0] == kNoVertex) continue;
+    Face face = faces[f];
     for (uint32_t& c : face.v)
       if (c != kNoVertex) c = new_id[c];
     out.faces.push_back(face);
@@ -240,6 +261,29 @@ Topology CollapseMesh::to_topology(const Topology& input,
     out.element_ids.push_back(input.element_ids[f]);
   }
   return out;
+}
+
+Status check_simplified(const Topology& now, const TopologyStats& initial, bool keep_parts,
+                        const std::string& where) {
+  const ValidationReport report = validate(now);
+  for (const Problem& p : report.problems)
+    if (p.severity == Severity::kError) return Status::error(where + p.message);
+  const TopologyStats stats = topology_stats(now, Adjacency::build(now));
+  if (stats.euler_characteristic != initial.euler_characteristic)
+    return Status::error(where + "Euler characteristic changed from " +
+                         std::to_string(initial.euler_characteristic) + " to " +
+                         std::to_string(stats.euler_characteristic));
+  if (stats.boundary_loops != initial.boundary_loops)
+    return Status::error(where + "boundary loops changed from " +
+                         std::to_string(initial.boundary_loops) + " to " +
+                         std::to_string(stats.boundary_loops));
+  if (stats.components != initial.components) return Status::error(where + "components changed");
+  if (keep_parts && stats.parts != initial.parts)  // a part is gone
+    return Status::error(where + "parts changed from " + std::to_string(initial.parts) + " to " +
+                         std::to_string(stats.parts));
+  if (report.count(ProblemKind::kRepeatedVertex) || report.count(ProblemKind::kDuplicateFace))
+    return Status::error(where + "a face repeats a vertex or another face");
+  return {};
 }
 
 }  // namespace dynpm::simplification

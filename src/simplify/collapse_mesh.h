@@ -9,12 +9,28 @@
 #pragma once
 
 #include <span>
+#include <string>
 #include <vector>
 
 #include "core/face_geometry.h"
 #include "dynpm/simplify.h"
 
 namespace dynpm::simplification {
+
+// What collapse() does to the faces alone, from its record: moved faces get v1 for v0, a wing
+// quad loses v0, a wing triangle vanishes (islands.h replays a cut this way).
+void collapse_faces(std::span<Face> faces, const CollapseRecord& record);
+
+// The faces still alive (a first corner) as a Topology: faces in input order, the vertices in
+// them renumbered in input order; original_vertex maps new → input vertex.
+Topology live_topology(const Topology& input, std::span<const Face> faces,
+                       std::vector<uint32_t>& original_vertex);
+
+// Test mode (SimplifyOptions::check_every_collapse): `now` is valid ((M1)–(M3), no repeated
+// vertex or duplicate face) and keeps the input's Euler characteristic, boundary loops,
+// components and, with `keep_parts`, parts. Errors begin with `where`.
+Status check_simplified(const Topology& now, const TopologyStats& initial, bool keep_parts,
+                        const std::string& where);
 
 class CollapseMesh {
  public:
@@ -55,7 +71,9 @@ class CollapseMesh {
 
   // The live mesh as a Topology: faces in input order, vertices renumbered in input order;
   // original_vertex maps new → input vertex.
-  Topology to_topology(const Topology& input, std::vector<uint32_t>& original_vertex) const;
+  Topology to_topology(const Topology& input, std::vector<uint32_t>& original_vertex) const {
+    return live_topology(input, faces_, original_vertex);
+  }
 
  private:
   struct Island {

@@ -52,14 +52,15 @@ bool IslandLog::tell_next(CollapseListener& listener, CollapseRecord& record,
   return false;
 }
 
-void IslandLog::tell_in_key_order(std::vector<IslandLog*> logs, CollapseListener& listener) {
+void IslandLog::tell_in_key_order(std::vector<IslandLog*> logs, CollapseListener& listener,
+                                  const std::function<bool()>& stop) {
   using Head = std::pair<float, uint32_t>;  // an island's key so far, and the island
   std::priority_queue<Head, std::vector<Head>, std::greater<Head>> heads;
   for (uint32_t i = 0; i < logs.size(); ++i)
     if (logs[i]->size() > 0) heads.push({logs[i]->next_key(), i});
   CollapseRecord record;
   std::vector<uint32_t> moved;
-  while (!heads.empty()) {
+  while (!heads.empty() && !(stop && stop())) {
     const auto [key, i] = heads.top();
     heads.pop();
     if (logs[i]->tell_next(listener, record, moved))

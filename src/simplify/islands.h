@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <new>
 #include <type_traits>
@@ -65,8 +66,10 @@ class IslandLog {
   size_t size() const { return entries_.size(); }
 
   // Tells every island's collapses to `listener`: the smallest key first, the lower island on a
-  // tie, each island's in its own order. The logs are emptied as they are told.
-  static void tell_in_key_order(std::vector<IslandLog*> logs, CollapseListener& listener);
+  // tie, each island's in its own order, until stop() holds before one. The logs are emptied as
+  // they are told.
+  static void tell_in_key_order(std::vector<IslandLog*> logs, CollapseListener& listener,
+                                const std::function<bool()>& stop = {});
 
  private:
   struct Entry {
@@ -82,6 +85,31 @@ class IslandLog {
   ChunkedArray<SplitWing> wings_;
   ChunkedArray<uint32_t> moved_faces_;
   size_t next_ = 0, next_wing_ = 0, next_moved_ = 0;  // the reading's
+};
+
+// The islands ran to their ends; a stop condition cuts their collapses in key order. This
+// listener replays the told ones on the input's faces (collapse_faces()), counts what is left
+// and passes each on: the mesh at the cut, where the islands' own mesh went past it.
+class CutReplay final : public CollapseListener {
+ public:
+  CutReplay(const Topology& input, uint32_t vertices, CollapseListener* next)
+      : faces(input.faces), live_vertices(vertices), live_faces(input.faces.size()), next_(next) {}
+  void on_collapse(const CollapseRecord& record) override {
+    collapse_faces(faces, record);
+    --live_vertices;
+    for (uint8_t w = 0; w < record.wing_count; ++w) live_faces -= record.wings[w].was_triangle();
+    ++collapses;
+    max_error = std::max(max_error, record.error);
+    if (next_) next_->on_collapse(record);
+  }
+
+  std::vector<Face> faces;
+  uint32_t live_vertices;
+  size_t live_faces, collapses = 0;
+  double max_error = 0;
+
+ private:
+  CollapseListener* next_;
 };
 
 }  // namespace dynpm::simplification

@@ -24,9 +24,10 @@
 // collapse does the simplifier report that none remains. The queue itself is a radix heap
 // (monotone_queue.h); quadrics are kept in floats around their own vertex (quadrics.h).
 //
-// Islands (islands.h): run to the end, a large mesh of several connected components is cut into
-// islands of whole components, and each runs this loop with a queue, time and scratch of its own,
-// in rounds on whatever thread is free; the collapses are told afterwards in key order.
+// Islands (islands.h): a large mesh of several connected components is cut into islands of whole
+// components, and each runs this loop to its end with a queue, time and scratch of its own, in
+// rounds on whatever thread is free; the collapses are told afterwards in key order, up to the
+// stop condition.
 #include <algorithm>
 #include <cmath>
 #include <numeric>
@@ -78,10 +79,14 @@ class Simplifier {
   Status advance(Lane& lane, Next& next);
   Status collapse(Lane& lane, uint32_t v0, uint32_t v1, double error);
   bool use_islands(size_t vertices) const;
-  Status run_islands();
+  bool has_stop() const {
+    return options_.target_vertices || options_.target_ratio || options_.target_faces ||
+           options_.max_error;
+  }
+  Status run_islands(SimplifyResult& result);
   size_t collapses() const;
   Status check_mesh(size_t collapse_index) const;
-  bool stop_reached(std::string& reason) const;
+  bool stop_reached(uint32_t live_vertices, size_t live_faces, std::string& reason) const;
   void report(std::string_view phase, size_t done, size_t total) const {
     if (options_.progress) options_.progress(phase, done, total);
   }
@@ -121,6 +126,7 @@ class Simplifier {
     uint32_t time = 1;
     bool rated_again = false;  // every edge was re-rated since the last collapse
     bool exhausted = false;
+    bool over_max_error = false;  // its next collapse would exceed the maximum error
     size_t collapses = 0;
     double max_error_done = 0;
     IslandLog log;  // with islands, until every island is done
@@ -289,7 +295,7 @@ Status Simplifier::collapse(Lane& lane, uint32_t v0, uint32_t v1, double error) 
   ++lane.collapses;
   lane.max_error_done = std::max(lane.max_error_done, error);
   if (lanes_.size() > 1) {  // islands: told in key order at the end, rows dropped between rounds
-    if (listener_) lane.log.add(record);
+    if (listener_ || has_stop()) lane.log.add(record);
   } else {
     if (lane.collapses % kCollapsesPerReport == 0)
       report("collapsing", lane.collapses, collapse_goal_);
@@ -391,37 +397,19 @@ bool Simplifier::end_round() {
 
 Status Simplifier::check_mesh(size_t collapse_index) const {
   std::vector<uint32_t> original;
-  const Topology now = mesh_.to_topology(input_, original);
-  const ValidationReport report = validate(now);
-  const std::string where = "after collapse " + std::to_string(collapse_index) + ": ";
-  for (const Problem& p : report.problems)
-    if (p.severity == Severity::kError) return Status::error(where + p.message);
-  const TopologyStats stats = topology_stats(now, Adjacency::build(now));
-  if (stats.euler_characteristic != initial_stats_.euler_characteristic)
-    return Status::error(where + "Euler characteristic changed from " +
-                         std::to_string(initial_stats_.euler_characteristic) + " to " +
-                         std::to_string(stats.euler_characteristic));
-  if (stats.boundary_loops != initial_stats_.boundary_loops)
-    return Status::error(where + "boundary loops changed from " +
-                         std::to_string(initial_stats_.boundary_loops) + " to " +
-                         std::to_string(stats.boundary_loops));
-  if (stats.components != initial_stats_.components)
-    return Status::error(where + "components changed");
-  if (options_.keep_part_boundaries && stats.parts != initial_stats_.parts)  // a part is gone
-    return Status::error(where + "parts changed from " + std::to_string(initial_stats_.parts) +
-                         " to " + std::to_string(stats.parts));
-  if (report.count(ProblemKind::kRepeatedVertex) || report.count(ProblemKind::kDuplicateFace))
-    return Status::error(where + "a face repeats a vertex or another face");
-  return {};
+  return check_simplified(mesh_.to_topology(input_, original), initial_stats_,
+                          options_.keep_part_boundaries,
+                          "after collapse " + std::to_string(collapse_index) + ": ");
 }
 
-bool Simplifier::stop_reached(std::string& reason) const {
-  if (mesh_.live_vertices() <= target_vertices_) {
-    reason = "reached " + std::to_string(mesh_.live_vertices()) + " vertices";
+bool Simplifier::stop_reached(uint32_t live_vertices, size_t live_faces,
+                              std::string& reason) const {
+  if (live_vertices <= target_vertices_) {
+    reason = "reached " + std::to_string(live_vertices) + " vertices";
     return true;
   }
-  if (options_.target_faces && mesh_.live_faces() <= *options_.target_faces) {
-    reason = "reached " + std::to_string(mesh_.live_faces()) + " faces";
+  if (options_.target_faces && live_faces <= *options_.target_faces) {
+    reason = "reached " + std::to_string(live_faces) + " faces";
     return true;
   }
   return false;
@@ -465,10 +453,11 @@ Result<SimplifyResult> Simplifier::run(Adjacency adjacency) {
   SimplifyResult result;
   collapse_goal_ = vertices - std::min<size_t>(target_vertices_, vertices);
   report("collapsing", 0, collapse_goal_);
+  const bool cut = lanes_.size() > 1 && has_stop();  // the result is made by run_islands()
   if (lanes_.size() > 1) {
-    DYNPM_RETURN_IF_ERROR(run_islands());
+    DYNPM_RETURN_IF_ERROR(run_islands(result));
   } else {
-    while (!stop_reached(result.stop_reason)) {
+    while (!stop_reached(mesh_.live_vertices(), mesh_.live_faces(), result.stop_reason)) {
       Next next = Next::kCollapsed;
       DYNPM_RETURN_IF_ERROR(advance(lanes_[0], next));
       if (next == Next::kMaxError) {
@@ -478,19 +467,20 @@ Result<SimplifyResult> Simplifier::run(Adjacency adjacency) {
       if (next == Next::kExhausted) break;
     }
   }
+  if (!cut) {
+    result.topology = mesh_.to_topology(input_, result.original_vertex);
+    result.collapses = collapses();
+    for (const Lane& lane : lanes_)
+      result.max_error = std::max(result.max_error, lane.max_error_done);
+  }
   result.target_reached = !result.stop_reason.empty();
   if (!result.target_reached)
-    result.stop_reason =
-        "no legal collapse remains at " + std::to_string(mesh_.live_vertices()) + " vertices";
-
-  report("collapsing", collapses(), collapses());
-  result.topology = mesh_.to_topology(input_, result.original_vertex);
+    result.stop_reason = "no legal collapse remains at " +
+                         std::to_string(result.topology.vertex_count) + " vertices";
+  report("collapsing", result.collapses, result.collapses);
   result.key_steps = key_steps_;
   result.key_step_box = quadrics_.box();
-  result.collapses = collapses();
   result.islands = lanes_.size();
-  for (const Lane& lane : lanes_)
-    result.max_error = std::max(result.max_error, lane.max_error_done);
   if (optimal()) {
     for (size_t k = 0; k < key_count(); ++k)
       result.key_step_positions.push_back(quadrics_.positions_of(result.original_vertex, k));
@@ -504,21 +494,20 @@ size_t Simplifier::collapses() const {
   return total;
 }
 
-// Islands only where nothing needs one global order as it happens: no stop condition (the
-// collapses are ordered after the last), no moving vertices, no rounds, and a mesh large enough
-// for threads to pay.
+// Islands where no vertex moves (optimal placement) and no round spans the mesh, on a mesh large
+// enough for threads to pay.
 bool Simplifier::use_islands(size_t vertices) const {
-  const SimplifyOptions& o = options_;
-  return !o.target_vertices && !o.target_faces && !o.target_ratio && !o.max_error && !optimal() &&
-         !rounds() && vertices >= o.island_min_vertices && rules_.component_count() > 1;
+  return !optimal() && !rounds() && vertices >= options_.island_min_vertices &&
+         rules_.component_count() > 1;
 }
 
-// Every island to its end, in rounds: in each, every island not yet done takes up to a 32nd of
-// its live vertices in collapses (at least 256) on whichever thread is free. Where a round ends
-// changes nothing an island does; between rounds the removed vertices' rows are dropped,
-// progress is told and in test mode the mesh is checked. Then the collapses are told in key
-// order.
-Status Simplifier::run_islands() {
+// Every island to its end (or to its first collapse over the maximum error), in rounds: in each,
+// every island not yet done takes up to a 32nd of its live vertices in collapses (at least 16)
+// on whichever thread is free. Where a round ends changes nothing an island does; between rounds
+// the removed vertices' rows are dropped, progress is told and in test mode the mesh is checked.
+// Then the collapses are told in key order, up to a stop condition: the islands' mesh went past
+// it, so the result is then the input's faces with the told collapses replayed on them.
+Status Simplifier::run_islands(SimplifyResult& result) {
   const unsigned threads = thread_count(options_.threads);
   std::vector<Status> failed(lanes_.size());
   bool all_done = false;
@@ -535,12 +524,13 @@ Status Simplifier::run_islands() {
           Next next = Next::kCollapsed;
           failed[i] = advance(lane, next);
           lane.exhausted = !failed[i].ok() || next != Next::kCollapsed;
+          lane.over_max_error = next == Next::kMaxError;
         }
       }
     });
     for (const Status& status : failed) DYNPM_RETURN_IF_ERROR(status);
     quadrics_.drop_removed(mesh_);
-    report("collapsing", collapses(), collapse_goal_);
+    report("collapsing", std::min(collapses(), collapse_goal_), collapse_goal_);
     if (options_.check_every_collapse) DYNPM_RETURN_IF_ERROR(check_mesh(collapses()));
     all_done = std::all_of(lanes_.begin(), lanes_.end(), [](const Lane& l) { return l.exhausted; });
   }
@@ -549,8 +539,24 @@ Status Simplifier::run_islands() {
     lane.queue = {};  // its blocks back before the log is told
     logs.push_back(&lane.log);
   }
-  if (listener_) IslandLog::tell_in_key_order(logs, *listener_);
-  return {};
+  if (!has_stop()) {  // the islands' mesh is the result
+    if (listener_) IslandLog::tell_in_key_order(logs, *listener_);
+    return {};
+  }
+  // A stop condition: the islands ran to their ends, the cut is made in key order.
+  CutReplay replay(input_, static_cast<uint32_t>(initial_stats_.referenced_vertices), listener_);
+  IslandLog::tell_in_key_order(logs, replay, [&] {
+    return stop_reached(replay.live_vertices, replay.live_faces, result.stop_reason);
+  });
+  if (result.stop_reason.empty() &&
+      std::any_of(lanes_.begin(), lanes_.end(), [](const Lane& l) { return l.over_max_error; }))
+    result.stop_reason = "the next collapse would exceed the maximum error";
+  result.topology = live_topology(input_, replay.faces, result.original_vertex);
+  result.collapses = replay.collapses;
+  result.max_error = replay.max_error;
+  if (!options_.check_every_collapse) return {};
+  return check_simplified(result.topology, initial_stats_, options_.keep_part_boundaries,
+                          "at the cut: ");
 }
 
 }  // namespace
