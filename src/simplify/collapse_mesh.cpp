@@ -10,7 +10,6 @@ namespace dynpm::simplification {
 CollapseMesh::CollapseMesh(const Topology& topology) : faces_(topology.faces) {
   const uint32_t n = topology.vertex_count;
   islands_.resize(1);
-  islands_[0].vertices = n;
   if (n > 0) islands_[0].runs.push_back({0, n});
   list_start_.assign(n, 0);
   list_size_.assign(n, 0);
@@ -45,7 +44,6 @@ void CollapseMesh::split_into_islands(std::vector<uint16_t> island_of, size_t co
     Island& island = islands[island_of[v]];
     if (island.runs.empty() || island.runs.back().second != v) island.runs.push_back({v, v});
     ++island.runs.back().second;
-    ++island.vertices;
   }
   const std::vector<uint32_t> old_pool = std::move(islands_[0].pool);
   islands_ = std::move(islands);

@@ -51,7 +51,6 @@ class CollapseMesh {
   void split_into_islands(std::vector<uint16_t> island_of, size_t count);
   size_t island_count() const { return islands_.size(); }
   uint32_t island_of(uint32_t v) const { return island_of_.empty() ? 0 : island_of_[v]; }
-  uint32_t island_vertex_count(size_t i) const { return islands_[i].vertices; }
   uint32_t island_live_vertices(size_t i) const { return islands_[i].live_vertices; }
   // visit(v) for each vertex of island i, ascending.
   template <class Visit>
@@ -80,7 +79,6 @@ class CollapseMesh {
     // Its vertices as runs [begin, end) of consecutive numbers (a mesh's parts are mostly
     // numbered in runs: a few bytes an island where a list took 4 B a vertex).
     std::vector<std::pair<uint32_t, uint32_t>> runs;
-    uint32_t vertices = 0;
     std::vector<uint32_t> pool;  // the face lists of its vertices
     uint32_t live_vertices = 0;
     size_t live_faces = 0;  // faces whose first corner lies in it
