@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 
+#include "core/list_pool.h"
 #include "dynpm/lod.h"
 
 namespace dynpm {
@@ -12,29 +13,26 @@ namespace {
 // The faces holding each vertex as the replay goes; small lists, edited in place.
 class VertexFans {
  public:
-  explicit VertexFans(const ProgressiveMesh& mesh) : fans_(mesh.vertex_count()) {
+  explicit VertexFans(const ProgressiveMesh& mesh)
+      : fans_(mesh.vertex_count(), size_t{mesh.full_face_count} * 6) {
     for (uint32_t f = 0; f < mesh.base_faces.size(); ++f)
       for (uint32_t c : mesh.base_faces[f].v)
-        if (c != kNoVertex) fans_[c].push_back(f);
+        if (c != kNoVertex) fans_.push_back(c, f);
   }
-  const std::vector<uint32_t>& of(uint32_t v) const { return fans_[v]; }
-  void add(uint32_t v, uint32_t f) { fans_[v].push_back(f); }
+  std::span<const uint32_t> of(uint32_t v) const { return fans_.of(v); }
+  void add(uint32_t v, uint32_t f) { fans_.push_back(v, f); }
   void move(uint32_t f, uint32_t from, uint32_t to) {
-    auto& list = fans_[from];
-    const auto it = std::find(list.begin(), list.end(), f);
-    if (it != list.end()) {
-      *it = list.back();
-      list.pop_back();
-    }
-    fans_[to].push_back(f);
+    fans_.erase_unordered(from, f);
+    fans_.push_back(to, f);
   }
 
  private:
-  std::vector<std::vector<uint32_t>> fans_;
+  ListPool fans_;
 };
 
 // Per face: its last writer and the splits that read it since, as a singly linked list in one
-// pool (a writer empties the list; the pool never shrinks, it holds at most every read).
+// pool (a writer empties the list and its entries are reused: the pool holds the reads not yet
+// followed by a write, not every read of the stream).
 class FaceAccess {
  public:
   explicit FaceAccess(uint32_t faces) : last_writer_(faces, kNoIndex), readers_(faces, kNoIndex) {}
@@ -42,14 +40,26 @@ class FaceAccess {
   // Split i reads f: it needs f's last writer.
   void read(uint32_t f, uint32_t i, std::vector<uint32_t>& needs) {
     if (last_writer_[f] != kNoIndex) needs.push_back(last_writer_[f]);
-    pool_.push_back({i, readers_[f]});
-    readers_[f] = static_cast<uint32_t>(pool_.size() - 1);
+    uint32_t entry = free_;
+    if (entry != kNoIndex) {
+      free_ = pool_[entry].next;
+      pool_[entry] = {i, readers_[f]};
+    } else {
+      entry = static_cast<uint32_t>(pool_.size());
+      pool_.push_back({i, readers_[f]});
+    }
+    readers_[f] = entry;
   }
   // Split i writes f (and reads it): it needs f's last writer and every reader since.
   void write(uint32_t f, uint32_t i, std::vector<uint32_t>& needs) {
     if (last_writer_[f] != kNoIndex) needs.push_back(last_writer_[f]);
-    for (uint32_t r = readers_[f]; r != kNoIndex; r = pool_[r].next)
+    for (uint32_t r = readers_[f]; r != kNoIndex;) {
       needs.push_back(pool_[r].split);
+      const uint32_t next = pool_[r].next;
+      pool_[r].next = free_;
+      free_ = r;
+      r = next;
+    }
     readers_[f] = kNoIndex;
     last_writer_[f] = i;
   }
@@ -61,6 +71,7 @@ class FaceAccess {
   };
   std::vector<uint32_t> last_writer_, readers_;
   std::vector<Reader> pool_;
+  uint32_t free_ = kNoIndex;  // the first reusable entry of the pool
 };
 
 // Appends split i's sorted, unique dependencies to the CSR.

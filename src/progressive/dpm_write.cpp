@@ -3,6 +3,7 @@
 #include <zstd.h>
 
 #include <algorithm>
+#include <array>
 #include <cassert>
 #include <optional>
 #include <string>
@@ -186,20 +187,47 @@ DpmStepEncoder::~DpmStepEncoder() = default;
 Result<DpmStepEncoder> DpmStepEncoder::start(const ProgressiveMesh& mesh, unsigned threads) {
   auto state = std::make_unique<State>(mesh);
   state->threads = thread_count(threads);
-  RecordModels records(mesh);
   uint32_t chunk = kFirstChunkSplits;
   for (uint32_t first = 0; first < mesh.split_count();
        first += chunk, chunk = std::min(chunk * 2, kMaxChunkSplits)) {
     const uint32_t last = std::min(mesh.split_count(), first + chunk);
-    const uint32_t first_face = records.face_count();
-    auto coded = encode_split_records(mesh, first, last, records, [&](uint32_t i) {
-      state->stencils.add(mesh, i, records.faces());
-    });
-    if (!coded.ok()) return coded.status();
-    state->chunks.push_back({first, last, first_face, records.face_count(), std::move(coded->first),
-                             std::move(coded->second)});
     state->ranges.emplace_back(first, last);
+    state->chunks.push_back({first, last, 0, 0, {}, {}});
   }
+  // Reserved (a ring has about 7 vertices): grown by doubling, each copy was fresh memory.
+  state->stencils.splits.reserve(mesh.split_count());
+  state->stencils.ring.reserve(size_t{mesh.split_count()} * 8);
+  // The records, and the attributes with the stencils (read from the faces the splits leave):
+  // two walks of about equal work, on two threads when there are, each writing only its own
+  // fields of the chunks.
+  std::array<Status, 2> walked;
+  parallel_for(2, 2, state->threads, [&](size_t begin, size_t end, size_t) {
+    for (size_t walk = begin; walk < end; ++walk) {
+      const bool records = walk == 0;
+      RecordModels models(mesh, RecordModels::Room::kFull);
+      for (State::SplitChunk& c : state->chunks) {
+        const uint32_t first_face = models.face_count();
+        auto coded =
+            records
+                ? encode_split_records(mesh, c.first, c.last, models, {}, SplitSections::kRecords)
+                : encode_split_records(
+                      mesh, c.first, c.last, models,
+                      [&](uint32_t i) { state->stencils.add(mesh, i, models.faces()); },
+                      SplitSections::kAttributes);
+        if (!coded.ok()) {
+          walked[walk] = coded.status();
+          break;
+        }
+        if (records) {
+          c.first_face = first_face, c.end_face = models.face_count();
+          c.records = std::move(coded->first);
+        } else {
+          c.attributes = std::move(coded->second);
+        }
+      }
+    }
+  });
+  for (const Status& status : walked) DYNPM_RETURN_IF_ERROR(status);
   state->positions.emplace(mesh, state->stencils, state->ranges, state->threads);
   return DpmStepEncoder(std::move(state));
 }
@@ -208,7 +236,7 @@ void DpmStepEncoder::add_step(std::span<const float> xyz) {
   State& s = *state_;
   assert(s.steps_given < s.mesh.step_count() && xyz.size() == size_t{s.mesh.vertex_count()} * 3);
   const Grid g = grid_of(s.mesh);
-  std::vector<uint32_t> q(xyz.size());
+  std::vector<uint32_t> q = s.positions->spare_step();
   const size_t vertices = xyz.size() / 3;
   parallel_for(vertices, std::max<size_t>(1, vertices / 65536), s.threads,
                [&](size_t begin, size_t end, size_t) {

@@ -142,6 +142,16 @@ StepPositionEncoder::StepPositionEncoder(const ProgressiveMesh& mesh, const Chun
   sections_.reserve(mesh.step_count());
 }
 
+std::vector<uint32_t> StepPositionEncoder::spare_step() {
+  std::vector<uint32_t> q;
+  if (!spare_q_.empty()) {
+    q = std::move(spare_q_.back());
+    spare_q_.pop_back();
+  }
+  q.resize(size_t{mesh_.vertex_count()} * 3);
+  return q;
+}
+
 void StepPositionEncoder::add_step(std::vector<uint32_t> q) {
   batch_.push_back(std::move(q));
   if (batch_.size() == batch_steps_) code_batch();
@@ -163,7 +173,9 @@ void StepPositionEncoder::code_batch() {
   const auto step_q = [&](size_t s) -> const std::vector<uint32_t>& {
     return s >= first ? batch_[s - first] : last_q_;
   };
-  std::vector<std::vector<int32_t>> r(count, std::vector<int32_t>(splits * 3));
+  std::vector<std::vector<int32_t>>& r = residuals_;  // every element is written below
+  r.resize(count);
+  for (auto& step : r) step.resize(splits * 3);
   for (size_t j = 0; j < count; ++j) {
     const size_t t = first + j;
     parallel_for(splits, parts, threads_, [&](size_t begin, size_t end, size_t) {
@@ -207,8 +219,11 @@ void StepPositionEncoder::code_batch() {
     }
   });
   steps_done_ += count;
+  spare_q_.push_back(std::move(last_q_));
   last_q_ = std::move(batch_.back());
-  last_r_ = std::move(r.back());
+  batch_.pop_back();
+  for (auto& q : batch_) spare_q_.push_back(std::move(q));
+  std::swap(last_r_, r.back());
   batch_.clear();
 }
 

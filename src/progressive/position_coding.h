@@ -92,6 +92,9 @@ class StepPositionEncoder {
                       std::span<const std::pair<uint32_t, uint32_t>> chunks, unsigned threads);
   // Steps coded at once, at most: each holds 24 B per vertex (its q-values and residuals).
   static constexpr unsigned kMaxBatchSteps = 4;
+  // A vector for the next step's q-values, of any content: one the encoder no longer needs when
+  // it has one (a fresh 12 MB vector a step, zeroed and faulted in, cost a third of the pass).
+  std::vector<uint32_t> spare_step();
   // The next step's q-values (every vertex, xyz, in the progressive numbering): steps 0, 1, …
   // in order. Batches of min(threads, kMaxBatchSteps) steps are coded as they fill.
   void add_step(std::vector<uint32_t> q);
@@ -109,6 +112,8 @@ class StepPositionEncoder {
   std::vector<uint32_t> last_q_;  // the step before the batch, every vertex
   std::vector<int32_t> last_r_;   // its residuals, split vertices (v − b), xyz
   std::vector<std::vector<uint32_t>> batch_;
+  std::vector<std::vector<uint32_t>> spare_q_;   // steps coded and no longer read, to reuse
+  std::vector<std::vector<int32_t>> residuals_;  // the batch's, kept for their memory
   std::vector<std::vector<std::string>> sections_;
 };
 

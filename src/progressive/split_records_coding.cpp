@@ -77,7 +77,7 @@ void record_of(const ProgressiveMesh& mesh, uint32_t i, Record& r) {
 // v's neighbours: the corners next to it in its faces, ascending, each once.
 void neighbours(const RecordModels& st, uint32_t v, std::vector<uint32_t>& out) {
   out.clear();
-  for (uint32_t f : st.vertex_faces_[v]) {
+  for (uint32_t f : st.vertex_faces_.of(v)) {
     const Face& face = st.faces_[f];
     const int n = face.degree(), a = corner_of(face, v);
     out.push_back(face.v[(a + 1) % n]);
@@ -107,7 +107,7 @@ void stable_front(std::vector<uint32_t>& values, std::vector<uint32_t>& rest, Fr
 template <class Moved>
 int orientation_guess(const RecordModels& st, uint32_t v1, uint32_t w, const Moved& moved) {
   int guess = 0;
-  for (uint32_t f : st.vertex_faces_[v1]) {
+  for (uint32_t f : st.vertex_faces_.of(v1)) {
     const Face& face = st.faces_[f];
     const int n = face.degree(), a = corner_of(face, v1);
     int g = 0;
@@ -187,7 +187,7 @@ std::string code_record(Coder<kDecode>& c, RecordModels& st, uint32_t i, uint32_
   }
   st.last_parent_ = r.parent;
   const uint32_t v1 = r.parent;
-  const std::vector<uint32_t>& fan = st.vertex_faces_[v1];
+  const std::span<const uint32_t> fan = std::as_const(st.vertex_faces_).of(v1);
 
   // Moved faces first: a bit per face of v1 (ascending), by its kind and how many moved so far.
   // v0's old faces then say where its wings are: each wing vertex is a corner of a moved face.
@@ -328,22 +328,20 @@ std::string code_record(Coder<kDecode>& c, RecordModels& st, uint32_t i, uint32_
 // The faces each vertex has, after split i was applied to st.faces_.
 void update_vertex_faces(RecordModels& st, const ProgressiveMesh& mesh, uint32_t i) {
   const uint32_t v0 = mesh.base_vertex_count + i, v1 = mesh.parent[i];
-  std::vector<uint32_t>& of_v1 = st.vertex_faces_[v1];
-  std::vector<uint32_t>& of_v0 = st.vertex_faces_[v0];
+  ListPool& fans = st.vertex_faces_;
   const auto moved =
       std::span(mesh.moved_faces)
           .subspan(mesh.moved_start[i], mesh.moved_start[i + 1] - mesh.moved_start[i]);
-  of_v0.assign(moved.begin(), moved.end());
-  std::erase_if(of_v1,
-                [&](uint32_t f) { return std::binary_search(moved.begin(), moved.end(), f); });
+  fans.assign(v0, moved);
+  fans.erase_if(v1, [&](uint32_t f) { return std::binary_search(moved.begin(), moved.end(), f); });
   for (uint32_t k = mesh.wing_start[i]; k < mesh.wing_start[i + 1]; ++k) {
     const SplitWing& w = mesh.wings[k];
-    of_v0.push_back(w.face);
+    fans.push_back(v0, w.face);
     if (!w.was_triangle()) continue;
-    of_v1.push_back(w.face);  // the newest face: the lists stay ascending
-    st.vertex_faces_[w.vertex].push_back(w.face);
+    fans.push_back(v1, w.face);  // the newest face: the lists stay ascending
+    fans.push_back(w.vertex, w.face);
   }
-  std::sort(of_v0.begin(), of_v0.end());
+  std::sort(fans.of(v0).begin(), fans.of(v0).end());
 }
 
 // The attributes of split i's vertex and of the faces it created, against the mesh after it.
@@ -389,8 +387,8 @@ std::string code_attributes(Coder<kDecode>& c, RecordModels& st, ProgressiveMesh
     if (!mesh.wings[k].was_triangle()) like = mesh.wings[k].face;
   if (like == kNoIndex && mesh.moved_start[i + 1] > mesh.moved_start[i])
     like = mesh.moved_faces[mesh.moved_start[i]];
-  if (like == kNoIndex && !st.vertex_faces_[v1].empty() && st.vertex_faces_[v1][0] < first_created)
-    like = st.vertex_faces_[v1][0];
+  if (like == kNoIndex && !st.vertex_faces_.empty(v1) && st.vertex_faces_.of(v1)[0] < first_created)
+    like = st.vertex_faces_.of(v1)[0];
   const int64_t part_guess = like == kNoIndex ? 0 : mesh.part_ids[like];
   const int64_t face_guess = like == kNoIndex ? 0 : mesh.face_original_index[like];
   const int64_t element_guess = like == kNoIndex ? 0 : mesh.element_ids[like];
@@ -469,10 +467,12 @@ uint32_t error_code_at_least(double e, double reference) {
   return lo;
 }
 
-RecordModels::RecordModels(const ProgressiveMesh& base)
+RecordModels::RecordModels(const ProgressiveMesh& base, Room room)
     : faces_(base.base_faces),
       face_count_(base.base_face_count),
-      vertex_faces_(base.full_vertex_count),
+      // A face is on at most 4 lists; lists that grow move, which twice as much room covers.
+      vertex_faces_(base.full_vertex_count,
+                    size_t{room == Room::kFull ? base.full_face_count : base.base_face_count} * 8),
       free_vertices_(base.full_vertex_count),
       free_faces_(base.full_face_count),
       error_reference_(error_reference(base.base_error)),
@@ -485,7 +485,8 @@ RecordModels::RecordModels(const ProgressiveMesh& base)
       free_faces_.take(base.face_original_index[f]);
   for (uint32_t f = 0; f < face_count_; ++f)
     for (uint32_t v : faces_[f].v)
-      if (v != kNoVertex && v < vertex_faces_.size()) vertex_faces_[v].push_back(f);
+      if (v != kNoVertex && v < base.full_vertex_count) vertex_faces_.push_back(v, f);
+  if (room == Room::kFull) faces_.reserve(base.full_face_count);
 }
 
 namespace {
@@ -493,7 +494,8 @@ namespace {
 Result<std::array<std::string, kRecordParts>> encode_parts(const ProgressiveMesh& mesh,
                                                            uint32_t first, uint32_t last,
                                                            RecordModels& st, bool per_part,
-                                                           const AfterSplit& after_split) {
+                                                           const AfterSplit& after_split,
+                                                           SplitSections sections) {
   std::array<RangeEncoder, kRecordParts> encoders;
   Coder<false> records, attributes;
   for (int p = 0; p < kRecordParts; ++p) {
@@ -503,10 +505,14 @@ Result<std::array<std::string, kRecordParts>> encode_parts(const ProgressiveMesh
   ProgressiveMesh& m = const_cast<ProgressiveMesh&>(mesh);  // the encoder only reads it
   Record r;
   for (uint32_t i = first; i < last; ++i) {
-    record_of(mesh, i, r);
-    std::string problem = code_record(records, st, i, mesh.base_vertex_count + i, r);
+    std::string problem;
+    if (sections != SplitSections::kAttributes) {
+      record_of(mesh, i, r);
+      problem = code_record(records, st, i, mesh.base_vertex_count + i, r);
+    }
     if (problem.empty()) problem = apply(st, mesh, i);
-    if (problem.empty()) problem = code_attributes(attributes, st, m, i);
+    if (problem.empty() && sections != SplitSections::kRecords)
+      problem = code_attributes(attributes, st, m, i);
     if (!problem.empty()) return Status::error("cannot code " + problem);
     if (after_split) after_split(i);
   }
@@ -520,15 +526,19 @@ Result<std::array<std::string, kRecordParts>> encode_parts(const ProgressiveMesh
 Result<std::pair<std::string, std::string>> encode_split_records(const ProgressiveMesh& mesh,
                                                                  uint32_t first, uint32_t last,
                                                                  RecordModels& models,
-                                                                 const AfterSplit& after_split) {
-  auto parts = encode_parts(mesh, first, last, models, false, after_split);
+                                                                 const AfterSplit& after_split,
+                                                                 SplitSections sections) {
+  auto parts = encode_parts(mesh, first, last, models, false, after_split, sections);
   if (!parts.ok()) return parts.status();
-  return std::pair{std::move((*parts)[0]), std::move((*parts)[1])};
+  std::pair<std::string, std::string> out{std::move((*parts)[0]), std::move((*parts)[1])};
+  if (sections == SplitSections::kAttributes) out.first.clear();  // an empty coder's bytes
+  if (sections == SplitSections::kRecords) out.second.clear();
+  return out;
 }
 
 Result<std::array<size_t, kRecordParts>> split_record_part_bytes(const ProgressiveMesh& mesh) {
   RecordModels models(mesh);
-  auto parts = encode_parts(mesh, 0, mesh.split_count(), models, true, {});
+  auto parts = encode_parts(mesh, 0, mesh.split_count(), models, true, {}, SplitSections::kBoth);
   if (!parts.ok()) return parts.status();
   std::array<size_t, kRecordParts> bytes{};
   for (int p = 0; p < kRecordParts; ++p) bytes[p] = (*parts)[p].size();

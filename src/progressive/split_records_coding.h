@@ -20,6 +20,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/list_pool.h"
 #include "dpm_read_fields.h"    // PayloadError
 #include "dynpm/progressive.h"  // prepare_split_records()
 #include "index_sets.h"
@@ -43,7 +44,10 @@ uint32_t error_code_at_least(double e, double reference);
 // decoder keep the same one. Made from the base mesh; the caller keeps it across chunks.
 class RecordModels {
  public:
-  explicit RecordModels(const ProgressiveMesh& base);
+  // kFull: room for the full mesh from the start (the encoder's; a file's header is not trusted
+  // that far), kGrow: growing as the splits come.
+  enum class Room { kGrow, kFull };
+  explicit RecordModels(const ProgressiveMesh& base, Room room = Room::kGrow);
 
   // The faces after the splits coded so far (face_count() of them); apply_split() checked them.
   const std::vector<Face>& faces() const { return faces_; }
@@ -64,8 +68,8 @@ class RecordModels {
   // The mesh (internal to the coding).
   std::vector<Face> faces_;
   uint32_t face_count_ = 0;
-  std::vector<std::vector<uint32_t>> vertex_faces_;  // per vertex: its faces, ascending
-  VertexMarks near_v0_;  // the corners of the faces the current split moved so far
+  ListPool vertex_faces_;  // per vertex: its faces, ascending
+  VertexMarks near_v0_;    // the corners of the faces the current split moved so far
   FreeIndices free_vertices_, free_faces_;  // original indices not yet given
   double error_reference_ = 1;
   uint32_t error_code_ = kTopErrorCode;  // the last split's (first: the base's)
@@ -81,12 +85,17 @@ class RecordModels {
 // Called after split i was applied to models.faces(): the positions' stencils are read there.
 using AfterSplit = std::function<void(uint32_t i)>;
 
-// The records and attributes sections of splits [first, last) of a prepared mesh. An error
-// when a record does not fit the mesh (a bug of the builder, not of a file).
-Result<std::pair<std::string, std::string>> encode_split_records(const ProgressiveMesh& mesh,
-                                                                 uint32_t first, uint32_t last,
-                                                                 RecordModels& models,
-                                                                 const AfterSplit& after_split);
+// Which sections encode_split_records() codes. The two have models of their own: two walks,
+// each with RecordModels of its own, give the bytes of one walk that codes both, and can run on
+// two threads.
+enum class SplitSections { kBoth, kRecords, kAttributes };
+
+// The records and attributes sections of splits [first, last) of a prepared mesh (a section not
+// asked for is empty). An error when a record does not fit the mesh (a bug of the builder, not of
+// a file).
+Result<std::pair<std::string, std::string>> encode_split_records(
+    const ProgressiveMesh& mesh, uint32_t first, uint32_t last, RecordModels& models,
+    const AfterSplit& after_split, SplitSections sections = SplitSections::kBoth);
 
 // Decodes splits [first, first + count) from the two sections into mesh's split and attribute
 // arrays (parent, error, wing_start, wings, moved_start, moved_faces, vertex_original_index,

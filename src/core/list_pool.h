@@ -1,0 +1,75 @@
+// ListPool: a short list of indices per key (the faces at each vertex, as a replay of the
+// splits goes) in one array. A list that outgrows its room moves to the array's end with room to
+// spare; its old block is left unused. A million small std::vectors cost a heap block and a
+// header each (about 60 B per vertex) and their allocations, moves and frees were a fifth of a
+// replay's time. Internal: modules include it as "core/list_pool.h".
+#pragma once
+
+#include <algorithm>
+#include <cassert>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace dynpm {
+
+class ListPool {
+ public:
+  // `lists` empty lists; `expected` values in all is a hint for the array's first size.
+  ListPool(uint32_t lists, size_t expected)
+      : start_(lists, 0), size_(lists, 0), capacity_(lists, 0) {
+    pool_.reserve(expected);
+  }
+
+  uint32_t size(uint32_t k) const { return size_[k]; }
+  bool empty(uint32_t k) const { return size_[k] == 0; }
+  std::span<const uint32_t> of(uint32_t k) const { return {pool_.data() + start_[k], size_[k]}; }
+  std::span<uint32_t> of(uint32_t k) { return {pool_.data() + start_[k], size_[k]}; }
+
+  void push_back(uint32_t k, uint32_t value) {
+    if (size_[k] == capacity_[k]) make_room(k, size_[k] + 1);
+    pool_[start_[k] + size_[k]++] = value;
+  }
+  void assign(uint32_t k, std::span<const uint32_t> values) {
+    size_[k] = 0;
+    if (values.size() > capacity_[k]) make_room(k, static_cast<uint32_t>(values.size()));
+    std::copy(values.begin(), values.end(), pool_.begin() + start_[k]);
+    size_[k] = static_cast<uint32_t>(values.size());
+  }
+  // Keeps the first `size` values (at most the list's size).
+  void shrink(uint32_t k, uint32_t size) {
+    assert(size <= size_[k]);
+    size_[k] = size;
+  }
+  // Removes the values pred() holds for, keeping the others' order.
+  template <class Pred>
+  void erase_if(uint32_t k, Pred&& pred) {
+    const std::span<uint32_t> list = of(k);
+    const auto end = std::remove_if(list.begin(), list.end(), pred);
+    size_[k] = static_cast<uint32_t>(end - list.begin());
+  }
+  // Removes one occurrence of `value`, if any, moving the last value into its place.
+  void erase_unordered(uint32_t k, uint32_t value) {
+    const std::span<uint32_t> list = of(k);
+    const auto it = std::find(list.begin(), list.end(), value);
+    if (it == list.end()) return;
+    *it = list.back();
+    --size_[k];
+  }
+
+ private:
+  // List k moves to the end with room for `needed` values and as many again (at least 4).
+  void make_room(uint32_t k, uint32_t needed) {
+    const uint32_t capacity = std::max<uint32_t>(needed * 2, 4);
+    const size_t start = pool_.size();
+    pool_.resize(start + capacity);
+    std::copy_n(pool_.begin() + start_[k], size_[k], pool_.begin() + start);
+    start_[k] = static_cast<uint32_t>(start);
+    capacity_[k] = capacity;
+  }
+
+  std::vector<uint32_t> pool_;
+  std::vector<uint32_t> start_, size_, capacity_;
+};
+
+}  // namespace dynpm
