@@ -27,6 +27,7 @@ class FinitePositions final : public FrameSource {
   size_t step_count() const override { return source_->step_count(); }
   double step_time(size_t t) const override { return source_->step_time(t); }
   size_t step_float_count(size_t t) const override { return source_->step_float_count(t); }
+  bool parallel_reads() const override { return source_->parallel_reads(); }  // keeps no state
   std::vector<FieldInfo> fields() const override { return source_->fields(); }
   Status read_field(size_t field, size_t t, std::span<float> out) const override {
     return source_->read_field(field, t, out);
