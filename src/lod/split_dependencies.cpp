@@ -160,6 +160,10 @@ SplitDependencies derive_face_creators(const ProgressiveMesh& mesh, SplitDepende
 SplitDependencies derive_split_dependencies(const ProgressiveMesh& mesh, SplitReads reads) {
   const uint32_t n = mesh.split_count(), b = mesh.base_vertex_count;
   SplitDependencies out;
+  // Room for about 7 a split (6.6 on the crash data, docs/selective.md): grown by doubling, the
+  // copies were a tenth of the build's reordering.
+  out.deps.reserve(size_t{n} * 8);
+  out.dep_start.reserve(size_t{n} + 1);
   out.faces_after.resize(n + 1);
   out.faces_after[0] = mesh.base_face_count;
   for (uint32_t i = 0; i < n; ++i) {
@@ -185,7 +189,6 @@ SplitDependencies derive_split_dependencies(const ProgressiveMesh& mesh, SplitRe
   FaceAccess access(out.faces_after[n]);
   std::vector<uint32_t> written_by(out.faces_after[n], kNoIndex);  // == i: f is in W(i)
   std::vector<uint32_t> needs;
-  out.dep_start.reserve(n + 1);
   for (uint32_t i = 0; i < n; ++i) {
     const uint32_t v0 = b + i, v1 = mesh.parent[i];
     needs.clear();
