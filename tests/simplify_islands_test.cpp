@@ -4,6 +4,7 @@
 // key order, and a progressive mesh built that way gives the input back exactly.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <map>
@@ -37,8 +38,8 @@ const Animation* crashbox() {
 
 // `copies` crash boxes side by side, each its own part and component, and a lone quad. With
 // `interleaved`, copy k's vertex v is numbered v · copies + k, so that no island is one run of
-// numbers.
-Animation tiled(const Animation& box, uint32_t copies, bool interleaved) {
+// numbers. Copy k is `growth`^k times the box's size.
+Animation tiled(const Animation& box, uint32_t copies, bool interleaved, float growth = 1) {
   const uint32_t n = box.topology.vertex_count;
   auto id = [&](uint32_t k, uint32_t v) { return interleaved ? v * copies + k : k * n + v; };
   Animation a;
@@ -59,7 +60,8 @@ Animation tiled(const Animation& box, uint32_t copies, bool interleaved) {
     for (uint32_t k = 0; k < copies; ++k)
       for (uint32_t v = 0; v < n; ++v)
         for (int c = 0; c < 3; ++c)
-          xyz[size_t{id(k, v)} * 3 + c] = step[size_t{v} * 3 + c] + (c == 0 ? 400.0f * k : 0.0f);
+          xyz[size_t{id(k, v)} * 3 + c] = step[size_t{v} * 3 + c] * std::pow(growth, float(k)) +
+                                          (c == 0 ? 400.0f * k * std::pow(growth, float(k)) : 0.0f);
     const float quad[12] = {-100, 0, 0, -90, 0, 0, -90, 10, float(t), -100, 10, 0};
     std::copy(quad, quad + 12, xyz.begin() + size_t{q} * 3);
     a.frames.add_step(std::move(xyz), box.frames.step_time(t));
@@ -194,6 +196,39 @@ TEST(Islands, AStopConditionCutsTheCollapsesInKeyOrder) {
       EXPECT_EQ(r->topology.faces, first_mesh.faces) << threads << " threads";
       EXPECT_TRUE(told.collapses == first.collapses) << threads << " threads";
     }
+  }
+}
+
+// With a vertex or face target an island stops once its key is past a bound of the cut: the
+// told collapses are exactly the first ones the islands tell when run to their ends, and fewer
+// collapses are made than that run made. The boxes differ in size (1, 3 and 9 times), so that
+// their keys grow at different rates and some islands are still short of the cut when others
+// are past it.
+TEST(Islands, IslandsStopPastTheCutAndTellTheSameCollapses) {
+  const Animation* box = crashbox();
+  ASSERT_NE(box, nullptr);
+  const Animation a = tiled(*box, 3, true, 3.0f);
+  Told all;
+  auto to_the_end = simplify(a.topology, a.frames, island_options(2), &all);
+  ASSERT_TRUE(to_the_end.ok()) << to_the_end.message();
+  ASSERT_EQ(to_the_end->collapses_made, all.collapses.size());
+  for (int stop = 0; stop < 9; ++stop) {
+    SCOPED_TRACE(stop);
+    SimplifyOptions o = island_options(2);
+    if (stop < 6) o.target_ratio = 0.9 - 0.15 * stop;  // 90 % down to 15 %
+    if (stop >= 6) o.target_faces = 2000 * (stop - 4);
+    Told told;
+    auto r = simplify(a.topology, a.frames, o, &told);
+    ASSERT_TRUE(r.ok()) << r.message();
+    EXPECT_TRUE(r->target_reached) << r->stop_reason;
+    ASSERT_LE(told.collapses.size(), all.collapses.size());
+    EXPECT_TRUE(std::equal(told.collapses.begin(), told.collapses.end(), all.collapses.begin()));
+    EXPECT_GE(r->collapses_made, r->collapses);
+    // At least a quarter of the collapses past the cut are never made (62–94 % here).
+    const size_t past = all.collapses.size() - told.collapses.size();
+    EXPECT_GE(all.collapses.size() - r->collapses_made, past / 4)
+        << "the islands ran on past the cut: " << r->collapses_made << " of "
+        << all.collapses.size() << " made, " << told.collapses.size() << " told";
   }
 }
 

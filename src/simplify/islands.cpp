@@ -5,6 +5,9 @@
 #include <queue>
 #include <utility>
 
+#include "core/parallel.h"
+#include "simplifier.h"
+
 namespace dynpm::simplification {
 
 std::vector<uint16_t> form_islands(const CollapseRules& rules, const CollapseMesh& mesh,
@@ -22,6 +25,20 @@ std::vector<uint16_t> form_islands(const CollapseRules& rules, const CollapseMes
   for (uint32_t v = 0; v < mesh.vertex_count(); ++v)
     island_of[v] = island_of_component[rules.component_of(v)];
   return island_of;
+}
+
+uint32_t CutBound::first_reaching(const std::vector<const CutBound*>& islands, size_t collapses,
+                                  size_t faces) {
+  size_t logged = 0, removed = 0;
+  for (uint32_t b = 0; b < kBuckets; ++b) {
+    for (const CutBound* island : islands)
+      if (!island->counts_.empty()) {
+        logged += island->counts_[b].collapses;
+        removed += island->counts_[b].faces;
+      }
+    if (logged >= collapses || removed >= faces) return b;
+  }
+  return kBuckets;
 }
 
 void IslandLog::add(const CollapseRecord& record) {
@@ -66,6 +83,94 @@ void IslandLog::tell_in_key_order(std::vector<IslandLog*> logs, CollapseListener
     if (logs[i]->tell_next(listener, record, moved))
       heads.push({std::max(key, logs[i]->next_key()), i});
   }
+}
+
+// The simplifier's islands (simplifier.h): when, their rounds, and the cut.
+
+// Islands where no vertex moves (optimal placement) and no round spans the mesh, on a mesh large
+// enough for threads to pay.
+bool Simplifier::use_islands(size_t vertices) const {
+  return !optimal() && !rounds() && vertices >= options_.island_min_vertices &&
+         rules_.component_count() > 1;
+}
+
+// An island whose key has passed the bucket where the vertex or face target will cut makes no
+// collapse the cut keeps: it stops (without this, at 50 % every island ran twice as far as told).
+// The told collapses are the same, so is the result.
+void Simplifier::stop_islands_past_the_cut() {
+  const size_t referenced = initial_stats_.referenced_vertices;
+  const size_t collapses = options_.target_vertices || options_.target_ratio
+                               ? referenced - std::min<size_t>(target_vertices_, referenced)
+                               : SIZE_MAX;
+  const size_t faces = input_.faces.size();
+  const size_t removed =
+      options_.target_faces ? faces - std::min<size_t>(*options_.target_faces, faces) : SIZE_MAX;
+  std::vector<const CutBound*> bounds;
+  for (const Lane& lane : lanes_) bounds.push_back(&lane.cut_bound);
+  const uint32_t cut = CutBound::first_reaching(bounds, collapses, removed);
+  if (cut == CutBound::kBuckets) return;
+  for (Lane& lane : lanes_)
+    if (CutBound::bucket(static_cast<float>(lane.max_error_done)) > cut) lane.exhausted = true;
+}
+
+// Every island to its end (or to its first collapse over the maximum error, or past the cut of a
+// vertex or face target), in rounds: in each,
+// every island not yet done takes up to a 32nd of its live vertices in collapses (at least 16)
+// on whichever thread is free. Where a round ends changes nothing an island does; between rounds
+// the removed vertices' rows are dropped, progress is told and in test mode the mesh is checked.
+// Then the collapses are told in key order, up to a stop condition: the islands' mesh went past
+// it, so the result is then the input's faces with the told collapses replayed on them.
+Status Simplifier::run_islands(SimplifyResult& result) {
+  const unsigned threads = thread_count(options_.threads);
+  std::vector<Status> failed(lanes_.size());
+  bool all_done = false;
+  while (!all_done) {
+    // A round ends about when the rows are next dropped: their memory is the collapse's peak.
+    const double share = std::min(1.0 / 32, double(quadrics_.collapses_before_drop(mesh_) + 1) /
+                                                double(mesh_.live_vertices() + 1));
+    parallel_for(lanes_.size(), lanes_.size(), threads, [&](size_t begin, size_t end, size_t) {
+      for (size_t i = begin; i < end; ++i) {
+        Lane& lane = lanes_[i];
+        const size_t quota = std::max<size_t>(
+            16, static_cast<size_t>(std::ceil(share * mesh_.island_live_vertices(i))));
+        for (size_t done = 0; done < quota && !lane.exhausted; ++done) {
+          Next next = Next::kCollapsed;
+          failed[i] = advance(lane, next);
+          lane.exhausted = !failed[i].ok() || next != Next::kCollapsed;
+          lane.over_max_error = next == Next::kMaxError;
+        }
+      }
+    });
+    for (const Status& status : failed) DYNPM_RETURN_IF_ERROR(status);
+    if (has_count_target()) stop_islands_past_the_cut();
+    quadrics_.drop_removed(mesh_);
+    report("collapsing", std::min(collapses(), collapse_goal_), collapse_goal_);
+    if (options_.check_every_collapse) DYNPM_RETURN_IF_ERROR(check_mesh(collapses()));
+    all_done = std::all_of(lanes_.begin(), lanes_.end(), [](const Lane& l) { return l.exhausted; });
+  }
+  std::vector<IslandLog*> logs;
+  for (Lane& lane : lanes_) {
+    lane.queue = {};  // its blocks back before the log is told
+    logs.push_back(&lane.log);
+  }
+  if (!has_stop()) {  // the islands' mesh is the result
+    if (listener_) IslandLog::tell_in_key_order(logs, *listener_);
+    return {};
+  }
+  // A stop condition: the islands ran to their ends, the cut is made in key order.
+  CutReplay replay(input_, static_cast<uint32_t>(initial_stats_.referenced_vertices), listener_);
+  IslandLog::tell_in_key_order(logs, replay, [&] {
+    return stop_reached(replay.live_vertices, replay.live_faces, result.stop_reason);
+  });
+  if (result.stop_reason.empty() &&
+      std::any_of(lanes_.begin(), lanes_.end(), [](const Lane& l) { return l.over_max_error; }))
+    result.stop_reason = "the next collapse would exceed the maximum error";
+  result.topology = live_topology(input_, replay.faces, result.original_vertex);
+  result.collapses = replay.collapses;
+  result.max_error = replay.max_error;
+  if (!options_.check_every_collapse) return {};
+  return check_simplified(result.topology, initial_stats_, options_.keep_part_boundaries,
+                          "at the cut: ");
 }
 
 }  // namespace dynpm::simplification

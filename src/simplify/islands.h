@@ -5,6 +5,7 @@
 #pragma once
 
 #include <algorithm>
+#include <bit>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -85,6 +86,35 @@ class IslandLog {
   ChunkedArray<SplitWing> wings_;
   ChunkedArray<uint32_t> moved_faces_;
   size_t next_ = 0, next_wing_ = 0, next_moved_ = 0;  // the reading's
+};
+
+// Where a vertex or face target will cut the told order, bounded while the islands run: each
+// island counts its collapses, and the faces they remove, under its key's bucket (the key's float
+// bits with 4 of the mantissa: 16 buckets an octave). Summed over the islands, the first bucket by
+// which enough are logged bounds the cut, since collapses logged later can only come before it.
+// An island whose key has passed that bucket makes no collapse the cut keeps, and may stop.
+class CutBound {
+ public:
+  static constexpr uint32_t kBuckets = 1u << 12;  // keys are ≥ 0: the sign bit is 0
+  static uint32_t bucket(float key) {
+    return std::min(std::bit_cast<uint32_t>(key) >> 19, kBuckets - 1);
+  }
+  void add(float key, uint32_t faces_removed) {
+    if (counts_.empty()) counts_.resize(kBuckets);
+    Count& c = counts_[bucket(key)];
+    ++c.collapses;
+    c.faces += faces_removed;
+  }
+  // The first bucket by which the islands have logged `collapses` collapses, or collapses that
+  // remove `faces` faces; kBuckets when none has.
+  static uint32_t first_reaching(const std::vector<const CutBound*>& islands, size_t collapses,
+                                 size_t faces);
+
+ private:
+  struct Count {
+    uint32_t collapses = 0, faces = 0;
+  };
+  std::vector<Count> counts_;  // per bucket, made at the first collapse
 };
 
 // The islands ran to their ends; a stop condition cuts their collapses in key order. This

@@ -11,7 +11,7 @@
 // allows()), the mesh being changed (collapse_mesh.h), the queue (this file, monotone_queue.h),
 // and the listener (CollapseListener). The loop is written as pseudocode at the top of
 // include/dynpm/simplify.h; run() follows it line for line. Read top to bottom: key steps,
-// rating, one collapse, the loop, the public entry.
+// rating, one collapse, the loop, the public entry (the class is in simplifier.h).
 //
 // The queue is the lecture's lazy heap with temporal marks: every edge the vertex classes allow
 // to collapse in some direction is queued once, for its cheaper direction v0 → v1, with that
@@ -27,138 +27,18 @@
 // Islands (islands.h): a large mesh of several connected components is cut into islands of whole
 // components, and each runs this loop to its end with a queue, time and scratch of its own, in
 // rounds on whatever thread is free; the collapses are told afterwards in key order, up to the
-// stop condition.
+// stop condition (islands.cpp: Simplifier::run_islands()).
 #include <algorithm>
 #include <cmath>
 #include <numeric>
 #include <string>
 
-#include "collapse_mesh.h"
 #include "core/pages.h"
 #include "core/parallel.h"
-#include "dynpm/simplify.h"
-#include "islands.h"
-#include "legality.h"
-#include "monotone_queue.h"
-#include "quadrics.h"
+#include "simplifier.h"
 
 namespace dynpm {
 namespace simplification {
-namespace {
-
-// Scratch space for one island's loop.
-struct Scratch {
-  std::vector<uint32_t> neighbours;
-  std::vector<Vec3> placement;  // per key step, for the collapse under test
-  VertexMarks marks;
-  KeyStepQuadrics::MergeScratch merge;
-};
-
-class Simplifier {
- public:
-  Simplifier(const Topology& topology, const SimplifyOptions& options, CollapseListener* listener)
-      : input_(topology), options_(options), listener_(listener), mesh_(topology) {}
-
-  Status load_key_steps(const FrameSource& frames);
-  Result<SimplifyResult> run(Adjacency adjacency);
-
- private:
-  size_t key_count() const { return quadrics_.key_count(); }
-  bool optimal() const { return options_.placement == Placement::kOptimal; }
-  double cost(uint32_t v0, uint32_t v1, Scratch& s) const;
-
-  struct Entry;
-  struct Lane;
-  bool stale(const Entry& e) const;
-  void rate_edges_of(uint32_t v, Scratch& s, std::vector<Entry>& out, uint32_t time,
-                     bool larger_only = false) const;
-  void rate_all_edges();
-  void rate_island_again(Lane& lane);
-  void drop_stale_entries(Lane& lane);
-  enum class Next { kCollapsed, kMaxError, kExhausted };
-  Status advance(Lane& lane, Next& next);
-  Status collapse(Lane& lane, uint32_t v0, uint32_t v1, double error);
-  bool use_islands(size_t vertices) const;
-  bool has_stop() const {
-    return options_.target_vertices || options_.target_ratio || options_.target_faces ||
-           options_.max_error;
-  }
-  Status run_islands(SimplifyResult& result);
-  size_t collapses() const;
-  Status check_mesh(size_t collapse_index) const;
-  bool stop_reached(uint32_t live_vertices, size_t live_faces, std::string& reason) const;
-  void report(std::string_view phase, size_t done, size_t total) const {
-    if (options_.progress) options_.progress(phase, done, total);
-  }
-  // Progress is told every this many collapses: often enough for a live line, rare enough to
-  // cost nothing next to the collapses.
-  static constexpr size_t kCollapsesPerReport = 4096;
-
-  const Topology& input_;
-  const SimplifyOptions& options_;
-  CollapseListener* listener_;
-  CollapseMesh mesh_;
-
-  std::vector<size_t> key_steps_;
-  KeyStepQuadrics quadrics_;
-  CollapseRules rules_{input_, options_, mesh_, quadrics_};
-  TopologyStats initial_stats_;
-
-  // The queue (see the top of this file). A lane's time counts its collapses; changed_[v] is
-  // the time v's quadric last changed; an entry rated before that time is stale. One entry per
-  // edge, for its cheaper direction v0 → v1; when that is illegal, the other direction is queued
-  // at its own cost (one_way marks an entry whose other direction is not allowed or already
-  // queued).
-  struct Entry {
-    float error;
-    uint32_t v0, v1;
-    uint32_t time : 31;
-    uint32_t one_way : 1;
-    float key() const { return error; }
-  };
-  // One island's loop: the whole mesh's, or with islands each island's (mesh_.island_of()).
-  struct Lane {
-    MonotoneQueue<Entry> queue;
-    size_t queue_size_after_cleanup = 0;
-    std::vector<Entry> fresh;
-    std::vector<uint32_t> moved, ring;
-    Scratch scratch;
-    uint32_t time = 1;
-    bool rated_again = false;  // every edge was re-rated since the last collapse
-    bool exhausted = false;
-    bool over_max_error = false;  // its next collapse would exceed the maximum error
-    size_t collapses = 0;
-    double max_error_done = 0;
-    IslandLog log;  // with islands, until every island is done
-  };
-  std::vector<Lane> lanes_;
-  // Per vertex: the time it last changed (31 bits) and, in the top bit, whether an entry of it was
-  // dropped as illegal. In one word, because islands write their vertices' at once (a vector of
-  // bits would share words between them).
-  std::vector<uint32_t> changed_;
-  static constexpr uint32_t kRejected = 1u << 31;
-  uint32_t changed(uint32_t v) const { return changed_[v] & ~kRejected; }
-  void set_changed(uint32_t v, uint32_t time) { changed_[v] = (changed_[v] & kRejected) | time; }
-  bool rejected(uint32_t v) const { return (changed_[v] & kRejected) != 0; }
-  void set_rejected(uint32_t v, bool r) { changed_[v] = changed(v) | (r ? kRejected : 0); }
-
-  // Independent rounds (SimplifyOptions::independent_rounds): round_of_[v] is the round whose
-  // collapse last changed a face of v; an entry touching such a vertex waits in deferred_ for
-  // the next round.
-  bool rounds() const { return options_.independent_rounds > 0; }
-  bool locked(const Entry& e) const {
-    return round_of_[e.v0] == round_ || round_of_[e.v1] == round_;
-  }
-  void lock_around(uint32_t v1);
-  bool end_round();
-  std::vector<uint32_t> round_of_;
-  std::vector<Entry> deferred_;
-  uint32_t round_ = 1;
-  size_t round_quota_ = 0;
-
-  uint32_t target_vertices_ = 0;
-  size_t collapse_goal_ = 0;  // vertices to remove to reach the target (progress only)
-};
 
 // ---------------------------------------------------------------------------------------------
 // Key steps and rating
@@ -296,6 +176,11 @@ Status Simplifier::collapse(Lane& lane, uint32_t v0, uint32_t v1, double error) 
   lane.max_error_done = std::max(lane.max_error_done, error);
   if (lanes_.size() > 1) {  // islands: told in key order at the end, rows dropped between rounds
     if (listener_ || has_stop()) lane.log.add(record);
+    if (has_count_target()) {
+      uint32_t removed = 0;
+      for (uint8_t w = 0; w < record.wing_count; ++w) removed += record.wings[w].was_triangle();
+      lane.cut_bound.add(static_cast<float>(lane.max_error_done), removed);
+    }
   } else {
     if (lane.collapses % kCollapsesPerReport == 0)
       report("collapsing", lane.collapses, collapse_goal_);
@@ -481,6 +366,7 @@ Result<SimplifyResult> Simplifier::run(Adjacency adjacency) {
   result.key_steps = key_steps_;
   result.key_step_box = quadrics_.box();
   result.islands = lanes_.size();
+  result.collapses_made = collapses();
   if (optimal()) {
     for (size_t k = 0; k < key_count(); ++k)
       result.key_step_positions.push_back(quadrics_.positions_of(result.original_vertex, k));
@@ -494,72 +380,6 @@ size_t Simplifier::collapses() const {
   return total;
 }
 
-// Islands where no vertex moves (optimal placement) and no round spans the mesh, on a mesh large
-// enough for threads to pay.
-bool Simplifier::use_islands(size_t vertices) const {
-  return !optimal() && !rounds() && vertices >= options_.island_min_vertices &&
-         rules_.component_count() > 1;
-}
-
-// Every island to its end (or to its first collapse over the maximum error), in rounds: in each,
-// every island not yet done takes up to a 32nd of its live vertices in collapses (at least 16)
-// on whichever thread is free. Where a round ends changes nothing an island does; between rounds
-// the removed vertices' rows are dropped, progress is told and in test mode the mesh is checked.
-// Then the collapses are told in key order, up to a stop condition: the islands' mesh went past
-// it, so the result is then the input's faces with the told collapses replayed on them.
-Status Simplifier::run_islands(SimplifyResult& result) {
-  const unsigned threads = thread_count(options_.threads);
-  std::vector<Status> failed(lanes_.size());
-  bool all_done = false;
-  while (!all_done) {
-    // A round ends about when the rows are next dropped: their memory is the collapse's peak.
-    const double share = std::min(1.0 / 32, double(quadrics_.collapses_before_drop(mesh_) + 1) /
-                                                double(mesh_.live_vertices() + 1));
-    parallel_for(lanes_.size(), lanes_.size(), threads, [&](size_t begin, size_t end, size_t) {
-      for (size_t i = begin; i < end; ++i) {
-        Lane& lane = lanes_[i];
-        const size_t quota = std::max<size_t>(
-            16, static_cast<size_t>(std::ceil(share * mesh_.island_live_vertices(i))));
-        for (size_t done = 0; done < quota && !lane.exhausted; ++done) {
-          Next next = Next::kCollapsed;
-          failed[i] = advance(lane, next);
-          lane.exhausted = !failed[i].ok() || next != Next::kCollapsed;
-          lane.over_max_error = next == Next::kMaxError;
-        }
-      }
-    });
-    for (const Status& status : failed) DYNPM_RETURN_IF_ERROR(status);
-    quadrics_.drop_removed(mesh_);
-    report("collapsing", std::min(collapses(), collapse_goal_), collapse_goal_);
-    if (options_.check_every_collapse) DYNPM_RETURN_IF_ERROR(check_mesh(collapses()));
-    all_done = std::all_of(lanes_.begin(), lanes_.end(), [](const Lane& l) { return l.exhausted; });
-  }
-  std::vector<IslandLog*> logs;
-  for (Lane& lane : lanes_) {
-    lane.queue = {};  // its blocks back before the log is told
-    logs.push_back(&lane.log);
-  }
-  if (!has_stop()) {  // the islands' mesh is the result
-    if (listener_) IslandLog::tell_in_key_order(logs, *listener_);
-    return {};
-  }
-  // A stop condition: the islands ran to their ends, the cut is made in key order.
-  CutReplay replay(input_, static_cast<uint32_t>(initial_stats_.referenced_vertices), listener_);
-  IslandLog::tell_in_key_order(logs, replay, [&] {
-    return stop_reached(replay.live_vertices, replay.live_faces, result.stop_reason);
-  });
-  if (result.stop_reason.empty() &&
-      std::any_of(lanes_.begin(), lanes_.end(), [](const Lane& l) { return l.over_max_error; }))
-    result.stop_reason = "the next collapse would exceed the maximum error";
-  result.topology = live_topology(input_, replay.faces, result.original_vertex);
-  result.collapses = replay.collapses;
-  result.max_error = replay.max_error;
-  if (!options_.check_every_collapse) return {};
-  return check_simplified(result.topology, initial_stats_, options_.keep_part_boundaries,
-                          "at the cut: ");
-}
-
-}  // namespace
 }  // namespace simplification
 
 Result<SimplifyResult> simplify(const Topology& topology, const FrameSource& frames,
