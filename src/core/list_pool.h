@@ -6,7 +6,6 @@
 #pragma once
 
 #include <algorithm>
-#include <cassert>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -21,7 +20,6 @@ class ListPool {
     pool_.reserve(expected);
   }
 
-  uint32_t size(uint32_t k) const { return size_[k]; }
   bool empty(uint32_t k) const { return size_[k] == 0; }
   std::span<const uint32_t> of(uint32_t k) const { return {pool_.data() + start_[k], size_[k]}; }
   std::span<uint32_t> of(uint32_t k) { return {pool_.data() + start_[k], size_[k]}; }
@@ -35,11 +33,6 @@ class ListPool {
     if (values.size() > capacity_[k]) make_room(k, static_cast<uint32_t>(values.size()));
     std::copy(values.begin(), values.end(), pool_.begin() + start_[k]);
     size_[k] = static_cast<uint32_t>(values.size());
-  }
-  // Keeps the first `size` values (at most the list's size).
-  void shrink(uint32_t k, uint32_t size) {
-    assert(size <= size_[k]);
-    size_[k] = size;
   }
   // Removes the values pred() holds for, keeping the others' order.
   template <class Pred>

@@ -114,12 +114,12 @@ void Simplifier::stop_islands_past_the_cut() {
 }
 
 // Every island to its end (or to its first collapse over the maximum error, or past the cut of a
-// vertex or face target), in rounds: in each,
-// every island not yet done takes up to a 32nd of its live vertices in collapses (at least 16)
-// on whichever thread is free. Where a round ends changes nothing an island does; between rounds
-// the removed vertices' rows are dropped, progress is told and in test mode the mesh is checked.
-// Then the collapses are told in key order, up to a stop condition: the islands' mesh went past
-// it, so the result is then the input's faces with the told collapses replayed on them.
+// vertex or face target), in rounds: in each, every island not yet done takes up to a 32nd of its
+// live vertices in collapses (at least 16) on whichever thread is free. Where a round ends changes
+// nothing an island does; between rounds the removed vertices' rows are dropped, progress is told
+// and in test mode the mesh is checked. Then the collapses are told in key order, up to a stop
+// condition: the islands' mesh went past it, so the result is then the input's faces with the told
+// collapses replayed on them.
 Status Simplifier::run_islands(SimplifyResult& result) {
   const unsigned threads = thread_count(options_.threads);
   std::vector<Status> failed(lanes_.size());
@@ -157,7 +157,7 @@ Status Simplifier::run_islands(SimplifyResult& result) {
     if (listener_) IslandLog::tell_in_key_order(logs, *listener_);
     return {};
   }
-  // A stop condition: the islands ran to their ends, the cut is made in key order.
+  // A stop condition: the islands ran to their ends or past the cut, which is made in key order.
   CutReplay replay(input_, static_cast<uint32_t>(initial_stats_.referenced_vertices), listener_);
   IslandLog::tell_in_key_order(logs, replay, [&] {
     return stop_reached(replay.live_vertices, replay.live_faces, result.stop_reason);

@@ -91,7 +91,7 @@ class IslandLog {
 // Where a vertex or face target will cut the told order, bounded while the islands run: each
 // island counts its collapses, and the faces they remove, under its key's bucket (the key's float
 // bits with 4 of the mantissa: 16 buckets an octave). Summed over the islands, the first bucket by
-// which enough are logged bounds the cut, since collapses logged later can only come before it.
+// which enough are logged bounds the cut, since collapses logged later can only move it earlier.
 // An island whose key has passed that bucket makes no collapse the cut keeps, and may stop.
 class CutBound {
  public:
