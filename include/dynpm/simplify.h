@@ -175,10 +175,10 @@ struct SimplifyOptions {
   unsigned threads = 0;  // 0: one per hardware thread
   // Islands (docs/simplify.md "Islands"): without optimal placement or independent rounds, a
   // mesh of at least this many vertices in faces and of several connected components is cut
-  // into islands of whole components, each simplified to its end with a queue of its own on any
-  // free thread; the collapses are told in the order of their keys (island by island where keys
-  // tie) up to the stop condition. With a vertex or face target an island stops once its key is
-  // past a bound of the cut (islands.h CutBound). The result does not depend on the thread
+  // into islands of whole components, each simplified with a queue of its own on any free
+  // thread (to its end, or with a vertex or face target until its key is past a bound of the cut:
+  // islands.h CutBound); the collapses are told in the order of their keys (island by island
+  // where keys tie) up to the stop condition. The result does not depend on the thread
   // count. UINT32_MAX: never.
   uint32_t island_min_vertices = uint32_t{1} << 16;
   // Phases "checking the mesh" (faces; not with a proof in `checked`), "reading key steps" (steps),
@@ -217,9 +217,9 @@ struct SimplifyResult {
   BoundingBox key_step_box;  // of every key step's positions (the error's unit is its diagonal)
   size_t collapses = 0;
   size_t islands = 1;  // SimplifyOptions::island_min_vertices: 1 is the whole mesh
-  size_t collapses_made =
-      0;                 // ≥ collapses: with islands and a stop condition, those past the cut too
-  double max_error = 0;  // largest collapse error done, in diagonals
+  // ≥ collapses: with islands and a stop condition, those the islands made past the cut too.
+  size_t collapses_made = 0;
+  double max_error = 0;         // largest collapse error done, in diagonals
   bool target_reached = false;  // false: no legal collapse remained first
   std::string stop_reason;
 };

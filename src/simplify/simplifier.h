@@ -48,13 +48,10 @@ class Simplifier {
   Status advance(Lane& lane, Next& next);
   Status collapse(Lane& lane, uint32_t v0, uint32_t v1, double error);
   bool use_islands(size_t vertices) const;
-  bool has_stop() const {
-    return options_.target_vertices || options_.target_ratio || options_.target_faces ||
-           options_.max_error;
-  }
   bool has_count_target() const {
     return options_.target_vertices || options_.target_ratio || options_.target_faces;
   }
+  bool has_stop() const { return has_count_target() || options_.max_error; }
   void stop_islands_past_the_cut();
   Status run_islands(SimplifyResult& result);
   size_t collapses() const;
