@@ -259,6 +259,23 @@ TEST(BadInputs, ADecompressionBombIsRefusedBeforeItsMemory) {
   }
 }
 
+// claims-30m-vertices.dpm: 365 bytes whose HEAD claims 30 million vertices and faces. What the
+// reader keeps grows with the splits that arrive: it took 375 MB and 1 s (300 million: 3.6 GB
+// and 10 s; 4 billion: 12.5 GB and over a minute) before the file was refused where it ends.
+TEST(BadInputs, AHeaderThatClaimsMillionsCostsOnlyWhatArrives) {
+  test::TempDir out;
+  for (const std::vector<std::string>& args :
+       {std::vector<std::string>{"info", "claims-30m-vertices.dpm"},
+        std::vector<std::string>{"extract", "claims-30m-vertices.dpm", "--full", "--step", "0",
+                                 "-o", out.file("level.obj")}}) {
+    SCOPED_TRACE(args[0]);
+    const MeasuredRun run = run_measured(bad_dir(), args);
+    EXPECT_EQ(run.exit_code, 1) << run.output;
+    EXPECT_NE(run.output.find("END after 6 of 29999997 splits"), std::string::npos) << run.output;
+    EXPECT_LT(run.peak_mb, 200) << "peak resident memory in MB";
+  }
+}
+
 // Out of memory is a message and exit 1 that names the phase, not "terminate called after
 // throwing std::bad_alloc" (exit 134); nothing is left in the output folder.
 TEST(AtomicOutputs, OutOfMemoryIsAMessageAndLeavesNoOutput) {

@@ -6,10 +6,12 @@
 
 #include <cmath>
 #include <filesystem>
+#include <random>
 
 #include "dynpm/io.h"
 #include "dynpm/pipeline.h"
 #include "fixtures.h"
+#include "progressive/index_sets.h"
 #include "progressive/split_records_coding.h"
 #include "round_trip.h"
 #include "split_records_base.h"
@@ -145,6 +147,56 @@ TEST(SplitRecords, DamagedSectionsAreRefusedWithAMessage) {
   for (size_t k = 0; k < sections[0].records.size(); ++k, ++tried)
     refused += !verdict([k](auto& s) { s[0].records[k] ^= 0x5a; }).empty();
   EXPECT_GT(refused, tried * 9 / 10) << refused << " of " << tried;
+}
+
+// The free original indices against a plain list of flags: ranks both ways after every take, on
+// sizes that end inside a word, inside a block and on a block's edge, with takes spread and
+// clustered; and a set of 3 billion indices whose blocks with nothing taken cost no memory.
+TEST(SplitRecords, FreeIndicesAnswerAsAListOfFlags) {
+  std::mt19937 random(7);
+  for (uint32_t n : {1u, 63u, 64u, 65u, 65535u, 65536u, 65537u, 200000u}) {
+    SCOPED_TRACE(n);
+    progressive::FreeIndices set(n);
+    std::vector<uint8_t> free(n, 1);
+    const auto check = [&] {
+      uint32_t below = 0;
+      for (uint32_t v = 0; v <= n; ++v) {
+        if (v % 97 == 0 || v + 70 > n) {
+          ASSERT_EQ(set.below(v), below) << "below " << v;
+        }
+        if (v < n && free[v]) {
+          ASSERT_TRUE(set.is_free(v));
+          if (below % 13 == 0 || below + 5 > set.count()) {
+            ASSERT_EQ(set.nth(below), v);
+          }
+          ++below;
+        } else if (v < n) {
+          ASSERT_FALSE(set.is_free(v));
+        }
+      }
+      ASSERT_EQ(set.count(), below);
+      ASSERT_FALSE(set.is_free(n));
+    };
+    check();
+    const uint32_t takes = std::min(n, 3000u);
+    for (uint32_t k = 0; k < takes; ++k) {
+      // Half at random, half next to the last one taken.
+      uint32_t v = k % 2 ? random() % n : set.nth(std::min(k, set.count() - 1));
+      if (!free[v]) v = set.nth(random() % set.count());
+      set.take(v);
+      free[v] = 0;
+      if (k % 500 == 0) check();
+    }
+    check();
+  }
+  progressive::FreeIndices huge(3'000'000'000u);
+  huge.take(2'999'999'999u);
+  huge.take(5);
+  EXPECT_EQ(huge.count(), 2'999'999'998u);
+  EXPECT_EQ(huge.below(3'000'000'000u), 2'999'999'998u);
+  EXPECT_EQ(huge.nth(5), 6u);
+  EXPECT_EQ(huge.nth(2'999'999'997u), 2'999'999'998u);
+  EXPECT_FALSE(huge.is_free(2'999'999'999u));
 }
 
 }  // namespace

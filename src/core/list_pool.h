@@ -20,6 +20,8 @@ class ListPool {
     pool_.reserve(expected);
   }
 
+  uint32_t lists() const { return static_cast<uint32_t>(start_.size()); }
+
   bool empty(uint32_t k) const { return size_[k] == 0; }
   std::span<const uint32_t> of(uint32_t k) const { return {pool_.data() + start_[k], size_[k]}; }
   std::span<uint32_t> of(uint32_t k) { return {pool_.data() + start_[k], size_[k]}; }
@@ -28,7 +30,9 @@ class ListPool {
     if (size_[k] == capacity_[k]) make_room(k, size_[k] + 1);
     pool_[start_[k] + size_[k]++] = value;
   }
+  // List k's values; a list past the last is made, with any before it (a replay's new vertex).
   void assign(uint32_t k, std::span<const uint32_t> values) {
+    ensure_lists(k + 1);
     size_[k] = 0;
     if (values.size() > capacity_[k]) make_room(k, static_cast<uint32_t>(values.size()));
     std::copy(values.begin(), values.end(), pool_.begin() + start_[k]);
@@ -51,6 +55,14 @@ class ListPool {
   }
 
  private:
+  // At least `count` lists, the new ones empty (amortized: the arrays grow by doubling).
+  void ensure_lists(uint32_t count) {
+    if (count <= start_.size()) return;
+    for (auto* array : {&start_, &size_, &capacity_}) {
+      if (count > array->capacity()) array->reserve(std::max<size_t>(count, array->size() * 2));
+      array->resize(count, 0);
+    }
+  }
   // List k moves to the end with room for `needed` values and as many again (at least 4).
   void make_room(uint32_t k, uint32_t needed) {
     const uint32_t capacity = std::max<uint32_t>(needed * 2, 4);

@@ -14,7 +14,11 @@ namespace {
 class VertexFans {
  public:
   explicit VertexFans(const ProgressiveMesh& mesh)
-      : fans_(mesh.vertex_count(), size_t{mesh.full_face_count} * 6) {
+      // Room by the splits decoded (each creates at most 4 faces), not by HEAD's claim.
+      : fans_(mesh.vertex_count(),
+              std::min<size_t>(mesh.full_face_count,
+                               mesh.base_face_count + size_t{4} * mesh.split_count()) *
+                  6) {
     for (uint32_t f = 0; f < mesh.base_faces.size(); ++f)
       for (uint32_t c : mesh.base_faces[f].v)
         if (c != kNoVertex) fans_.push_back(c, f);

@@ -2,21 +2,30 @@
 // one cache miss on meshes of millions: the coding asks them for every split.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 namespace dynpm::progressive {
 
 // The original indices (of vertices, or of faces) not yet given, in [0, n), so that an index is
-// coded by its rank among the free ones (docs/FORMAT.md "Split attributes"). One bit per index,
-// and a Fenwick tree of the free counts of each 64-bit word: the tree is small enough to stay
-// in cache, the word holding an index is the only miss.
+// coded by its rank among the free ones (docs/FORMAT.md "Split attributes"). n comes from a
+// file's header, which is not trusted: memory follows the indices taken, not n. The indices are
+// blocks of 2^16; a block with nothing taken is only its free count, in a Fenwick tree over the
+// blocks (n / 2^16 entries: in cache). A block that has given an index holds one bit per index
+// and a Fenwick tree of its 1024 words' free counts (12 KB), so a question costs about one miss
+// more than the word holding the index.
 class FreeIndices {
  public:
   explicit FreeIndices(uint32_t n);
   uint32_t count() const { return count_; }
-  bool is_free(uint32_t v) const { return v < n_ && (words_[v >> 6] >> (v & 63) & 1); }
+  bool is_free(uint32_t v) const {
+    if (v >= n_) return false;
+    const Block* b = blocks_[v >> kBlockBits].get();
+    return !b || (b->words[(v & kBlockMask) >> 6] >> (v & 63) & 1);
+  }
   // Free indices below v (v ≤ n).
   uint32_t below(uint32_t v) const;
   // The free index with r free ones below it (r < count()).
@@ -24,10 +33,18 @@ class FreeIndices {
   void take(uint32_t v);  // v is free
 
  private:
+  static constexpr uint32_t kBlockBits = 16, kBlockMask = (1u << kBlockBits) - 1;
+  static constexpr uint32_t kWords = 1u << (kBlockBits - 6);
+  struct Block {
+    std::array<uint64_t, kWords> words;     // bit v % 64 of word v / 64: v is free
+    std::array<uint32_t, kWords + 1> tree;  // 1-based Fenwick sums of the words' free counts
+  };
+  Block& block_of(uint32_t v);  // made on first use
+
   uint32_t n_ = 0, count_ = 0;
-  std::vector<uint64_t> words_;  // bit v % 64 of word v / 64: v is free
-  std::vector<uint32_t> tree_;   // 1-based Fenwick sums of the words' free counts
-  uint32_t top_ = 0;             // the largest power of two ≤ the word count (0: none)
+  std::vector<std::unique_ptr<Block>> blocks_;  // null: nothing taken in that block
+  std::vector<uint32_t> tree_;                  // 1-based Fenwick sums of the blocks' free counts
+  uint32_t top_ = 0;                            // the largest power of two ≤ the block count
 };
 
 // A few vertices, asked about often: "is v a corner of a face this split moved?". A small

@@ -328,7 +328,7 @@ std::string code_record(Coder<kDecode>& c, RecordModels& st, uint32_t i, uint32_
 // The faces each vertex has, after split i was applied to st.faces_.
 void update_vertex_faces(RecordModels& st, const ProgressiveMesh& mesh, uint32_t i) {
   const uint32_t v0 = mesh.base_vertex_count + i, v1 = mesh.parent[i];
-  ListPool& fans = st.vertex_faces_;
+  ListPool& fans = st.vertex_faces_;  // v0's list is made by assign()
   const auto moved =
       std::span(mesh.moved_faces)
           .subspan(mesh.moved_start[i], mesh.moved_start[i + 1] - mesh.moved_start[i]);
@@ -471,7 +471,7 @@ RecordModels::RecordModels(const ProgressiveMesh& base, Room room)
     : faces_(base.base_faces),
       face_count_(base.base_face_count),
       // A face is on at most 4 lists; lists that grow move, which twice as much room covers.
-      vertex_faces_(base.full_vertex_count,
+      vertex_faces_(room == Room::kFull ? base.full_vertex_count : base.base_vertex_count,
                     size_t{room == Room::kFull ? base.full_face_count : base.base_face_count} * 8),
       free_vertices_(base.full_vertex_count),
       free_faces_(base.full_face_count),
@@ -485,7 +485,7 @@ RecordModels::RecordModels(const ProgressiveMesh& base, Room room)
       free_faces_.take(base.face_original_index[f]);
   for (uint32_t f = 0; f < face_count_; ++f)
     for (uint32_t v : faces_[f].v)
-      if (v != kNoVertex && v < base.full_vertex_count) vertex_faces_.push_back(v, f);
+      if (v != kNoVertex && v < vertex_faces_.lists()) vertex_faces_.push_back(v, f);
   if (room == Room::kFull) faces_.reserve(base.full_face_count);
 }
 

@@ -262,6 +262,16 @@ def main():
         payload[96:104] = struct.pack("<d", math.nan)
         write("base-error-nan.dpm", data[:head] + chunk(b"HEAD", 0, len(payload), bytes(payload))
               + data[base:])
+        # HEAD claims 30 million vertices and faces (the counts kept consistent, the checksum
+        # made again) for a file of a few hundred bytes: both readers must size what they keep by
+        # the splits that arrive, not by the claim (at 300 million it took 3.6 GB and 10 s in C++,
+        # 7.9 GB and 29 s in dpm.js), and refuse the file where it ends.
+        claim = bytearray(data[head + 24:base])
+        base_vertices = struct.unpack_from("<I", claim, 8)[0]
+        struct.pack_into("<II", claim, 0, 30_000_000, 30_000_000)
+        struct.pack_into("<I", claim, 16, 30_000_000 - base_vertices)
+        write("claims-30m-vertices.dpm",
+              data[:head] + chunk(b"HEAD", 0, len(claim), bytes(claim)) + data[base:])
 
     # d3plot-like garbage: named like an LS-DYNA result, 4 KB of noise.
     noise = bytearray()

@@ -80,6 +80,19 @@ export function zstdFrameProblem(bytes, raw) {
 
 // Feed it the file's bytes with push() as they arrive; it parses each chunk once complete and
 // calls the callbacks: onHead(mesh), onBase(mesh), onSplits(mesh, first, count), onEnd(mesh).
+
+// The mesh HEAD describes. Its arrays are made for HEAD's counts, untouched until splits arrive;
+// a browser that cannot reserve them says so as a file error, not as a crash.
+function meshFor(head) {
+  try {
+    return new ProgressiveMesh(head);
+  } catch (e) {
+    if (!(e instanceof RangeError)) throw e;
+    throw new DpmError(`HEAD: ${head.vertexCount} vertices, ${head.faceCount} faces, ` +
+      `${head.stepCount} steps: more than this browser can hold (${e.message})`);
+  }
+}
+
 export class DpmDecoder {
   constructor({ name = 'file', onHead, onBase, onSplits, onEnd } = {}) {
     this.name = name;
@@ -104,7 +117,9 @@ export class DpmDecoder {
   recordModels() {
     if (!this.records) {
       const mesh = this.mesh;
-      const replay = new Int32Array(4 * mesh.head.faceCount).fill(-1);
+      // Not filled with −1: a split writes all 4 slots of a face it creates, and no face is read
+      // before it exists, so the pages of faces HEAD claims but no split makes are never written.
+      const replay = new Int32Array(4 * mesh.head.faceCount);
       replay.set(mesh.baseCorners);
       this.records = new RecordModels(mesh, replay);
     }
@@ -268,7 +283,7 @@ export class DpmDecoder {
     const { mesh } = this;
     const withFields = mesh?.fields.length > 0;
     if (tag === 'HEAD') {
-      this.mesh = new ProgressiveMesh(parseHead(r));
+      this.mesh = meshFor(parseHead(r));
       this.state = 'FDEF';
       this.callbacks.onHead?.(this.mesh);
     } else if (tag === 'FDEF') {

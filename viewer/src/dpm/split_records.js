@@ -44,38 +44,44 @@ export function errorCodeAtLeast(e, reference) {
   return lo;
 }
 
-// The original indices (of vertices, or of faces) not yet given, in [0, n): a Fenwick tree of
-// one bit per index, so an index is coded by its rank among the free ones (C++ FreeIndices).
+// The original indices (of vertices, or of faces) not yet given, in [0, n), so that an index is
+// coded by its rank among the free ones (C++ FreeIndices). n comes from HEAD, which is not
+// trusted: a Fenwick tree of the indices *taken*, so that the arrays start as zeros and only
+// what the splits touch costs memory (a typed array's zeros are pages not yet written).
 export class FreeIndices {
   constructor(n) {
-    this.tree = new Int32Array(n + 1);
-    for (let k = 1; k <= n; k++) this.tree[k] = k & -k;  // every index free
-    this.free = new Uint8Array(n).fill(1);
+    this.n = n;
+    this.tree = new Int32Array(n + 1);  // node k: the indices taken among the k & −k before k
+    this.taken = new Uint8Array(n);
     this.count = n;
     this.top = n > 0 ? 2 ** Math.floor(Math.log2(n)) : 0;
     while (this.top * 2 <= n) this.top *= 2;  // the largest power of two ≤ n, exactly
     while (this.top > n) this.top /= 2;
   }
+  isFree(v) {
+    return v >= 0 && v < this.n && this.taken[v] === 0;
+  }
   // Free indices below v.
   below(v) {
-    let sum = 0;
-    for (let k = Math.min(v, this.free.length); k > 0; k &= k - 1) sum += this.tree[k];
-    return sum;
+    const end = Math.min(v, this.n);
+    let taken = 0;
+    for (let k = end; k > 0; k &= k - 1) taken += this.tree[k];
+    return end - taken;
   }
   // The free index with r free ones below it (r < count).
   nth(r) {
     let at = 0;
     for (let step = this.top; step > 0; step >>= 1)
-      if (at + step < this.tree.length && this.tree[at + step] <= r) {
+      if (at + step <= this.n && step - this.tree[at + step] <= r) {
         at += step;
-        r -= this.tree[at];
+        r -= step - this.tree[at];
       }
     return at;
   }
   take(v) {
-    this.free[v] = 0;
+    this.taken[v] = 1;
     this.count--;
-    for (let k = v + 1; k < this.tree.length; k += k & -k) this.tree[k]--;
+    for (let k = v + 1; k <= this.n; k += k & -k) this.tree[k]++;
   }
 }
 
@@ -105,7 +111,8 @@ export class RecordModels {
 
     this.corners = corners;
     this.faceCount = mesh.head.baseFaceCount;
-    this.vertexFaces = new Array(mesh.head.vertexCount);
+    // The base's now; a split appends its v0's (HEAD's vertex count is only a claim).
+    this.vertexFaces = new Array(mesh.head.baseVertexCount);
     for (let v = 0; v < mesh.head.baseVertexCount; v++) this.vertexFaces[v] = [];
     for (let f = 0; f < this.faceCount; f++)
       for (let k = 0; k < 4; k++) {
@@ -117,11 +124,11 @@ export class RecordModels {
     this.freeFaces = new FreeIndices(F);
     for (let v = 0; v < b; v++) {
       const o = mesh.vertexOriginal[v];
-      if (o >= 0 && o < V && this.freeVertices.free[o]) this.freeVertices.take(o);
+      if (this.freeVertices.isFree(o)) this.freeVertices.take(o);
     }
     for (let f = 0; f < this.faceCount; f++) {
       const o = mesh.faceOriginal[f];
-      if (o >= 0 && o < F && this.freeFaces.free[o]) this.freeFaces.take(o);
+      if (this.freeFaces.isFree(o)) this.freeFaces.take(o);
     }
     this.errorReference = errorReference(mesh.head.baseError);
     this.errorCode = errorCodeAtLeast(mesh.head.baseError, this.errorReference);
