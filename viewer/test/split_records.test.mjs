@@ -11,6 +11,7 @@ import {
   errorCodeAtLeast,
   errorOfCode,
   errorReference,
+  FreeIndices,
   RecordModels,
 } from '../src/dpm/split_records.js';
 
@@ -55,6 +56,35 @@ function decodeAll(d, chunks) {
 const sections = dump?.chunks.map((c) => ({
   first: c.first, count: c.count, records: bytesOf(c.records), attributes: bytesOf(c.attributes),
 }));
+
+// The free original indices against a list of flags (C++: SplitRecords.FreeIndices…): ranks both
+// ways after takes spread over the set, on sizes that end inside a word and on its edge.
+test('free indices answer as a list of flags', () => {
+  let seed = 7;
+  const random = (n) => (seed = (seed * 1103515245 + 12345) % 2147483648) % n;
+  for (const n of [1, 31, 32, 33, 64, 1000, 4097, 70001]) {
+    const set = new FreeIndices(n), free = new Uint8Array(n).fill(1);
+    const check = () => {
+      let below = 0;
+      for (let v = 0; v <= n; v++) {
+        assert.equal(set.below(v), below, `n ${n}: below(${v})`);
+        if (v === n) break;
+        assert.equal(set.isFree(v), free[v] === 1, `n ${n}: isFree(${v})`);
+        if (free[v]) assert.equal(set.nth(below++), v, `n ${n}: nth`);
+      }
+      assert.equal(set.count, below);
+      assert.equal(set.isFree(n), false);
+    };
+    check();
+    for (let k = 0; k < Math.min(n, 2000); k++) {
+      const v = set.nth(random(set.count));
+      set.take(v);
+      free[v] = 0;
+      if (k % 300 === 0) check();
+    }
+    check();
+  }
+});
 
 test('the error grid: powers of two and 16 steps per octave, exact', () => {
   assert.equal(errorReference(3), 4);

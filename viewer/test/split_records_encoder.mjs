@@ -32,7 +32,7 @@ function encodeRecord(e, st, mesh, i, split) {
     let beside = false;
     for (let k = 0; k < 4; k++) {
       const v = c[4 * f + k];
-      if (v >= 0 && v !== v1 && fanMoved.corners.has(v)) beside = true;
+      if (v >= 0 && v !== v1 && fanMoved.hasCorner(v)) beside = true;
     }
     const ctx = (c[4 * f + 3] < 0 ? 6 : 0) + (beside ? 3 : 0) + Math.min(moved.length, 2);
     const isMoved = split.moved.includes(f) ? 1 : 0;
@@ -63,7 +63,7 @@ function encodeRecord(e, st, mesh, i, split) {
       encodeUnsigned(e, st.quadFace, index);
       const a = slotOf(c, w.face, v1);
       const after = c[4 * w.face + ((a + 1) % 3)], before = c[4 * w.face + ((a + 2) % 3)];
-      const guessBefore = fanMoved.corners.has(before) && !fanMoved.corners.has(after) ? 1 : 0;
+      const guessBefore = fanMoved.hasCorner(before) && !fanMoved.hasCorner(after) ? 1 : 0;
       e.bit(st.quad, 0, (w.vertex === before ? 1 : 0) ^ guessBefore);
       const b = slotOf(c, w.face, w.vertex);
       if (Math.min(a, b) === 0 && Math.max(a, b) === 2) e.bit(st.quad, 1, slot === 3 ? 1 : 0);

@@ -45,44 +45,56 @@ export function errorCodeAtLeast(e, reference) {
 }
 
 // The original indices (of vertices, or of faces) not yet given, in [0, n), so that an index is
-// coded by its rank among the free ones (C++ FreeIndices). n comes from HEAD, which is not
-// trusted: a Fenwick tree of the indices *taken*, so that the arrays start as zeros and only
-// what the splits touch costs memory (a typed array's zeros are pages not yet written).
+// coded by its rank among the free ones (C++ FreeIndices). A bit per index, set when *taken*,
+// and a Fenwick tree of each 32-bit word's taken count: the tree is a 32nd of the indices (in
+// cache), and both start as zeros, so HEAD's n, which is not trusted, costs no memory written
+// (a typed array's zeros are pages not yet touched).
 export class FreeIndices {
   constructor(n) {
     this.n = n;
-    this.tree = new Int32Array(n + 1);  // node k: the indices taken among the k & −k before k
-    this.taken = new Uint8Array(n);
+    this.words = new Uint32Array(Math.ceil(n / 32));
+    this.tree = new Int32Array(this.words.length + 1);
     this.count = n;
-    this.top = n > 0 ? 2 ** Math.floor(Math.log2(n)) : 0;
-    while (this.top * 2 <= n) this.top *= 2;  // the largest power of two ≤ n, exactly
-    while (this.top > n) this.top /= 2;
+    const w = this.words.length;
+    this.top = w > 0 ? 2 ** Math.floor(Math.log2(w)) : 0;
+    while (this.top * 2 <= w) this.top *= 2;  // the largest power of two ≤ the word count
+    while (this.top > w) this.top /= 2;
   }
   isFree(v) {
-    return v >= 0 && v < this.n && this.taken[v] === 0;
+    return Number.isInteger(v) && v >= 0 && v < this.n && ((this.words[v >>> 5] >>> (v & 31)) & 1) === 0;
   }
   // Free indices below v.
   below(v) {
-    const end = Math.min(v, this.n);
+    const end = Math.min(v, this.n), w = end >>> 5, bits = end & 31;
     let taken = 0;
-    for (let k = end; k > 0; k &= k - 1) taken += this.tree[k];
+    for (let k = w; k > 0; k &= k - 1) taken += this.tree[k];
+    if (bits !== 0) taken += popcount(this.words[w] & ((1 << bits) - 1));
     return end - taken;
   }
-  // The free index with r free ones below it (r < count).
+  // The free index with r free ones below it (r < count). A node of the tree that holds the
+  // last word counts its indices past n as free; the descent never steps over it (r < count).
   nth(r) {
-    let at = 0;
-    for (let step = this.top; step > 0; step >>= 1)
-      if (at + step <= this.n && step - this.tree[at + step] <= r) {
-        at += step;
-        r -= step - this.tree[at];
-      }
-    return at;
+    let w = 0;
+    for (let step = this.top; step > 0; step >>= 1) {
+      if (w + step > this.words.length) continue;
+      const free = 32 * step - this.tree[w + step];
+      if (free <= r) w += step, r -= free;
+    }
+    let x = ~this.words[w];  // the free bits of word w: the r-th one
+    for (; r > 0; r--) x &= x - 1;
+    return 32 * w + 31 - Math.clz32(x & -x);
   }
   take(v) {
-    this.taken[v] = 1;
+    this.words[v >>> 5] |= 1 << (v & 31);
     this.count--;
-    for (let k = v + 1; k <= this.n; k += k & -k) this.tree[k]++;
+    for (let k = (v >>> 5) + 1; k <= this.words.length; k += k & -k) this.tree[k]++;
   }
+}
+
+function popcount(x) {
+  x -= (x >>> 1) & 0x55555555;
+  x = (x & 0x33333333) + ((x >>> 2) & 0x33333333);
+  return (((x + (x >>> 4)) & 0x0f0f0f0f) * 0x01010101) >>> 24;
 }
 
 // The models of both sections, continued from one SPLT to the next, and the mesh as the splits
@@ -133,6 +145,11 @@ export class RecordModels {
     this.errorReference = errorReference(mesh.head.baseError);
     this.errorCode = errorCodeAtLeast(mesh.head.baseError, this.errorReference);
     this.lastParent = -1;  // the last split's
+    // Lists a split's decoding fills, kept from split to split (a million splits would
+    // otherwise make and drop several each).
+    this.scratch = {
+      moved: [], movedSet: new SmallCounts(), fan: new MovedFan(), wingVertex: [], wingFace: [], wingFlags: [],
+    };
   }
 }
 
@@ -151,8 +168,11 @@ export function neighbours(st, v) {
     const n = degree(c, f), a = slotOf(c, f, v);
     out.push(c[4 * f + ((a + 1) % n)], c[4 * f + ((a + n - 1) % n)]);
   }
-  out.sort((x, y) => x - y);
-  return out.filter((x, k) => k === 0 || x !== out[k - 1]);
+  sortAscending(out);
+  let kept = 0;  // each once
+  for (let k = 0; k < out.length; k++) if (k === 0 || out[k] !== out[k - 1]) out[kept++] = out[k];
+  out.length = kept;
+  return out;
 }
 
 // 0: no face of v1 on the edge v1–w; 1: one runs v1 → w (v1 not after v0); 2: w → v1. A face
@@ -173,24 +193,65 @@ export function orientationGuess(st, v1, w, movedSet) {
   return guess;
 }
 
+// How often each value was added, for the few values of one split: a list searched end to end
+// (faster than hashing for a handful), a Map once it holds more than 32 (a hub's fan).
+export class SmallCounts {
+  constructor() {
+    this.keys = [];
+    this.counts = [];
+    this.map = null;
+  }
+  clear() {
+    this.keys.length = this.counts.length = 0;
+    this.map = null;
+  }
+  add(v) {
+    if (this.map) return void this.map.set(v, (this.map.get(v) ?? 0) + 1);
+    const at = this.keys.indexOf(v);
+    if (at >= 0) return void this.counts[at]++;
+    this.keys.push(v), this.counts.push(1);
+    if (this.keys.length > 32) this.map = new Map(this.keys.map((k, j) => [k, this.counts[j]]));
+  }
+  count(v) {
+    if (this.map) return this.map.get(v) ?? 0;
+    const at = this.keys.indexOf(v);
+    return at < 0 ? 0 : this.counts[at];
+  }
+  has(v) {
+    return this.count(v) > 0;
+  }
+}
+
 // What the moved faces of a split say about its wings (C++ code_record): the corners near v0,
 // and v1's edges in moved faces by their far end and how many moved faces hold them. A wing
 // vertex ends an edge only one moved face holds (the frontier between v0's and v1's faces)
 // and is not yet a wing vertex of this split.
 export class MovedFan {
   constructor() {
-    this.corners = new Set();
-    this.edgeUses = new Map();
+    this.corners = new SmallCounts();
+    this.edgeEnds = new SmallCounts();  // v1's edges in moved faces by their far end: how many
     this.used = [];
+  }
+  // Empty again, for the next split (the decoder keeps one).
+  clear() {
+    this.corners.clear();
+    this.edgeEnds.clear();
+    this.used.length = 0;
+  }
+  hasCorner(v) {
+    return this.corners.count(v) > 0;
   }
   add(c, f, v1) {
     const n = degree(c, f), a = slotOf(c, f, v1);
-    for (let k = 0; k < 4; k++) if (c[4 * f + k] >= 0 && c[4 * f + k] !== v1) this.corners.add(c[4 * f + k]);
-    for (const v of [c[4 * f + ((a + 1) % n)], c[4 * f + ((a + n - 1) % n)]])
-      this.edgeUses.set(v, (this.edgeUses.get(v) ?? 0) + 1);
+    for (let k = 0; k < 4; k++) {
+      const v = c[4 * f + k];
+      if (v >= 0 && v !== v1) this.corners.add(v);
+    }
+    this.edgeEnds.add(c[4 * f + ((a + 1) % n)]);
+    this.edgeEnds.add(c[4 * f + ((a + n - 1) % n)]);
   }
   frontier(v) {
-    return this.edgeUses.get(v) === 1 && !this.used.includes(v);
+    return this.edgeEnds.count(v) === 1 && !this.used.includes(v);
   }
   // A triangle of v1 whose edge from v1 ends on the frontier.
   frontierTriangle(c, f, v1) {
@@ -199,8 +260,13 @@ export class MovedFan {
   }
 }
 
+// The values `test` holds for first, then the others, each part in its order.
 function partition(list, test) {
-  return list.filter(test).concat(list.filter((x) => !test(x)));
+  const out = [];
+  for (const x of list) if (test(x)) out.push(x);
+  if (out.length === list.length) return out;
+  for (const x of list) if (!test(x)) out.push(x);
+  return out;
 }
 
 // A quad wing's candidates: v1's free triangles (not moved, not a wing yet) that hold a corner
@@ -214,7 +280,8 @@ export function quadWingCandidates(st, fan, v1, movedSet, moved, quads) {
   for (const f of fan) {
     if (c[4 * f + 3] >= 0 || movedSet.has(f) || quads.includes(f)) continue;
     triangles.push(f);
-    if ([0, 1, 2].some((j) => moved.corners.has(c[4 * f + j]))) beside.push(f);
+    if (moved.hasCorner(c[4 * f]) || moved.hasCorner(c[4 * f + 1]) || moved.hasCorner(c[4 * f + 2]))
+      beside.push(f);
     if (moved.frontierTriangle(c, f, v1)) onFrontier = true;
   }
   if (beside.length > 0) triangles = beside;
@@ -225,7 +292,7 @@ export function quadWingCandidates(st, fan, v1, movedSet, moved, quads) {
 // A triangle wing's candidates: v1's neighbours on the frontier, then the other ones near v0,
 // then the rest, each part ascending.
 export function triangleWingCandidates(st, v1, moved) {
-  const near = partition(neighbours(st, v1), (v) => moved.corners.has(v));
+  const near = partition(neighbours(st, v1), (v) => moved.hasCorner(v));
   return partition(near, (v) => moved.frontier(v));
 }
 
@@ -254,26 +321,29 @@ function decodeRecord(d, st, mesh, i) {
   // Moved faces first: a bit per face of v1 (ascending), by its kind, whether it shares a
   // corner with a face moved before it, and how many moved so far.
   mesh.movedStart[i] = mesh.movedFaces.length;
-  const movedList = [];
-  const moved = new MovedFan();
+  const movedList = st.scratch.moved, movedSet = st.scratch.movedSet, moved = st.scratch.fan;
+  movedList.length = 0;
+  movedSet.clear();
+  moved.clear();
   for (const f of fan) {
     let beside = false;
     for (let k = 0; k < 4; k++) {
       const v = c[4 * f + k];
-      if (v >= 0 && v !== v1 && moved.corners.has(v)) beside = true;
+      if (v >= 0 && v !== v1 && moved.hasCorner(v)) beside = true;
     }
     const ctx = (c[4 * f + 3] < 0 ? 6 : 0) + (beside ? 3 : 0) + Math.min(movedList.length, 2);
     if (!d.bit(st.moved, ctx)) continue;
     movedList.push(f);
+    movedSet.add(f);
     mesh.movedFaces.push(f);
     moved.add(c, f, v1);
   }
   mesh.movedStart[i + 1] = mesh.movedFaces.length;
-  const movedSet = new Set(movedList);
 
   const wings = st.wingCount.decode(d);
   if (wings > 4) return `split ${i}: more than 4 wings`;
-  const wingVertex = [], wingFace = [], wingFlags = [];
+  const { wingVertex, wingFace, wingFlags } = st.scratch;
+  wingVertex.length = wingFace.length = wingFlags.length = 0;
   let created = 0;
   for (let k = 0; k < wings; k++) {
     const { triangles, kind } = quadWingCandidates(st, fan, v1, movedSet, moved, wingFace);
@@ -283,7 +353,7 @@ function decodeRecord(d, st, mesh, i) {
       const f = triangles[index];
       const a = slotOf(c, f, v1);
       const after = c[4 * f + ((a + 1) % 3)], before = c[4 * f + ((a + 2) % 3)];
-      const guessBefore = moved.corners.has(before) && !moved.corners.has(after);
+      const guessBefore = moved.hasCorner(before) && !moved.hasCorner(after);
       const w = d.bit(st.quad, 0) !== (guessBefore ? 1 : 0) ? before : after;
       const b = slotOf(c, f, w);
       let slot = Math.max(a, b);
@@ -340,19 +410,45 @@ export function applyToModels(st, mesh, i) {
   if (problem) return problem;
   st.faceCount = mesh.faceCountAt[i + 1];
   const v0 = mesh.head.baseVertexCount + i, v1 = mesh.parent[i];
-  const moved = mesh.movedFaces.data.subarray(mesh.movedStart[i], mesh.movedStart[i + 1]);
-  const ofV0 = Array.from(moved);
-  const movedSet = new Set(ofV0);
-  st.vertexFaces[v1] = st.vertexFaces[v1].filter((f) => !movedSet.has(f));
+  // v1 keeps its faces that did not move; both lists ascend, so one pass removes them in place.
+  const movedFaces = mesh.movedFaces.data, movedEnd = mesh.movedStart[i + 1];
+  const fan = st.vertexFaces[v1];
+  const ofV0 = [];
+  let kept = 0;
+  for (let k = 0, j = mesh.movedStart[i]; k < fan.length; k++) {
+    const f = fan[k];
+    while (j < movedEnd && movedFaces[j] < f) j++;
+    if (j < movedEnd && movedFaces[j] === f) ofV0.push(f);
+    else fan[kept++] = f;
+  }
+  fan.length = kept;
   for (let k = mesh.wingStart[i]; k < mesh.wingStart[i + 1]; k++) {
     const f = mesh.wingFace.data[k];
-    ofV0.push(f);
+    insertAscending(ofV0, f);
     if (!(mesh.wingFlags.data[k] & WING_WAS_TRIANGLE)) continue;
-    st.vertexFaces[v1].push(f);
+    fan.push(f);  // the newest face: the list stays ascending
     st.vertexFaces[mesh.wingVertex.data[k]].push(f);
   }
-  st.vertexFaces[v0] = ofV0.sort((x, y) => x - y);
+  st.vertexFaces[v0] = ofV0;
   return null;
+}
+
+// Sorted in place: by insertion when short (a vertex's ring), else by sort() (a hub's).
+function sortAscending(list) {
+  if (list.length > 16) return void list.sort((x, y) => x - y);
+  for (let k = 1; k < list.length; k++) {
+    const x = list[k];
+    let j = k;
+    for (; j > 0 && list[j - 1] > x; j--) list[j] = list[j - 1];
+    list[j] = x;
+  }
+}
+
+function insertAscending(list, x) {
+  let k = list.length;
+  list.push(x);
+  for (; k > 0 && list[k - 1] > x; k--) list[k] = list[k - 1];
+  list[k] = x;
 }
 
 // The attributes of split i's vertex and created faces, against the mesh after it.
