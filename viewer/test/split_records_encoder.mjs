@@ -25,7 +25,7 @@ function encodeRecord(e, st, mesh, i, split) {
   else encodeUnsigned(e, st.parent, v0 - 1 - v1);
   st.lastParent = v1;
   mesh.parent[i] = v1;
-  const fan = st.vertexFaces[v1];
+  const fan = st.vertexFaces.of(v1);
   const moved = [];
   const fanMoved = new MovedFan();
   for (const f of fan) {
@@ -107,7 +107,7 @@ function encodeAttributes(e, st, mesh, i, split) {
     if (!(mesh.wingFlags.data[k] & WING_WAS_TRIANGLE)) like = mesh.wingFace.data[k];
   if (like < 0 && mesh.movedStart[i + 1] > mesh.movedStart[i])
     like = mesh.movedFaces.data[mesh.movedStart[i]];
-  const fan = st.vertexFaces[v1];
+  const fan = st.vertexFaces.of(v1);
   if (like < 0 && fan.length > 0 && fan[0] < firstCreated) like = fan[0];
   const partGuess = like < 0 ? 0 : mesh.partId[like];
   const faceGuess = like < 0 ? 0 : mesh.faceOriginal[like];

@@ -44,6 +44,63 @@ export function errorCodeAtLeast(e, reference) {
   return lo;
 }
 
+// A short list of faces per vertex, all in one Int32Array (C++ ListPool): a million JS arrays
+// cost a heap object each and kept the garbage collector busy. A list that outgrows its room
+// moves to the end with twice the room; lists are made as vertices arrive (HEAD's vertex count is
+// a claim).
+export class ListPool {
+  constructor(lists, expected) {
+    this.start = new Int32Array(Math.max(16, lists));
+    this.size = new Int32Array(this.start.length);
+    this.room = new Int32Array(this.start.length);
+    this.values = new Int32Array(Math.max(64, expected));
+    this.used = 0;
+    this.lists = lists;
+  }
+  // List k as a view (valid until the next change to any list).
+  of(k) {
+    return this.values.subarray(this.start[k], this.start[k] + this.size[k]);
+  }
+  push(k, value) {
+    if (this.size[k] === this.room[k]) this.moveList(k, this.size[k] + 1);
+    this.values[this.start[k] + this.size[k]++] = value;
+  }
+  // List k holds `list`'s values; a list past the last is made, with any before it.
+  assign(k, list) {
+    while (k >= this.lists) this.addList();
+    this.size[k] = 0;
+    if (list.length > this.room[k]) this.moveList(k, list.length);
+    this.values.set(list, this.start[k]);
+    this.size[k] = list.length;
+  }
+  // Keeps the first n values of list k.
+  truncate(k, n) {
+    this.size[k] = n;
+  }
+  addList() {  // internal: one more list
+    if (this.lists === this.start.length) {
+      for (const name of ['start', 'size', 'room']) {
+        const bigger = new Int32Array(2 * this.lists);
+        bigger.set(this[name]);
+        this[name] = bigger;
+      }
+    }
+    this.lists++;
+  }
+  moveList(k, needed) {  // internal: list k to the end with room for `needed` and as many again
+    const room = Math.max(4, 2 * needed);
+    if (this.used + room > this.values.length) {
+      const bigger = new Int32Array(Math.max(2 * this.values.length, this.used + room));
+      bigger.set(this.values.subarray(0, this.used));
+      this.values = bigger;
+    }
+    this.values.copyWithin(this.used, this.start[k], this.start[k] + this.size[k]);
+    this.start[k] = this.used;
+    this.room[k] = room;
+    this.used += room;
+  }
+}
+
 // The original indices (of vertices, or of faces) not yet given, in [0, n), so that an index is
 // coded by its rank among the free ones (C++ FreeIndices). A bit per index, set when *taken*,
 // and a Fenwick tree of each 32-bit word's taken count: the tree is a 32nd of the indices (in
@@ -124,12 +181,11 @@ export class RecordModels {
     this.corners = corners;
     this.faceCount = mesh.head.baseFaceCount;
     // The base's now; a split appends its v0's (HEAD's vertex count is only a claim).
-    this.vertexFaces = new Array(mesh.head.baseVertexCount);
-    for (let v = 0; v < mesh.head.baseVertexCount; v++) this.vertexFaces[v] = [];
+    this.vertexFaces = new ListPool(mesh.head.baseVertexCount, 8 * this.faceCount);
     for (let f = 0; f < this.faceCount; f++)
       for (let k = 0; k < 4; k++) {
         const v = corners[4 * f + k];
-        if (v >= 0 && v < this.vertexFaces.length) (this.vertexFaces[v] ??= []).push(f);
+        if (v >= 0 && v < this.vertexFaces.lists) this.vertexFaces.push(v, f);
       }
     const { vertexCount: V, faceCount: F, baseVertexCount: b } = mesh.head;
     this.freeVertices = new FreeIndices(V);
@@ -148,7 +204,7 @@ export class RecordModels {
     // Lists a split's decoding fills, kept from split to split (a million splits would
     // otherwise make and drop several each).
     this.scratch = {
-      moved: [], movedSet: new SmallCounts(), fan: new MovedFan(), wingVertex: [], wingFace: [], wingFlags: [],
+      moved: [], movedSet: new SmallCounts(), fan: new MovedFan(), ofV0: [], wingVertex: [], wingFace: [], wingFlags: [],
     };
   }
 }
@@ -164,7 +220,7 @@ export function slotOf(corners, f, v) {
 export function neighbours(st, v) {
   const out = [];
   const c = st.corners;
-  for (const f of st.vertexFaces[v]) {
+  for (const f of st.vertexFaces.of(v)) {
     const n = degree(c, f), a = slotOf(c, f, v);
     out.push(c[4 * f + ((a + 1) % n)], c[4 * f + ((a + n - 1) % n)]);
   }
@@ -181,7 +237,7 @@ export function neighbours(st, v) {
 export function orientationGuess(st, v1, w, movedSet) {
   const c = st.corners;
   let guess = 0;
-  for (const f of st.vertexFaces[v1]) {
+  for (const f of st.vertexFaces.of(v1)) {
     const n = degree(c, f), a = slotOf(c, f, v1);
     let g = 0;
     if (c[4 * f + ((a + 1) % n)] === w) g = 1;
@@ -316,7 +372,7 @@ function decodeRecord(d, st, mesh, i) {
   }
   st.lastParent = v1;
   mesh.parent[i] = v1;
-  const fan = st.vertexFaces[v1];
+  const fan = st.vertexFaces.of(v1);
   const c = st.corners;
   // Moved faces first: a bit per face of v1 (ascending), by its kind, whether it shares a
   // corner with a face moved before it, and how many moved so far.
@@ -327,7 +383,7 @@ function decodeRecord(d, st, mesh, i) {
   moved.clear();
   for (const f of fan) {
     let beside = false;
-    for (let k = 0; k < 4; k++) {
+    for (let k = 0; k < 4 && movedList.length > 0; k++) {  // none is beside before one moved
       const v = c[4 * f + k];
       if (v >= 0 && v !== v1 && moved.hasCorner(v)) beside = true;
     }
@@ -394,6 +450,8 @@ function decodeRecord(d, st, mesh, i) {
   return null;
 }
 
+const untouched = () => {};  // the replay does not ask which faces a split touched
+
 // Applies split i to st.corners with the file reader's checks, and updates each vertex's faces.
 export function applyToModels(st, mesh, i) {
   if (mesh.faceCountAt[i + 1] > mesh.head.faceCount)
@@ -401,7 +459,7 @@ export function applyToModels(st, mesh, i) {
   let problem = checkSplit(mesh, i, st.corners);
   if (problem) return problem;
   try {
-    applySplit(mesh, i, st.corners, () => {});
+    applySplit(mesh, i, st.corners, untouched);
   } catch (e) {
     if (!(e instanceof DpmError)) throw e;
     return e.message;
@@ -412,8 +470,9 @@ export function applyToModels(st, mesh, i) {
   const v0 = mesh.head.baseVertexCount + i, v1 = mesh.parent[i];
   // v1 keeps its faces that did not move; both lists ascend, so one pass removes them in place.
   const movedFaces = mesh.movedFaces.data, movedEnd = mesh.movedStart[i + 1];
-  const fan = st.vertexFaces[v1];
-  const ofV0 = [];
+  const fans = st.vertexFaces, fan = fans.of(v1);
+  const ofV0 = st.scratch.ofV0;
+  ofV0.length = 0;
   let kept = 0;
   for (let k = 0, j = mesh.movedStart[i]; k < fan.length; k++) {
     const f = fan[k];
@@ -421,15 +480,15 @@ export function applyToModels(st, mesh, i) {
     if (j < movedEnd && movedFaces[j] === f) ofV0.push(f);
     else fan[kept++] = f;
   }
-  fan.length = kept;
+  fans.truncate(v1, kept);
   for (let k = mesh.wingStart[i]; k < mesh.wingStart[i + 1]; k++) {
     const f = mesh.wingFace.data[k];
     insertAscending(ofV0, f);
     if (!(mesh.wingFlags.data[k] & WING_WAS_TRIANGLE)) continue;
-    fan.push(f);  // the newest face: the list stays ascending
-    st.vertexFaces[mesh.wingVertex.data[k]].push(f);
+    fans.push(v1, f);  // the newest face: the list stays ascending
+    fans.push(mesh.wingVertex.data[k], f);
   }
-  st.vertexFaces[v0] = ofV0;
+  fans.assign(v0, ofV0);
   return null;
 }
 
@@ -471,8 +530,9 @@ function decodeAttributes(d, st, mesh, i) {
     if (!(mesh.wingFlags.data[k] & WING_WAS_TRIANGLE)) like = mesh.wingFace.data[k];
   if (like < 0 && mesh.movedStart[i + 1] > mesh.movedStart[i])
     like = mesh.movedFaces.data[mesh.movedStart[i]];
-  const fan = st.vertexFaces[v1];
-  if (like < 0 && fan.length > 0 && fan[0] < firstCreated) like = fan[0];
+  const fans = st.vertexFaces;  // v1's first face, without a view of its list
+  const first = fans.size[v1] > 0 ? fans.values[fans.start[v1]] : -1;
+  if (like < 0 && first >= 0 && first < firstCreated) like = first;
   const partGuess = like < 0 ? 0 : mesh.partId[like];
   const faceGuess = like < 0 ? 0 : mesh.faceOriginal[like];
   const elementGuess = like < 0 ? 0 : mesh.elementId[like];
