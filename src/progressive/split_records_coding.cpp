@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "core/face_geometry.h"
+#include "core/prefetch.h"
 
 namespace dynpm::progressive {
 namespace {
@@ -188,7 +189,7 @@ std::string code_record(Coder<kDecode>& c, RecordModels& st, uint32_t i, uint32_
   st.last_parent_ = r.parent;
   const uint32_t v1 = r.parent;
   const std::span<const uint32_t> fan = std::as_const(st.vertex_faces_).of(v1);
-
+  for (uint32_t f : fan) prefetch(&st.faces_[f]);  // scattered: their misses overlap this way
   // Moved faces first: a bit per face of v1 (ascending), by its kind and how many moved so far.
   // v0's old faces then say where its wings are: each wing vertex is a corner of a moved face.
   c.part = kMoved;
@@ -200,7 +201,8 @@ std::string code_record(Coder<kDecode>& c, RecordModels& st, uint32_t i, uint32_
   size_t next = 0;  // encoder: r.moved is ascending
   for (uint32_t f : fan) {
     bool beside = false;  // shares a corner other than v1 with a face moved before it
-    for (uint32_t v : st.faces_[f].v) beside |= v != kNoVertex && v != v1 && near_v0(v);
+    if (!moved.empty())
+      for (uint32_t v : st.faces_[f].v) beside |= v != kNoVertex && v != v1 && near_v0(v);
     const size_t ctx =
         (st.faces_[f].is_triangle() ? 6 : 0) + (beside ? 3 : 0) + std::min<size_t>(moved.size(), 2);
     const bool is_moved = !kDecode && next < r.moved.size() && r.moved[next] == f;
@@ -226,10 +228,9 @@ std::string code_record(Coder<kDecode>& c, RecordModels& st, uint32_t i, uint32_
   quads.clear();
   for (uint32_t k = 0; k < r.wing_count; ++k) {
     SplitWing& w = r.wings[k];
-    // A quad wing's face: an index into v1's free triangles (not moved, not a wing yet) that
-    // hold a corner of a moved face, or into all of them when none does; those on the frontier
-    // first, each part ascending. Whether there are any, on the frontier or not, predicts the
-    // wing's kind.
+    // A quad wing's face: an index into v1's free triangles (not moved, not a wing yet) near v0
+    // (holding a moved face's corner), or into all when none is; those on the frontier first,
+    // each part ascending. Whether there are any, on the frontier or not, predicts its kind.
     std::vector<uint32_t>&triangles = st.scratch_.triangles, &beside = st.scratch_.beside;
     triangles.clear(), beside.clear();
     bool on_frontier = false;
@@ -321,7 +322,6 @@ std::string code_record(Coder<kDecode>& c, RecordModels& st, uint32_t i, uint32_
         static_cast<uint8_t>(SplitWing::kWasTriangle | (follows ? SplitWing::kV1FollowsV0 : 0) |
                              (slot << SplitWing::kSlotShift));
   }
-
   return {};
 }
 

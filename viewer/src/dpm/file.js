@@ -78,9 +78,6 @@ export function zstdFrameProblem(bytes, raw) {
   return null;
 }
 
-// Feed it the file's bytes with push() as they arrive; it parses each chunk once complete and
-// calls the callbacks: onHead(mesh), onBase(mesh), onSplits(mesh, first, count), onEnd(mesh).
-
 // The mesh HEAD describes. Its arrays are made for HEAD's counts, untouched until splits arrive;
 // a browser that cannot reserve them says so as a file error, not as a crash.
 function meshFor(head) {
@@ -93,6 +90,8 @@ function meshFor(head) {
   }
 }
 
+// Feed it the file's bytes with push() as they arrive; it parses each chunk once complete and
+// calls the callbacks: onHead(mesh), onBase(mesh), onSplits(mesh, first, count), onEnd(mesh).
 export class DpmDecoder {
   constructor({ name = 'file', onHead, onBase, onSplits, onEnd } = {}) {
     this.name = name;

@@ -204,7 +204,8 @@ export class RecordModels {
     // Lists a split's decoding fills, kept from split to split (a million splits would
     // otherwise make and drop several each).
     this.scratch = {
-      moved: [], movedSet: new SmallCounts(), fan: new MovedFan(), ofV0: [], wingVertex: [], wingFace: [], wingFlags: [],
+      moved: [], movedSet: new SmallCounts(), fan: new MovedFan(), ofV0: [],
+      wingVertex: [], wingFace: [], wingFlags: [],
     };
   }
 }
