@@ -69,10 +69,9 @@ FreeIndices::Block& FreeIndices::block_of(uint32_t v) {
   std::unique_ptr<Block>& block = blocks_[v >> kBlockBits];
   if (block) return *block;
   // Nothing taken yet: every index of the block below n is free.
-  block = std::make_unique<Block>();
+  block = std::make_unique<Block>();  // zeros: tree[0] stays 0
   const uint32_t first = v & ~kBlockMask;
   const uint32_t size = static_cast<uint32_t>(std::min<size_t>(size_t{n_} - first, kBlockMask + 1));
-  block->tree[0] = 0;
   for (uint32_t w = 0; w < kWords; ++w) {
     const uint32_t free = std::min(64u, size > w * 64 ? size - w * 64 : 0u);
     block->words[w] = free == 64 ? ~uint64_t{0} : (uint64_t{1} << free) - 1;

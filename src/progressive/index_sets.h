@@ -1,5 +1,5 @@
-// Sets of indices the split-record coding keeps (split_records_coding.h). Both answer in about
-// one cache miss on meshes of millions: the coding asks them for every split.
+// Sets of indices the split-record coding keeps (split_records_coding.h). Both answer in a cache
+// miss or two on meshes of millions: the coding asks them for every split.
 #pragma once
 
 #include <array>

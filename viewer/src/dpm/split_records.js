@@ -296,7 +296,7 @@ export class MovedFan {
     this.used.length = 0;
   }
   hasCorner(v) {
-    return this.corners.count(v) > 0;
+    return this.corners.has(v);
   }
   add(c, f, v1) {
     const n = degree(c, f), a = slotOf(c, f, v1);
