@@ -88,13 +88,16 @@ uint64_t key_step_count(const KeyStepRule& rule, uint64_t steps) {
 // memory the process can have (free memory, ulimit -v, the cgroup's limit) and the most key
 // steps that would fit. An error message, or "".
 std::string check_memory(const Topology& input, const FrameSource& frames, const KeyStepRule& rule,
-                         unsigned threads, bool refuse) {
+                         const SimplifyOptions& simplify, bool refuse) {
+  const unsigned threads = simplify.threads;
   const uint64_t vertices = input.vertex_count, steps = frames.step_count();
   uint64_t field_values = 0;  // per step, of every result field
   for (const FieldInfo& f : frames.fields())
     field_values += f.location == FieldLocation::kElement ? input.faces.size() : vertices;
+  const uint64_t quadric_vertices = quadric_vertices_held(input, simplify);
   const auto estimate = [&](uint64_t keys) {
-    return build_memory_estimate(vertices, input.faces.size(), steps, keys, threads, field_values);
+    return build_memory_estimate(vertices, input.faces.size(), steps, keys, threads, field_values,
+                                 quadric_vertices);
   };
   const uint64_t keys = key_step_count(rule, steps);
   const uint64_t need = estimate(keys);
@@ -159,8 +162,8 @@ int run_build(std::span<char* const> arguments) {
   const FrameSource& frames = family ? *family->steps : *stream->frames;
   if (Status s = check_cost_fields(options.simplify, frames); !s.ok())
     return fail(kSpec.name, kExitUsage, s.message());
-  if (std::string refused = check_memory(input, frames, key_rule, options.simplify.threads,
-                                         !args.has("--no-memory-check"));
+  if (std::string refused =
+          check_memory(input, frames, key_rule, options.simplify, !args.has("--no-memory-check"));
       !refused.empty())
     return fail(kSpec.name, kExitFailure, refused);
   const auto start = std::chrono::steady_clock::now();

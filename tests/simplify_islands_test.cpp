@@ -117,6 +117,34 @@ TEST(Islands, TheSameCollapsesAndMeshOnAnyThreadCount) {
   }
 }
 
+// Only the islands at work hold key-step quadrics (with every key step, most of the memory):
+// 2 × threads of them at once, each given back when it is done; the collapses are the same.
+TEST(Islands, OnlyTheIslandsAtWorkHoldQuadrics) {
+  const Animation* box = crashbox();
+  ASSERT_NE(box, nullptr);
+  const Animation a = tiled(*box, 6, false);
+  const uint32_t n = box->topology.vertex_count;
+  Told one_thread, many;
+  auto r = simplify(a.topology, a.frames, island_options(1), &one_thread);
+  ASSERT_TRUE(r.ok()) << r.message();
+  EXPECT_EQ(r->islands, 7u);  // six boxes and the quad
+  EXPECT_GE(r->quadric_vertices_held, n);
+  EXPECT_LE(r->quadric_vertices_held, 2 * n);  // two boxes, or a box and the quad
+  // What a memory estimate is told before the work: the two largest islands.
+  EXPECT_EQ(quadric_vertices_held(a.topology, island_options(1)), 2 * n);
+  EXPECT_EQ(quadric_vertices_held(a.topology, island_options(8)), a.topology.vertex_count);
+  auto all_open = simplify(a.topology, a.frames, island_options(8), &many);
+  ASSERT_TRUE(all_open.ok()) << all_open.message();
+  EXPECT_EQ(all_open->quadric_vertices_held, a.topology.vertex_count);  // 16 ≥ 7 islands
+  EXPECT_TRUE(many.collapses == one_thread.collapses);
+  SimplifyOptions whole = island_options(1);
+  whole.island_min_vertices = UINT32_MAX;
+  auto serial = simplify(a.topology, a.frames, whole);
+  ASSERT_TRUE(serial.ok()) << serial.message();
+  EXPECT_EQ(serial->quadric_vertices_held, a.topology.vertex_count);
+  EXPECT_EQ(quadric_vertices_held(a.topology, whole), a.topology.vertex_count);
+}
+
 TEST(Islands, EveryRoundLeavesAValidMeshAndKeysNeverFall) {
   const Animation* box = crashbox();
   ASSERT_NE(box, nullptr);

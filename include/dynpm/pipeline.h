@@ -57,11 +57,14 @@ struct BuildOptions {
 // About how many bytes build_dpm() takes at its peak, for `vertices` vertices, `faces` faces,
 // `steps` steps, `key_steps` key steps and `threads` (0: every core), with result fields holding
 // `field_values_per_step` values per step in all (a node field counts the vertices, an element
-// field the faces); a field in the cost adds the simplifier's own. Fitted to measured peaks
-// (src/pipeline/build_memory.cpp says which; docs/build.md).
+// field the faces), and key-step quadrics held for at most `quadric_vertices` vertices at once
+// (quadric_vertices_held(); more than `vertices`: every vertex); a field in the cost adds the
+// simplifier's own. Fitted to measured peaks (src/pipeline/build_memory.cpp says which;
+// docs/build.md).
 uint64_t build_memory_estimate(uint64_t vertices, uint64_t faces, uint64_t steps,
                                uint64_t key_steps, unsigned threads = 0,
-                               uint64_t field_values_per_step = 0);
+                               uint64_t field_values_per_step = 0,
+                               uint64_t quadric_vertices = UINT64_MAX);
 
 // Simplifies the animation to the end and records the progressive mesh, with every step's
 // positions (read once each, through the FrameSource) and the source's scalar fields.

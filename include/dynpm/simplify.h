@@ -28,6 +28,7 @@
 //   each island runs it with a queue of its own, and its collapses are told in key order at the
 //   end: SimplifyOptions::island_min_vertices, islands.h):
 //     rate_all_edges()                           every edge once, for its cheaper direction
+//                                                (an island: its own, when it opens)
 //     loop:
 //       if stop_reached(): done, target reached
 //       if queue empty:
@@ -217,6 +218,9 @@ struct SimplifyResult {
   BoundingBox key_step_box;  // of every key step's positions (the error's unit is its diagonal)
   size_t collapses = 0;
   size_t islands = 1;  // SimplifyOptions::island_min_vertices: 1 is the whole mesh
+  // The most vertices whose key-step quadrics were held at once: with islands, those of the
+  // islands at work (at most 2 × threads of them), else every vertex.
+  size_t quadric_vertices_held = 0;
   // ≥ collapses: with islands and a stop condition, those the islands made past the cut too.
   size_t collapses_made = 0;
   double max_error = 0;         // largest collapse error done, in diagonals
@@ -241,6 +245,11 @@ Result<std::vector<CostField>> cost_fields(const SimplifyOptions& options,
 Result<SimplifyResult> simplify(const Topology& topology, const FrameSource& frames,
                                 const SimplifyOptions& options,
                                 CollapseListener* listener = nullptr);
+
+// At most how many vertices' key-step quadrics simplify() will hold at once
+// (SimplifyResult::quadric_vertices_held): with islands, those of the 2 × threads largest
+// islands, else every vertex. For memory estimates before the work: one pass over the faces.
+size_t quadric_vertices_held(const Topology& topology, const SimplifyOptions& options);
 
 }  // namespace dynpm
 

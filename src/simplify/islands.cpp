@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <functional>
+#include <numeric>
 #include <queue>
 #include <utility>
 
@@ -10,17 +11,24 @@
 
 namespace dynpm::simplification {
 
-std::vector<uint16_t> form_islands(const CollapseRules& rules, const CollapseMesh& mesh,
-                                   uint32_t least, size_t& count) {
-  const size_t components = rules.component_count();
-  std::vector<uint16_t> island_of_component(components);
+std::vector<uint16_t> gather_islands(std::span<const uint32_t> live, uint32_t least,
+                                     size_t& count) {
+  std::vector<uint16_t> island_of_component(live.size());
   count = 0;
   uint32_t open = 0;  // live vertices of the last island so far
-  for (size_t c = 0; c < components; ++c) {
+  for (size_t c = 0; c < live.size(); ++c) {
     if (count == 0 || (open >= least && count < 65536)) ++count, open = 0;
     island_of_component[c] = static_cast<uint16_t>(count - 1);
-    open += rules.component_live(static_cast<uint32_t>(c));
+    open += live[c];
   }
+  return island_of_component;
+}
+
+std::vector<uint16_t> form_islands(const CollapseRules& rules, const CollapseMesh& mesh,
+                                   uint32_t least, size_t& count) {
+  std::vector<uint32_t> live(rules.component_count());
+  for (uint32_t c = 0; c < live.size(); ++c) live[c] = rules.component_live(c);
+  const std::vector<uint16_t> island_of_component = gather_islands(live, least, count);
   std::vector<uint16_t> island_of(mesh.vertex_count());
   for (uint32_t v = 0; v < mesh.vertex_count(); ++v)
     island_of[v] = island_of_component[rules.component_of(v)];
@@ -87,11 +95,14 @@ void IslandLog::tell_in_key_order(std::vector<IslandLog*> logs, CollapseListener
 
 // The simplifier's islands (simplifier.h): when, their rounds, and the cut.
 
-// Islands where no vertex moves (optimal placement) and no round spans the mesh, on a mesh large
-// enough for threads to pay.
+bool islands_allowed(const SimplifyOptions& options, size_t vertices) {
+  return options.placement != Placement::kOptimal && options.independent_rounds <= 0 &&
+         vertices >= options.island_min_vertices;
+}
+
+// Islands where the options allow them, on a mesh of several components.
 bool Simplifier::use_islands(size_t vertices) const {
-  return !optimal() && !rounds() && vertices >= options_.island_min_vertices &&
-         rules_.component_count() > 1;
+  return islands_allowed(options_, vertices) && rules_.component_count() > 1;
 }
 
 // An island whose key has passed the bucket where the vertex or face target will cut makes no
@@ -113,26 +124,47 @@ void Simplifier::stop_islands_past_the_cut() {
     if (CutBound::bucket(static_cast<float>(lane.max_error_done)) > cut) lane.exhausted = true;
 }
 
+// An island's quadrics are made, and its edges rated in vertex order, when it first takes part
+// in a round; both go when it is done. Each island thus does what it would with every island open.
+void Simplifier::open_island(Lane& lane) {
+  quadrics_.open_island(static_cast<size_t>(&lane - lanes_.data()), mesh_);
+  rate_island_again(lane);
+  ++lane.time;
+  lane.open = true;
+}
+
+void Simplifier::close_island(Lane& lane) {
+  quadrics_.close_island(static_cast<size_t>(&lane - lanes_.data()), mesh_);
+  lane.queue = {};
+  lane.fresh = std::vector<Simplifier::Entry>();  // not `= {}`: that keeps the memory
+  lane.scratch = Scratch();
+  lane.open = false;
+}
+
 // Every island to its end (or to its first collapse over the maximum error, or past the cut of a
-// vertex or face target), in rounds: in each, every island not yet done takes up to a 32nd of its
-// live vertices in collapses (at least 16) on whichever thread is free. Where a round ends changes
-// nothing an island does; between rounds the removed vertices' rows are dropped, progress is told
-// and in test mode the mesh is checked. Then the collapses are told in key order, up to a stop
-// condition: the islands' mesh went past it, so the result is then the input's faces with the told
-// collapses replayed on them.
+// vertex or face target), in rounds: in each, the first 2 × threads islands not yet done take up
+// to a 32nd of their live vertices in collapses (at least 16) on whichever thread is free. Only
+// those hold quadrics (with every key step most of the memory), and an island that is done gives
+// its back and its place to the next. Where a round ends changes nothing an island does; between
+// rounds progress is told and in test mode the mesh is checked. Then the collapses are told in key
+// order, up to a stop condition: the islands' mesh went past it, so the result is then the input's
+// faces with the told collapses replayed on them.
 Status Simplifier::run_islands(SimplifyResult& result) {
   const unsigned threads = thread_count(options_.threads);
+  const size_t window = 2 * size_t{threads};
   std::vector<Status> failed(lanes_.size());
+  std::vector<size_t> round;
   bool all_done = false;
   while (!all_done) {
-    // A round ends about when the rows are next dropped: their memory is the collapse's peak.
-    const double share = std::min(1.0 / 32, double(quadrics_.collapses_before_drop(mesh_) + 1) /
-                                                double(mesh_.live_vertices() + 1));
-    parallel_for(lanes_.size(), lanes_.size(), threads, [&](size_t begin, size_t end, size_t) {
-      for (size_t i = begin; i < end; ++i) {
+    round.clear();
+    for (size_t i = 0; i < lanes_.size() && round.size() < window; ++i)
+      if (!lanes_[i].exhausted) round.push_back(i);
+    parallel_for(round.size(), round.size(), threads, [&](size_t begin, size_t end, size_t) {
+      for (size_t r = begin; r < end; ++r) {
+        const size_t i = round[r];
         Lane& lane = lanes_[i];
-        const size_t quota = std::max<size_t>(
-            16, static_cast<size_t>(std::ceil(share * mesh_.island_live_vertices(i))));
+        if (!lane.open) open_island(lane);
+        const size_t quota = std::max<size_t>(16, (mesh_.island_live_vertices(i) + 31) / 32);
         for (size_t done = 0; done < quota && !lane.exhausted; ++done) {
           Next next = Next::kCollapsed;
           failed[i] = advance(lane, next);
@@ -143,7 +175,8 @@ Status Simplifier::run_islands(SimplifyResult& result) {
     });
     for (const Status& status : failed) DYNPM_RETURN_IF_ERROR(status);
     if (has_count_target()) stop_islands_past_the_cut();
-    quadrics_.drop_removed(mesh_);
+    for (Lane& lane : lanes_)
+      if (lane.open && lane.exhausted) close_island(lane);
     report("collapsing", std::min(collapses(), collapse_goal_), collapse_goal_);
     if (options_.check_every_collapse) DYNPM_RETURN_IF_ERROR(check_mesh(collapses()));
     all_done = std::all_of(lanes_.begin(), lanes_.end(), [](const Lane& l) { return l.exhausted; });
@@ -174,3 +207,43 @@ Status Simplifier::run_islands(SimplifyResult& result) {
 }
 
 }  // namespace dynpm::simplification
+
+namespace dynpm {
+
+// The components as CollapseRules finds them (vertices joined through faces, numbered in the
+// order of their first vertex, counting the vertices in faces), gathered as run() gathers them.
+size_t quadric_vertices_held(const Topology& topology, const SimplifyOptions& options) {
+  const uint32_t n = topology.vertex_count;
+  std::vector<uint32_t> root(n);
+  for (uint32_t v = 0; v < n; ++v) root[v] = v;
+  auto find = [&](uint32_t x) {
+    while (root[x] != x) x = root[x] = root[root[x]];
+    return x;
+  };
+  std::vector<uint8_t> in_face(n, 0);
+  for (const Face& f : topology.faces)
+    for (int c = 0; c < f.degree(); ++c) {
+      in_face[f.v[c]] = 1;
+      root[find(f.v[c])] = find(f.v[0]);
+    }
+  std::vector<uint32_t> component(n, kNoVertex), live;  // root → component, and its vertices
+  size_t referenced = 0;
+  for (uint32_t v = 0; v < n; ++v) {
+    uint32_t& c = component[find(v)];
+    if (c == kNoVertex) c = static_cast<uint32_t>(live.size()), live.push_back(0);
+    live[c] += in_face[v];
+    referenced += in_face[v];
+  }
+  if (!simplification::islands_allowed(options, referenced) || live.size() < 2) return n;
+  size_t count = 0;
+  const std::vector<uint16_t> island_of = simplification::gather_islands(
+      live, simplification::least_island_vertices(referenced), count);
+  if (count < 2) return n;
+  std::vector<size_t> size(count, 0);  // rows: every vertex of the island, as open_island() makes
+  for (uint32_t v = 0; v < n; ++v) ++size[island_of[component[find(v)]]];
+  const size_t window = std::min<size_t>(count, 2 * size_t{thread_count(options.threads)});
+  std::partial_sort(size.begin(), size.begin() + window, size.end(), std::greater<>());
+  return std::accumulate(size.begin(), size.begin() + window, size_t{0});
+}
+
+}  // namespace dynpm

@@ -10,6 +10,7 @@
 #include <functional>
 #include <memory>
 #include <new>
+#include <span>
 #include <type_traits>
 #include <vector>
 
@@ -19,11 +20,22 @@
 
 namespace dynpm::simplification {
 
-// Each vertex's island: the components in the order of their first vertex, gathered until an
-// island holds at least `least` live vertices (the last may hold fewer); `count` gets the number
-// of islands (at most 65,536).
+// Whether the options allow islands on a mesh of `vertices` vertices in faces (of several
+// components): not with optimal placement, where v1 moves, nor with independent rounds, which
+// span the mesh.
+bool islands_allowed(const SimplifyOptions& options, size_t vertices);
+// Each component's island: the components in order (`live` gives each one's live vertices),
+// gathered until an island holds at least `least` live vertices (the last may hold fewer);
+// `count` gets the number of islands (at most 65,536).
+std::vector<uint16_t> gather_islands(std::span<const uint32_t> live, uint32_t least, size_t& count);
+// Each vertex's island: gather_islands() over the components in the order of their first vertex.
 std::vector<uint16_t> form_islands(const CollapseRules& rules, const CollapseMesh& mesh,
                                    uint32_t least, size_t& count);
+// The least vertices an island gathers (the last may have fewer): about a 64th of the mesh, so
+// that there is work for many cores and each island's queue and rows stay in the caches.
+inline uint32_t least_island_vertices(size_t vertices) {
+  return std::max<uint32_t>(1, static_cast<uint32_t>(vertices / 64));
+}
 
 // An array that grows in chunks (no copy as it grows) and is read once from the front, giving
 // back each chunk as the reading passes it: while the collapses are told, the listener's own log

@@ -91,42 +91,72 @@ void add_regularizer(Quadric& q, double weight) { q.add_isotropic(weight); }
 
 // In coordinates around v; each face's plane is computed once per corner, which is cheaper
 // than storing a plane per face and step.
-Quadric KeyStepQuadrics::vertex_quadric(const Topology& input, const CollapseMesh& mesh, uint32_t v,
-                                        size_t k, std::span<const uint8_t> constrained,
-                                        double boundary_weight, double regularize) const {
+Quadric KeyStepQuadrics::vertex_quadric(const CollapseMesh& mesh, uint32_t v, size_t k) const {
   const Vec3 origin = position(v, k);
   Quadric q;
   double area = 0;
   for (uint32_t f : mesh.faces_of(v)) {
-    const Face& face = input.faces[f];
+    const Face& face = input_->faces[f];
     const int d = face.degree();
     Vec3 p[4];  // the face's corners around v
     for (int c = 0; c < d; ++c) p[c] = position(face.v[c], k) - origin;
     // Its plane (a skew quad's quad_plane()) by area, then its constraint planes at v.
     const std::optional<Plane> plane = add_face_plane(q, p, d);
     if (!plane) continue;
-    add_constraint_planes(q, p, d, corner_of(face, v), constrained[f], plane->normal,
-                          boundary_weight);
-    if (regularize > 0) area += 0.5 * length(doubled_vector_area(p, d));
+    add_constraint_planes(q, p, d, corner_of(face, v), constrained_[f], plane->normal,
+                          boundary_weight_);
+    if (regularize_ > 0) area += 0.5 * length(doubled_vector_area(p, d));
   }
-  if (regularize > 0) add_regularizer(q, regularize * area);
+  if (regularize_ > 0) add_regularizer(q, regularize_ * area);
   return q;
 }
 
 void KeyStepQuadrics::build(const Topology& input, const CollapseMesh& mesh,
-                            std::span<const uint8_t> constrained, double boundary_weight,
+                            std::vector<uint8_t> constrained, double boundary_weight,
                             double regularize, unsigned threads) {
+  input_ = &input;
+  constrained_ = std::move(constrained);
+  boundary_weight_ = boundary_weight;
+  regularize_ = regularize;
+  fields_.build(input, mesh, positions_, threads);
   const uint32_t n = input.vertex_count;
+  if (mesh.island_count() > 1) {  // made as the islands open
+    island_quadrics_.resize(mesh.island_count());
+    island_rows_.assign(n, nullptr);
+    return;
+  }
   quadrics_.assign(size_t{n} * key_count_, LocalQuadric{});
   parallel_for_chunks(size_t{n} * key_count_, threads, [&](size_t begin, size_t end, size_t) {
     for (size_t i = begin; i < end; ++i) {
       const uint32_t v = static_cast<uint32_t>(i / key_count_);
       const size_t k = i % key_count_;
-      quadric(v, k) = LocalQuadric::narrow(
-          vertex_quadric(input, mesh, v, k, constrained, boundary_weight, regularize));
+      quadric(v, k) = LocalQuadric::narrow(vertex_quadric(mesh, v, k));
     }
   });
-  fields_.build(input, mesh, positions_, threads);
+  constrained_ = std::vector<uint8_t>();
+}
+
+void KeyStepQuadrics::open_island(size_t i, const CollapseMesh& mesh) {
+  size_t count = 0;
+  mesh.for_each_island_vertex(i, [&](uint32_t) { ++count; });
+  std::vector<LocalQuadric>& block = island_quadrics_[i];
+  block.resize(count * key_count_);
+  LocalQuadric* row = block.data();
+  mesh.for_each_island_vertex(i, [&](uint32_t v) {
+    island_rows_[v] = row;
+    for (size_t k = 0; k < key_count_; ++k)
+      row[k] = LocalQuadric::narrow(vertex_quadric(mesh, v, k));
+    row += key_count_;
+  });
+  const size_t held = held_ += count;
+  for (size_t most = most_held_; most < held && !most_held_.compare_exchange_weak(most, held);) {
+  }
+}
+
+void KeyStepQuadrics::close_island(size_t i, const CollapseMesh& mesh) {
+  mesh.for_each_island_vertex(i, [&](uint32_t v) { island_rows_[v] = nullptr; });
+  held_ -= island_quadrics_[i].size() / key_count_;
+  island_quadrics_[i] = std::vector<LocalQuadric>();  // not `= {}`: that keeps the memory
 }
 
 Quadric KeyStepQuadrics::merged_quadric(uint32_t v0, uint32_t v1, size_t k) const {
@@ -224,7 +254,7 @@ size_t KeyStepQuadrics::collapses_before_drop(const CollapseMesh& mesh) const {
 
 void KeyStepQuadrics::drop_removed(const CollapseMesh& mesh) {
   const size_t rows = quadrics_.size() / std::max<size_t>(key_count_, 1);
-  if (collapses_before_drop(mesh) > 0 || rows < 64) return;
+  if (!island_rows_.empty() || collapses_before_drop(mesh) > 0 || rows < 64) return;
   const uint32_t n = mesh.vertex_count();
   // The first time, rows are still vertices: the table is made after the rows have moved and
   // their pages are released, so that its 4 B per vertex never add to the collapse's peak.

@@ -19,6 +19,7 @@
 #pragma once
 
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <span>
 #include <vector>
@@ -83,9 +84,20 @@ class KeyStepQuadrics {
                         std::span<const size_t> key_steps, std::span<const CostField> fields,
                         FieldForm form, FieldCombine combine, unsigned threads,
                         const ProgressCallback& progress);
-  // The quadrics of the input mesh (phases at the top of this file), and the field term's.
-  void build(const Topology& input, const CollapseMesh& mesh, std::span<const uint8_t> constrained,
+  // The quadrics of the input mesh (phases at the top of this file), and the field term's. With
+  // islands (mesh.island_count() > 1) the field term's alone: an island's quadrics are made when
+  // it opens and given back when it closes, so that only the islands at work hold theirs (with
+  // every key step they are most of the simplifier's memory; docs/simplify.md "Islands").
+  void build(const Topology& input, const CollapseMesh& mesh, std::vector<uint8_t> constrained,
              double boundary_weight, double regularize, unsigned threads);
+  // With islands: the quadrics of island i's vertices, made on the calling thread (islands open
+  // on several at once), and given back.
+  void open_island(size_t i, const CollapseMesh& mesh);
+  void close_island(size_t i, const CollapseMesh& mesh);
+  // The most vertices whose quadrics were held at once (SimplifyResult::quadric_vertices_held).
+  size_t most_held() const {
+    return island_rows_.empty() ? size_t{input_->vertex_count} : most_held_.load();
+  }
 
   size_t key_count() const { return key_count_; }
   double diagonal() const { return diagonal_; }
@@ -95,11 +107,19 @@ class KeyStepQuadrics {
     return &positions_[(row(v) * key_count_ + k) * 3];
   }
   const LocalQuadric& quadric(uint32_t v, size_t k) const {
-    return quadrics_[row(v) * key_count_ + k];
+    return island_rows_.empty() ? quadrics_[row(v) * key_count_ + k] : island_rows_[v][k];
   }
   // Asks for the quadrics and positions of `vertices` ahead of use (they are scattered across
-  // neighbours): their rows first, once rows have moved.
+  // neighbours): where their rows are first, once rows have moved or with islands.
   void prefetch(std::span<const uint32_t> vertices) const {
+    if (!island_rows_.empty()) {
+      for (uint32_t v : vertices) dynpm::prefetch(&island_rows_[v]);
+      for (uint32_t v : vertices) {
+        dynpm::prefetch(island_rows_[v]);
+        dynpm::prefetch(&positions_[v * key_count_ * 3]);
+      }
+      return;
+    }
     if (!row_.empty())
       for (uint32_t v : vertices) dynpm::prefetch(&row_[v]);
     for (uint32_t v : vertices) {
@@ -107,11 +127,9 @@ class KeyStepQuadrics {
       dynpm::prefetch(&positions_[row(v) * key_count_ * 3]);
     }
   }
-  // After a collapse: when a sixteenth of the rows belong to vertices `mesh` has removed, the
-  // live rows move to the front and the memory of the others is released.
+  // After a collapse, without islands: when a sixteenth of the rows belong to vertices `mesh` has
+  // removed, the live rows move to the front and the memory of the others is released.
   void drop_removed(const CollapseMesh& mesh);
-  // How many more collapses the next drop_removed() waits for.
-  size_t collapses_before_drop(const CollapseMesh& mesh) const;
 
   // Q_t,v0 + Q_t,v1 with its origin at v1's position in key step k.
   Quadric merged_quadric(uint32_t v0, uint32_t v1, size_t k) const;
@@ -144,15 +162,25 @@ class KeyStepQuadrics {
  private:
   size_t row(uint32_t v) const { return row_.empty() ? v : row_[v]; }
   float* position_data(uint32_t v, size_t k) { return &positions_[(row(v) * key_count_ + k) * 3]; }
-  LocalQuadric& quadric(uint32_t v, size_t k) { return quadrics_[row(v) * key_count_ + k]; }
-  Quadric vertex_quadric(const Topology& input, const CollapseMesh& mesh, uint32_t v, size_t k,
-                         std::span<const uint8_t> constrained, double boundary_weight,
-                         double regularize) const;
+  LocalQuadric& quadric(uint32_t v, size_t k) {
+    return island_rows_.empty() ? quadrics_[row(v) * key_count_ + k] : island_rows_[v][k];
+  }
+  size_t collapses_before_drop(const CollapseMesh& mesh) const;
+  Quadric vertex_quadric(const CollapseMesh& mesh, uint32_t v, size_t k) const;
 
   size_t key_count_ = 0;
   std::vector<float> positions_;        // #V × #key steps × xyz
   std::vector<LocalQuadric> quadrics_;  // #V × #key steps, each around its own vertex
   std::vector<uint32_t> row_;           // vertex → row, once rows have moved (else row v)
+  // With islands: each open island's quadrics (#its vertices × #key steps), and each vertex's
+  // first one while its island is open. Rows never move then: positions stay in row v.
+  std::vector<std::vector<LocalQuadric>> island_quadrics_;
+  std::vector<LocalQuadric*> island_rows_;
+  std::atomic<size_t> held_{0}, most_held_{0};  // vertices of the open islands
+  // What an island's quadrics are made of (build()'s arguments).
+  const Topology* input_ = nullptr;
+  std::vector<uint8_t> constrained_;
+  double boundary_weight_ = 0, regularize_ = 0;
   double diagonal_ = 1;
   BoundingBox box_;
   FieldTerm fields_;

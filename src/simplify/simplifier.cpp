@@ -25,9 +25,9 @@
 // (monotone_queue.h); quadrics are kept in floats around their own vertex (quadrics.h).
 //
 // Islands (islands.h): a large mesh of several connected components is cut into islands of whole
-// components, and each runs this loop to its end with a queue, time and scratch of its own, in
-// rounds on whatever thread is free; the collapses are told afterwards in key order, up to the
-// stop condition (islands.cpp: Simplifier::run_islands()).
+// components, and each runs this loop to its end with a queue, time, scratch and quadrics of its
+// own, in rounds on whatever thread is free, a few islands at a time; the collapses are told
+// afterwards in key order, up to the stop condition (islands.cpp: Simplifier::run_islands()).
 #include <algorithm>
 #include <cmath>
 #include <numeric>
@@ -311,15 +311,13 @@ Result<SimplifyResult> Simplifier::run(Adjacency adjacency) {
   constrained = constrained_edges(input_, adjacency, rules_.features());
   adjacency = {};
   if (use_islands(vertices)) {
-    size_t count = 0;  // islands of about a 64th of the mesh: work for many cores, fresh caches
-    auto island_of =
-        form_islands(rules_, mesh_, std::max<uint32_t>(1, uint32_t(vertices / 64)), count);
+    size_t count = 0;
+    auto island_of = form_islands(rules_, mesh_, least_island_vertices(vertices), count);
     if (count > 1) mesh_.split_into_islands(std::move(island_of), count);
   }
   lanes_ = std::vector<Lane>(mesh_.island_count());
-  quadrics_.build(input_, mesh_, constrained, options_.boundary_weight, options_.regularize,
-                  thread_count(options_.threads));
-  constrained = {};
+  quadrics_.build(input_, mesh_, std::move(constrained), options_.boundary_weight,
+                  options_.regularize, thread_count(options_.threads));
   release_free_heap();  // the adjacency's small arrays, before the queue
 
   target_vertices_ = options_.target_vertices.value_or(0);
@@ -331,8 +329,10 @@ Result<SimplifyResult> Simplifier::run(Adjacency adjacency) {
 
   changed_.assign(input_.vertex_count, 0);
   if (rounds()) round_of_.assign(input_.vertex_count, 0), end_round();
-  rate_all_edges();
-  for (Lane& lane : lanes_) ++lane.time;
+  if (lanes_.size() == 1) {  // islands rate theirs as they open (run_islands())
+    rate_all_edges();
+    ++lanes_[0].time;
+  }
   report("quadrics", vertices, vertices);
 
   SimplifyResult result;
@@ -366,6 +366,7 @@ Result<SimplifyResult> Simplifier::run(Adjacency adjacency) {
   result.key_steps = key_steps_;
   result.key_step_box = quadrics_.box();
   result.islands = lanes_.size();
+  result.quadric_vertices_held = quadrics_.most_held();
   result.collapses_made = collapses();
   if (optimal()) {
     for (size_t k = 0; k < key_count(); ++k)

@@ -54,6 +54,8 @@ class Simplifier {
   bool has_stop() const { return has_count_target() || options_.max_error; }
   void stop_islands_past_the_cut();
   Status run_islands(SimplifyResult& result);
+  void open_island(Lane& lane);
+  void close_island(Lane& lane);
   size_t collapses() const;
   Status check_mesh(size_t collapse_index) const;
   bool stop_reached(uint32_t live_vertices, size_t live_faces, std::string& reason) const;
@@ -95,6 +97,7 @@ class Simplifier {
     Scratch scratch;
     uint32_t time = 1;
     bool rated_again = false;  // every edge was re-rated since the last collapse
+    bool open = false;         // with islands: its quadrics made, its edges rated
     bool exhausted = false;
     bool over_max_error = false;  // its next collapse would exceed the maximum error
     size_t collapses = 0;
