@@ -704,7 +704,7 @@ Result<AnimationStream> read_exodus(const std::string& path, uint64_t file_size,
   if (!nodal) return nodal.status();
   DYNPM_RETURN_IF_ERROR(read_element_variables(nc, path, times->size(), options, elements));
   // The faces' elements serve only to read element variables: without any, 8 B per face freed.
-  if (elements.variables.empty()) elements.origins = {};
+  if (elements.variables.empty()) std::vector<FaceOrigin>().swap(elements.origins);
   // 5. The steps stay in the file, read one by one.
   AnimationStream stream;
   stream.topology = std::move(topology);

@@ -94,7 +94,7 @@ void order_splits_by_parent(ProgressiveMesh& pm, std::vector<uint32_t>& new_vert
       if (pm.wings[k].was_triangle()) created_face[old_first + made++] = next_face++;
   }
 
-  faces_after = {};
+  std::vector<uint32_t>().swap(faces_after);  // freed: `= {}` keeps the capacity
   // The reordered records beside the old ones, each reserved to its size (grown, the copies of
   // the wings alone were 24 B per split more at the build's peak).
   ProgressiveMesh out;

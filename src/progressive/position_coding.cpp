@@ -160,7 +160,9 @@ void StepPositionEncoder::add_step(std::vector<uint32_t> q) {
 std::vector<std::vector<std::string>> StepPositionEncoder::finish() {
   if (!batch_.empty()) code_batch();
   // Their memory back for the rest of the file's writing and the thumbnail.
-  spare_q_ = {}, residuals_ = {}, last_q_ = {}, last_r_ = {};
+  spare_q_ = {}, residuals_ = {};         // their vectors freed with them
+  std::vector<uint32_t>().swap(last_q_);  // freed: `= {}` keeps the capacity
+  std::vector<int32_t>().swap(last_r_);
   return std::move(sections_);
 }
 

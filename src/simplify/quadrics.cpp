@@ -133,7 +133,7 @@ void KeyStepQuadrics::build(const Topology& input, const CollapseMesh& mesh,
       quadric(v, k) = LocalQuadric::narrow(vertex_quadric(mesh, v, k));
     }
   });
-  constrained_ = std::vector<uint8_t>();
+  std::vector<uint8_t>().swap(constrained_);
 }
 
 void KeyStepQuadrics::open_island(size_t i, const CollapseMesh& mesh) {
@@ -156,7 +156,7 @@ void KeyStepQuadrics::open_island(size_t i, const CollapseMesh& mesh) {
 void KeyStepQuadrics::close_island(size_t i, const CollapseMesh& mesh) {
   mesh.for_each_island_vertex(i, [&](uint32_t v) { island_rows_[v] = nullptr; });
   held_ -= island_quadrics_[i].size() / key_count_;
-  island_quadrics_[i] = std::vector<LocalQuadric>();  // not `= {}`: that keeps the memory
+  std::vector<LocalQuadric>().swap(island_quadrics_[i]);  // freed: `= {}` keeps the capacity
 }
 
 Quadric KeyStepQuadrics::merged_quadric(uint32_t v0, uint32_t v1, size_t k) const {
