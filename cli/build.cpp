@@ -86,23 +86,36 @@ uint64_t key_step_count(const KeyStepRule& rule, uint64_t steps) {
 
 // The estimate before the work, and the refusal when it cannot fit: the message names the
 // memory the process can have (free memory, ulimit -v, the cgroup's limit) and the most key
-// steps that would fit. An error message, or "".
+// steps that would fit. On a mesh of islands fewer of them at once are tried first (the same
+// file, in less memory and time on fewer cores): `simplify` gets the number that fits. An error
+// message, or "".
 std::string check_memory(const Topology& input, const FrameSource& frames, const KeyStepRule& rule,
-                         const SimplifyOptions& simplify, bool refuse) {
-  const unsigned threads = simplify.threads;
+                         SimplifyOptions& simplify, bool refuse) {
   const uint64_t vertices = input.vertex_count, steps = frames.step_count();
   uint64_t field_values = 0;  // per step, of every result field
   for (const FieldInfo& f : frames.fields())
     field_values += f.location == FieldLocation::kElement ? input.faces.size() : vertices;
-  const uint64_t quadric_vertices = quadric_vertices_held(input, simplify);
+  const std::vector<size_t> islands = island_vertex_counts(input, simplify);
   const auto estimate = [&](uint64_t keys) {
-    return build_memory_estimate(vertices, input.faces.size(), steps, keys, threads, field_values,
-                                 quadric_vertices);
+    return build_memory_estimate(vertices, input.faces.size(), steps, keys, simplify.threads,
+                                 field_values,
+                                 quadric_vertices_held(islands, simplify, input.vertex_count));
   };
   const uint64_t keys = key_step_count(rule, steps);
-  const uint64_t need = estimate(keys);
   const uint64_t have = available_memory_bytes();
-  progress_remark("needs about " + memory_text(need) + " (have " +
+  uint64_t need = estimate(keys);
+  std::string at_once;  // ", with N islands at once" once fewer are chosen
+  if (refuse && have > 0 && need > have && islands.size() > 1) {
+    // Each island fewer holds its quadrics no more (the first that fits is below the default);
+    // if even one at a time is too many, the key steps are suggested for one at a time.
+    simplify.islands_at_once = static_cast<unsigned>(islands.size());
+    while (simplify.islands_at_once > 1 && estimate(keys) > have) --simplify.islands_at_once;
+    need = estimate(keys);
+    if (need <= have)
+      at_once = " with " + std::to_string(simplify.islands_at_once) + " of " +
+                std::to_string(islands.size()) + " islands at once";
+  }
+  progress_remark("needs about " + memory_text(need) + at_once + " (have " +
                       (have ? memory_text(have) : std::string("unknown")) + ")",
                   "{\"memory_estimate_bytes\":" + std::to_string(need) +
                       ",\"memory_available_bytes\":" + (have ? std::to_string(have) : "null") +

@@ -15,6 +15,7 @@
 #include "dynpm/simplify.h"
 #include "fixtures.h"
 #include "round_trip.h"
+#include "simplify/islands.h"
 
 namespace dynpm {
 namespace {
@@ -117,6 +118,20 @@ TEST(Islands, TheSameCollapsesAndMeshOnAnyThreadCount) {
   }
 }
 
+// An island's log grows in chunks of 64 KB, 128 KB, … 2 MB and is read once from the front,
+// each chunk given back as the reading passes it: every item reads back as written, across the
+// growing chunks and the 2 MB ones after them, with the chunks behind the reading released.
+TEST(Islands, ALogReadsBackWhatWasWrittenAcrossItsChunks) {
+  simplification::ChunkedArray<uint32_t> log;
+  const uint32_t n = 1'500'000;  // 64 KB holds 16,384: five growing chunks, then 2 MB ones
+  for (uint32_t i = 0; i < n; ++i) log.push_back(i * 2654435761u);
+  ASSERT_EQ(log.size(), n);
+  for (uint32_t i = 0; i < n; ++i) {
+    ASSERT_EQ(log[i], i * 2654435761u) << i;
+    log.release_before(i);
+  }
+}
+
 // Only the islands at work hold key-step quadrics (with every key step, most of the memory):
 // 2 × threads of them at once, each given back when it is done; the collapses are the same.
 TEST(Islands, OnlyTheIslandsAtWorkHoldQuadrics) {
@@ -137,6 +152,16 @@ TEST(Islands, OnlyTheIslandsAtWorkHoldQuadrics) {
   ASSERT_TRUE(all_open.ok()) << all_open.message();
   EXPECT_EQ(all_open->quadric_vertices_held, a.topology.vertex_count);  // 16 ≥ 7 islands
   EXPECT_TRUE(many.collapses == one_thread.collapses);
+  // Fewer at once than the threads would take (what `dynpm build` chooses when memory is short):
+  // the same collapses, one island's quadrics at a time.
+  SimplifyOptions one_at_a_time = island_options(8);
+  one_at_a_time.islands_at_once = 1;
+  Told alone;
+  auto single = simplify(a.topology, a.frames, one_at_a_time, &alone);
+  ASSERT_TRUE(single.ok()) << single.message();
+  EXPECT_EQ(single->quadric_vertices_held, n);
+  EXPECT_EQ(quadric_vertices_held(a.topology, one_at_a_time), n);
+  EXPECT_TRUE(alone.collapses == one_thread.collapses);
   SimplifyOptions whole = island_options(1);
   whole.island_min_vertices = UINT32_MAX;
   auto serial = simplify(a.topology, a.frames, whole);

@@ -182,6 +182,9 @@ struct SimplifyOptions {
   // where keys tie) up to the stop condition. The result does not depend on the thread
   // count. UINT32_MAX: never.
   uint32_t island_min_vertices = uint32_t{1} << 16;
+  // With islands: at most this many run, and hold their key-step quadrics, at once (0: 2 ×
+  // threads). Fewer take less memory with many key steps and change no collapse.
+  unsigned islands_at_once = 0;
   // Phases "checking the mesh" (faces; not with a proof in `checked`), "reading key steps" (steps),
   // "quadrics" (vertices) and "collapsing" (vertices removed, of those to remove; it ends at the
   // collapses made). May be empty.
@@ -246,10 +249,16 @@ Result<SimplifyResult> simplify(const Topology& topology, const FrameSource& fra
                                 const SimplifyOptions& options,
                                 CollapseListener* listener = nullptr);
 
+// The vertices of each island simplify() will cut the mesh into, largest first (every vertex,
+// in faces or not, counts in its component's island); empty when it will make no islands. For
+// memory estimates before the work: one pass over the faces.
+std::vector<size_t> island_vertex_counts(const Topology& topology, const SimplifyOptions& options);
 // At most how many vertices' key-step quadrics simplify() will hold at once
-// (SimplifyResult::quadric_vertices_held): with islands, those of the 2 × threads largest
-// islands, else every vertex. For memory estimates before the work: one pass over the faces.
+// (SimplifyResult::quadric_vertices_held): with islands, those of the largest islands that run
+// at once (SimplifyOptions::islands_at_once), else every vertex.
 size_t quadric_vertices_held(const Topology& topology, const SimplifyOptions& options);
+size_t quadric_vertices_held(std::span<const size_t> island_vertex_counts,
+                             const SimplifyOptions& options, uint32_t vertex_count);
 
 }  // namespace dynpm
 

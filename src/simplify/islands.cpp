@@ -95,6 +95,10 @@ void IslandLog::tell_in_key_order(std::vector<IslandLog*> logs, CollapseListener
 
 // The simplifier's islands (simplifier.h): when, their rounds, and the cut.
 
+unsigned islands_at_once(const SimplifyOptions& options) {
+  return options.islands_at_once > 0 ? options.islands_at_once : 2 * thread_count(options.threads);
+}
+
 bool islands_allowed(const SimplifyOptions& options, size_t vertices) {
   return options.placement != Placement::kOptimal && options.independent_rounds <= 0 &&
          vertices >= options.island_min_vertices;
@@ -142,7 +146,7 @@ void Simplifier::close_island(Lane& lane) {
 }
 
 // Every island to its end (or to its first collapse over the maximum error, or past the cut of a
-// vertex or face target), in rounds: in each, the first 2 × threads islands not yet done take up
+// vertex or face target), in rounds: in each, the first islands_at_once() not yet done take up
 // to a 32nd of their live vertices in collapses (at least 16) on whichever thread is free. Only
 // those hold quadrics (with every key step most of the memory), and an island that is done gives
 // its back and its place to the next. Where a round ends changes nothing an island does; between
@@ -151,7 +155,7 @@ void Simplifier::close_island(Lane& lane) {
 // faces with the told collapses replayed on them.
 Status Simplifier::run_islands(SimplifyResult& result) {
   const unsigned threads = thread_count(options_.threads);
-  const size_t window = 2 * size_t{threads};
+  const size_t window = islands_at_once(options_);
   std::vector<Status> failed(lanes_.size());
   std::vector<size_t> round;
   bool all_done = false;
@@ -212,7 +216,7 @@ namespace dynpm {
 
 // The components as CollapseRules finds them (vertices joined through faces, numbered in the
 // order of their first vertex, counting the vertices in faces), gathered as run() gathers them.
-size_t quadric_vertices_held(const Topology& topology, const SimplifyOptions& options) {
+std::vector<size_t> island_vertex_counts(const Topology& topology, const SimplifyOptions& options) {
   const uint32_t n = topology.vertex_count;
   std::vector<uint32_t> root(n);
   for (uint32_t v = 0; v < n; ++v) root[v] = v;
@@ -234,16 +238,29 @@ size_t quadric_vertices_held(const Topology& topology, const SimplifyOptions& op
     live[c] += in_face[v];
     referenced += in_face[v];
   }
-  if (!simplification::islands_allowed(options, referenced) || live.size() < 2) return n;
+  if (!simplification::islands_allowed(options, referenced) || live.size() < 2) return {};
   size_t count = 0;
   const std::vector<uint16_t> island_of = simplification::gather_islands(
       live, simplification::least_island_vertices(referenced), count);
-  if (count < 2) return n;
+  if (count < 2) return {};
   std::vector<size_t> size(count, 0);  // rows: every vertex of the island, as open_island() makes
   for (uint32_t v = 0; v < n; ++v) ++size[island_of[component[find(v)]]];
-  const size_t window = std::min<size_t>(count, 2 * size_t{thread_count(options.threads)});
-  std::partial_sort(size.begin(), size.begin() + window, size.end(), std::greater<>());
-  return std::accumulate(size.begin(), size.begin() + window, size_t{0});
+  std::sort(size.begin(), size.end(), std::greater<>());
+  return size;
+}
+
+size_t quadric_vertices_held(std::span<const size_t> island_vertex_counts,
+                             const SimplifyOptions& options, uint32_t vertex_count) {
+  if (island_vertex_counts.empty()) return vertex_count;
+  const size_t window =
+      std::min<size_t>(island_vertex_counts.size(), simplification::islands_at_once(options));
+  return std::accumulate(island_vertex_counts.begin(), island_vertex_counts.begin() + window,
+                         size_t{0});
+}
+
+size_t quadric_vertices_held(const Topology& topology, const SimplifyOptions& options) {
+  return quadric_vertices_held(island_vertex_counts(topology, options), options,
+                               topology.vertex_count);
 }
 
 }  // namespace dynpm

@@ -24,6 +24,8 @@ namespace dynpm::simplification {
 // components): not with optimal placement, where v1 moves, nor with independent rounds, which
 // span the mesh.
 bool islands_allowed(const SimplifyOptions& options, size_t vertices);
+// How many islands run, and hold their quadrics, at once.
+unsigned islands_at_once(const SimplifyOptions& options);
 // Each component's island: the components in order (`live` gives each one's live vertices),
 // gathered until an island holds at least `least` live vertices (the last may hold fewer);
 // `count` gets the number of islands (at most 65,536).
@@ -39,30 +41,48 @@ inline uint32_t least_island_vertices(size_t vertices) {
 
 // An array that grows in chunks (no copy as it grows) and is read once from the front, giving
 // back each chunk as the reading passes it: while the collapses are told, the listener's own log
-// grows as these shrink. Chunks of 2 MB go to the system when freed (glibc maps them apart; the
-// mmap threshold is pinned at 1 MB, core/pages.h) and cost only the pages written.
+// grows as these shrink. The first chunk is 64 KB and each next one twice the one before, up to
+// 2 MB: an island's three logs take a few pages until it grows, not 6 MB of address space each
+// (which a `ulimit -v` counts). Chunks of 2 MB go to the system when freed (glibc maps them apart;
+// the mmap threshold is pinned at 1 MB, core/pages.h) and cost only the pages written.
 template <class T>
 class ChunkedArray {
   static_assert(std::is_trivially_copyable_v<T>);
 
  public:
   void push_back(const T& item) {
+    const auto [c, at] = locate(size_);
     // Raw memory: T's default member initializers would write (and so take) the whole chunk.
-    if (size_ % kChunk == 0) chunks_.emplace_back(static_cast<T*>(::operator new(kChunkBytes)));
-    chunks_[size_ / kChunk].get()[size_ % kChunk] = item;
+    if (at == 0) chunks_.emplace_back(static_cast<T*>(::operator new(items_in(c) * sizeof(T))));
+    chunks_[c].get()[at] = item;
     ++size_;
   }
   size_t size() const { return size_; }
-  const T& operator[](size_t i) const { return chunks_[i / kChunk].get()[i % kChunk]; }
+  const T& operator[](size_t i) const {
+    const auto [c, at] = locate(i);
+    return chunks_[c].get()[at];
+  }
   // Items before `i` are never read again.
   void release_before(size_t i) {
-    for (size_t c = released_; c < i / kChunk; ++c) chunks_[c].reset();
-    released_ = std::max(released_, i / kChunk);
+    const size_t before = locate(i).first;
+    for (size_t c = released_; c < before; ++c) chunks_[c].reset();
+    released_ = std::max(released_, before);
   }
 
  private:
-  static constexpr size_t kChunkBytes = size_t{2} << 20;
-  static constexpr size_t kChunk = kChunkBytes / sizeof(T);
+  static constexpr size_t kFirst = std::max<size_t>(1, (size_t{64} << 10) / sizeof(T));
+  static constexpr size_t kDoublings = 5;  // 64 KB · 2⁵ = 2 MB
+  static constexpr size_t kGrown = kFirst * ((size_t{1} << kDoublings) - 1);  // before chunk 5
+  static size_t items_in(size_t c) { return kFirst << std::min(c, kDoublings); }
+  // Item i's chunk and its place in it.
+  static std::pair<size_t, size_t> locate(size_t i) {
+    if (i < kGrown) {
+      const size_t c = std::bit_width(i / kFirst + 1) - 1;
+      return {c, i - kFirst * ((size_t{1} << c) - 1)};
+    }
+    const size_t big = kFirst << kDoublings;
+    return {kDoublings + (i - kGrown) / big, (i - kGrown) % big};
+  }
   struct Free {
     void operator()(T* chunk) const { ::operator delete(chunk); }
   };
