@@ -104,7 +104,7 @@ std::string check_memory(const Topology& input, const FrameSource& frames, const
   const uint64_t keys = key_step_count(rule, steps);
   const uint64_t have = available_memory_bytes();
   uint64_t need = estimate(keys);
-  std::string at_once;  // ", with N islands at once" once fewer are chosen
+  std::string at_once;  // " with K of N islands at once" when fewer are chosen
   if (refuse && have > 0 && need > have && islands.size() > 1) {
     // Each island fewer holds its quadrics no more (the first that fits is below the default);
     // if even one at a time is too many, the key steps are suggested for one at a time.
