@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "components.h"
 #include "dynpm/core.h"
 
 namespace dynpm {
@@ -142,6 +143,27 @@ double BoundingBox::diagonal() const {
     s += d * d;
   }
   return std::sqrt(s);
+}
+
+std::vector<uint32_t> connected_components(const Topology& topology, size_t& count) {
+  const uint32_t n = topology.vertex_count;
+  std::vector<uint32_t> root(n);
+  for (uint32_t v = 0; v < n; ++v) root[v] = v;
+  auto find = [&](uint32_t x) {
+    while (root[x] != x) x = root[x] = root[root[x]];
+    return x;
+  };
+  for (const Face& f : topology.faces)  // a face's corners are one component
+    for (int c = 1; c < f.degree(); ++c) root[find(f.v[c])] = find(f.v[0]);
+  for (uint32_t v = 0; v < n; ++v) root[v] = find(v);
+  std::vector<uint32_t> number(n, kNoVertex);  // root → component
+  count = 0;
+  for (uint32_t v = 0; v < n; ++v) {  // root[v] is read once, then holds v's component
+    uint32_t& c = number[root[v]];
+    if (c == kNoVertex) c = static_cast<uint32_t>(count++);
+    root[v] = c;
+  }
+  return root;
 }
 
 }  // namespace dynpm

@@ -6,6 +6,7 @@
 #include <queue>
 #include <utility>
 
+#include "core/components.h"
 #include "core/parallel.h"
 #include "simplifier.h"
 
@@ -132,7 +133,7 @@ void Simplifier::stop_islands_past_the_cut() {
 // in a round; both go when it is done. Each island thus does what it would with every island open.
 void Simplifier::open_island(Lane& lane) {
   quadrics_.open_island(static_cast<size_t>(&lane - lanes_.data()), mesh_);
-  rate_island_again(lane);
+  rate_island(lane);
   ++lane.time;
   lane.open = true;
 }
@@ -214,37 +215,27 @@ Status Simplifier::run_islands(SimplifyResult& result) {
 
 namespace dynpm {
 
-// The components as CollapseRules finds them (vertices joined through faces, numbered in the
-// order of their first vertex, counting the vertices in faces), gathered as run() gathers them.
+// The components as CollapseRules finds them, gathered as run() gathers them.
 std::vector<size_t> island_vertex_counts(const Topology& topology, const SimplifyOptions& options) {
   const uint32_t n = topology.vertex_count;
-  std::vector<uint32_t> root(n);
-  for (uint32_t v = 0; v < n; ++v) root[v] = v;
-  auto find = [&](uint32_t x) {
-    while (root[x] != x) x = root[x] = root[root[x]];
-    return x;
-  };
+  size_t components = 0;
+  const std::vector<uint32_t> component = connected_components(topology, components);
   std::vector<uint8_t> in_face(n, 0);
   for (const Face& f : topology.faces)
-    for (int c = 0; c < f.degree(); ++c) {
-      in_face[f.v[c]] = 1;
-      root[find(f.v[c])] = find(f.v[0]);
-    }
-  std::vector<uint32_t> component(n, kNoVertex), live;  // root → component, and its vertices
+    for (int c = 0; c < f.degree(); ++c) in_face[f.v[c]] = 1;
+  std::vector<uint32_t> live(components, 0);  // per component, its vertices in faces
   size_t referenced = 0;
   for (uint32_t v = 0; v < n; ++v) {
-    uint32_t& c = component[find(v)];
-    if (c == kNoVertex) c = static_cast<uint32_t>(live.size()), live.push_back(0);
-    live[c] += in_face[v];
+    live[component[v]] += in_face[v];
     referenced += in_face[v];
   }
-  if (!simplification::islands_allowed(options, referenced) || live.size() < 2) return {};
+  if (!simplification::islands_allowed(options, referenced) || components < 2) return {};
   size_t count = 0;
   const std::vector<uint16_t> island_of = simplification::gather_islands(
       live, simplification::least_island_vertices(referenced), count);
   if (count < 2) return {};
   std::vector<size_t> size(count, 0);  // rows: every vertex of the island, as open_island() makes
-  for (uint32_t v = 0; v < n; ++v) ++size[island_of[component[find(v)]]];
+  for (uint32_t v = 0; v < n; ++v) ++size[island_of[component[v]]];
   std::sort(size.begin(), size.end(), std::greater<>());
   return size;
 }

@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 
+#include "core/components.h"
 #include "quadrics.h"
 
 namespace dynpm::simplification {
@@ -104,28 +104,13 @@ void CollapseRules::classify_vertices(const Adjacency& adjacency) {
   for (uint32_t v : options_.locked_vertices)
     if (v < n) class_[v] = VertexClass::kLocked;
 
-  // Connected components, for (P3): a component keeps at least 3 or 4 vertices.
-  component_.resize(n);
-  std::iota(component_.begin(), component_.end(), 0u);
-  auto find = [&](uint32_t x) {
-    while (component_[x] != x) x = component_[x] = component_[component_[x]];
-    return x;
-  };
-  for (size_t e = 0; e < adjacency.edge_count(); ++e)
-    component_[find(adjacency.edge(e).a)] = find(adjacency.edge(e).b);
-  for (uint32_t v = 0; v < n; ++v) component_[v] = find(v);  // each vertex's root
-  // Numbered 0, 1, … so that the live counts take one entry per component, not per vertex.
-  std::vector<uint32_t> number(n, kNoVertex);  // root → component
-  component_live_.clear();
-  for (uint32_t v = 0; v < n; ++v) {
-    uint32_t& c = number[component_[v]];
-    if (c == kNoVertex) {
-      c = static_cast<uint32_t>(component_live_.size());
-      component_live_.push_back(0);
-    }
-    if (mesh_.vertex_alive(v)) ++component_live_[c];
-    component_[v] = c;
-  }
+  // Connected components, for (P3): a component keeps at least 3 or 4 vertices. Numbered 0, 1, …
+  // so that the live counts take one entry per component, not per vertex.
+  size_t components = 0;
+  component_ = connected_components(input_, components);
+  component_live_.assign(components, 0);
+  for (uint32_t v = 0; v < n; ++v)
+    if (mesh_.vertex_alive(v)) ++component_live_[component_[v]];
   if (component_live_.size() <= 65536) {  // 2 B per vertex instead of 4 for the whole run
     small_component_.assign(component_.begin(), component_.end());
     std::vector<uint32_t>().swap(component_);

@@ -106,37 +106,37 @@ void Simplifier::rate_edges_of(uint32_t v, Scratch& s, std::vector<Entry>& out, 
   }
 }
 
-// Every edge once, in parallel: at the start, and when the whole mesh's queue runs dry. In rounds
-// of vertices, each queued before the next is rated, so that the entries wait beside the queue a
-// round at a time, not all of them (that was 16 B per edge at the simplifier's peak); queued in
-// vertex order all the same, each in its island's queue.
+// Every edge once, in parallel, into the one queue (without islands): at the start, and when the
+// queue runs dry. In rounds of vertices, each queued before the next is rated, so that the
+// entries wait beside the queue a round at a time, not all of them (that was 16 B per edge at the
+// simplifier's peak); queued in vertex order all the same.
 void Simplifier::rate_all_edges() {
   const uint32_t n = input_.vertex_count;
   const unsigned threads = thread_count(options_.threads);
   constexpr uint32_t kRoundVertices = 1u << 16;
   std::vector<std::vector<Entry>> parts(threads);
   std::vector<Scratch> scratch(threads);
-  for (Lane& lane : lanes_) lane.queue.clear();
-  const uint32_t time = lanes_[0].time;  // every lane's, at the start
+  Lane& lane = lanes_[0];
+  lane.queue.clear();
   for (uint32_t first = 0; first < n; first += std::min(kRoundVertices, n - first)) {
     const uint32_t count = std::min(kRoundVertices, n - first);
     parallel_for_chunks(count, threads, [&](size_t begin, size_t end, size_t t) {
       for (size_t i = begin; i < end; ++i) {
         const auto v = static_cast<uint32_t>(first + i);
-        if (mesh_.vertex_alive(v)) rate_edges_of(v, scratch[t], parts[t], time, true);
+        if (mesh_.vertex_alive(v)) rate_edges_of(v, scratch[t], parts[t], lane.time, true);
       }
     });
     for (auto& part : parts) {
-      for (const Entry& e : part) lanes_[mesh_.island_of(e.v0)].queue.push(e);
+      for (const Entry& e : part) lane.queue.push(e);
       part.clear();
     }
   }
-  for (Lane& lane : lanes_) lane.queue_size_after_cleanup = lane.queue.size();
+  lane.queue_size_after_cleanup = lane.queue.size();
   for (uint32_t v = 0; v < n; ++v) set_rejected(v, false);
 }
 
-// An island's queue ran dry: its edges once more, on its own thread, in vertex order.
-void Simplifier::rate_island_again(Lane& lane) {
+// An island's edges in vertex order, on its own thread: when it opens, and when its queue ran dry.
+void Simplifier::rate_island(Lane& lane) {
   lane.queue.clear();
   mesh_.for_each_island_vertex(static_cast<size_t>(&lane - lanes_.data()), [&](uint32_t v) {
     set_rejected(v, false);
@@ -213,7 +213,7 @@ Status Simplifier::advance(Lane& lane, Next& next) {
       if (rounds() && end_round()) continue;
       if (!lane.rated_again) {
         if (lanes_.size() > 1)
-          rate_island_again(lane);
+          rate_island(lane);
         else
           rate_all_edges();
         ++lane.time;

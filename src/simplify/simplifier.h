@@ -42,7 +42,7 @@ class Simplifier {
   void rate_edges_of(uint32_t v, Scratch& s, std::vector<Entry>& out, uint32_t time,
                      bool larger_only = false) const;
   void rate_all_edges();
-  void rate_island_again(Lane& lane);
+  void rate_island(Lane& lane);
   void drop_stale_entries(Lane& lane);
   enum class Next { kCollapsed, kMaxError, kExhausted };
   Status advance(Lane& lane, Next& next);
