@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "../cli/huge_pages.h"
 #include "dynpm/io.h"
 #include "dynpm/simplify.h"
 
@@ -35,6 +36,7 @@ double rss_mb(const char* field) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  dynpm::cli::start_again_with_huge_pages(argv);  // as the dynpm tool does
   int tiles = 205, steps = 25;
   double ratio = 0.05;
   dynpm::return_freed_arrays_to_the_system();  // as the dynpm tool does

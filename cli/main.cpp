@@ -10,6 +10,7 @@
 
 #include "commands.h"
 #include "dynpm/core.h"
+#include "huge_pages.h"
 #include "report.h"
 
 namespace {
@@ -62,6 +63,7 @@ int run_verb(const std::string& name, std::span<char* const> rest) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  dynpm::cli::start_again_with_huge_pages(argv);
   std::setlocale(LC_ALL, "C");  // numbers are read and written the same everywhere
   dynpm::return_freed_arrays_to_the_system();
   if (argc < 2 || std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0 ||

@@ -72,6 +72,15 @@ void return_freed_arrays_to_the_system() {
 #endif
 }
 
+std::optional<std::string> tunables_with_huge_pages(const char* tunables,
+                                                    std::string_view kernel_mode) {
+  constexpr std::string_view kTunable = "glibc.malloc.hugetlb";
+  if (kernel_mode.find("[madvise]") == std::string_view::npos) return std::nullopt;
+  const std::string present = tunables ? tunables : "";
+  if (present.find(kTunable) != std::string::npos) return std::nullopt;  // ours, or the user's
+  return (present.empty() ? "" : present + ":") + std::string(kTunable) + "=1";
+}
+
 void release_free_heap() {
 #if defined(__GLIBC__)
   malloc_trim(0);
