@@ -192,34 +192,25 @@ int run_build(std::span<char* const> arguments) {
   options.note = "dynpm build of " + std::filesystem::path(args.positional[0]).filename().string() +
                  (args.positional.size() > 1 ? " …" : "");
   options.progress = report;
+  // The catalogue's picture of the model, at 5 %, drawn as the build ends.
+  if (!args.has("--no-thumbnail")) options.thumbnail = ThumbnailOptions{};
 
   phase.emplace("simplifying, recording and encoding");
   auto built = build_dpm(input, frames, options);
   if (!built) return fail(kSpec.name, kExitFailure, built.message());
-  const ProgressiveMesh* mesh = &built->mesh;
-  const std::string* bytes = &built->bytes;
-  std::string with_picture;
-  if (!args.has("--no-thumbnail")) {
-    // The catalogue's picture of the model, drawn from the file's own bytes at 5 %.
-    phase.emplace("drawing the thumbnail");
-    progress("thumbnail", 0, 1);
-    auto thumbnailed = add_thumbnail(*bytes, *output);
-    if (!thumbnailed) return fail(kSpec.name, kExitFailure, thumbnailed.message());
-    with_picture = std::move(thumbnailed).value();
-    bytes = &with_picture;
-    progress("thumbnail", 1, 1);
-  }
+  const ProgressiveMesh& mesh = built->mesh;
+  const std::string& bytes = built->bytes;
   phase.emplace("writing the .dpm file");
   progress("writing", 0, 1);
-  if (Status s = write_file_atomically(*output, *bytes); !s.ok())
+  if (Status s = write_file_atomically(*output, bytes); !s.ok())
     return fail(kSpec.name, kExitFailure, s.message());
   progress("writing", 1, 1);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
-  const size_t steps = mesh->step_count();
+  const size_t steps = mesh.step_count();
   const double raw = double(input.vertex_count) * steps * 12.0;  // float32 xyz per step
-  const double per_vertex_step = double(bytes->size()) / (double(input.vertex_count) * steps);
+  const double per_vertex_step = double(bytes.size()) / (double(input.vertex_count) * steps);
   if (json) {
     Json j;
     j.begin_object();
@@ -238,18 +229,18 @@ int run_build(std::span<char* const> arguments) {
     }
     j.end_array();
     j.begin_array("key_steps");
-    for (size_t k : mesh->key_steps) j.item(int64_t(k));
+    for (size_t k : mesh.key_steps) j.item(int64_t(k));
     j.end_array();
-    j.value("base_vertices", uint64_t{mesh->base_vertex_count});
-    j.value("base_faces", uint64_t{mesh->base_face_count});
-    j.value("splits", uint64_t{mesh->split_count()});
-    j.value("lossless", mesh->lossless);
-    j.value("position_error", mesh->max_error);
-    j.value("diagonal", mesh->diagonal());
-    j.value("base_error", mesh->base_error);
-    j.value("bytes", uint64_t{bytes->size()});
+    j.value("base_vertices", uint64_t{mesh.base_vertex_count});
+    j.value("base_faces", uint64_t{mesh.base_face_count});
+    j.value("splits", uint64_t{mesh.split_count()});
+    j.value("lossless", mesh.lossless);
+    j.value("position_error", mesh.max_error);
+    j.value("diagonal", mesh.diagonal());
+    j.value("base_error", mesh.base_error);
+    j.value("bytes", uint64_t{bytes.size()});
     j.value("bytes_per_vertex_step", per_vertex_step);
-    j.value("ratio_to_float32", raw / double(bytes->size()));
+    j.value("ratio_to_float32", raw / double(bytes.size()));
     j.value("seconds", seconds);
     j.value("peak_rss_mb", peak_rss_mb());
     j.end_object();
@@ -263,14 +254,14 @@ int run_build(std::span<char* const> arguments) {
     std::printf("family  %zu variants, %zu distinct steps stored of %zu\n", options.variants.size(),
                 steps, total_variant_steps(options.variants));
   std::printf("base    %u vertices, %u faces; %u vertex splits rebuild the input\n",
-              mesh->base_vertex_count, mesh->base_face_count, mesh->split_count());
-  if (mesh->lossless)
+              mesh.base_vertex_count, mesh.base_face_count, mesh.split_count());
+  if (mesh.lossless)
     std::printf("positions lossless (float32)\n");
   else
-    std::printf("positions within %.3g (%.2g of the diagonal %.4g)\n", mesh->max_error,
-                of_diagonal(mesh->max_error, mesh->diagonal()), mesh->diagonal());
+    std::printf("positions within %.3g (%.2g of the diagonal %.4g)\n", mesh.max_error,
+                of_diagonal(mesh.max_error, mesh.diagonal()), mesh.diagonal());
   // Fields: each quantized to its bound (docs/FORMAT.md "Fields"), in the cost unless weighed 0.
-  for (const ProgressiveField& f : mesh->fields) {
+  for (const ProgressiveField& f : mesh.fields) {
     std::printf("field   %s (%s), %.4g … %.4g: ", printable(f.info.name).c_str(),
                 to_string(f.info.location), f.min, f.max);
     if (f.lossless)
@@ -279,9 +270,9 @@ int run_build(std::span<char* const> arguments) {
       std::printf("within %.3g\n", f.max_error);
   }
   // "0.7x smaller" reads as a gain: a file larger than the floats says so.
-  const double ratio = raw / double(bytes->size());
+  const double ratio = raw / double(bytes.size());
   std::printf("wrote   %s: %zu bytes, %.2f bytes per vertex per step, %.1f× %s than float32\n",
-              output->c_str(), bytes->size(), per_vertex_step, ratio >= 1 ? ratio : 1 / ratio,
+              output->c_str(), bytes.size(), per_vertex_step, ratio >= 1 ? ratio : 1 / ratio,
               ratio >= 1 ? "smaller" : "larger");
   std::printf("%.3f s; peak memory %.0f MB\n", seconds, peak_rss_mb());
   return kExitOk;

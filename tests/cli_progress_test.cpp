@@ -51,7 +51,7 @@ std::string crashbox_frd(const test::TempDir& dir) {
 }
 
 // Every phase of a build, in order (auto:K reads every step to choose, then the key steps, then
-// every step once more into the file's coder, then the thumbnail drawn from the file's bytes).
+// every step once more into the file's coder, then the thumbnail drawn from the build's records).
 // The mesh is checked once, while the input is read: no "checking the mesh" of the simplifier.
 const std::vector<std::string> kBuildPhases = {
     "choosing key steps", "reading key steps",  "quadrics", "collapsing", "recording the splits",

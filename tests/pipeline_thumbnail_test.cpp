@@ -2,7 +2,8 @@
 // zlib stream inflates with zlib itself to the bytes it was made from; the picture of the real
 // crash box shows the model over a sensible part of the frame, shaded; the chunk goes before END
 // and leaves every other byte of the file as it was, a second one replaces the first, both
-// readers of the model skip it; dynpm build stores one, dynpm thumbnail writes the same PNG.
+// readers of the model skip it; dynpm build stores one, drawn from its own records and positions,
+// and dynpm thumbnail writes the same PNG.
 #include <gtest/gtest.h>
 #include <zlib.h>
 
@@ -200,6 +201,35 @@ TEST(Thumbnail, TheChunkGoesBeforeEndAndChangesNothingElse) {
   auto bad = read_dpm_thumbnail(path);
   ASSERT_FALSE(bad.ok());
   EXPECT_NE(bad.message().find("THMB chunk: wrong checksum"), std::string::npos) << bad.message();
+}
+
+// build_dpm() draws the thumbnail from its own records and positions: the same PNG as
+// add_thumbnail() draws from the bytes built without one, at the default level, at the base
+// mesh alone, at every vertex, for an animation (its first and last steps) and a static model.
+TEST(Thumbnail, TheBuildDrawsWhatAReaderOfItsFileDraws) {
+  test::TempDir dir;
+  const std::string frd = dir.file("s.frd");
+  ASSERT_EQ(
+      std::system(
+          ("zcat '" + test::shared_data() + "/crashbox-s/crashbox-s.frd.gz' > " + frd).c_str()),
+      0);
+  for (const std::string& input : {frd, test::shared_data() + "/meshes/bunny.obj"}) {
+    auto stream = open_input(std::vector<std::string>{input});
+    ASSERT_TRUE(stream.ok()) << stream.message();
+    BuildOptions options;
+    options.simplify.key_steps = {0, stream->frames->step_count() - 1};
+    auto plain = build_dpm(stream->topology, *stream->frames, options);
+    ASSERT_TRUE(plain.ok()) << plain.message();
+    for (const double ratio : {0.05, 0.0, 1.0}) {
+      const ThumbnailOptions picture{.ratio = ratio};
+      options.thumbnail = picture;
+      auto built = build_dpm(stream->topology, *stream->frames, options);
+      ASSERT_TRUE(built.ok()) << built.message();
+      auto from_file = add_thumbnail(plain->bytes, "plain", picture);
+      ASSERT_TRUE(from_file.ok()) << from_file.message();
+      EXPECT_TRUE(built->bytes == *from_file) << input << " at " << ratio;
+    }
+  }
 }
 
 }  // namespace

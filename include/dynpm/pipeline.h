@@ -27,6 +27,12 @@
 
 namespace dynpm {
 
+// The thumbnail a catalogue shows ('dynpm serve'; render_thumbnail() below).
+struct ThumbnailOptions {
+  uint32_t width = 256, height = 192;
+  double ratio = 0.05;  // the level drawn: this fraction of the vertices (at least the base mesh)
+};
+
 struct BuildOptions {
   // Key steps, placement limits, features, threads and the proof that the caller checked the
   // mesh (SimplifyOptions::checked) as for simplify(). Placement must be
@@ -52,6 +58,10 @@ struct BuildOptions {
   // "encoding positions" (steps) and "encoding"). May be empty. simplify.progress is ignored:
   // this one is passed down.
   ProgressCallback progress;
+  // build_dpm(): the thumbnail to store in the file (its THMB chunk), drawn from the build's own
+  // records and positions at the end (phase "thumbnail"): the picture add_thumbnail() draws from
+  // the file's bytes, without decoding them.
+  std::optional<ThumbnailOptions> thumbnail;
 };
 
 // About how many bytes build_dpm() takes at its peak, for `vertices` vertices, `faces` faces,
@@ -83,10 +93,6 @@ Result<BuiltFile> build_dpm(const Topology& topology, const FrameSource& frames,
 // ---------------------------------------------------------------------------------------------
 // The thumbnail a catalogue shows ('dynpm serve'), which 'dynpm build' stores in the file's THMB
 // chunk (docs/FORMAT.md "Thumbnail: THMB").
-struct ThumbnailOptions {
-  uint32_t width = 256, height = 192;
-  double ratio = 0.05;  // the level drawn: this fraction of the vertices (at least the base mesh)
-};
 // What render_thumbnail() needs of a file: its level at `ratio`, every step, no fields.
 DpmReadLimits thumbnail_read_limits(const ThumbnailOptions& options = {});
 // A PNG of `mesh` (read with thumbnail_read_limits()) at its finest level and last step read:

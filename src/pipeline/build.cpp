@@ -13,6 +13,7 @@
 #include "core/parallel.h"
 #include "dynpm/pipeline.h"
 #include "split_order.h"
+#include "thumbnail_level.h"
 
 namespace dynpm {
 namespace {
@@ -316,14 +317,27 @@ Result<BuiltFile> build_dpm(const Topology& topology, const FrameSource& frames,
   if (options.progress) options.progress("coding the splits", 0, 1);  // ends at the next phase
   auto encoder = DpmStepEncoder::start(recorded->pm, options.simplify.threads);
   if (!encoder) return encoder.status();
+  std::optional<ProgressiveMesh> thumbnail;  // its level, before the records go
+  if (options.thumbnail) thumbnail = thumbnail_level(recorded->pm, *options.thumbnail);
   release_coded_records(recorded->pm);  // the records are coded: room for the steps
+  const size_t steps = frames.step_count();
   DYNPM_RETURN_IF_ERROR(for_each_progressive_step(
-      frames, *recorded, options, "encoding positions",
-      [&](size_t, std::span<const float> xyz) { encoder->add_step(xyz); }));
+      frames, *recorded, options, "encoding positions", [&](size_t t, std::span<const float> xyz) {
+        encoder->add_step(xyz);
+        if (thumbnail) keep_thumbnail_step(*thumbnail, t, steps, xyz);
+      }));
   if (options.progress) options.progress("encoding", 0, 1);
   auto bytes = encoder->finish();
   if (!bytes) return bytes.status();
   if (options.progress) options.progress("encoding", 1, 1);
+  if (thumbnail) {
+    if (options.progress) options.progress("thumbnail", 0, 1);
+    auto with_picture =
+        with_thumbnail(*bytes, render_thumbnail(*thumbnail, *options.thumbnail), "the build");
+    if (!with_picture) return with_picture.status();
+    bytes = std::move(with_picture);
+    if (options.progress) options.progress("thumbnail", 1, 1);
+  }
   return BuiltFile{std::move(recorded->pm), std::move(bytes).value()};
 }
 

@@ -7,11 +7,13 @@
 #include <cmath>
 #include <limits>
 #include <set>
+#include <type_traits>
 #include <vector>
 
 #include "dynpm/lod.h"
 #include "dynpm/pipeline.h"
 #include "png.h"
+#include "thumbnail_level.h"
 
 namespace dynpm {
 namespace {
@@ -195,6 +197,43 @@ std::string render_thumbnail(const ProgressiveMesh& mesh, const ThumbnailOptions
     if (n == 4) raster.triangle(s[0], s[2], s[3], colour);
   }
   return pipeline::encode_png(raster.reduced(kSupersample), options.width, options.height);
+}
+
+ProgressiveMesh thumbnail_level(const ProgressiveMesh& mesh, const ThumbnailOptions& options) {
+  // The level a reader stops at for DpmReadLimits::ratio (dpm_read.cpp).
+  const double vertices =
+      std::clamp(std::round(options.ratio * mesh.full_vertex_count), double(mesh.base_vertex_count),
+                 double(mesh.full_vertex_count));
+  const uint32_t splits =
+      std::min(static_cast<uint32_t>(vertices) - mesh.base_vertex_count, mesh.split_count());
+  ProgressiveMesh level;
+  level.full_vertex_count = mesh.full_vertex_count;
+  level.full_face_count = mesh.full_face_count;
+  level.full_split_count = mesh.full_split_count;
+  level.base_vertex_count = mesh.base_vertex_count;
+  level.base_face_count = mesh.base_face_count;
+  level.bbox_min = mesh.bbox_min, level.bbox_max = mesh.bbox_max;
+  level.base_faces = mesh.base_faces;
+  auto prefix = [](const auto& values, size_t count) {
+    return std::remove_cvref_t<decltype(values)>(values.begin(), values.begin() + count);
+  };
+  level.parent = prefix(mesh.parent, splits);
+  level.error = prefix(mesh.error, splits);
+  level.wing_start = prefix(mesh.wing_start, size_t{splits} + 1);
+  level.wings = prefix(mesh.wings, level.wing_start.back());
+  level.moved_start = prefix(mesh.moved_start, size_t{splits} + 1);
+  level.moved_faces = prefix(mesh.moved_faces, level.moved_start.back());
+  level.part_ids = prefix(mesh.part_ids, level.face_count_after(splits));
+  level.complete = false, level.limited = true;
+  return level;
+}
+
+void keep_thumbnail_step(ProgressiveMesh& level, size_t t, size_t steps,
+                         std::span<const float> xyz) {
+  if (t != 0 && t + 1 != steps) return;
+  level.positions.emplace_back(xyz.begin(), xyz.begin() + size_t{level.vertex_count()} * 3);
+  level.times.push_back(static_cast<double>(t));
+  level.steps_read = level.times.size();
 }
 
 Result<std::string> add_thumbnail(std::string_view dpm_bytes, const std::string& name,
