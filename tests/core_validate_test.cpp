@@ -1,6 +1,7 @@
 // Every validation rule, each with a fixture that breaks it.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -204,6 +205,28 @@ TEST(Validate, AProofProvesTheCheckedMeshOnly) {
   other = good;
   other.part_ids.pop_back();
   EXPECT_FALSE(proof->proves(other));
+}
+
+// The proof hands the check's adjacency to one taker (the simplifier), any copy of it: the mesh's
+// own adjacency, then none.
+TEST(Validate, AProofHandsTheChecksAdjacencyOnce) {
+  const Topology good = quad_grid(4, 3).topology;
+  std::optional<ValidationProof> proof;
+  ASSERT_TRUE(check_topology(good, proof).ok());
+  const ValidationProof copy = *proof;
+  const std::optional<Adjacency> taken = copy.take_adjacency();
+  ASSERT_TRUE(taken.has_value());
+  const Adjacency built = Adjacency::build(good);
+  ASSERT_EQ(taken->edge_count(), built.edge_count());
+  for (size_t e = 0; e < built.edge_count(); ++e) {
+    EXPECT_EQ(taken->edge(e).a, built.edge(e).a);
+    EXPECT_EQ(taken->edge(e).b, built.edge(e).b);
+    EXPECT_TRUE(std::ranges::equal(taken->faces_of_edge(e), built.faces_of_edge(e)));
+  }
+  for (uint32_t v = 0; v < good.vertex_count; ++v)
+    EXPECT_TRUE(std::ranges::equal(taken->faces_of_vertex(v), built.faces_of_vertex(v)));
+  EXPECT_FALSE(proof->take_adjacency().has_value());
+  EXPECT_FALSE(copy.take_adjacency().has_value());
 }
 
 }  // namespace

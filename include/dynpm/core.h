@@ -326,15 +326,21 @@ inline ValidationReport validate(const Animation& animation) {
 // (SimplifyOptions::checked), do not check the same mesh again. Only check_topology() makes one.
 // It keeps a fingerprint of what it checked, never a reference: a proof of other faces (another
 // topology, or this one changed since) proves nothing, and the mesh is checked as without it.
+// It also carries the adjacency the check built, for the simplifier to take instead of building
+// it again (about 0.5 s at a million faces).
 class ValidationProof {
  public:
   bool proves(const Topology& topology) const { return fingerprint_ == fingerprint(topology); }
+  // The adjacency of the checked topology, the first time it is asked for by any copy of this
+  // proof (then nullopt: its memory goes with the taker).
+  std::optional<Adjacency> take_adjacency() const;
 
  private:
   friend ValidationReport check_topology(const Topology&, std::optional<ValidationProof>&);
-  explicit ValidationProof(uint64_t fingerprint) : fingerprint_(fingerprint) {}
+  ValidationProof(uint64_t fingerprint, std::optional<Adjacency> adjacency);
   static uint64_t fingerprint(const Topology& topology);
   uint64_t fingerprint_;
+  std::shared_ptr<std::optional<Adjacency>> adjacency_;  // shared by the copies
 };
 // validate(topology), with the proof in `proof` when it found no error (else empty).
 ValidationReport check_topology(const Topology& topology, std::optional<ValidationProof>& proof);

@@ -9,7 +9,9 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <string>
+#include <utility>
 
 #include "dynpm/core.h"
 #include "face_geometry.h"
@@ -301,10 +303,22 @@ uint64_t ValidationProof::fingerprint(const Topology& topology) {
   return h;
 }
 
+ValidationProof::ValidationProof(uint64_t fingerprint, std::optional<Adjacency> adjacency)
+    : fingerprint_(fingerprint),
+      adjacency_(std::make_shared<std::optional<Adjacency>>(std::move(adjacency))) {}
+
+std::optional<Adjacency> ValidationProof::take_adjacency() const {
+  std::optional<Adjacency> taken;
+  taken.swap(*adjacency_);
+  return taken;
+}
+
 ValidationReport check_topology(const Topology& topology, std::optional<ValidationProof>& proof) {
-  ValidationReport report = validate(topology);
+  std::optional<Adjacency> adjacency;
+  ValidationReport report = validate(topology, adjacency);
   proof.reset();
-  if (report.ok()) proof = ValidationProof(ValidationProof::fingerprint(topology));
+  if (report.ok())
+    proof = ValidationProof(ValidationProof::fingerprint(topology), std::move(adjacency));
   return report;
 }
 

@@ -386,7 +386,9 @@ size_t Simplifier::collapses() const {
 Result<SimplifyResult> simplify(const Topology& topology, const FrameSource& frames,
                                 const SimplifyOptions& options, CollapseListener* listener) {
   std::optional<Adjacency> adjacency;
-  if (!(options.checked && options.checked->proves(topology))) {
+  if (options.checked && options.checked->proves(topology)) {
+    adjacency = options.checked->take_adjacency();  // the check's, when no one took it before
+  } else {
     const size_t faces = topology.faces.size();
     if (options.progress) options.progress("checking the mesh", 0, faces);
     const ValidationReport report = validate(topology, adjacency);
