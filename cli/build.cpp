@@ -102,7 +102,9 @@ std::string check_memory(const Topology& input, const FrameSource& frames, const
                                  quadric_vertices_held(islands, simplify, input.vertex_count));
   };
   const uint64_t keys = key_step_count(rule, steps);
-  const uint64_t have = available_memory_bytes();
+  // The input check's adjacency, held now for the simplifier, is given back before the peak.
+  uint64_t have = available_memory_bytes();
+  if (have > 0 && simplify.checked) have += simplify.checked->adjacency_bytes();
   uint64_t need = estimate(keys);
   std::string at_once;  // " with K of N islands at once" when fewer are chosen
   if (refuse && have > 0 && need > have && islands.size() > 1) {

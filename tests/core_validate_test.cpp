@@ -214,8 +214,12 @@ TEST(Validate, AProofHandsTheChecksAdjacencyOnce) {
   std::optional<ValidationProof> proof;
   ASSERT_TRUE(check_topology(good, proof).ok());
   const ValidationProof copy = *proof;
+  const uint64_t held = proof->adjacency_bytes();
   const std::optional<Adjacency> taken = copy.take_adjacency();
   ASSERT_TRUE(taken.has_value());
+  EXPECT_EQ(held, taken->bytes());
+  EXPECT_GE(held, good.faces.size() * 4 * 4);  // at least each corner's face and edge's faces
+  EXPECT_EQ(proof->adjacency_bytes(), 0u);
   const Adjacency built = Adjacency::build(good);
   ASSERT_EQ(taken->edge_count(), built.edge_count());
   for (size_t e = 0; e < built.edge_count(); ++e) {

@@ -237,6 +237,8 @@ class Adjacency {
   bool is_feature_vertex(uint32_t v) const {
     return (vertex_kind_[v] & (kOnNonManifoldEdge | kNonManifoldFan)) != 0;
   }
+  // The memory its arrays hold.
+  uint64_t bytes() const;
 
  private:
   std::vector<uint32_t> vertex_face_start_, vertex_faces_;
@@ -334,6 +336,9 @@ class ValidationProof {
   // The adjacency of the checked topology, the first time it is asked for by any copy of this
   // proof (then nullopt: its memory goes with the taker).
   std::optional<Adjacency> take_adjacency() const;
+  // The memory of the adjacency it still carries (0 once taken): held now, but given back before
+  // the simplifier's peak, so a memory check before the work may count it as available.
+  uint64_t adjacency_bytes() const { return *adjacency_ ? (*adjacency_)->bytes() : 0; }
 
  private:
   friend ValidationReport check_topology(const Topology&, std::optional<ValidationProof>&);

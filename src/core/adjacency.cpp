@@ -28,6 +28,12 @@ struct UnionFind {
 
 }  // namespace
 
+uint64_t Adjacency::bytes() const {
+  const auto of = [](const auto& v) { return uint64_t{v.capacity()} * sizeof(v[0]); };
+  return of(vertex_face_start_) + of(vertex_faces_) + of(vertex_edge_start_) + of(edges_) +
+         of(edge_face_start_) + of(edge_faces_) + of(vertex_kind_);
+}
+
 Adjacency Adjacency::build(const Topology& topology) {
   Adjacency adj;
   const uint32_t vertex_count = topology.vertex_count;
