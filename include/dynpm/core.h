@@ -424,8 +424,8 @@ void return_freed_arrays_to_the_system();
 // Huge pages: where the kernel gives transparent huge pages only to memory that asks for them
 // (its "madvise" mode, Debian's default), glibc asks when its glibc.malloc.hugetlb tunable is 1,
 // and it reads its tunables only at start-up; so the tool starts itself again with it
-// (cli/huge_pages.h). On 2 MB pages a build takes about a fifth less time: its arrays are filled
-// with 512 times fewer page faults (docs/BENCHMARKS.md).
+// (cli/huge_pages.h). On 2 MiB pages a build takes a quarter to a third less time: its arrays
+// are filled with 512 times fewer page faults (docs/BENCHMARKS.md "Huge pages").
 // The GLIBC_TUNABLES value to start again with, given the present one (nullptr: unset) and the
 // first line of /sys/kernel/mm/transparent_hugepage/enabled; nullopt when not to start again:
 // the kernel's mode is another, or the tunable is set already (glibc.malloc.hugetlb=0 is how to
