@@ -35,10 +35,9 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-using test::argv_of;
-using test::dynpm_command;
 using test::folder_entries;
 using test::joined;
+using test::start_dynpm;
 
 // ---------------------------------------------------------------------------------------------
 // Atomic outputs under SIGKILL
@@ -57,21 +56,6 @@ std::string make_animation(const test::TempDir& dir) {
         write_mesh(dir.file("frame_" + std::to_string(t) + ".obj"), grid.topology, xyz).ok());
   }
   return dir.file("frame_*.obj");
-}
-
-// dynpm with these arguments, started in the background (quiet); its process id.
-pid_t start_dynpm(const std::vector<std::string>& arguments) {
-  std::vector<std::string> args = dynpm_command(arguments);
-  std::vector<char*> argv = argv_of(args);
-  const pid_t pid = ::fork();
-  if (pid == 0) {
-    const int null = ::open("/dev/null", O_WRONLY);
-    ::dup2(null, STDOUT_FILENO);
-    ::dup2(null, STDERR_FILENO);
-    ::execv(argv[0], argv.data());
-    ::_exit(127);
-  }
-  return pid;
 }
 
 // Waits for the process; true if it ended by itself with exit code 0.

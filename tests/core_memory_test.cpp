@@ -1,13 +1,11 @@
 // Huge pages (dynpm/core.h, cli/huge_pages.h): the tunable dynpm starts itself again with, and
 // that the running tool has it where the kernel waits to be asked.
-#include <fcntl.h>
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
-#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <string>
@@ -15,6 +13,7 @@
 
 #include "dynpm/core.h"
 #include "dynpm_runs.h"
+#include "fixtures.h"
 
 namespace dynpm {
 namespace {
@@ -48,20 +47,9 @@ TEST(HugePages, TheToolRunsWithTheTunableWhereTheKernelWaitsToBeAsked) {
   std::string mode;
   if (!std::getline(mode_file, mode) || mode.find("[madvise]") == std::string::npos)
     GTEST_SKIP() << "the kernel's huge-page mode is '" << mode << "', not madvise";
-  const std::filesystem::path dir =
-      std::filesystem::temp_directory_path() / ("dynpm_huge_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  std::vector<std::string> args = test::dynpm_command({"serve", dir.string(), "--port", "0"});
-  std::vector<char*> argv = test::argv_of(args);
-  const pid_t pid = ::fork();
-  if (pid == 0) {
-    ::unsetenv("GLIBC_TUNABLES");
-    const int null = ::open("/dev/null", O_WRONLY);
-    ::dup2(null, STDOUT_FILENO);
-    ::dup2(null, STDERR_FILENO);
-    ::execv(argv[0], argv.data());
-    ::_exit(127);
-  }
+  test::TempDir dir;
+  ::unsetenv("GLIBC_TUNABLES");  // the tool adds it; in this process nothing reads it
+  const pid_t pid = test::start_dynpm({"serve", dir.path().string(), "--port", "0"});
   bool seen = false;
   for (int i = 0; i < 200 && !seen; ++i) {  // up to 10 s on a loaded machine
     seen = environment_of(pid).find(std::string("GLIBC_TUNABLES=glibc.malloc.hugetlb=1") + '\0') !=
@@ -71,7 +59,6 @@ TEST(HugePages, TheToolRunsWithTheTunableWhereTheKernelWaitsToBeAsked) {
   ::kill(pid, SIGTERM);
   int status = 0;
   ::waitpid(pid, &status, 0);
-  std::filesystem::remove_all(dir);
   EXPECT_TRUE(seen) << "dynpm serve did not start again with glibc.malloc.hugetlb=1";
 }
 

@@ -1,6 +1,9 @@
 // Running the dynpm binary from the tests that kill it or limit it (bad_input_test.cpp,
-// atomic_outputs_test.cpp), and the folders it leaves.
+// atomic_outputs_test.cpp, core_memory_test.cpp), and the folders it leaves.
 #pragma once
+
+#include <fcntl.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -37,6 +40,21 @@ inline std::vector<char*> argv_of(std::vector<std::string>& args) {
   for (std::string& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
   return argv;
+}
+
+// dynpm with these arguments, started in the background (quiet); its process id.
+inline pid_t start_dynpm(const std::vector<std::string>& arguments) {
+  std::vector<std::string> args = dynpm_command(arguments);
+  std::vector<char*> argv = argv_of(args);
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    const int null = ::open("/dev/null", O_WRONLY);
+    ::dup2(null, STDOUT_FILENO);
+    ::dup2(null, STDERR_FILENO);
+    ::execv(argv[0], argv.data());
+    ::_exit(127);
+  }
+  return pid;
 }
 
 }  // namespace dynpm::test

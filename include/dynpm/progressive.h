@@ -241,6 +241,10 @@ struct DpmReadLimits {
   std::optional<std::string> variant;
 };
 
+// The splits a reader with `limits` (vertices or ratio; neither: all) keeps, from the counts of
+// HEAD that `mesh` holds: at least the base mesh, at most the whole stream.
+uint32_t splits_for_limits(const ProgressiveMesh& mesh, const DpmReadLimits& limits);
+
 // Reads a whole file or a prefix of one (then complete == false), or only what `limits` asks
 // for (then limited == true). Errors name the file and byte offset.
 Result<ProgressiveMesh> read_dpm(const std::string& path, const DpmReadLimits& limits = {});

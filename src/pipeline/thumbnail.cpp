@@ -200,12 +200,9 @@ std::string render_thumbnail(const ProgressiveMesh& mesh, const ThumbnailOptions
 }
 
 ProgressiveMesh thumbnail_level(const ProgressiveMesh& mesh, const ThumbnailOptions& options) {
-  // The level a reader stops at for DpmReadLimits::ratio (dpm_read.cpp).
-  const double vertices =
-      std::clamp(std::round(options.ratio * mesh.full_vertex_count), double(mesh.base_vertex_count),
-                 double(mesh.full_vertex_count));
+  // The level a reader of the file stops at.
   const uint32_t splits =
-      std::min(static_cast<uint32_t>(vertices) - mesh.base_vertex_count, mesh.split_count());
+      std::min(splits_for_limits(mesh, thumbnail_read_limits(options)), mesh.split_count());
   ProgressiveMesh level;
   level.full_vertex_count = mesh.full_vertex_count;
   level.full_face_count = mesh.full_face_count;

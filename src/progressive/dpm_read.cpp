@@ -131,12 +131,7 @@ class Decoder {
   // What DpmReadLimits asks of this file, once HEAD has given its counts.
   void apply_limits_of_head() {
     const ProgressiveMesh& m = mesh_;
-    if (limits_.vertices || limits_.ratio) {
-      double vertices = limits_.vertices ? double(*limits_.vertices)
-                                         : std::round(*limits_.ratio * m.full_vertex_count);
-      vertices = std::clamp(vertices, double(m.base_vertex_count), double(m.full_vertex_count));
-      wanted_splits_ = static_cast<uint32_t>(vertices) - m.base_vertex_count;
-    }
+    if (limits_.vertices || limits_.ratio) wanted_splits_ = splits_for_limits(m, limits_);
     if (limits_.error) error_ = *limits_.error * (limits_.error_of_diagonal ? m.diagonal() : 1.0);
     steps_ = m.times.size();
     if (limits_.last_step) steps_ = std::min(steps_, *limits_.last_step + 1);
@@ -544,6 +539,16 @@ class Decoder {
 }  // namespace
 
 bool looks_like_dpm(std::string_view head) { return head.substr(0, kMagic.size()) == kMagic; }
+
+uint32_t splits_for_limits(const ProgressiveMesh& mesh, const DpmReadLimits& limits) {
+  double vertices = mesh.full_vertex_count;
+  if (limits.vertices)
+    vertices = *limits.vertices;
+  else if (limits.ratio)
+    vertices = std::round(*limits.ratio * mesh.full_vertex_count);
+  vertices = std::clamp(vertices, double(mesh.base_vertex_count), double(mesh.full_vertex_count));
+  return static_cast<uint32_t>(vertices) - mesh.base_vertex_count;
+}
 
 Result<ProgressiveMesh> decode_dpm(std::string_view bytes, const std::string& name,
                                    const DpmReadLimits& limits) {
