@@ -173,7 +173,7 @@ int run_build(std::span<char* const> arguments) {
     if (!opened) return fail(kSpec.name, kExitFailure, opened.message());
     stream.emplace(std::move(*opened));
   }
-  const Topology& input = family ? family->members[0].topology : stream->topology;
+  Topology& input = family ? family->members[0].topology : stream->topology;
   const FrameSource& frames = family ? *family->steps : *stream->frames;
   if (Status s = check_cost_fields(options.simplify, frames); !s.ok())
     return fail(kSpec.name, kExitUsage, s.message());
@@ -198,7 +198,9 @@ int run_build(std::span<char* const> arguments) {
   if (!args.has("--no-thumbnail")) options.thumbnail = ThumbnailOptions{};
 
   phase.emplace("simplifying, recording and encoding");
-  auto built = build_dpm(input, frames, options);
+  const size_t faces = input.faces.size(), quads = input.quad_count(),
+               triangles = input.triangle_count();
+  auto built = build_dpm(std::move(input), frames, options);  // its faces freed when recorded
   if (!built) return fail(kSpec.name, kExitFailure, built.message());
   const ProgressiveMesh& mesh = built->mesh;
   const std::string& bytes = built->bytes;
@@ -218,9 +220,9 @@ int run_build(std::span<char* const> arguments) {
     j.begin_object();
     j.value("output", *output);
     j.value("vertices", uint64_t{input.vertex_count});
-    j.value("faces", uint64_t{input.faces.size()});
-    j.value("quads", uint64_t{input.quad_count()});
-    j.value("triangles", uint64_t{input.triangle_count()});
+    j.value("faces", uint64_t{faces});
+    j.value("quads", uint64_t{quads});
+    j.value("triangles", uint64_t{triangles});
     j.value("steps", uint64_t{steps});
     j.begin_array("variants");
     for (const MeshVariant& v : options.variants) {
@@ -250,8 +252,7 @@ int run_build(std::span<char* const> arguments) {
     return kExitOk;
   }
   std::printf("input   %u vertices, %zu faces (%zu quads, %zu triangles), %zu steps\n",
-              input.vertex_count, input.faces.size(), input.quad_count(), input.triangle_count(),
-              steps);
+              input.vertex_count, faces, quads, triangles, steps);
   if (!options.variants.empty())
     std::printf("family  %zu variants, %zu distinct steps stored of %zu\n", options.variants.size(),
                 steps, total_variant_steps(options.variants));

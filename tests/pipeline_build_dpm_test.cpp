@@ -54,6 +54,30 @@ void expect_same_bytes(const Topology& topology, const FrameSource& frames, Buil
   EXPECT_EQ(streamed->mesh.quant_step, in_memory->quant_step);
 }
 
+// Handed the input (as 'dynpm build' hands it), build_dpm() writes the same file and frees the
+// input's faces and their ids before coding; the vertex count and node ids stay, which the frames
+// may use.
+TEST(BuildDpm, HandedTheInputItWritesTheSameFileAndFreesTheFaces) {
+  test::TempDir dir;
+  auto stream = open_crashbox(dir);
+  ASSERT_TRUE(stream.ok()) << stream.message();
+  BuildOptions options;
+  options.simplify.key_steps = {0, 12, 25};
+  auto kept = build_dpm(stream->topology, *stream->frames, options);
+  ASSERT_TRUE(kept.ok()) << kept.message();
+  const Topology before = stream->topology;
+  ASSERT_FALSE(before.faces.empty());
+  auto handed = build_dpm(std::move(stream->topology), *stream->frames, options);
+  ASSERT_TRUE(handed.ok()) << handed.message();
+  EXPECT_TRUE(handed->bytes == kept->bytes);
+  const Topology& after = stream->topology;
+  EXPECT_TRUE(after.faces.empty() && after.part_ids.empty() && after.element_ids.empty());
+  EXPECT_EQ(after.faces.capacity(), 0u);
+  EXPECT_EQ(after.vertex_count, before.vertex_count);
+  EXPECT_EQ(after.node_ids, before.node_ids);
+  EXPECT_EQ(after.part_names, before.part_names);
+}
+
 TEST(BuildDpm, TheStreamedFileIsTheInMemoryBuildsOnAnyThreadCount) {
   test::TempDir dir;
   auto stream = open_crashbox(dir);

@@ -89,6 +89,11 @@ struct BuiltFile {
 };
 Result<BuiltFile> build_dpm(const Topology& topology, const FrameSource& frames,
                             const BuildOptions& options);
+// The same, for a caller done with the input's faces: they and its part and element ids are
+// freed once the splits are recorded, before the coding's peak (28 B a face); the topology keeps
+// its vertex count, node ids and part names (a FrameSource may name vertices by their ids).
+Result<BuiltFile> build_dpm(Topology&& topology, const FrameSource& frames,
+                            const BuildOptions& options);
 
 // ---------------------------------------------------------------------------------------------
 // The thumbnail a catalogue shows ('dynpm serve'), which 'dynpm build' stores in the file's THMB

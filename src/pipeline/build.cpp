@@ -309,11 +309,20 @@ Result<ProgressiveMesh> build_progressive_mesh(const Topology& topology, const F
   return std::move(pm);
 }
 
-Result<BuiltFile> build_dpm(const Topology& topology, const FrameSource& frames,
-                            const BuildOptions& options) {
+namespace {
+
+// build_dpm(), with `release` (the same topology, or null) freed of what the coding does not
+// read once the splits are recorded.
+Result<BuiltFile> record_and_code(const Topology& topology, Topology* release,
+                                  const FrameSource& frames, const BuildOptions& options) {
   auto recorded = record(topology, frames, options);
   if (!recorded) return recorded.status();
   std::vector<uint32_t>().swap(recorded->new_face);  // the steps need only new_vertex
+  if (release) {  // its node ids stay: a FrameSource may name vertices by them
+    std::vector<Face>().swap(release->faces);
+    std::vector<int32_t>().swap(release->part_ids);
+    std::vector<int64_t>().swap(release->element_ids);
+  }
   if (options.progress) options.progress("coding the splits", 0, 1);  // ends at the next phase
   auto encoder = DpmStepEncoder::start(recorded->pm, options.simplify.threads);
   if (!encoder) return encoder.status();
@@ -339,6 +348,18 @@ Result<BuiltFile> build_dpm(const Topology& topology, const FrameSource& frames,
     if (options.progress) options.progress("thumbnail", 1, 1);
   }
   return BuiltFile{std::move(recorded->pm), std::move(bytes).value()};
+}
+
+}  // namespace
+
+Result<BuiltFile> build_dpm(const Topology& topology, const FrameSource& frames,
+                            const BuildOptions& options) {
+  return record_and_code(topology, nullptr, frames, options);
+}
+
+Result<BuiltFile> build_dpm(Topology&& topology, const FrameSource& frames,
+                            const BuildOptions& options) {
+  return record_and_code(topology, &topology, frames, options);
 }
 
 }  // namespace dynpm
