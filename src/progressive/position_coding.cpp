@@ -10,6 +10,9 @@
 namespace dynpm::progressive {
 namespace {
 
+// How many splits ahead the motion guess asks for its ring's values (code_batch()).
+constexpr size_t kRingsAhead = 8;
+
 // ⌊a / b⌋ for b > 0 (C++ division truncates toward zero).
 int64_t floor_div(int64_t a, int64_t b) { return a / b - ((a % b != 0) && (a < 0)); }
 
@@ -67,6 +70,12 @@ bool walk(const ProgressiveMesh& mesh, uint32_t first, const ChunkStencils& sten
   for (size_t t = 0; t < steps; ++t) {
     auto& m = models.step(t);
     for (size_t k = 0; k < n; ++k) {
+      if (const size_t ahead = k + kRingsAhead; t > 0 && ahead < n)  // as in code_batch()
+        for (uint32_t i = stencils.splits[ahead].ring_begin; i < stencils.splits[ahead].ring_end;
+             ++i) {
+          qv.prefetch(stencils.ring[i], t);
+          qv.prefetch(stencils.ring[i], t - 1);
+        }
       const uint32_t v = mesh.base_vertex_count + first + static_cast<uint32_t>(k);
       for (int c = 0; c < 3; ++c) {
         const auto q = [&](uint32_t u, size_t s) { return qv.at(u, s, c); };
@@ -182,8 +191,17 @@ void StepPositionEncoder::code_batch() {
   for (auto& step : r) step.resize(splits * 3);
   for (size_t j = 0; j < count; ++j) {
     const size_t t = first + j;
+    const std::vector<uint32_t>& now = step_q(t);
+    const std::vector<uint32_t>& last = step_q(t > 0 ? t - 1 : t);
     parallel_for(splits, parts, threads_, [&](size_t begin, size_t end, size_t) {
       for (size_t k = begin; k < end; ++k) {
+        // The neighbours' values, scattered (split order is not spatial): asked for a few
+        // splits ahead, their misses overlap instead of stalling the sums one by one.
+        if (const size_t ahead = k + kRingsAhead; t > 0 && ahead < end)
+          for (uint32_t i = all_.splits[ahead].ring_begin; i < all_.splits[ahead].ring_end; ++i) {
+            prefetch(&now[size_t{all_.ring[i]} * 3]);
+            prefetch(&last[size_t{all_.ring[i]} * 3]);
+          }
         const uint32_t v = b + static_cast<uint32_t>(k);
         for (int c = 0; c < 3; ++c) {
           const auto qc = [&](uint32_t u, size_t s) {

@@ -18,6 +18,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/prefetch.h"
 #include "dpm_format.h"
 #include "dynpm/progressive.h"
 #include "range_coder.h"
@@ -62,6 +63,8 @@ class GridValues {
     const uint32_t u = q_[t][size_t{v} * 3 + c];
     return lossless_ ? int64_t{u} : int64_t{static_cast<int32_t>(u)};
   }
+  // Asks for vertex v's values at step t ahead of at() (core/prefetch.h).
+  void prefetch(uint32_t v, size_t t) const { dynpm::prefetch(&q_[t][size_t{v} * 3]); }
   void set(uint32_t v, size_t t, int c, int64_t q) {
     q_[t][size_t{v} * 3 + c] = static_cast<uint32_t>(q);
   }
