@@ -27,6 +27,7 @@
 #include <cctype>
 #include <cmath>
 #include <filesystem>
+#include <mutex>
 #include <optional>
 
 #include "contained_read.h"
@@ -53,8 +54,13 @@ std::string trimmed(std::string s) {
 // so every call names the file and the variable on failure.
 class NcFile {
  public:
-  NcFile(std::string path, int id, uint64_t file_size, bool compressed)
-      : path_(std::move(path)), id_(id), file_size_(file_size), compressed_(compressed) {}
+  NcFile(std::string path, int id, uint64_t file_size, bool compressed,
+         std::optional<ClassicValues> classic)
+      : path_(std::move(path)),
+        id_(id),
+        file_size_(file_size),
+        compressed_(compressed),
+        classic_(std::move(classic)) {}
   ~NcFile() { nc_close(id_); }
   NcFile(const NcFile&) = delete;
   NcFile& operator=(const NcFile&) = delete;
@@ -62,6 +68,9 @@ class NcFile {
   const std::string& path() const { return path_; }
   int id() const { return id_; }
   bool compressed() const { return compressed_; }
+  // read_doubles() may run on several threads at once: a classic file's float and double
+  // values are read without netCDF (ClassicValues), and the rest under a lock.
+  bool parallel_reads() const { return classic_.has_value(); }
 
   Status error(const std::string& what, int code) const {
     return Status::error(path_ + ": " + what + ": " + nc_strerror(code));
@@ -108,6 +117,8 @@ class NcFile {
   // memory costs 40 MB of page faults.
   Status read_doubles(int var, const std::string& name, std::span<const size_t> start,
                       std::span<const size_t> count, std::vector<double>& values) const {
+    if (classic_ && classic_->reads(var)) return classic_->read(var, name, start, count, values);
+    const std::lock_guard<std::mutex> netcdf(netcdf_);
     size_t total = 1;
     for (size_t c : count) total *= c;
     DYNPM_RETURN_IF_ERROR(check_count(var, name, total));
@@ -157,6 +168,8 @@ class NcFile {
   int id_;
   uint64_t file_size_;
   bool compressed_;
+  std::optional<ClassicValues> classic_;
+  mutable std::mutex netcdf_;  // netCDF's C library is not safe on several threads
 };
 
 // Where a nodal variable's values for one step live.
@@ -204,6 +217,7 @@ class ExodusSource final : public FrameSource {
 
   uint32_t vertex_count() const override { return static_cast<uint32_t>(coordinates_.size() / 3); }
   size_t step_count() const override { return std::max<size_t>(times_.size(), 1); }
+  bool parallel_reads() const override { return file_->parallel_reads(); }
   double step_time(size_t t) const override { return times_.empty() ? 0.0 : times_[t]; }
 
   Status read_step(size_t t, std::span<float> out) const override {
@@ -661,14 +675,19 @@ Status read_element_variables(const NcFile& nc, const std::string& path, size_t 
 }
 
 // Everything from nc_open on; in dynpm's process for classic files, in a child for the others.
+// `classic`: a classic file's layout, whose steps are then read without netCDF.
 Result<AnimationStream> read_exodus(const std::string& path, uint64_t file_size,
-                                    const ReadOptions& options) {
+                                    const ReadOptions& options,
+                                    std::optional<ClassicLayout> classic) {
   int id = -1;
   if (int rc = nc_open(path.c_str(), NC_NOWRITE, &id); rc != NC_NOERR)
     return Status::error(path + ": not a readable netCDF (Exodus II) file: " + nc_strerror(rc));
   int format = 0, mode = 0;
   nc_inq_format_extended(id, &format, &mode);
-  auto file = std::make_shared<const NcFile>(path, id, file_size, format != NC_FORMATX_NC3);
+  std::optional<ClassicValues> values =
+      classic ? ClassicValues::open(path, std::move(*classic)) : std::nullopt;
+  auto file = std::make_shared<const NcFile>(path, id, file_size, format != NC_FORMATX_NC3,
+                                             std::move(values));
   const NcFile& nc = *file;
   // 1. The nodes' coordinates, and the user numbers of nodes, elements and blocks.
   auto axes = read_coordinates(nc, path);
@@ -721,11 +740,12 @@ Result<AnimationStream> open_exodus(const std::string& path, const ReadOptions& 
   const uint64_t file_size = std::filesystem::file_size(path, ec);
   if (ec) return Status::error(path + ": " + ec.message());
   if (const char version = classic_version(path)) {
-    DYNPM_RETURN_IF_ERROR(check_classic_header(path, file_size, version));
-    return read_exodus(path, file_size, options);
+    auto layout = check_classic_header(path, file_size, version);
+    if (!layout) return layout.status();
+    return read_exodus(path, file_size, options, std::move(layout).value());
   }
   return open_in_child(path, options, "HDF5", [&](const ReadOptions& child_options) {
-    return read_exodus(path, file_size, child_options);
+    return read_exodus(path, file_size, child_options, std::nullopt);
   });
 }
 

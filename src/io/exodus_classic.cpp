@@ -1,11 +1,17 @@
 // netCDF's classic header, checked before netCDF reads the file (exodus_classic.h).
 #include "exodus_classic.h"
 
+#include <fcntl.h>
 #include <netcdf.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <bit>
+#include <cerrno>
+#include <cstring>
 #include <fstream>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace dynpm::io {
@@ -36,7 +42,7 @@ class ClassicHeaderCheck {
         version_(version),
         in_(path_, std::ios::binary) {}
 
-  Status run() {
+  Result<ClassicLayout> run() {
     if (!in_) return Status::error(path_ + ": cannot open the file");
     in_.seekg(4);
     pos_ = 4;
@@ -55,7 +61,9 @@ class ClassicHeaderCheck {
       uint64_t begin, size, padded;
     };
     std::vector<Extent> fixed, records;
+    ClassicLayout layout;
     for (uint64_t i = 0; i < var_count && ok(); ++i) {
+      ClassicLayout::Variable& described = layout.variables.emplace_back();
       const std::string var = "variable " + name();
       const uint64_t rank_at = pos_;
       const uint64_t rank = count();
@@ -73,16 +81,19 @@ class ClassicHeaderCheck {
                           std::to_string(dim_lengths.size()) + " dimensions");
           break;
         }
-        if (d == 0 && dim_lengths[id] == 0)
+        if (d == 0 && dim_lengths[id] == 0) {
           record = true;
-        else
+        } else {
           elements = saturating_product(elements, dim_lengths[id]);
+          described.lengths.push_back(dim_lengths[id]);
+        }
       }
       attributes(var + " attribute");
-      const uint64_t type_size = type(var);
+      const uint64_t type_size = type(var, &described.type);
       count();  // vsize: recomputed from the shape, the header's may be clipped to 32 bits
       const uint64_t begin = offset_size() == 4 ? u32() : u64();
       const uint64_t size = saturating_product(elements, type_size);
+      described.begin = begin, described.record = record;
       (record ? records : fixed).push_back({begin, size, saturating_sum(size, 3) / 4 * 4});
     }
     if (!ok()) return error_;
@@ -92,10 +103,10 @@ class ClassicHeaderCheck {
     // Records interleave the record variables, each padded to 4 bytes, except that a single
     // record variable is not padded.
     const bool streaming = numrecs == (version_ == 5 ? ~uint64_t{0} : 0xffffffffu);
+    uint64_t record_size = 0;
+    for (const Extent& v : records)
+      record_size = saturating_sum(record_size, records.size() == 1 ? v.size : v.padded);
     if (numrecs > 0 && !streaming) {
-      uint64_t record_size = 0;
-      for (const Extent& v : records)
-        record_size = saturating_sum(record_size, records.size() == 1 ? v.size : v.padded);
       for (const Extent& v : records)
         end = std::max(end, saturating_sum(saturating_sum(v.begin, v.size),
                                            saturating_product(numrecs - 1, record_size)));
@@ -104,7 +115,8 @@ class ClassicHeaderCheck {
       return Status::error(path_ + ": byte " + std::to_string(file_size_) +
                            ": the file ends before its data does (the header describes " +
                            std::to_string(end) + " bytes): cut short?");
-    return {};
+    layout.records = numrecs, layout.record_size = record_size, layout.streaming = streaming;
+    return layout;
   }
 
  private:
@@ -182,11 +194,13 @@ class ClassicHeaderCheck {
         !s.empty() && std::all_of(s.begin(), s.end(), [](char c) { return c > ' ' && c < 127; });
     return printable ? s : "#" + std::to_string(at);
   }
-  // The size of one value of a netCDF type (1 byte … 8 bytes: NC_BYTE … NC_UINT64).
-  uint64_t type(const std::string& owner) {
+  // The size of one value of a netCDF type (1 byte … 8 bytes: NC_BYTE … NC_UINT64); the type
+  // into `code` when given.
+  uint64_t type(const std::string& owner, int* code = nullptr) {
     const uint64_t at = pos_;
     const uint64_t t = u32();
     if (!ok()) return 1;
+    if (code) *code = static_cast<int>(t);
     switch (t) {
       case NC_BYTE:
       case NC_CHAR:
@@ -238,7 +252,8 @@ class ClassicHeaderCheck {
 
 }  // namespace
 
-Status check_classic_header(const std::string& path, uint64_t file_size, char version) {
+Result<ClassicLayout> check_classic_header(const std::string& path, uint64_t file_size,
+                                           char version) {
   return ClassicHeaderCheck(path, file_size, version).run();
 }
 
@@ -247,6 +262,96 @@ char classic_version(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in.read(magic, 4) || std::string_view(magic, 3) != "CDF") return 0;
   return magic[3] == 1 || magic[3] == 2 || magic[3] == 5 ? magic[3] : 0;
+}
+
+std::optional<ClassicValues> ClassicValues::open(const std::string& path, ClassicLayout layout) {
+  if (layout.streaming) return std::nullopt;
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return std::nullopt;
+  return ClassicValues(path, fd, std::move(layout));
+}
+
+ClassicValues::ClassicValues(std::string path, int fd, ClassicLayout layout)
+    : path_(std::move(path)), fd_(fd), layout_(std::move(layout)) {}
+ClassicValues::ClassicValues(ClassicValues&& other) noexcept
+    : path_(std::move(other.path_)),
+      fd_(std::exchange(other.fd_, -1)),
+      layout_(std::move(other.layout_)) {}
+ClassicValues::~ClassicValues() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
+bool ClassicValues::reads(int var) const {
+  if (var < 0 || static_cast<size_t>(var) >= layout_.variables.size()) return false;
+  const int type = layout_.variables[static_cast<size_t>(var)].type;
+  return type == NC_FLOAT || type == NC_DOUBLE;
+}
+
+Status ClassicValues::read(int var, const std::string& name, std::span<const size_t> start,
+                           std::span<const size_t> count, std::vector<double>& values) const {
+  if (!reads(var)) return Status::error(path_ + ": " + name + ": not a float or double variable");
+  const ClassicLayout::Variable& v = layout_.variables[static_cast<size_t>(var)];
+  // The dimensions: the record one (counted by numrecs) first, then the others.
+  std::vector<uint64_t> lengths;
+  if (v.record) lengths.push_back(layout_.records);
+  lengths.insert(lengths.end(), v.lengths.begin(), v.lengths.end());
+  const size_t rank = lengths.size();
+  if (start.size() != rank || count.size() != rank)
+    return Status::error(path_ + ": " + name + ": " + std::to_string(start.size()) +
+                         " indices for a variable of " + std::to_string(rank) + " dimensions");
+  size_t total = 1;
+  for (size_t d = 0; d < rank; ++d) {
+    if (start[d] > lengths[d] || count[d] > lengths[d] - start[d])
+      return Status::error(path_ + ": " + name + ": values " + std::to_string(start[d]) + " … " +
+                           std::to_string(start[d] + count[d]) + " of dimension " +
+                           std::to_string(d) + ", which has " + std::to_string(lengths[d]));
+    total *= count[d];
+  }
+  values.resize(total);
+  if (total == 0) return {};
+  const size_t size = v.type == NC_DOUBLE ? 8 : 4;
+  // The last dimension's values lie side by side and are read as one run; a record variable
+  // of one dimension has one value a record, a record apart.
+  const bool record_runs = v.record && rank == 1;
+  const size_t run = record_runs ? 1 : count[rank - 1];
+  const size_t stepped = record_runs ? rank : rank - 1;  // the dimensions stepped through
+  std::vector<size_t> at(start.begin(), start.end());
+  thread_local std::vector<unsigned char> bytes;
+  bytes.resize(run * size);
+  for (size_t done = 0; done < total; done += run) {
+    uint64_t linear = 0;
+    for (size_t d = v.record ? 1 : 0; d < rank; ++d) linear = linear * lengths[d] + at[d];
+    uint64_t offset = v.begin + linear * size;
+    if (v.record) offset += at[0] * layout_.record_size;
+    for (size_t got = 0; got < bytes.size();) {
+      const ssize_t n =
+          ::pread(fd_, bytes.data() + got, bytes.size() - got, static_cast<off_t>(offset + got));
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0)
+        return Status::error(path_ + ": " + name + ": byte " + std::to_string(offset + got) + ": " +
+                             (n < 0 ? std::strerror(errno) : "the file ends here") +
+                             " (changed since it was opened?)");
+      got += static_cast<size_t>(n);
+    }
+    double* out = values.data() + done;
+    // Big-endian, as the classic formats store every value.
+    for (size_t i = 0; i < run; ++i) {
+      if (size == 8) {
+        uint64_t raw;
+        std::memcpy(&raw, &bytes[i * 8], 8);
+        out[i] = std::bit_cast<double>(__builtin_bswap64(raw));
+      } else {
+        uint32_t raw;
+        std::memcpy(&raw, &bytes[i * 4], 4);
+        out[i] = double(std::bit_cast<float>(__builtin_bswap32(raw)));
+      }
+    }
+    for (size_t d = stepped; d-- > 0;) {
+      if (++at[d] < start[d] + count[d]) break;
+      at[d] = start[d];
+    }
+  }
+  return {};
 }
 
 }  // namespace dynpm::io
