@@ -132,8 +132,9 @@ TEST(Islands, ALogReadsBackWhatWasWrittenAcrossItsChunks) {
   }
 }
 
-// Only the islands at work hold key-step quadrics (with every key step, most of the memory):
-// 2 × threads of them at once, each given back when it is done; the collapses are the same.
+// Only the islands at work hold key-step quadrics (with every key step, most of the memory): at
+// most 2 × threads of them at once (threads when no round is needed), each given back when it is
+// done; the collapses are the same.
 TEST(Islands, OnlyTheIslandsAtWorkHoldQuadrics) {
   const Animation* box = crashbox();
   ASSERT_NE(box, nullptr);
@@ -142,15 +143,16 @@ TEST(Islands, OnlyTheIslandsAtWorkHoldQuadrics) {
   Told one_thread, many;
   auto r = simplify(a.topology, a.frames, island_options(1), &one_thread);
   ASSERT_TRUE(r.ok()) << r.message();
-  EXPECT_EQ(r->islands, 7u);  // six boxes and the quad
-  EXPECT_GE(r->quadric_vertices_held, n);
-  EXPECT_LE(r->quadric_vertices_held, 2 * n);  // two boxes, or a box and the quad
+  EXPECT_EQ(r->islands, 7u);               // six boxes and the quad
+  EXPECT_EQ(r->quadric_vertices_held, n);  // one thread, no rounds: one island at a time
   // What a memory estimate is told before the work: the two largest islands.
   EXPECT_EQ(quadric_vertices_held(a.topology, island_options(1)), 2 * n);
   EXPECT_EQ(quadric_vertices_held(a.topology, island_options(8)), a.topology.vertex_count);
   auto all_open = simplify(a.topology, a.frames, island_options(8), &many);
   ASSERT_TRUE(all_open.ok()) << all_open.message();
-  EXPECT_EQ(all_open->quadric_vertices_held, a.topology.vertex_count);  // 16 ≥ 7 islands
+  // Up to 8 at once (≥ 7 islands), as the threads happen to overlap.
+  EXPECT_GE(all_open->quadric_vertices_held, n);
+  EXPECT_LE(all_open->quadric_vertices_held, a.topology.vertex_count);
   EXPECT_TRUE(many.collapses == one_thread.collapses);
   // Fewer at once than the threads would take (what `dynpm build` chooses when memory is short):
   // the same collapses, one island's quadrics at a time.

@@ -55,6 +55,8 @@ class Simplifier {
   void stop_islands_past_the_cut();
   Status run_islands(SimplifyResult& result);
   void open_island(Lane& lane);
+  // Up to `quota` collapses, until the island is exhausted; the first error.
+  Status collapse_island(Lane& lane, size_t quota);
   void close_island(Lane& lane);
   size_t collapses() const;
   Status check_mesh(size_t collapse_index) const;
