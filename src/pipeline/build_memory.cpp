@@ -18,12 +18,13 @@ namespace dynpm {
 // a triangle mesh, which set the per-vertex and per-face bytes apart, last on 2026-12-05 when
 // islands began to hold their quadrics only while at work: the tiled 1 M × 25 crash box
 // (1,003,002 vertices, 980,958 quads, 56 islands): auto:3 330–340 MB, in "coding the splits"
-// (estimate 360; 351–359 MB on huge pages since 2026-12-05), all 25 key steps 569 MB collapsing
-// (584); the dragon of ../shared/data/meshes (437,645 vertices, 871,414 triangles, one step, one
-// component): 208–223 MB in four runs, "recording the splits" (226); the real crash boxes
-// (crashbox-s, crashbox-mixed-5k, one component: 19.6–28.6 MB, mostly the program itself;
-// estimates 21.6–33.2). Result fields hold every value (4 B per vertex or face per step and field)
-// from "recording the splits" to the end.
+// (estimate 360; 351–359 MB on huge pages, 314–320 MB since `dynpm build` frees the input's faces
+// before the coding, both 2026-12-05), all 25 key steps 569 MB collapsing (584; 555 MB since
+// islands run without rounds); the dragon of ../shared/data/meshes (437,645 vertices, 871,414
+// triangles, one step, one component): 208–223 MB in four runs, "recording the splits" (226); the
+// real crash boxes (crashbox-s, crashbox-mixed-5k, one component: 19.6–28.6 MB, mostly the program
+// itself; estimates 21.6–33.2). Result fields hold every value (4 B per vertex or face per step and
+// field) from "recording the splits" to the end.
 uint64_t build_memory_estimate(uint64_t vertices, uint64_t faces, uint64_t steps,
                                uint64_t key_steps, unsigned threads, uint64_t field_values_per_step,
                                uint64_t quadric_vertices) {
