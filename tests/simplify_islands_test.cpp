@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdlib>
 #include <map>
@@ -116,6 +117,36 @@ TEST(Islands, TheSameCollapsesAndMeshOnAnyThreadCount) {
       EXPECT_EQ(r->original_vertex, reference->original_vertex) << threads << " threads";
     }
   }
+}
+
+// Islands that run to their ends on two threads tell the collapses done so far as they go, one
+// report at a time: never falling, never past the goal, ending at the collapse count.
+TEST(Islands, ProgressIsToldAsTheIslandsGo) {
+  const Animation* box = crashbox();
+  ASSERT_NE(box, nullptr);
+  const Animation a = tiled(*box, 6, false);
+  SimplifyOptions o = island_options(2);
+  std::vector<std::pair<size_t, size_t>> told;  // done, total
+  std::atomic<int> inside{0};
+  bool overlapped = false;
+  o.progress = [&](std::string_view phase, size_t done, size_t total) {
+    if (phase != "collapsing") return;
+    overlapped |= ++inside > 1;
+    told.emplace_back(done, total);
+    --inside;
+  };
+  auto r = simplify(a.topology, a.frames, o);
+  ASSERT_TRUE(r.ok()) << r.message();
+  ASSERT_EQ(r->islands, 7u);
+  EXPECT_FALSE(overlapped);
+  ASSERT_GE(told.size(), 2u + 7u);  // the start, each island, the end
+  for (size_t k = 1; k < told.size(); ++k) {
+    EXPECT_GE(told[k].first, told[k - 1].first) << k;
+    EXPECT_LE(told[k].first, told[k].second) << k;
+  }
+  EXPECT_EQ(told.front().first, 0u);
+  EXPECT_EQ(told.back().first, r->collapses);
+  EXPECT_EQ(told[told.size() - 2].first, r->collapses);  // the last island's report: all of them
 }
 
 // An island's log grows in chunks of 64 KB, 128 KB, … 2 MB and is read once from the front,

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <atomic>
-#include <cstdint>
 #include <functional>
 #include <mutex>
 #include <numeric>
@@ -181,17 +180,20 @@ Status Simplifier::run_islands(SimplifyResult& result) {
   if (!rounds) {
     std::atomic<size_t> next_island{0};
     std::mutex told;
-    size_t collapsed = 0;  // by the islands done (under `told`)
+    size_t collapsed = 0;  // by every island so far (under `told`)
     const size_t workers = std::min<size_t>(threads, window);
     parallel_for(workers, workers, static_cast<unsigned>(workers), [&](size_t, size_t, size_t) {
       for (size_t i = next_island++; i < lanes_.size(); i = next_island++) {
         Lane& lane = lanes_[i];
         open_island(lane);
-        failed[i] = collapse_island(lane, SIZE_MAX);
+        // Told as it goes: one large part can be most of a mesh.
+        for (size_t before = 0; !lane.exhausted; before = lane.collapses) {
+          failed[i] = collapse_island(lane, kCollapsesPerReport);
+          const std::lock_guard<std::mutex> lock(told);
+          collapsed += lane.collapses - before;
+          report("collapsing", std::min(collapsed, collapse_goal_), collapse_goal_);
+        }
         close_island(lane);
-        const std::lock_guard<std::mutex> lock(told);
-        collapsed += lane.collapses;
-        report("collapsing", std::min(collapsed, collapse_goal_), collapse_goal_);
       }
     });
     for (const Status& status : failed) DYNPM_RETURN_IF_ERROR(status);
