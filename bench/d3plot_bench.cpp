@@ -1,11 +1,13 @@
 // Reading speed of the LS-DYNA d3plot reader. Writes a crash-sized family from the format
 // description (single precision, a 600 × 600 shell grid: 361,201 nodes, 360,000 shells, with
-// displacements, velocities, accelerations, 20 element values per shell and deletion flags;
+// displacements, velocities, accelerations, stress and plastic strain at 3 points per shell
+// (IOSHL 1000, 1000, 999, 999: NV2D = 21) and deletion flags;
 // 24 states over d3plot, d3plot01, …), then times opening it (control block, geometry and the
 // index of every state) and reading every state's coordinates, median of several runs. Files
 // given on the command line are timed the same way.
 //
 //   d3plot_bench [--runs N] [--states N] [D3PLOT...]
+//   d3plot_bench [--states N] --write DIR      (only writes the family, for timing other tools)
 //
 // Two rates are printed: the family's bytes over the time to open and read every step (how fast
 // a d3plot result is consumed: element data is skipped, not read), and the coordinate bytes
@@ -51,7 +53,7 @@ struct Writer {
 // `file_words` words (LS-DYNA starts a new file when a state does not fit, and pads each file to
 // a multiple of 512 words).
 void write_family(const fs::path& dir, int n, int states) {
-  const int64_t numnp = int64_t(n + 1) * (n + 1), nel4 = int64_t(n) * n, nv2d = 20;
+  const int64_t numnp = int64_t(n + 1) * (n + 1), nel4 = int64_t(n) * n, nv2d = 21;
   Writer g;
   for (int k = 0; k < 10; ++k) g.i(0x20202020);
   const int64_t narbs = 10 + numnp + nel4 + 3;
@@ -60,6 +62,7 @@ void write_family(const fs::path& dir, int n, int states) {
                              0, 0, 0, 0, 0, 0,    0,     0,    0, 1, 0,      0, 0, 0,     0, 0};
   for (int64_t v : control) g.i(v);
   g.words[14] = std::bit_cast<uint32_t>(960.0f);
+  for (int k = 0; k < 4; ++k) g.words[43 + k] = k < 2 ? 1000 : 999;  // IOSHL: stress, strain
   while (g.words.size() < 64) g.i(0);
   for (int j = 0; j <= n; ++j)
     for (int i = 0; i <= n; ++i) g.r(i), g.r(j), g.r(0);
@@ -147,14 +150,23 @@ void bench(const std::string& path, int runs) {
 int main(int argc, char** argv) {
   int runs = 5, states = 24;
   std::vector<std::string> files;
+  std::string write_only;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--runs" && i + 1 < argc)
       runs = std::max(1, std::atoi(argv[++i]));
     else if (arg == "--states" && i + 1 < argc)
       states = std::max(1, std::atoi(argv[++i]));
+    else if (arg == "--write" && i + 1 < argc)
+      write_only = argv[++i];
     else
       files.push_back(arg);
+  }
+  if (!write_only.empty()) {
+    fs::create_directories(write_only);
+    write_family(write_only, 600, states);
+    std::printf("wrote %s/d3plot …\n", write_only.c_str());
+    return 0;
   }
   if (files.empty()) {
     const fs::path dir = fs::temp_directory_path() / "dynpm-d3plot-bench";

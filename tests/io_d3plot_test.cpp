@@ -138,6 +138,7 @@ TEST(D3plotTest, LassoNodeTemperature) {
   for (float t : first) EXPECT_NEAR(t, 1423.15, 0.01);  // uniform start temperature
   EXPECT_NEAR(*std::min_element(last.begin(), last.end()), 1297.08, 0.05);  // cooled
   EXPECT_NEAR(*std::max_element(last.begin(), last.end()), 1423.15, 0.05);
+  test::expect_parallel_reads_agree(*r.stream);  // 23 states across two files, on 4 threads
 }
 
 TEST(D3plotTest, BeamsOnlyIsAClearError) {
@@ -399,6 +400,9 @@ TEST(D3plotTest, SyntheticFamiliesInEveryEncoding) {
       EXPECT_FLOAT_EQ(strain[size_t(shell)], float(shell_value(2, shell, 0, 6)));
     }
     EXPECT_EQ(field(*r.stream, 3, 1), (std::vector<float>{1.9f, 1.9f, 1.9f}));
+    // Its states, one split over two files, and its node and element fields read on several
+    // threads at once (for_each_step() does) are what one thread reads.
+    test::expect_parallel_reads_agree(*r.stream);
   }
 }
 

@@ -8,11 +8,11 @@
 
 #include <cstring>
 #include <filesystem>
-#include <thread>
 
 #include "dynpm/io.h"
 #include "fixtures.h"
 #include "io/exodus_classic.h"
+#include "reading.h"
 
 namespace dynpm {
 namespace {
@@ -127,32 +127,9 @@ TEST(ExodusClassic, AHyperslabOutsideTheVariableIsAnError) {
 TEST(ExodusClassic, StepsAndFieldsReadOnSeveralThreadsAreTheSame) {
   auto stream = open_input(std::vector<std::string>{exodus_file("vtkdata_mug.e")});
   ASSERT_TRUE(stream.ok()) << stream.message();
-  const FrameSource& frames = *stream->frames;
-  ASSERT_TRUE(frames.parallel_reads());
-  const size_t steps = frames.step_count(), fields = frames.fields().size();
-  ASSERT_EQ(steps, 21u);
-  ASSERT_EQ(fields, 3u);  // two nodal, one element
-  auto read_all = [&](std::vector<std::vector<float>>& out) {
-    for (size_t t = 0; t < steps; ++t)
-      for (size_t f = 0; f <= fields; ++f) {
-        std::vector<float>& v = out[t * (fields + 1) + f];
-        const bool element = f < fields && frames.fields()[f].location == FieldLocation::kElement;
-        v.assign(f == fields ? size_t{frames.vertex_count()} * 3
-                 : element   ? stream->topology.faces.size()
-                             : frames.vertex_count(),
-                 -1.0f);
-        const Status s = f == fields ? frames.read_step(t, v) : frames.read_field(f, t, v);
-        if (!s.ok()) v.clear();
-      }
-  };
-  std::vector<std::vector<float>> serial(steps * (fields + 1));
-  read_all(serial);
-  for (const auto& v : serial) ASSERT_FALSE(v.empty());
-  std::vector<std::vector<std::vector<float>>> parallel(4, serial);
-  std::vector<std::thread> threads;
-  for (auto& out : parallel) threads.emplace_back([&] { read_all(out); });
-  for (auto& t : threads) t.join();
-  for (const auto& out : parallel) EXPECT_TRUE(out == serial);
+  ASSERT_EQ(stream->frames->step_count(), 21u);
+  ASSERT_EQ(stream->frames->fields().size(), 3u);  // two nodal, one element
+  test::expect_parallel_reads_agree(*stream);
 }
 
 }  // namespace

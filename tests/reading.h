@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "dynpm/io.h"
@@ -43,6 +44,39 @@ inline std::vector<float> field(const AnimationStream& s, size_t f, size_t t) {
   const Status status = s.frames->read_field(f, t, values);
   EXPECT_TRUE(status.ok()) << status.message();
   return values;
+}
+
+// Every step and every field at every step, read on `threads` threads at once, each thread
+// reading all of them (a source that allows parallel_reads() must give each thread what one
+// thread reads alone); for each thread: per step, its positions then its fields.
+inline std::vector<std::vector<std::vector<float>>> read_everything_at_once(
+    const AnimationStream& s, unsigned threads) {
+  const FrameSource& frames = *s.frames;
+  const size_t steps = frames.step_count(), fields = frames.fields().size();
+  std::vector<std::vector<std::vector<float>>> read(threads);
+  auto read_all = [&](std::vector<std::vector<float>>& out) {
+    for (size_t t = 0; t < steps; ++t) {
+      out.emplace_back(size_t{frames.vertex_count()} * 3, -1.0f);
+      if (!frames.read_step(t, out.back()).ok()) out.back().clear();
+      for (size_t f = 0; f < fields; ++f) {
+        const bool element = frames.fields()[f].location == FieldLocation::kElement;
+        out.emplace_back(element ? s.topology.face_count() : frames.vertex_count(), -1.0f);
+        if (!frames.read_field(f, t, out.back()).ok()) out.back().clear();
+      }
+    }
+  };
+  std::vector<std::thread> running;
+  for (auto& out : read) running.emplace_back([&] { read_all(out); });
+  for (auto& t : running) t.join();
+  return read;
+}
+
+// Reads on several threads at once are what one thread reads alone, and none failed.
+inline void expect_parallel_reads_agree(const AnimationStream& s) {
+  ASSERT_TRUE(s.frames->parallel_reads());
+  const auto alone = read_everything_at_once(s, 1)[0];
+  for (const auto& v : alone) ASSERT_FALSE(v.empty()) << "a read failed";
+  for (const auto& out : read_everything_at_once(s, 4)) EXPECT_TRUE(out == alone);
 }
 
 }  // namespace dynpm::test

@@ -82,6 +82,8 @@ class D3plotSource final : public FrameSource {
   uint32_t vertex_count() const override { return static_cast<uint32_t>(initial_.size() / 3); }
   size_t step_count() const override { return std::max<size_t>(places_.size(), 1); }
   double step_time(size_t t) const override { return places_.empty() ? 0.0 : times_[t]; }
+  // Each read opens its file anew (Family::read) into buffers of its own thread.
+  bool parallel_reads() const override { return true; }
 
   Status read_step(size_t t, std::span<float> out) const override {
     assert(t < step_count() && out.size() == initial_.size());
