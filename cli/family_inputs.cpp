@@ -47,6 +47,8 @@ Result<FamilyInputs> open_family(const Args& args, const std::string& output,
   auto steps = FamilySteps::make(members, progress);
   if (!steps) return steps.status();
   family.steps = std::move(*steps);
+  // The other members' meshes are the first one's (compared above): only the first is built.
+  for (size_t k = 1; k < family.members.size(); ++k) family.members[k].topology.release_faces();
   return family;
 }
 

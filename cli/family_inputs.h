@@ -18,7 +18,9 @@ inline const FlagSpec kVariantFlag{"--variant", "", true, "NAME|INDEX",
                                    "a family file's variant (INDEX from 0; default 0)"};
 
 struct FamilyInputs {
-  std::vector<AnimationStream> members;    // one per input, in the order given
+  // One per input, in the order given; once compared, all but the first without their faces
+  // (Topology::release_faces()): they are the first one's.
+  std::vector<AnimationStream> members;
   std::unique_ptr<FamilySteps> steps;      // their distinct steps, the build's FrameSource
   std::optional<ValidationProof> checked;  // of the first member's faces (the build's mesh)
 };

@@ -94,6 +94,10 @@ struct Topology {
   // Sets part `id`'s name (clean_part_name() of `raw`; nothing when that is ""), keeping
   // part_names sorted by id.
   void set_part_name(int32_t id, std::string_view raw);
+  // Frees the faces and their part and element ids, capacity and all (28 B a face), for a
+  // caller done with them; the vertex count, node ids and part names stay (a FrameSource may
+  // name vertices by their ids).
+  void release_faces();
 };
 
 // Where a result field lives: one value per vertex (a solver's nodal result) or one per face

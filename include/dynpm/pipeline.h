@@ -89,9 +89,8 @@ struct BuiltFile {
 };
 Result<BuiltFile> build_dpm(const Topology& topology, const FrameSource& frames,
                             const BuildOptions& options);
-// The same, for a caller done with the input's faces: they and its part and element ids are
-// freed once the splits are recorded, before the coding's peak (28 B a face); the topology keeps
-// its vertex count, node ids and part names (a FrameSource may name vertices by their ids).
+// The same, for a caller done with the input's faces: Topology::release_faces() once the splits
+// are recorded, before the coding's peak.
 Result<BuiltFile> build_dpm(Topology&& topology, const FrameSource& frames,
                             const BuildOptions& options);
 

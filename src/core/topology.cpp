@@ -42,6 +42,12 @@ size_t Topology::triangle_count() const {
   }));
 }
 
+void Topology::release_faces() {
+  std::vector<Face>().swap(faces);  // `= {}` would keep the capacity
+  std::vector<int32_t>().swap(part_ids);
+  std::vector<int64_t>().swap(element_ids);
+}
+
 size_t Topology::quad_count() const {
   return static_cast<size_t>(
       std::count_if(faces.begin(), faces.end(), [](const Face& f) { return f.degree() == 4; }));

@@ -318,11 +318,7 @@ Result<BuiltFile> record_and_code(const Topology& topology, Topology* release,
   auto recorded = record(topology, frames, options);
   if (!recorded) return recorded.status();
   std::vector<uint32_t>().swap(recorded->new_face);  // the steps need only new_vertex
-  if (release) {  // its node ids stay: a FrameSource may name vertices by them
-    std::vector<Face>().swap(release->faces);
-    std::vector<int32_t>().swap(release->part_ids);
-    std::vector<int64_t>().swap(release->element_ids);
-  }
+  if (release) release->release_faces();
   if (options.progress) options.progress("coding the splits", 0, 1);  // ends at the next phase
   auto encoder = DpmStepEncoder::start(recorded->pm, options.simplify.threads);
   if (!encoder) return encoder.status();
