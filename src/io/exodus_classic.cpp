@@ -334,16 +334,17 @@ Status ClassicValues::read(int var, const std::string& name, std::span<const siz
       got += static_cast<size_t>(n);
     }
     double* out = values.data() + done;
-    // Big-endian, as the classic formats store every value.
+    // Big-endian, as the classic formats store every value: swapped on a little-endian host.
+    constexpr bool swap = std::endian::native == std::endian::little;
     for (size_t i = 0; i < run; ++i) {
       if (size == 8) {
         uint64_t raw;
         std::memcpy(&raw, &bytes[i * 8], 8);
-        out[i] = std::bit_cast<double>(__builtin_bswap64(raw));
+        out[i] = std::bit_cast<double>(swap ? __builtin_bswap64(raw) : raw);
       } else {
         uint32_t raw;
         std::memcpy(&raw, &bytes[i * 4], 4);
-        out[i] = double(std::bit_cast<float>(__builtin_bswap32(raw)));
+        out[i] = double(std::bit_cast<float>(swap ? __builtin_bswap32(raw) : raw));
       }
     }
     for (size_t d = stepped; d-- > 0;) {
