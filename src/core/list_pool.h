@@ -10,6 +10,8 @@
 #include <span>
 #include <vector>
 
+#include "core/prefetch.h"
+
 namespace dynpm {
 
 class ListPool {
@@ -25,6 +27,11 @@ class ListPool {
   bool empty(uint32_t k) const { return size_[k] == 0; }
   std::span<const uint32_t> of(uint32_t k) const { return {pool_.data() + start_[k], size_[k]}; }
   std::span<uint32_t> of(uint32_t k) { return {pool_.data() + start_[k], size_[k]}; }
+  // Asks for list k's bookkeeping ahead of a visit (a replay visits lists in no spatial order).
+  void prefetch_list(uint32_t k) const {
+    prefetch(&start_[k]);
+    prefetch(&size_[k]);
+  }
 
   void push_back(uint32_t k, uint32_t value) {
     if (size_[k] == capacity_[k]) make_room(k, size_[k] + 1);

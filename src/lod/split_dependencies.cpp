@@ -5,10 +5,14 @@
 #include <array>
 
 #include "core/list_pool.h"
+#include "core/prefetch.h"
 #include "dynpm/lod.h"
 
 namespace dynpm {
 namespace {
+
+// How many splits apart the replay's prefetch stages are.
+constexpr uint32_t kFansAhead = 4;
 
 // The faces holding each vertex as the replay goes; small lists, edited in place.
 class VertexFans {
@@ -24,6 +28,7 @@ class VertexFans {
         if (c != kNoVertex) fans_.push_back(c, f);
   }
   std::span<const uint32_t> of(uint32_t v) const { return fans_.of(v); }
+  void prefetch_list(uint32_t v) const { fans_.prefetch_list(v); }
   void add(uint32_t v, uint32_t f) { fans_.push_back(v, f); }
   void move(uint32_t f, uint32_t from, uint32_t to) {
     fans_.erase_unordered(from, f);
@@ -68,6 +73,14 @@ class FaceAccess {
     last_writer_[f] = i;
   }
   std::vector<uint32_t> take_last_writers() { return std::move(last_writer_); }
+  void prefetch_face(uint32_t f) const {
+    prefetch(&last_writer_[f]);
+    prefetch(&readers_[f]);
+  }
+  // The first of f's readers (after prefetch_face() has brought readers_[f]).
+  void prefetch_readers(uint32_t f) const {
+    if (readers_[f] != kNoIndex) prefetch(&pool_[readers_[f]]);
+  }
 
  private:
   struct Reader {
@@ -195,6 +208,19 @@ SplitDependencies derive_split_dependencies(const ProgressiveMesh& mesh, SplitRe
   std::vector<uint32_t> needs;
   for (uint32_t i = 0; i < n; ++i) {
     const uint32_t v0 = b + i, v1 = mesh.parent[i];
+    // Parents come in no spatial order: their fans and those faces' states are asked for in
+    // stages ahead (the list's place, then its faces, then their states), so that the misses
+    // overlap instead of stalling the replay one by one (a fan may change before its split
+    // comes: a prefetch only wastes a load then).
+    if (i + 3 * kFansAhead < n) fans.prefetch_list(mesh.parent[i + 3 * kFansAhead]);
+    if (i + 2 * kFansAhead < n) prefetch(fans.of(mesh.parent[i + 2 * kFansAhead]).data());
+    if (i + kFansAhead < n)
+      for (uint32_t f : fans.of(mesh.parent[i + kFansAhead])) {
+        access.prefetch_face(f);
+        prefetch(&written_by[f]);
+      }
+    if (i + kFansAhead / 2 < n)
+      for (uint32_t f : fans.of(mesh.parent[i + kFansAhead / 2])) access.prefetch_readers(f);
     needs.clear();
     if (v1 >= b) needs.push_back(v1 - b);
     for (uint32_t m = mesh.moved_start[i]; m < mesh.moved_start[i + 1]; ++m)

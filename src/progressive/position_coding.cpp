@@ -19,38 +19,45 @@ int64_t floor_div(int64_t a, int64_t b) { return a / b - ((a % b != 0) && (a < 0
 // ⌊(2 · sum + count) / (2 · count)⌋: the mean rounded half up.
 int64_t rounded_mean(int64_t sum, int64_t count) { return floor_div(2 * sum + count, 2 * count); }
 
-// The guess of q_t(v0) on coordinate c before the correction by v0's own last miss
-// (FORMAT.md "Positions", in SPLT); q(u, s) gives vertex u's q-value at step s.
-template <class Q>
-int64_t uncorrected_guess(const ChunkStencils& cs, const SplitStencil& s, const Grid& g,
-                          uint32_t v0, size_t t, Q q) {
+// The guesses of q_t(v0) on the three coordinates before the correction by v0's own last misses
+// (FORMAT.md "Positions", in SPLT); now(u, c) and before(u, c) give vertex u's q-value on
+// coordinate c at steps t and t − 1. The three at once: the ring's values of a vertex lie
+// together, and split order is not spatial, so each ring vertex is one miss instead of three.
+template <class Now, class Before>
+std::array<int64_t, 3> uncorrected_guesses(const ChunkStencils& cs, const SplitStencil& s,
+                                           const Grid& g, uint32_t v0, size_t t, Now now,
+                                           Before before) {
+  std::array<int64_t, 3> guess{};
   if (g.lossless) {
-    if (t == 0) return q(s.parent, 0);
-    return g.add(q(v0, t - 1), g.residual(q(s.parent, t), q(s.parent, t - 1)));
+    for (int c = 0; c < 3; ++c)
+      guess[c] = t == 0 ? now(s.parent, c)
+                        : g.add(before(v0, c), g.residual(now(s.parent, c), before(s.parent, c)));
+    return guess;
   }
   if (t == 0) {
-    if (s.quads == 0) return q(s.parent, 0);
-    int64_t sum = 0;
-    for (int k = 0; k < s.quads; ++k) sum += q(s.w[k], 0) + q(s.parent, 0) - q(s.x[k], 0);
-    return rounded_mean(sum, s.quads);
+    for (int c = 0; c < 3; ++c) {
+      if (s.quads == 0) {
+        guess[c] = now(s.parent, c);
+        continue;
+      }
+      int64_t sum = 0;
+      for (int k = 0; k < s.quads; ++k) sum += now(s.w[k], c) + now(s.parent, c) - now(s.x[k], c);
+      guess[c] = rounded_mean(sum, s.quads);
+    }
+    return guess;
   }
-  int64_t motion = 0;
+  std::array<int64_t, 3> motion{};
   for (uint32_t k = s.ring_begin; k < s.ring_end; ++k)
-    motion += q(cs.ring[k], t) - q(cs.ring[k], t - 1);
-  return q(v0, t - 1) + rounded_mean(motion, s.ring_end - s.ring_begin);
+    for (int c = 0; c < 3; ++c) motion[c] += now(cs.ring[k], c) - before(cs.ring[k], c);
+  for (int c = 0; c < 3; ++c)
+    guess[c] = before(v0, c) + rounded_mean(motion[c], s.ring_end - s.ring_begin);
+  return guess;
 }
 
 // 3/8 of the last step's miss `before`, rounded half up; only from t = 2 on (at t = 1 that miss
 // is step 0's, not a motion's) and not when lossless.
 int64_t correction(const Grid& g, size_t t, int64_t before) {
   return !g.lossless && t >= 2 ? floor_div(3 * before + 4, 8) : 0;
-}
-
-// The guess of q_t(v0) on coordinate c; `before` is v0's residual at step t − 1.
-template <class Q>
-int64_t guess(const ChunkStencils& cs, const SplitStencil& s, const Grid& g, uint32_t v0, size_t t,
-              int64_t before, Q q) {
-  return uncorrected_guess(cs, s, g, v0, t, q) + correction(g, t, before);
 }
 
 // The context of a residual: how large the same vertex's residual was at the step before.
@@ -77,10 +84,12 @@ bool walk(const ProgressiveMesh& mesh, uint32_t first, const ChunkStencils& sten
           qv.prefetch(stencils.ring[i], t - 1);
         }
       const uint32_t v = mesh.base_vertex_count + first + static_cast<uint32_t>(k);
+      const std::array<int64_t, 3> guesses = uncorrected_guesses(
+          stencils, stencils.splits[k], g, v, t, [&](uint32_t u, int c) { return qv.at(u, t, c); },
+          [&](uint32_t u, int c) { return qv.at(u, t - 1, c); });
       for (int c = 0; c < 3; ++c) {
-        const auto q = [&](uint32_t u, size_t s) { return qv.at(u, s, c); };
         int64_t& r = before[k * 3 + c];
-        const int64_t expected = guess(stencils, stencils.splits[k], g, v, t, r, q);
+        const int64_t expected = guesses[c] + correction(g, t, r);
         int64_t got;
         if (!value(t, v, c, expected, m[c][t > 0 ? bucket(r) : 0], got)) return false;
         r = g.residual(got, expected);
@@ -186,6 +195,10 @@ void StepPositionEncoder::code_batch() {
   const auto step_q = [&](size_t s) -> const std::vector<uint32_t>& {
     return s >= first ? batch_[s - first] : last_q_;
   };
+  const auto value = [&](const std::vector<uint32_t>& q, uint32_t u, int c) {
+    const uint32_t stored = q[size_t{u} * 3 + c];
+    return g.lossless ? int64_t{stored} : int64_t{static_cast<int32_t>(stored)};
+  };
   std::vector<std::vector<int32_t>>& r = residuals_;  // every element is written below
   r.resize(count);
   for (auto& step : r) step.resize(splits * 3);
@@ -203,13 +216,11 @@ void StepPositionEncoder::code_batch() {
             prefetch(&last[size_t{all_.ring[i]} * 3]);
           }
         const uint32_t v = b + static_cast<uint32_t>(k);
+        const std::array<int64_t, 3> guesses = uncorrected_guesses(
+            all_, all_.splits[k], g, v, t, [&](uint32_t u, int c) { return value(now, u, c); },
+            [&](uint32_t u, int c) { return value(last, u, c); });
         for (int c = 0; c < 3; ++c) {
-          const auto qc = [&](uint32_t u, size_t s) {
-            const uint32_t value = step_q(s)[size_t{u} * 3 + c];
-            return g.lossless ? int64_t{value} : int64_t{static_cast<int32_t>(value)};
-          };
-          const int64_t miss =
-              g.residual(qc(v, t), uncorrected_guess(all_, all_.splits[k], g, v, t, qc));
+          const int64_t miss = g.residual(value(now, v, c), guesses[c]);
           r[j][k * 3 + c] = static_cast<int32_t>(miss);  // |miss| < 2^31: q < 2^23
         }
       }

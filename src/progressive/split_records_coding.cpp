@@ -7,7 +7,6 @@
 #include <cmath>
 
 #include "core/face_geometry.h"
-#include "core/prefetch.h"
 
 namespace dynpm::progressive {
 namespace {
@@ -505,6 +504,7 @@ Result<std::array<std::string, kRecordParts>> encode_parts(const ProgressiveMesh
   ProgressiveMesh& m = const_cast<ProgressiveMesh&>(mesh);  // the encoder only reads it
   Record r;
   for (uint32_t i = first; i < last; ++i) {
+    st.prefetch_fans_ahead(mesh, i, last);
     std::string problem;
     if (sections != SplitSections::kAttributes) {
       record_of(mesh, i, r);
