@@ -29,26 +29,36 @@ Result<FamilyInputs> open_family(const Args& args, const std::string& output,
   DYNPM_RETURN_IF_ERROR(check_output_folder(output));
   FamilyInputs family;
   std::vector<FamilyMember> members;
+  const auto member = [&](size_t k) {
+    return FamilyMember{member_name(args.positional[k]),
+                        std::filesystem::path(args.positional[k]).filename().string(),
+                        &family.members[k].topology, family.members[k].frames.get(), k > 0};
+  };
   {
     Phase phase("reading the inputs");
     for (const std::string& input : args.positional) {
       const std::string one[] = {input};
-      auto stream = open_inputs(one, args, InputChecks::kSimplifiable,
-                                family.members.empty() ? &family.checked : nullptr);
+      // The first mesh is checked; each later one is compared with it as it is opened (the same
+      // faces are as sound) and its faces freed: only the first is built, and a family holds
+      // one more mesh at a time, not one per variant.
+      const bool first = family.members.empty();
+      auto stream =
+          open_inputs(one, args, first ? InputChecks::kSimplifiable : InputChecks::kFinite,
+                      first ? &family.checked : nullptr);
       if (!stream) return stream.status();
       family.members.push_back(std::move(*stream));
+      if (first) continue;
+      FamilyMember pair[] = {member(0), member(family.members.size() - 1)};
+      pair[1].mesh_checked = false;
+      DYNPM_RETURN_IF_ERROR(check_same_mesh(pair));
+      family.members.back().topology.release_faces();
     }
   }
-  for (size_t k = 0; k < family.members.size(); ++k)
-    members.push_back({member_name(args.positional[k]),
-                       std::filesystem::path(args.positional[k]).filename().string(),
-                       &family.members[k].topology, family.members[k].frames.get()});
+  for (size_t k = 0; k < family.members.size(); ++k) members.push_back(member(k));
   Phase phase("comparing the variants");
   auto steps = FamilySteps::make(members, progress);
   if (!steps) return steps.status();
   family.steps = std::move(*steps);
-  // The other members' meshes are the first one's (compared above): only the first is built.
-  for (size_t k = 1; k < family.members.size(); ++k) family.members[k].topology.release_faces();
   return family;
 }
 

@@ -394,6 +394,17 @@ TEST_F(CrashboxFamily, AnotherMeshIsRefusedWithTheFirstDifference) {
             std::string::npos)
       << r.output;
   EXPECT_FALSE(std::filesystem::exists(out));
+  // Each later input is compared as it is opened (then its faces are freed): the difference is
+  // told before a third input is even looked for.
+  const std::string missing = dir_->file("not-there.frd");
+  r = dynpm_cli("build --family '" + crush_ + "' '" + other + "' '" + missing + "' -o '" + out +
+                "'");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("swapped.frd is not a variant of crashbox-s.frd's mesh"),
+            std::string::npos)
+      << r.output;
+  EXPECT_EQ(r.output.find("not-there.frd"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(out));
 }
 
 }  // namespace

@@ -226,6 +226,9 @@ struct FamilyMember {
   std::string source;  // the input's file name, without folder (for messages and the VARI chunk)
   const Topology* topology = nullptr;
   const FrameSource* frames = nullptr;
+  // Its mesh was compared with the first member's already (check_same_mesh() of the two), and
+  // its faces may have been released since: check_same_mesh() then checks its name and fields.
+  bool mesh_checked = false;
 };
 
 // An error naming the first difference between a member's mesh and the first member's: vertex or
