@@ -163,7 +163,7 @@ int run_build(std::span<char* const> arguments) {
   std::optional<AnimationStream> stream;
   std::optional<FamilyInputs> family;
   if (args.has("--family")) {
-    auto opened = open_family(args, *output, report);
+    auto opened = open_family(args, *output, report, options.simplify.threads);
     if (!opened) return fail(kSpec.name, kExitFailure, opened.message());
     family.emplace(std::move(*opened));
     options.variants = family->steps->variants();

@@ -25,7 +25,7 @@ std::string member_name(const std::string& input) {
 }  // namespace
 
 Result<FamilyInputs> open_family(const Args& args, const std::string& output,
-                                 const ProgressCallback& progress) {
+                                 const ProgressCallback& progress, unsigned threads) {
   DYNPM_RETURN_IF_ERROR(check_output_folder(output));
   FamilyInputs family;
   std::vector<FamilyMember> members;
@@ -56,7 +56,7 @@ Result<FamilyInputs> open_family(const Args& args, const std::string& output,
   }
   for (size_t k = 0; k < family.members.size(); ++k) members.push_back(member(k));
   Phase phase("comparing the variants");
-  auto steps = FamilySteps::make(members, progress);
+  auto steps = FamilySteps::make(members, progress, threads);
   if (!steps) return steps.status();
   family.steps = std::move(*steps);
   return family;

@@ -27,9 +27,10 @@ struct FamilyInputs {
 
 // The output's folder first, then each input opened as 'build' opens one (a d3plot family's
 // first file stands for the family), each named by variant_name() (batch_list.h), the meshes
-// compared (the first difference refused), and the steps compared (each distinct step stored once).
+// compared (the first difference refused), and the steps compared (each distinct step stored once,
+// read on up to `threads` threads).
 Result<FamilyInputs> open_family(const Args& args, const std::string& output,
-                                 const ProgressCallback& progress);
+                                 const ProgressCallback& progress, unsigned threads);
 
 // Makes a family file `mesh` one variant's animation: --variant's, else variant 0 with a note
 // naming it (`verb` prints it). A model that is not a family with --variant is an error.

@@ -1,5 +1,6 @@
 // `dynpm build --threads N`: the .dpm is the same byte for byte on one thread and on two, on real
-// CalculiX results (the crash box's .frd, read several steps at once, and its OBJ sequence).
+// CalculiX results (the crash box's .frd, read several steps at once, its OBJ sequence, and a
+// family of it and a second run of its mesh).
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -51,6 +52,21 @@ TEST(CliThreads, TheCrashBoxObjSequenceBuildsTheSameOnOneAndTwoThreads) {
   const std::string folder = test::shared_data() + "/crashbox-mixed-5k/obj";
   if (!std::filesystem::exists(folder)) GTEST_SKIP() << folder << " is missing";
   expect_same_on_any_thread_count(dir, "'" + folder + "/frame_*.obj'");
+}
+
+// A family's steps are read and hashed several at a time, then compared in order.
+TEST(CliThreads, ACrashBoxFamilyBuildsTheSameOnOneAndTwoThreads) {
+  test::TempDir dir;
+  const std::string crush = dir.file("crashbox-s.frd"), bent = dir.file("crashbox-bent.frd");
+  if (std::system(("zcat '" + test::shared_data() + "/crashbox-s/crashbox-s.frd.gz' > '" + crush +
+                   "' 2>/dev/null")
+                      .c_str()) != 0)
+    GTEST_SKIP() << "../shared/data/crashbox-s is missing";
+  ASSERT_EQ(std::system(("zcat '" + test::source_dir() + "/bench/family/crashbox-bent.frd.gz' > '" +
+                         bent + "'")
+                            .c_str()),
+            0);
+  expect_same_on_any_thread_count(dir, "--family '" + crush + "' '" + bent + "'");
 }
 
 TEST(CliThreads, ABadThreadCountIsAUsageError) {

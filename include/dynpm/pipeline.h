@@ -243,10 +243,13 @@ Status check_same_mesh(std::span<const FamilyMember> members);
 // not stored again. The members' sources must outlive it.
 class FamilySteps final : public FrameSource {
  public:
-  // Reads every step of every member once (and a candidate duplicate once more); calls
-  // check_same_mesh() first. `progress`: ("comparing the variants' steps", done, total).
+  // Reads every step of every member once, up to `threads` at once (0: one per hardware
+  // thread) where its source allows (and a step whose hash matches a stored one, and that
+  // candidate, once more); calls check_same_mesh() first. `progress`: ("comparing the
+  // variants' steps", done, total).
   static Result<std::unique_ptr<FamilySteps>> make(std::span<const FamilyMember> members,
-                                                   const ProgressCallback& progress = {});
+                                                   const ProgressCallback& progress = {},
+                                                   unsigned threads = 0);
   // Per member: its name, source, times and for each step the stored step holding it.
   const std::vector<MeshVariant>& variants() const { return variants_; }
 
