@@ -127,8 +127,9 @@ Result<std::unique_ptr<FamilySteps>> FamilySteps::make(std::span<const FamilyMem
   // source allows; the first step that cannot be read is the error.
   auto hash_steps = [&](const FamilyMember& m, std::vector<uint64_t>& hashes) -> Status {
     const size_t count = m.frames->step_count();
+    const size_t most = std::max<size_t>(count, 1);  // a source without steps: one lane
     const size_t lanes =
-        m.frames->parallel_reads() ? std::clamp<size_t>(thread_count(threads), 1, count) : 1;
+        m.frames->parallel_reads() ? std::min<size_t>(thread_count(threads), most) : 1;
     std::vector<std::string> buffers(lanes);
     std::vector<Status> read(count);
     hashes.assign(count, 0);
