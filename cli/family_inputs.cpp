@@ -29,10 +29,10 @@ Result<FamilyInputs> open_family(const Args& args, const std::string& output,
   DYNPM_RETURN_IF_ERROR(check_output_folder(output));
   FamilyInputs family;
   std::vector<FamilyMember> members;
-  const auto member = [&](size_t k) {
+  const auto member = [&](size_t k, bool mesh_checked) {
     return FamilyMember{member_name(args.positional[k]),
                         std::filesystem::path(args.positional[k]).filename().string(),
-                        &family.members[k].topology, family.members[k].frames.get(), k > 0};
+                        &family.members[k].topology, family.members[k].frames.get(), mesh_checked};
   };
   {
     Phase phase("reading the inputs");
@@ -48,13 +48,12 @@ Result<FamilyInputs> open_family(const Args& args, const std::string& output,
       if (!stream) return stream.status();
       family.members.push_back(std::move(*stream));
       if (first) continue;
-      FamilyMember pair[] = {member(0), member(family.members.size() - 1)};
-      pair[1].mesh_checked = false;
+      const FamilyMember pair[] = {member(0, false), member(family.members.size() - 1, false)};
       DYNPM_RETURN_IF_ERROR(check_same_mesh(pair));
       family.members.back().topology.release_faces();
     }
   }
-  for (size_t k = 0; k < family.members.size(); ++k) members.push_back(member(k));
+  for (size_t k = 0; k < family.members.size(); ++k) members.push_back(member(k, k > 0));
   Phase phase("comparing the variants");
   auto steps = FamilySteps::make(members, progress, threads);
   if (!steps) return steps.status();

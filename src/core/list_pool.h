@@ -27,10 +27,22 @@ class ListPool {
   bool empty(uint32_t k) const { return size_[k] == 0; }
   std::span<const uint32_t> of(uint32_t k) const { return {pool_.data() + start_[k], size_[k]}; }
   std::span<uint32_t> of(uint32_t k) { return {pool_.data() + start_[k], size_[k]}; }
-  // Asks for list k's bookkeeping ahead of a visit (a replay visits lists in no spatial order).
-  void prefetch_list(uint32_t k) const {
-    prefetch(&start_[k]);
-    prefetch(&size_[k]);
+  // For a replay that visits list keys[j] at its step j, in no spatial order: at step i, asks for
+  // the place of keys[i + 2·ahead]'s list, for keys[i + ahead]'s values, and hands each value of
+  // keys[i + ahead / 2] to values_ahead() (to ask for what it names), so that the misses overlap
+  // instead of stalling the replay one by one. A key without a list yet is passed over; a list
+  // that changes before its step only wastes a load.
+  template <class ValuesAhead>
+  void prefetch_ahead(std::span<const uint32_t> keys, size_t i, size_t ahead,
+                      ValuesAhead&& values_ahead) const {
+    const auto listed = [&](size_t j) { return j < keys.size() && keys[j] < lists(); };
+    if (listed(i + 2 * ahead)) {
+      prefetch(&start_[keys[i + 2 * ahead]]);
+      prefetch(&size_[keys[i + 2 * ahead]]);
+    }
+    if (listed(i + ahead)) prefetch(of(keys[i + ahead]).data());
+    if (listed(i + ahead / 2))
+      for (uint32_t value : of(keys[i + ahead / 2])) values_ahead(value);
   }
 
   void push_back(uint32_t k, uint32_t value) {

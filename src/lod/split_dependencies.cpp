@@ -11,7 +11,8 @@
 namespace dynpm {
 namespace {
 
-// How many splits apart the replay's prefetch stages are.
+// How many splits ahead the replay asks for a fan's faces' states (and half as many, their
+// first readers).
 constexpr uint32_t kFansAhead = 4;
 
 // The faces holding each vertex as the replay goes; small lists, edited in place.
@@ -28,7 +29,11 @@ class VertexFans {
         if (c != kNoVertex) fans_.push_back(c, f);
   }
   std::span<const uint32_t> of(uint32_t v) const { return fans_.of(v); }
-  void prefetch_list(uint32_t v) const { fans_.prefetch_list(v); }
+  template <class ValuesAhead>
+  void prefetch_ahead(std::span<const uint32_t> parents, uint32_t i, size_t ahead,
+                      ValuesAhead&& faces_ahead) const {
+    fans_.prefetch_ahead(parents, i, ahead, faces_ahead);
+  }
   void add(uint32_t v, uint32_t f) { fans_.push_back(v, f); }
   void move(uint32_t f, uint32_t from, uint32_t to) {
     fans_.erase_unordered(from, f);
@@ -208,17 +213,12 @@ SplitDependencies derive_split_dependencies(const ProgressiveMesh& mesh, SplitRe
   std::vector<uint32_t> needs;
   for (uint32_t i = 0; i < n; ++i) {
     const uint32_t v0 = b + i, v1 = mesh.parent[i];
-    // Parents come in no spatial order: their fans and those faces' states are asked for in
-    // stages ahead (the list's place, then its faces, then their states), so that the misses
-    // overlap instead of stalling the replay one by one (a fan may change before its split
-    // comes: a prefetch only wastes a load then).
-    if (i + 3 * kFansAhead < n) fans.prefetch_list(mesh.parent[i + 3 * kFansAhead]);
-    if (i + 2 * kFansAhead < n) prefetch(fans.of(mesh.parent[i + 2 * kFansAhead]).data());
-    if (i + kFansAhead < n)
-      for (uint32_t f : fans.of(mesh.parent[i + kFansAhead])) {
-        access.prefetch_face(f);
-        prefetch(&written_by[f]);
-      }
+    // Parents come in no spatial order: their fans, those faces' states and then their first
+    // readers are asked for ahead (ListPool::prefetch_ahead()).
+    fans.prefetch_ahead(mesh.parent, i, 2 * kFansAhead, [&](uint32_t f) {
+      access.prefetch_face(f);
+      prefetch(&written_by[f]);
+    });
     if (i + kFansAhead / 2 < n)
       for (uint32_t f : fans.of(mesh.parent[i + kFansAhead / 2])) access.prefetch_readers(f);
     needs.clear();

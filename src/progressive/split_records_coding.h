@@ -66,23 +66,12 @@ class RecordModels {
   SignedModel vertex_index, node_id, part, face_index, element_id;
   BitModel same_part;
 
-  // The encoder knows the parents to come, which come in no spatial order: their fans are asked
-  // for in stages ahead of split i (the list's place, its faces, their corners), so that the
-  // misses overlap instead of stalling the walk one by one. A fan may change before its split
-  // comes; a prefetch then only wastes a load.
+  // The encoder knows the parents to come: their fans and faces are asked for ahead of split i
+  // (ListPool::prefetch_ahead()).
   void prefetch_fans_ahead(const ProgressiveMesh& mesh, uint32_t i, uint32_t last) const {
-    constexpr uint32_t kAhead = 4;  // splits between the stages
-    // A parent made by a split still to come has no list yet when the lists grow (kGrow).
-    const auto parent_ahead = [&](uint32_t d) {
-      const bool listed = i + d < last && mesh.parent[i + d] < vertex_faces_.lists();
-      return listed ? mesh.parent[i + d] : kNoVertex;
-    };
-    if (const uint32_t v = parent_ahead(2 * kAhead); v != kNoVertex) vertex_faces_.prefetch_list(v);
-    if (const uint32_t v = parent_ahead(kAhead); v != kNoVertex)
-      prefetch(vertex_faces_.of(v).data());
-    if (const uint32_t v = parent_ahead(kAhead / 2); v != kNoVertex)
-      for (uint32_t f : vertex_faces_.of(v))
-        if (f < faces_.size()) prefetch(&faces_[f]);
+    vertex_faces_.prefetch_ahead(std::span(mesh.parent).first(last), i, 4, [&](uint32_t f) {
+      if (f < faces_.size()) prefetch(&faces_[f]);
+    });
   }
 
   // The mesh (internal to the coding).
