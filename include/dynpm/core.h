@@ -83,6 +83,8 @@ struct Topology {
   void add_quad(uint32_t a, uint32_t b, uint32_t c, uint32_t d, int32_t part = 0,
                 int64_t element_id = 0);
   void add_face(const Face& face, int32_t part = 0, int64_t element_id = 0);
+  // Room for `count` faces in all, so that a reader's add_face() calls do not grow the arrays.
+  void reserve_faces(size_t count);
 
   size_t face_count() const { return faces.size(); }
   size_t triangle_count() const;

@@ -83,6 +83,13 @@ Adjacency Adjacency::build(const Topology& topology) {
   // allocation per vertex, and a deterministic edge order.
   adj.vertex_kind_.assign(vertex_count, kInteriorVertex);
   adj.vertex_edge_start_.assign(size_t{vertex_count} + 1, 0);
+  // Reserved, not grown: each doubling of an array of a megabyte or more would be a fresh
+  // mapping, its pages faulted in again. Every corner of a face is one (edge, face) pair; a
+  // closed mesh has half as many edges as pairs, a mesh with boundaries a few more.
+  const size_t pairs = adj.vertex_faces_.size();
+  adj.edge_faces_.reserve(pairs);
+  adj.edges_.reserve(pairs / 2 + pairs / 16);
+  adj.edge_face_start_.reserve(pairs / 2 + pairs / 16 + 1);
   std::vector<std::pair<uint32_t, uint32_t>> around;  // (neighbour w, index into a's faces)
   std::vector<uint32_t> fan;                          // union-find over a's faces
   auto root = [&fan](uint32_t x) {

@@ -20,6 +20,12 @@ Topology Topology::with_vertices(uint32_t n) {
   return t;
 }
 
+void Topology::reserve_faces(size_t count) {
+  faces.reserve(count);
+  part_ids.reserve(count);
+  element_ids.reserve(count);
+}
+
 void Topology::add_face(const Face& face, int32_t part, int64_t element_id) {
   if (element_id == 0) element_id = element_ids.empty() ? 1 : element_ids.back() + 1;
   faces.push_back(face);

@@ -434,6 +434,26 @@ Status read_blocks(const NcFile& nc, const std::string& path, const UserNumbers&
   elements.block_sizes.assign(block_count, 0);
   size_t element = 0, ignored = 0, degenerate = 0;
   std::vector<std::string> ignored_types;
+  // The shells' faces reserved, not grown: each doubling of an array of a megabyte or more
+  // would be a fresh mapping, its pages faulted in again.
+  size_t shells = 0;
+  for (size_t b = 0; b < block_count; ++b) {
+    const std::string suffix = std::to_string(b + 1), var_name = "connect" + suffix;
+    const auto var = nc.var(var_name);
+    if (!var) continue;
+    const auto shape = nc.shape(*var, var_name);
+    const size_t in_block = nc.dim("num_el_in_blk" + suffix).value_or(0);
+    // What the loop below refuses, or could not be in the file, reserves nothing.
+    if (!shape || shape->size() != 2 || (*shape)[0] != in_block || in_block >= kNoVertex ||
+        !nc.check_count(*var, var_name, in_block).ok())
+      continue;
+    const std::string elem_type = nc.text_attribute(*var, "elem_type");
+    if (block_type(elem_type, (*shape)[1]).kind == BlockKind::kFace) shells += in_block;
+  }
+  if (shells < kNoVertex) {
+    topology.reserve_faces(topology.faces.size() + shells);
+    elements.origins.reserve(elements.origins.size() + shells);
+  }
   for (size_t b = 0; b < block_count; ++b) {
     const std::string suffix = std::to_string(b + 1);
     const size_t in_block = nc.dim("num_el_in_blk" + suffix).value_or(0);

@@ -252,7 +252,7 @@ Topology shell_faces(Layout& layout, const std::vector<int64_t>& node_ids) {
   const NodeLookup vertex_of(node_ids);
   Topology topology;
   topology.vertex_count = uint32_t(node_ids.size());
-  topology.faces.reserve(elements.size());
+  topology.reserve_faces(elements.size());
   for (const ElementRecord& e : elements) {
     Face f;
     for (int k = 0; k < e.corners; ++k) f.v[k] = vertex_of.find(e.nodes[k]);

@@ -219,7 +219,7 @@ Result<ParsedMesh> parse_obj(std::string_view text, const std::string& path,
   ByteHash faces_hash;  // of the f and g lines, each as written
 
   mesh.positions.reserve(text.size() / 24);
-  if (parse_faces) mesh.topology.faces.reserve(text.size() / 48);
+  if (parse_faces) mesh.topology.reserve_faces(text.size() / 48);
 
   // 1. One pass over the lines: v, f and g statements; a time note in a comment before them;
   //    the rest skipped.

@@ -414,7 +414,7 @@ Result<ParsedMesh> parse_ply(std::string_view bytes, const std::string& path,
       for (uint64_t r = 0; r < element.count; ++r)
         if (!reader.skip_record(element)) return Status::error(reader.error());
     } else {
-      if (roles->is_face) mesh.topology.faces.reserve(element.count);
+      if (roles->is_face) mesh.topology.reserve_faces(element.count);
       DYNPM_RETURN_IF_ERROR(
           read_records(element, *roles, have_vertices, path, options, reader, mesh, split_count));
     }

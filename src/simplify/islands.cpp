@@ -135,6 +135,7 @@ void Simplifier::stop_islands_past_the_cut() {
 // in a round; both go when it is done. Each island thus does what it would with every island open.
 void Simplifier::open_island(Lane& lane) {
   quadrics_.open_island(static_cast<size_t>(&lane - lanes_.data()), mesh_);
+  lane.queue = spare_queues_.take();
   rate_island(lane);
   ++lane.time;
   lane.open = true;
@@ -153,6 +154,8 @@ Status Simplifier::collapse_island(Lane& lane, size_t quota) {
 
 void Simplifier::close_island(Lane& lane) {
   quadrics_.close_island(static_cast<size_t>(&lane - lanes_.data()), mesh_);
+  lane.queue.clear();  // its blocks stay, for the next island to fill
+  spare_queues_.give(std::move(lane.queue));
   lane.queue = {};
   std::vector<Entry>().swap(lane.fresh);  // freed: `= {}` keeps the capacity
   lane.scratch = Scratch();
@@ -226,6 +229,8 @@ Status Simplifier::run_islands(SimplifyResult& result) {
     lane.queue = {};  // its blocks back before the log is told
     logs.push_back(&lane.log);
   }
+  spare_queues_.clear();
+  quadrics_.drop_spare_blocks();
   if (!has_stop()) {  // the islands' mesh is the result
     if (listener_) IslandLog::tell_in_key_order(logs, *listener_);
     return {};

@@ -140,7 +140,9 @@ void KeyStepQuadrics::open_island(size_t i, const CollapseMesh& mesh) {
   size_t count = 0;
   mesh.for_each_island_vertex(i, [&](uint32_t) { ++count; });
   std::vector<LocalQuadric>& block = island_quadrics_[i];
+  block = spare_blocks_.take();
   block.resize(count * key_count_);
+  release_unused_capacity(block);  // a larger island's rows past this one's
   LocalQuadric* row = block.data();
   mesh.for_each_island_vertex(i, [&](uint32_t v) {
     island_rows_[v] = row;
@@ -156,8 +158,12 @@ void KeyStepQuadrics::open_island(size_t i, const CollapseMesh& mesh) {
 void KeyStepQuadrics::close_island(size_t i, const CollapseMesh& mesh) {
   mesh.for_each_island_vertex(i, [&](uint32_t v) { island_rows_[v] = nullptr; });
   held_ -= island_quadrics_[i].size() / key_count_;
-  std::vector<LocalQuadric>().swap(island_quadrics_[i]);  // freed: `= {}` keeps the capacity
+  island_quadrics_[i].clear();
+  spare_blocks_.give(std::move(island_quadrics_[i]));
+  island_quadrics_[i] = {};
 }
+
+void KeyStepQuadrics::drop_spare_blocks() { spare_blocks_.clear(); }
 
 Quadric KeyStepQuadrics::merged_quadric(uint32_t v0, uint32_t v1, size_t k) const {
   return quadric(v1, k).widen() +

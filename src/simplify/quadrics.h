@@ -30,6 +30,7 @@
 #include "field_term.h"
 #include "legality.h"
 #include "quadric.h"
+#include "spares.h"
 
 namespace dynpm::simplification {
 
@@ -91,9 +92,11 @@ class KeyStepQuadrics {
   void build(const Topology& input, const CollapseMesh& mesh, std::vector<uint8_t> constrained,
              double boundary_weight, double regularize, unsigned threads);
   // With islands: the quadrics of island i's vertices, made on the calling thread (islands open
-  // on several at once), and given back.
+  // on several at once), and given back: the block is kept for the next island to open, until
+  // drop_spare_blocks() once every island is done.
   void open_island(size_t i, const CollapseMesh& mesh);
   void close_island(size_t i, const CollapseMesh& mesh);
+  void drop_spare_blocks();
   // The most vertices whose quadrics were held at once (SimplifyResult::quadric_vertices_held).
   size_t most_held() const {
     return island_rows_.empty() ? size_t{input_->vertex_count} : most_held_.load();
@@ -176,7 +179,8 @@ class KeyStepQuadrics {
   // first one while its island is open. Rows never move then: positions stay in row v.
   std::vector<std::vector<LocalQuadric>> island_quadrics_;
   std::vector<LocalQuadric*> island_rows_;
-  std::atomic<size_t> held_{0}, most_held_{0};  // vertices of the open islands
+  Spares<std::vector<LocalQuadric>> spare_blocks_;  // closed islands' blocks, for the next
+  std::atomic<size_t> held_{0}, most_held_{0};      // vertices of the open islands
   // What an island's quadrics are made of (build()'s arguments).
   const Topology* input_ = nullptr;
   std::vector<uint8_t> constrained_;

@@ -12,6 +12,7 @@
 #include "legality.h"
 #include "monotone_queue.h"
 #include "quadrics.h"
+#include "spares.h"
 
 namespace dynpm::simplification {
 
@@ -108,6 +109,7 @@ class Simplifier {
     CutBound cut_bound;  // with islands and a vertex or face target
   };
   std::vector<Lane> lanes_;
+  Spares<MonotoneQueue<Entry>> spare_queues_;  // closed islands' queues (emptied), for the next
   // Per vertex: the time it last changed (31 bits) and, in the top bit, whether an entry of it was
   // dropped as illegal. In one word, because islands write their vertices' at once (a vector of
   // bits would share words between them).
