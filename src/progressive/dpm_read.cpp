@@ -76,6 +76,14 @@ class Decoder {
     const bool fields = !mesh_.fields.empty();
     decode_fields_ = fields && limits_.fields;
     if (decode_fields_) wanted_splits_ = UINT32_MAX, error_ = -1;  // their peaks need every split
+    if (error_ < 0) {  // the splits to read are known: the q-values' room taken at once
+      // At most a split per bit of the file left for each step read (a real file spends a byte
+      // or more on a split's step): a header's counts alone reserve no more than that.
+      const uint64_t plausible = uint64_t{bytes_.size() - pos_} * 8 / std::max<uint64_t>(steps_, 1);
+      const uint64_t splits =
+          std::min<uint64_t>({mesh_.full_split_count, wanted_splits_, plausible});
+      q_->reserve(steps_, static_cast<uint32_t>(mesh_.base_vertex_count + splits));
+    }
     if (fields) {
       pending_faces_ = mesh_.base_face_count;  // the base FLDS: no split, the base faces
       DYNPM_RETURN_IF_ERROR(expect_chunk("FLDS", payload, "the FLDS of the base mesh"));
