@@ -155,8 +155,7 @@ Status Simplifier::collapse_island(Lane& lane, size_t quota) {
 void Simplifier::close_island(Lane& lane) {
   quadrics_.close_island(static_cast<size_t>(&lane - lanes_.data()), mesh_);
   lane.queue.clear();  // its blocks stay, for the next island to fill
-  spare_queues_.give(std::move(lane.queue));
-  lane.queue = {};
+  spare_queues_.give(std::exchange(lane.queue, {}));
   std::vector<Entry>().swap(lane.fresh);  // freed: `= {}` keeps the capacity
   lane.scratch = Scratch();
   lane.open = false;

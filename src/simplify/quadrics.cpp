@@ -4,6 +4,7 @@
 #include <cmath>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include "core/pages.h"
 #include "core/parallel.h"
@@ -159,8 +160,7 @@ void KeyStepQuadrics::close_island(size_t i, const CollapseMesh& mesh) {
   mesh.for_each_island_vertex(i, [&](uint32_t v) { island_rows_[v] = nullptr; });
   held_ -= island_quadrics_[i].size() / key_count_;
   island_quadrics_[i].clear();
-  spare_blocks_.give(std::move(island_quadrics_[i]));
-  island_quadrics_[i] = {};
+  spare_blocks_.give(std::exchange(island_quadrics_[i], {}));
 }
 
 void KeyStepQuadrics::drop_spare_blocks() { spare_blocks_.clear(); }
