@@ -54,20 +54,6 @@ const VerbSpec kSpec{
      kProgressFlag,
      kQuietFlag}};
 
-// Progress of the collapses on stderr (progress.h).
-class ProgressListener final : public CollapseListener {
- public:
-  explicit ProgressListener(size_t expected) : expected_(std::max<size_t>(expected, 1)) {}
-  void on_collapse(const CollapseRecord&) override {
-    if (++done_ % 4096 == 0)
-      progress("simplifying (collapses)", std::min(done_, expected_), expected_);
-  }
-  void finish() { progress("simplifying (collapses)", expected_, expected_); }
-
- private:
-  size_t expected_, done_ = 0;
-};
-
 }  // namespace
 
 int run_simplify(std::span<char* const> arguments) {
@@ -111,22 +97,19 @@ int run_simplify(std::span<char* const> arguments) {
                  " time steps; give an output pattern such as 'out_{:03d}.obj'");
 
   const auto start = std::chrono::steady_clock::now();
-  auto key_steps = choose_key_steps(frames, key_rule);
+  // The simplifier's own phases (progress.h): its collapses are counted as they are made, also
+  // where islands make them apart and tell them only at the end.
+  options.progress = [](std::string_view what, size_t done, size_t total) {
+    progress(what, done, total);
+  };
+  auto key_steps = choose_key_steps(frames, key_rule, options.threads, options.progress);
   if (!key_steps) return fail(kSpec.name, kExitFailure, key_steps.message());
   options.key_steps = key_steps->steps;
   if (!args.has("--json"))
     for (const std::string& reason : key_steps->reasons)
       std::printf("key step  %s\n", reason.c_str());
-  const size_t vertices_in = input.vertex_count;
-  size_t expected = 0;
-  if (options.target_vertices)
-    expected = vertices_in - std::min<size_t>(vertices_in, *options.target_vertices);
-  if (options.target_ratio)
-    expected = std::max(expected, size_t(double(vertices_in) * (1 - *options.target_ratio)));
-  ProgressListener listener(expected ? expected : vertices_in);
   phase.emplace("simplifying");
-  auto result = simplify(input, frames, options, &listener);
-  listener.finish();
+  auto result = simplify(input, frames, options);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (!result) return fail(kSpec.name, kExitFailure, result.message());

@@ -51,11 +51,12 @@ std::string crashbox_frd(const test::TempDir& dir) {
 }
 
 // Every phase of a build, in order (auto:K reads every step to choose, then the key steps, then
-// every step once more into the file's coder, then the thumbnail drawn from the build's records).
+// every step once more into the file's coder, then the thumbnail drawn from the build's records,
+// then the file put together with it).
 // The mesh is checked once, while the input is read: no "checking the mesh" of the simplifier.
 const std::vector<std::string> kBuildPhases = {
-    "choosing key steps", "reading key steps",  "quadrics", "collapsing", "recording the splits",
-    "coding the splits",  "encoding positions", "encoding", "thumbnail",  "writing"};
+    "choosing key steps", "reading key steps",  "quadrics",  "collapsing", "recording the splits",
+    "coding the splits",  "encoding positions", "thumbnail", "encoding",   "writing"};
 
 // How many digits stand between `before` at the start of `text` and `after`; 0 when the text
 // is not shaped so. (By hand: std::regex trips gcc 12's -Wmaybe-uninitialized under ASan.)

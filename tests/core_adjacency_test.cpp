@@ -1,5 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <vector>
+
 #include "fixtures.h"
 
 namespace dynpm {
@@ -18,6 +21,28 @@ TEST(Adjacency, QuadGridCountsAndEuler) {
   EXPECT_EQ(s.euler_characteristic, 1);  // a disc
   EXPECT_EQ(s.quads, 12u);
   EXPECT_EQ(s.triangles, 0u);
+}
+
+// Topology::parts(): the distinct part ids in ascending order, however the faces interleave them
+// (runs, alternation, negative ids) and past the thousand parts where it sorts a copy instead.
+TEST(Topology, PartsAreTheDistinctIdsInOrder) {
+  const auto sorted_distinct = [](std::vector<int32_t> ids) {
+    std::sort(ids.begin(), ids.end());
+    ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+    return ids;
+  };
+  for (const size_t distinct : {size_t{1}, size_t{7}, size_t{1024}, size_t{1025}, size_t{5000}}) {
+    Topology t;
+    t.vertex_count = 3;
+    uint32_t state = 12345;
+    for (size_t f = 0; f < 20000; ++f) {
+      state = state * 1103515245u + 12345u;
+      const auto id = static_cast<int32_t>((state >> 8) % distinct) - 3;
+      for (int run = 0; run < 1 + static_cast<int>(state % 3); ++run) t.add_triangle(0, 1, 2, id);
+    }
+    EXPECT_EQ(t.parts(), sorted_distinct(t.part_ids)) << distinct << " parts";
+  }
+  EXPECT_TRUE(Topology{}.parts().empty());
 }
 
 TEST(Adjacency, QuadDiagonalsAreNotEdges) {

@@ -55,12 +55,12 @@ struct BuildOptions {
   std::optional<BoundingBox> all_steps_box;
   // The simplifier's phases (SimplifyOptions::progress), then "recording the splits" (with the
   // result fields), and "gathering positions" (steps; build_dpm: "coding the splits", then
-  // "encoding positions" (steps) and "encoding"). May be empty. simplify.progress is ignored:
-  // this one is passed down.
+  // "encoding positions" (steps), "thumbnail" and "encoding"). May be empty. simplify.progress is
+  // ignored: this one is passed down.
   ProgressCallback progress;
   // build_dpm(): the thumbnail to store in the file (its THMB chunk), drawn from the build's own
-  // records and positions at the end (phase "thumbnail"): the picture add_thumbnail() draws from
-  // the file's bytes, without decoding them.
+  // records and positions once the steps are coded (phase "thumbnail"): the picture
+  // add_thumbnail() draws from the file's bytes, without decoding them.
   std::optional<ThumbnailOptions> thumbnail;
 };
 

@@ -205,8 +205,9 @@ class DpmStepEncoder {
   // The next step's positions (steps 0, 1, … in order): every vertex, in the progressive
   // numbering, on the grid (as quantize_positions() leaves them).
   void add_step(std::span<const float> xyz);
-  // The file, once every step was given.
-  Result<std::string> finish();
+  // The file, once every step was given; with a THMB chunk before END when `thumbnail_png` is
+  // not empty (the bytes with_thumbnail() would give, without copying the file once more).
+  Result<std::string> finish(std::string_view thumbnail_png = {});
 
   DpmStepEncoder(DpmStepEncoder&&) noexcept;
   DpmStepEncoder& operator=(DpmStepEncoder&&) noexcept;

@@ -60,9 +60,24 @@ size_t Topology::quad_count() const {
 }
 
 std::vector<int32_t> Topology::parts() const {
-  std::vector<int32_t> ids = part_ids;
-  std::sort(ids.begin(), ids.end());
-  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+  // Faces come in runs of one part, and models have few parts: a sorted list of those seen,
+  // without a copy of every face's id and its sort (50 ms a call at a million faces). Past a
+  // thousand parts, the copy and sort, which bounds the time whatever the file holds.
+  constexpr size_t kFewParts = 1024;
+  std::vector<int32_t> ids;
+  for (size_t f = 0; f < part_ids.size(); ++f) {
+    const int32_t id = part_ids[f];
+    if (f > 0 && id == part_ids[f - 1]) continue;
+    const auto at = std::lower_bound(ids.begin(), ids.end(), id);
+    if (at != ids.end() && *at == id) continue;
+    if (ids.size() == kFewParts) {
+      ids = part_ids;
+      std::sort(ids.begin(), ids.end());
+      ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+      return ids;
+    }
+    ids.insert(at, id);
+  }
   return ids;
 }
 

@@ -54,19 +54,21 @@ std::string face_text(const Face& f) {
 // keep no state, so several threads may read at once.
 class FileSequence final : public FrameSource {
  public:
-  FileSequence(std::vector<std::string> paths, std::vector<double> times,
+  // `topology`: the first file's, to compare the others' with (none for a single file).
+  FileSequence(std::vector<std::string> paths, std::vector<double> times, uint32_t vertex_count,
                std::shared_ptr<const Topology> topology, std::vector<float> first_step,
                std::vector<io::MeshField> first_fields, std::optional<uint64_t> first_faces_hash,
                ReadOptions options)
       : paths_(std::move(paths)),
         times_(std::move(times)),
+        vertex_count_(vertex_count),
         topology_(std::move(topology)),
         first_step_(std::move(first_step)),
         first_fields_(std::move(first_fields)),
         first_faces_hash_(first_faces_hash),
         options_(std::move(options)) {}
 
-  uint32_t vertex_count() const override { return topology_->vertex_count; }
+  uint32_t vertex_count() const override { return vertex_count_; }
   size_t step_count() const override { return paths_.size(); }
   double step_time(size_t t) const override { return times_[t]; }
   bool parallel_reads() const override { return true; }
@@ -119,8 +121,7 @@ class FileSequence final : public FrameSource {
     if (first_faces_hash_) {
       auto mesh = parse_mesh_file(paths_[t], options_, io::FaceParsing::kHashOnly);
       if (!mesh) return mesh;
-      if (mesh->faces_hash == first_faces_hash_ &&
-          mesh->topology.vertex_count == topology_->vertex_count)
+      if (mesh->faces_hash == first_faces_hash_ && mesh->topology.vertex_count == vertex_count_)
         return mesh;
     }
     auto mesh = parse_mesh_file(paths_[t], options_);
@@ -155,6 +156,7 @@ class FileSequence final : public FrameSource {
 
   std::vector<std::string> paths_;
   std::vector<double> times_;
+  uint32_t vertex_count_;
   std::shared_ptr<const Topology> topology_;
   std::vector<float> first_step_;
   std::vector<io::MeshField> first_fields_;
@@ -336,14 +338,19 @@ Result<AnimationStream> open_file_sequence(std::span<const std::string> paths,
 
   // 3. The other files stay on disk, each read when its step is asked for.
   AnimationStream stream;
-  auto topology = std::make_shared<const Topology>(first->topology);
-  stream.topology = first->topology;
+  // The later files' faces are compared with a copy of the first's (the stream's may be freed
+  // by its user); a single file needs none.
+  std::shared_ptr<const Topology> topology;
+  if (paths.size() > 1) topology = std::make_shared<const Topology>(first->topology);
+  const uint32_t vertex_count = first->topology.vertex_count;
+  stream.topology = std::move(first->topology);
   // The first step's warnings were given already; the others would repeat them per file.
   ReadOptions quiet = options;
   quiet.warn = nullptr;
   stream.frames = std::make_unique<FileSequence>(
-      std::vector<std::string>(paths.begin(), paths.end()), std::move(times), std::move(topology),
-      std::move(first->positions), std::move(first->fields), first->faces_hash, std::move(quiet));
+      std::vector<std::string>(paths.begin(), paths.end()), std::move(times), vertex_count,
+      std::move(topology), std::move(first->positions), std::move(first->fields), first->faces_hash,
+      std::move(quiet));
   return stream;
 }
 

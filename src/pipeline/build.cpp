@@ -331,18 +331,18 @@ Result<BuiltFile> record_and_code(const Topology& topology, Topology* release,
         encoder->add_step(xyz);
         if (thumbnail) keep_thumbnail_step(*thumbnail, t, steps, xyz);
       }));
-  if (options.progress) options.progress("encoding", 0, 1);
-  auto bytes = encoder->finish();
-  if (!bytes) return bytes.status();
-  if (options.progress) options.progress("encoding", 1, 1);
+  // The picture first: the file is then written once, with it in place before END.
+  std::string picture;
   if (thumbnail) {
     if (options.progress) options.progress("thumbnail", 0, 1);
-    auto with_picture =
-        with_thumbnail(*bytes, render_thumbnail(*thumbnail, *options.thumbnail), "the build");
-    if (!with_picture) return with_picture.status();
-    bytes = std::move(with_picture);
+    picture = render_thumbnail(*thumbnail, *options.thumbnail);
+    thumbnail.reset();
     if (options.progress) options.progress("thumbnail", 1, 1);
   }
+  if (options.progress) options.progress("encoding", 0, 1);
+  auto bytes = encoder->finish(picture);
+  if (!bytes) return bytes.status();
+  if (options.progress) options.progress("encoding", 1, 1);
   return BuiltFile{std::move(recorded->pm), std::move(bytes).value()};
 }
 

@@ -62,6 +62,23 @@ inline uint32_t crc32(std::string_view bytes) {
 // Appends a chunk (docs/FORMAT.md "Chunk"): its header and payload, zstd-compressed when
 // `compress` is set and the frame is smaller (dpm_write.cpp).
 void put_chunk(std::string& out, std::string_view tag, std::string_view raw, bool compress);
+// Appends an uncompressed chunk whose payload `write(out)` appends after the header, so that a
+// large payload is written once, in place, not assembled apart and copied in.
+template <class Write>
+void put_chunk_in_place(std::string& out, std::string_view tag, Write&& write) {
+  const size_t header = out.size();
+  out.append(kChunkHeaderSize, '\0');
+  write(out);
+  const std::string_view payload = std::string_view(out).substr(header + kChunkHeaderSize);
+  const uint32_t fields[5] = {0, static_cast<uint32_t>(payload.size()),
+                              static_cast<uint32_t>(payload.size()), crc32(payload), 0};
+  static_assert(std::endian::native == std::endian::little);
+  out.replace(header, 4, tag);
+  out.replace(header + 4, sizeof fields, reinterpret_cast<const char*>(fields), sizeof fields);
+}
+
+// The THMB chunk's tag (docs/FORMAT.md "Thumbnail: THMB"): the last chunk before END.
+inline constexpr std::string_view kThumbnailTag = "THMB";
 
 // The chunk tags this version knows.
 inline bool is_known_tag(std::string_view tag) {

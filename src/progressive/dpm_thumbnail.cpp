@@ -13,7 +13,6 @@ namespace {
 
 using namespace progressive;
 
-constexpr std::string_view kThumbnailTag = "THMB";
 // A thumbnail is a few tens of KiB; a larger payload is not read into memory.
 constexpr uint32_t kMaxThumbnail = 4u << 20;
 

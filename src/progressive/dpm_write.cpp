@@ -25,24 +25,25 @@ namespace progressive {
 constexpr int kZstdLevel = 12;
 
 void put_chunk(std::string& out, std::string_view tag, std::string_view raw, bool compress) {
-  std::string stored;
   if (compress) {
-    stored.resize(ZSTD_compressBound(raw.size()));
+    std::string stored(ZSTD_compressBound(raw.size()), '\0');
     const size_t n =
         ZSTD_compress(stored.data(), stored.size(), raw.data(), raw.size(), kZstdLevel);
-    stored.resize(ZSTD_isError(n) ? 0 : n);
-    if (ZSTD_isError(n)) compress = false;
+    if (!ZSTD_isError(n)) {
+      stored.resize(n);
+      ByteWriter h;
+      h.bytes.append(tag);
+      h.put<uint32_t>(1u);
+      h.put<uint32_t>(static_cast<uint32_t>(stored.size()));
+      h.put<uint32_t>(static_cast<uint32_t>(raw.size()));
+      h.put<uint32_t>(crc32(stored));
+      h.put<uint32_t>(0);
+      out += h.bytes;
+      out += stored;
+      return;
+    }
   }
-  if (!compress) stored.assign(raw);
-  ByteWriter h;
-  h.bytes.append(tag);
-  h.put<uint32_t>(compress ? 1u : 0u);
-  h.put<uint32_t>(static_cast<uint32_t>(stored.size()));
-  h.put<uint32_t>(static_cast<uint32_t>(raw.size()));
-  h.put<uint32_t>(crc32(stored));
-  h.put<uint32_t>(0);
-  out += h.bytes;
-  out += stored;
+  put_chunk_in_place(out, tag, [&](std::string& payload) { payload += raw; });
 }
 
 }  // namespace progressive
@@ -248,12 +249,20 @@ void DpmStepEncoder::add_step(std::span<const float> xyz) {
   ++s.steps_given;
 }
 
-Result<std::string> DpmStepEncoder::finish() {
+Result<std::string> DpmStepEncoder::finish(std::string_view thumbnail_png) {
   State& s = *state_;
   const ProgressiveMesh& mesh = s.mesh;
   assert(s.steps_given == mesh.step_count());
   const std::vector<std::vector<std::string>> positions = s.positions->finish();
-  std::string out(kMagic);
+  // The file's size but for HEAD, BASE and the small chunks, reserved: grown by doubling, a file
+  // of tens of MB was copied five times and each copy faulted in afresh.
+  size_t splits_bytes = 0;
+  for (const auto& c : s.chunks) splits_bytes += c.records.size() + c.attributes.size() + 64;
+  for (const auto& step : positions)
+    for (const std::string& section : step) splits_bytes += section.size() + 4;
+  std::string out;
+  out.reserve(splits_bytes + thumbnail_png.size() + (size_t{1} << 20));
+  out += kMagic;
   ByteWriter version;
   version.put<uint32_t>(kVersion);
   out += version.bytes;
@@ -300,10 +309,14 @@ Result<std::string> DpmStepEncoder::finish() {
     w.put<uint32_t>(static_cast<uint32_t>(sections.size()));
     for (std::string_view section : sections)
       w.put<uint32_t>(static_cast<uint32_t>(section.size()));
-    for (std::string_view section : sections) w.bytes += section;
-    put_chunk(out, "SPLT", w.bytes, false);  // range-coded bytes do not compress
+    put_chunk_in_place(out, "SPLT", [&](std::string& payload) {  // range-coded: no zstd
+      payload += w.bytes;
+      for (std::string_view section : sections) payload += section;
+    });
     if (fields) out += field_chunks[k];
   }
+  // PNG data is compressed already; as with_thumbnail() would add it.
+  if (!thumbnail_png.empty()) put_chunk(out, kThumbnailTag, thumbnail_png, false);
   put_chunk(out, "END ", {}, false);
   return out;
 }

@@ -150,6 +150,10 @@ CollapseRules::EdgeFaces CollapseRules::edge_faces(uint32_t v0, uint32_t v1) con
 // triangle leaves its T-joint (the joint drops to two faces, the rib is gone), a part enclosed
 // by another loses its last triangle (the part is gone), two boundary or feature lines fuse.
 bool CollapseRules::keeps_every_sheet(uint32_t v0, uint32_t v1, const EdgeFaces& edge) const {
+  // An interior v0 has no boundary or feature edge, and never gets one: a collapse hands a
+  // vertex only edges it had or edges of interior vertices. User feature edges are pairs a
+  // collapse can bring together, so then every triangle is looked at.
+  if (class_[v0] == VertexClass::kInterior && !features_.has_user_edges()) return true;
   // The faces holding the edge (a, b), up to five (three or more make it a feature anyway).
   auto faces_of_edge = [this](uint32_t a, uint32_t b, std::array<uint32_t, 5>& out) {
     uint32_t n = 0;

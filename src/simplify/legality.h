@@ -129,6 +129,7 @@ class FeatureEdges {
   FeatureEdges(const Topology& input, const SimplifyOptions& options);
   // `faces` are the faces holding the edge (a, b).
   bool is_feature_edge(uint32_t a, uint32_t b, std::span<const uint32_t> faces) const;
+  bool has_user_edges() const { return !user_.empty(); }
 
  private:
   const std::vector<int32_t>& part_ids_;
