@@ -43,14 +43,6 @@ class MonotoneQueue {
     return item;
   }
 
-  // The item pop() gives next when it is at hand (no bucket to spread first), else null: its
-  // data can be asked for while the one popped is looked at.
-  const T* peek() const {
-    if (head_[0] == kNone) return nullptr;
-    const Block& block = block_at(head_[0]);
-    return &block.items[block.count - 1];
-  }
-
   // Drops every item for which drop(item) holds.
   template <class Drop>
   void remove_if(Drop&& drop) {

@@ -35,7 +35,6 @@
 
 #include "core/pages.h"
 #include "core/parallel.h"
-#include "core/prefetch.h"
 #include "simplifier.h"
 
 namespace dynpm {
@@ -225,12 +224,6 @@ Status Simplifier::advance(Lane& lane, Next& next) {
       return {};
     }
     const Entry entry = lane.queue.pop();
-    // Most entries are stale, told by two words at random vertices: the next entry's are asked
-    // for now, so that their misses overlap this one's.
-    if (const Entry* after = lane.queue.peek()) {
-      prefetch(&changed_[after->v0]);
-      prefetch(&changed_[after->v1]);
-    }
     if (stale(entry)) continue;
     if (rounds() && locked(entry)) {
       deferred_.push_back(entry);
