@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "core/face_geometry.h"
 
@@ -590,8 +591,14 @@ void prepare_split_records(ProgressiveMesh& mesh) {
   const double p = progressive::error_reference(mesh.base_error);
   mesh.base_error =
       progressive::error_of_code(progressive::error_code_at_least(mesh.base_error, p), p);
-  for (float& e : mesh.error)
-    e = progressive::error_of_code(progressive::error_code_at_least(e, p), p);
+  // Levels inside an error band share one error: each distinct error is searched for once (a
+  // dozen ldexp() a search, a million splits).
+  float before = std::numeric_limits<float>::quiet_NaN(), coded = 0;
+  for (float& e : mesh.error) {
+    if (!(e == before))
+      before = e, coded = progressive::error_of_code(progressive::error_code_at_least(e, p), p);
+    e = coded;
+  }
   for (uint32_t i = 0; i < n; ++i)
     std::sort(mesh.moved_faces.begin() + mesh.moved_start[i],
               mesh.moved_faces.begin() + mesh.moved_start[i + 1]);
