@@ -157,9 +157,7 @@ int run_build(std::span<char* const> arguments) {
   if (Status s = parse_simplify_flags(args, options.simplify, key_rule); !s.ok())
     return fail(kSpec.name, kExitUsage, s.message());
 
-  const ProgressCallback report = [](std::string_view what, size_t done, size_t total) {
-    progress(what, done, total);
-  };
+  const ProgressCallback report = progress;
   std::optional<AnimationStream> stream;
   std::optional<FamilyInputs> family;
   if (args.has("--family")) {

@@ -99,9 +99,7 @@ int run_simplify(std::span<char* const> arguments) {
   const auto start = std::chrono::steady_clock::now();
   // The simplifier's own phases (progress.h): its collapses are counted as they are made, also
   // where islands make them apart and tell them only at the end.
-  options.progress = [](std::string_view what, size_t done, size_t total) {
-    progress(what, done, total);
-  };
+  options.progress = progress;
   auto key_steps = choose_key_steps(frames, key_rule, options.threads, options.progress);
   if (!key_steps) return fail(kSpec.name, kExitFailure, key_steps.message());
   options.key_steps = key_steps->steps;

@@ -6,6 +6,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <string>
 #include <string_view>
 
@@ -62,6 +63,16 @@ inline uint32_t crc32(std::string_view bytes) {
 // Appends a chunk (docs/FORMAT.md "Chunk"): its header and payload, zstd-compressed when
 // `compress` is set and the frame is smaller (dpm_write.cpp).
 void put_chunk(std::string& out, std::string_view tag, std::string_view raw, bool compress);
+// A chunk's header (docs/FORMAT.md "Chunk") into the kChunkHeaderSize bytes at `at`: the tag,
+// then flags (1: zstd), stored size, raw size, CRC-32 of the stored bytes and 0, little-endian.
+inline void write_chunk_header(char* at, std::string_view tag, bool compressed, size_t stored,
+                               size_t raw, uint32_t crc) {
+  static_assert(std::endian::native == std::endian::little);
+  const uint32_t fields[5] = {compressed ? 1u : 0u, static_cast<uint32_t>(stored),
+                              static_cast<uint32_t>(raw), crc, 0};
+  std::memcpy(at, tag.data(), 4);
+  std::memcpy(at + 4, fields, sizeof fields);
+}
 // Appends an uncompressed chunk whose payload `write(out)` appends after the header, so that a
 // large payload is written once, in place, not assembled apart and copied in.
 template <class Write>
@@ -70,11 +81,8 @@ void put_chunk_in_place(std::string& out, std::string_view tag, Write&& write) {
   out.append(kChunkHeaderSize, '\0');
   write(out);
   const std::string_view payload = std::string_view(out).substr(header + kChunkHeaderSize);
-  const uint32_t fields[5] = {0, static_cast<uint32_t>(payload.size()),
-                              static_cast<uint32_t>(payload.size()), crc32(payload), 0};
-  static_assert(std::endian::native == std::endian::little);
-  out.replace(header, 4, tag);
-  out.replace(header + 4, sizeof fields, reinterpret_cast<const char*>(fields), sizeof fields);
+  write_chunk_header(out.data() + header, tag, false, payload.size(), payload.size(),
+                     crc32(payload));
 }
 
 // The THMB chunk's tag (docs/FORMAT.md "Thumbnail: THMB"): the last chunk before END.

@@ -31,14 +31,9 @@ void put_chunk(std::string& out, std::string_view tag, std::string_view raw, boo
         ZSTD_compress(stored.data(), stored.size(), raw.data(), raw.size(), kZstdLevel);
     if (!ZSTD_isError(n)) {
       stored.resize(n);
-      ByteWriter h;
-      h.bytes.append(tag);
-      h.put<uint32_t>(1u);
-      h.put<uint32_t>(static_cast<uint32_t>(stored.size()));
-      h.put<uint32_t>(static_cast<uint32_t>(raw.size()));
-      h.put<uint32_t>(crc32(stored));
-      h.put<uint32_t>(0);
-      out += h.bytes;
+      const size_t header = out.size();
+      out.append(kChunkHeaderSize, '\0');
+      write_chunk_header(out.data() + header, tag, true, n, raw.size(), crc32(stored));
       out += stored;
       return;
     }

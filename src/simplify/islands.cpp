@@ -193,7 +193,7 @@ Status Simplifier::run_islands(SimplifyResult& result) {
           failed[i] = collapse_island(lane, kCollapsesPerReport);
           const std::lock_guard<std::mutex> lock(told);
           collapsed += lane.collapses - before;
-          report("collapsing", std::min(collapsed, collapse_goal_), collapse_goal_);
+          report_collapses(collapsed);
         }
         close_island(lane);
       }
@@ -219,7 +219,7 @@ Status Simplifier::run_islands(SimplifyResult& result) {
     if (has_count_target()) stop_islands_past_the_cut();
     for (Lane& lane : lanes_)
       if (lane.open && lane.exhausted) close_island(lane);
-    report("collapsing", std::min(collapses(), collapse_goal_), collapse_goal_);
+    report_collapses(collapses());
     if (options_.check_every_collapse) DYNPM_RETURN_IF_ERROR(check_mesh(collapses()));
     all_done = std::all_of(lanes_.begin(), lanes_.end(), [](const Lane& l) { return l.exhausted; });
   }

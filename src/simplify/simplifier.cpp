@@ -182,8 +182,7 @@ Status Simplifier::collapse(Lane& lane, uint32_t v0, uint32_t v1, double error) 
       lane.cut_bound.add(static_cast<float>(lane.max_error_done), removed);
     }
   } else {
-    if (lane.collapses % kCollapsesPerReport == 0)
-      report("collapsing", lane.collapses, collapse_goal_);
+    if (lane.collapses % kCollapsesPerReport == 0) report_collapses(lane.collapses);
     if (listener_) listener_->on_collapse(record);
     quadrics_.drop_removed(mesh_);  // after the listener: v1_positions may move
     if (options_.check_every_collapse) DYNPM_RETURN_IF_ERROR(check_mesh(lane.collapses));

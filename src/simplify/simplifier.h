@@ -2,6 +2,7 @@
 // internal to dynpm_simplify: simplify() in include/dynpm/simplify.h is its entry.
 #pragma once
 
+#include <algorithm>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -64,6 +65,12 @@ class Simplifier {
   bool stop_reached(uint32_t live_vertices, size_t live_faces, std::string& reason) const;
   void report(std::string_view phase, size_t done, size_t total) const {
     if (options_.progress) options_.progress(phase, done, total);
+  }
+  // The collapses so far, never as the phase's end (done == total), which run() tells once:
+  // islands run past a vertex target before the cut is made, and each round said "done" again.
+  void report_collapses(size_t done) const {
+    report("collapsing", std::min(done, collapse_goal_ - std::min<size_t>(collapse_goal_, 1)),
+           collapse_goal_);
   }
   // Progress is told every this many collapses: often enough for a live line, rare enough to
   // cost nothing next to the collapses.
