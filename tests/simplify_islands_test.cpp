@@ -11,6 +11,7 @@
 #include <map>
 #include <vector>
 
+#include "crash_box.h"
 #include "dynpm/io.h"
 #include "dynpm/pipeline.h"
 #include "dynpm/simplify.h"
@@ -20,23 +21,6 @@
 
 namespace dynpm {
 namespace {
-
-// The real crash box (CalculiX, 3,003 nodes, 26 steps), every step in memory.
-const Animation* crashbox() {
-  static test::TempDir dir;
-  static std::optional<Animation> loaded;
-  if (loaded) return &*loaded;
-  const std::string frd = dir.file("crashbox-s.frd");
-  const std::string unzip =
-      "zcat '" + test::shared_data() + "/crashbox-s/crashbox-s.frd.gz' > '" + frd + "'";
-  if (std::system(unzip.c_str()) != 0) return nullptr;
-  auto stream = open_input(std::vector<std::string>{frd});
-  if (!stream.ok()) return nullptr;
-  auto all = load_all_steps(std::move(stream).value());
-  if (!all.ok()) return nullptr;
-  loaded = std::move(all).value();
-  return &*loaded;
-}
 
 // `copies` crash boxes side by side, each its own part and component, and a lone quad. With
 // `interleaved`, copy k's vertex v is numbered v · copies + k, so that no island is one run of
@@ -71,22 +55,8 @@ Animation tiled(const Animation& box, uint32_t copies, bool interleaved, float g
   return a;
 }
 
-// Every collapse as told, whole.
-struct Told final : CollapseListener {
-  struct Collapse {
-    uint32_t v0, v1;
-    double error;
-    std::vector<uint32_t> wings, moved;
-    bool operator==(const Collapse&) const = default;
-  };
-  std::vector<Collapse> collapses;
-  void on_collapse(const CollapseRecord& r) override {
-    Collapse c{r.v0, r.v1, r.error, {}, {r.moved_faces.begin(), r.moved_faces.end()}};
-    for (uint8_t w = 0; w < r.wing_count; ++w)
-      c.wings.insert(c.wings.end(), {r.wings[w].face, r.wings[w].vertex, r.wings[w].flags});
-    collapses.push_back(std::move(c));
-  }
-};
+using test::crashbox;
+using test::Told;
 
 SimplifyOptions island_options(unsigned threads) {
   SimplifyOptions o;

@@ -26,7 +26,9 @@
 //   legality (legality.h): CollapseRules::allows(), every rule, cheapest first
 //   the loop (simplifier.cpp, Simplifier::run() and advance(), line for line; with islands,
 //   each island runs it with a queue of its own, and its collapses are told in key order at the
-//   end: SimplifyOptions::island_min_vertices, islands.h):
+//   end: SimplifyOptions::island_min_vertices, islands.h; with regions, each region runs it up to
+//   a common key bucket per round, its borders frozen, and one queue takes over for the rest:
+//   SimplifyOptions::region_min_vertices, regions.h):
 //     rate_all_edges()                           every edge once, for its cheaper direction
 //                                                (an island: its own, when it opens)
 //     loop:
@@ -185,6 +187,13 @@ struct SimplifyOptions {
   // With islands: at most this many run, and hold their key-step quadrics, at once (0: 2 ×
   // threads). Fewer take less memory with many key steps and change no collapse.
   unsigned islands_at_once = 0;
+  // Regions (docs/simplify.md "Regions"): without optimal placement or independent rounds, a
+  // mesh of one connected component and at least this many vertices in faces, simplified to a
+  // stop condition, is cut by space into 8 regions that collapse on any free thread, each with
+  // a queue of its own and the corners of faces across a cut frozen, up to a bound below the
+  // stop (regions.h kRegionShare); then one queue goes on over the whole mesh. The result does
+  // not depend on the thread count. UINT32_MAX: never.
+  uint32_t region_min_vertices = uint32_t{1} << 16;
   // Phases "checking the mesh" (faces; not with a proof in `checked`), "reading key steps" (steps),
   // "quadrics" (vertices) and "collapsing" (vertices removed, of those to remove; it ends at the
   // collapses made). May be empty.
@@ -220,7 +229,9 @@ struct SimplifyResult {
   std::vector<size_t> key_steps;
   BoundingBox key_step_box;  // of every key step's positions (the error's unit is its diagonal)
   size_t collapses = 0;
-  size_t islands = 1;  // SimplifyOptions::island_min_vertices: 1 is the whole mesh
+  size_t islands = 1;           // SimplifyOptions::island_min_vertices: 1 is the whole mesh
+  size_t regions = 0;           // SimplifyOptions::region_min_vertices: 0 without
+  size_t region_collapses = 0;  // of `collapses`, those the regions made
   // The most vertices whose key-step quadrics were held at once: with islands, those of the
   // islands at work (at most 2 × threads of them), else every vertex.
   size_t quadric_vertices_held = 0;

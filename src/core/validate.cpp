@@ -10,11 +10,13 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <span>
 #include <string>
 #include <utility>
 
 #include "dynpm/core.h"
 #include "face_geometry.h"
+#include "parallel.h"
 
 namespace dynpm {
 namespace {
@@ -73,25 +75,37 @@ void check_array_sizes(const Topology& topology, ValidationReport& report) {
   check(topology.node_ids.size(), topology.vertex_count, "node_ids", "vertices");
 }
 
-// Runs on faces whose corners are in range and distinct; face numbers are the original ones.
-void check_connectivity(const Topology& good, const Adjacency& adj,
-                        const std::vector<uint32_t>& original_face, ValidationReport& report) {
-  // Duplicate faces: sort the faces by their sorted corners and compare neighbours.
+// Duplicate faces, as (face, an earlier face with the same corners) in the order of their sorted
+// corners: sort the faces by their sorted corners and compare neighbours. Apart from the
+// adjacency, so that both can be made at once.
+std::vector<std::pair<uint32_t, uint32_t>> duplicate_faces(const Topology& good) {
   std::vector<std::pair<std::array<uint32_t, 4>, uint32_t>> keyed(good.faces.size());
   for (uint32_t fi = 0; fi < good.faces.size(); ++fi) {
     keyed[fi] = {good.faces[fi].v, fi};
     std::sort(keyed[fi].first.begin(), keyed[fi].first.end());
   }
   std::sort(keyed.begin(), keyed.end());
-  for (size_t k = 1; k < keyed.size(); ++k) {
-    if (keyed[k].first != keyed[k - 1].first) continue;
-    const uint32_t fi = keyed[k].second, first = keyed[k - 1].second;
+  std::vector<std::pair<uint32_t, uint32_t>> duplicates;
+  for (size_t k = 1; k < keyed.size(); ++k)
+    if (keyed[k].first == keyed[k - 1].first)
+      duplicates.emplace_back(keyed[k].second, keyed[k - 1].second);
+  return duplicates;
+}
+
+void report_duplicate_faces(const Topology& good, const std::vector<uint32_t>& original_face,
+                            std::span<const std::pair<uint32_t, uint32_t>> duplicates,
+                            ValidationReport& report) {
+  for (const auto& [fi, first] : duplicates) {
     report.add({ProblemKind::kDuplicateFace, Severity::kWarning, original_face[fi], kNoIndex,
                 kNoIndex,
                 "face " + std::to_string(original_face[fi]) + " " + face_text(good.faces[fi]) +
                     " has the same vertices as face " + std::to_string(original_face[first])});
   }
+}
 
+// Runs on faces whose corners are in range and distinct; face numbers are the original ones.
+void check_connectivity(const Topology& good, const Adjacency& adj,
+                        const std::vector<uint32_t>& original_face, ValidationReport& report) {
   std::vector<uint32_t> valence(good.vertex_count, 0);
   for (size_t e = 0; e < adj.edge_count(); ++e) {
     const Edge edge = adj.edge(e);
@@ -261,7 +275,17 @@ ValidationReport validate(const Topology& topology, std::optional<Adjacency>& ad
   if (std::all_of(face_ok.begin(), face_ok.end(), [](uint8_t ok) { return ok; })) {
     std::vector<uint32_t> identity(topology.faces.size());
     for (uint32_t i = 0; i < identity.size(); ++i) identity[i] = i;
-    adjacency = Adjacency::build(topology);
+    // The duplicates' sort and the adjacency on two threads (a large mesh's check is most of
+    // the time before a simplification starts).
+    std::vector<std::pair<uint32_t, uint32_t>> duplicates;
+    const unsigned threads = topology.faces.size() >= (1u << 16) ? 2 : 1;
+    parallel_for(2, 2, threads, [&](size_t part, size_t, size_t) {
+      if (part == 0)
+        duplicates = duplicate_faces(topology);
+      else
+        adjacency = Adjacency::build(topology);
+    });
+    report_duplicate_faces(topology, identity, duplicates, report);
     check_connectivity(topology, *adjacency, identity, report);
   } else {
     // Check the rest of the mesh over the faces that can be trusted.
@@ -273,6 +297,7 @@ ValidationReport validate(const Topology& topology, std::optional<Adjacency>& ad
       good.faces.push_back(topology.faces[fi]);
       original.push_back(fi);
     }
+    report_duplicate_faces(good, original, duplicate_faces(good), report);
     check_connectivity(good, Adjacency::build(good), original, report);
   }
 

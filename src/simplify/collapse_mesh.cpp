@@ -4,6 +4,7 @@
 #include <cassert>
 
 #include "core/pages.h"
+#include "core/parallel.h"
 
 namespace dynpm::simplification {
 
@@ -37,7 +38,8 @@ void CollapseMesh::lay_out(Island& island) {
   island.pool.resize(total);
 }
 
-void CollapseMesh::split_into_islands(std::vector<uint16_t> island_of, size_t count) {
+void CollapseMesh::split_into_islands(std::vector<uint16_t> island_of, size_t count,
+                                      unsigned threads) {
   assert(islands_.size() == 1 && count <= 65536 && island_of.size() == vertex_count());
   std::vector<Island> islands(count);
   for (uint32_t v = 0; v < vertex_count(); ++v) {
@@ -49,14 +51,18 @@ void CollapseMesh::split_into_islands(std::vector<uint16_t> island_of, size_t co
   islands_ = std::move(islands);
   island_of_ = std::move(island_of);
   const std::vector<uint32_t> old_start = list_start_;
-  for (Island& island : islands_) {
-    lay_out(island);
-    for_each_member(island, [&](uint32_t v) {
-      std::copy_n(old_pool.begin() + old_start[v], list_size_[v],
-                  island.pool.begin() + list_start_[v]);
-      island.live_vertices += list_size_[v] > 0 ? 1 : 0;
-    });
-  }
+  // Each island lays out its own vertices' lists: on several threads at once.
+  parallel_for(islands_.size(), islands_.size(), threads, [&](size_t begin, size_t end, size_t) {
+    for (size_t i = begin; i < end; ++i) {
+      Island& island = islands_[i];
+      lay_out(island);
+      for_each_member(island, [&](uint32_t v) {
+        std::copy_n(old_pool.begin() + old_start[v], list_size_[v],
+                    island.pool.begin() + list_start_[v]);
+        island.live_vertices += list_size_[v] > 0 ? 1 : 0;
+      });
+    }
+  });
   for (const Face& f : faces_)
     if (f.v[0] != kNoVertex) ++islands_[island_of_[f.v[0]]].live_faces;
 }
@@ -203,7 +209,7 @@ void CollapseMesh::collapse(uint32_t v0, uint32_t v1, CollapseRecord& record,
   Island& island = islands_[island_of(v1)];
   for (uint32_t f : moved) island.pool[list_start_[v1] + list_size_[v1]++] = f;
   list_size_[v0] = 0;
-  --island.live_vertices;
+  --islands_[island_of(v0)].live_vertices;  // v1's island but for a collapse across regions
   // Legality ((P2), (P1*)) guarantees no vertex but v0 is left without faces.
   for (uint8_t k = 0; k < record.wing_count; ++k)
     assert(list_size_[record.wings[k].vertex] > 0 && "a collapse orphaned a wing vertex");

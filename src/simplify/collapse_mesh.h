@@ -46,9 +46,10 @@ class CollapseMesh {
   uint32_t live_vertices() const;
   size_t live_faces() const;
 
-  // Makes islands: vertex v goes to island island_of[v] (< count, each a union of connected
-  // components). The lists keep their faces in their order.
-  void split_into_islands(std::vector<uint16_t> island_of, size_t count);
+  // Makes islands: vertex v goes to island island_of[v] (< count: unions of connected components,
+  // or regions, regions.h), up to `threads` laid out at once. The lists keep their faces in their
+  // order.
+  void split_into_islands(std::vector<uint16_t> island_of, size_t count, unsigned threads);
   size_t island_count() const { return islands_.size(); }
   uint32_t island_of(uint32_t v) const { return island_of_.empty() ? 0 : island_of_[v]; }
   uint32_t island_live_vertices(size_t i) const { return islands_[i].live_vertices; }

@@ -133,19 +133,23 @@ void Simplifier::stop_islands_past_the_cut() {
 
 // An island's quadrics are made, and its edges rated in vertex order, when it first takes part
 // in a round; both go when it is done. Each island thus does what it would with every island open.
+// (Regions read the whole mesh's quadrics.)
 void Simplifier::open_island(Lane& lane) {
-  quadrics_.open_island(static_cast<size_t>(&lane - lanes_.data()), mesh_);
+  if (regions_ == 0) quadrics_.open_island(static_cast<size_t>(&lane - lanes_.data()), mesh_);
   lane.queue = spare_queues_.take();
   rate_island(lane);
   ++lane.time;
   lane.open = true;
 }
 
-Status Simplifier::collapse_island(Lane& lane, size_t quota) {
+Status Simplifier::collapse_island(Lane& lane, size_t quota, size_t face_limit, uint32_t ceiling) {
   Status status;
-  for (size_t done = 0; done < quota && !lane.exhausted; ++done) {
+  // A collapse removes at most four faces, one per wing.
+  for (size_t done = 0; done < quota && !lane.exhausted && lane.faces_removed + 4 <= face_limit;
+       ++done) {
     Next next = Next::kCollapsed;
-    status = advance(lane, next);
+    status = advance(lane, next, ceiling);
+    if (status.ok() && next == Next::kPaused) break;
     lane.exhausted = !status.ok() || next != Next::kCollapsed;
     lane.over_max_error = next == Next::kMaxError;
   }
@@ -153,7 +157,7 @@ Status Simplifier::collapse_island(Lane& lane, size_t quota) {
 }
 
 void Simplifier::close_island(Lane& lane) {
-  quadrics_.close_island(static_cast<size_t>(&lane - lanes_.data()), mesh_);
+  if (regions_ == 0) quadrics_.close_island(static_cast<size_t>(&lane - lanes_.data()), mesh_);
   lane.queue.clear();  // its blocks stay, for the next island to fill
   spare_queues_.give(std::exchange(lane.queue, {}));
   std::vector<Entry>().swap(lane.fresh);  // freed: `= {}` keeps the capacity

@@ -253,7 +253,7 @@ bool CollapseRules::allows(uint32_t v0, uint32_t v1, VertexMarks& marks,
   // (P3): a component keeps more than 4 vertices, or more than 3 at a boundary.
   const bool at_border =
       class_[v0] != VertexClass::kInterior || class_[v1] != VertexClass::kInterior;
-  if (component_live_[component_of(v0)] <= (at_border ? 3u : 4u)) return false;
+  if (component_live(component_of(v0)) <= (at_border ? 3u : 4u)) return false;
   // No sheet or part may lose its last face between two boundary or feature edges.
   if (!keeps_every_sheet(v0, v1, edge)) return false;
   // (P1*): otherwise the collapse leaves a vertex of valence two (paper Fig. 4 and 5).

@@ -15,6 +15,7 @@
 #pragma once
 
 #include <algorithm>
+#include <atomic>
 #include <cstdint>
 
 namespace dynpm::simplification {
@@ -153,8 +154,12 @@ class CollapseRules {
   // `placement` gets v1's new positions (the geometry rule tests them).
   bool allows(uint32_t v0, uint32_t v1, VertexMarks& marks, std::vector<Vec3>& placement) const;
 
-  // After the collapse v0 → v1: v0's component has one vertex less.
-  void collapsed(uint32_t v0) { --component_live_[component_of(v0)]; }
+  // After the collapse v0 → v1: v0's component has one vertex less. Atomic: regions of one
+  // component collapse at once (regions.h).
+  void collapsed(uint32_t v0) {
+    std::atomic_ref<uint32_t>(component_live_[component_of(v0)])
+        .fetch_sub(1, std::memory_order_relaxed);
+  }
 
   // Connected components, numbered in the order of their first vertex; with their live vertices
   // at the start they size the islands (simplifier.cpp).
@@ -162,7 +167,11 @@ class CollapseRules {
     return small_component_.empty() ? component_[v] : small_component_[v];
   }
   size_t component_count() const { return component_live_.size(); }
-  uint32_t component_live(uint32_t c) const { return component_live_[c]; }
+  uint32_t component_live(uint32_t c) const {
+    // atomic_ref of a const object is C++26: the load writes nothing.
+    return std::atomic_ref<uint32_t>(const_cast<uint32_t&>(component_live_[c]))
+        .load(std::memory_order_relaxed);
+  }
 
  private:
   struct EdgeFaces;

@@ -84,12 +84,13 @@ bool Simplifier::stale(const Entry& e) const {
 // some direction, queued for its cheaper allowed direction.
 void Simplifier::rate_edges_of(uint32_t v, Scratch& s, std::vector<Entry>& out, uint32_t time,
                                bool larger_only) const {
+  if (frozen(v)) return;  // regions: frozen vertices neither move nor stay while they run
   mesh_.neighbours(v, s.neighbours);
   // The neighbours' quadrics and positions are scattered in memory: ask for all of them before
   // the first is needed, so the cache misses overlap instead of following one another.
   quadrics_.prefetch(s.neighbours);
   for (uint32_t w : s.neighbours) {
-    if (larger_only && w < v) continue;
+    if ((larger_only && w < v) || frozen(w)) continue;
     const VertexClass cv = rules_.vertex_class(v), cw = rules_.vertex_class(w);
     const bool forward = can_collapse(cv, cw) != Along::kNever;
     const bool backward = can_collapse(cw, cv) != Along::kNever;
@@ -175,17 +176,18 @@ Status Simplifier::collapse(Lane& lane, uint32_t v0, uint32_t v1, double error) 
   ++lane.collapses;
   lane.max_error_done = std::max(lane.max_error_done, error);
   if (lanes_.size() > 1) {  // islands: told in key order at the end, rows dropped between rounds
-    if (listener_ || has_stop()) lane.log.add(record);
+    if (listener_ || (has_stop() && regions_ == 0)) lane.log.add(record);
     if (has_count_target()) {
       uint32_t removed = 0;
       for (uint8_t w = 0; w < record.wing_count; ++w) removed += record.wings[w].was_triangle();
       lane.cut_bound.add(static_cast<float>(lane.max_error_done), removed);
+      lane.faces_removed += removed;
     }
   } else {
-    if (lane.collapses % kCollapsesPerReport == 0) report_collapses(lane.collapses);
+    if (lane.collapses % kCollapsesPerReport == 0) report_collapses(collapses());
     if (listener_) listener_->on_collapse(record);
     quadrics_.drop_removed(mesh_);  // after the listener: v1_positions may move
-    if (options_.check_every_collapse) DYNPM_RETURN_IF_ERROR(check_mesh(lane.collapses));
+    if (options_.check_every_collapse) DYNPM_RETURN_IF_ERROR(check_mesh(collapses()));
   }
 
   // v1's quadric changed: re-rate its edges. Neighbours with a dropped entry get another
@@ -206,7 +208,7 @@ Status Simplifier::collapse(Lane& lane, uint32_t v0, uint32_t v1, double error) 
 // Takes the lane's entries until one collapses, the next would exceed the maximum error, or no
 // legal collapse remains (once the queue ran dry, every edge is rated again once: edges dropped
 // as illegal may have become legal).
-Status Simplifier::advance(Lane& lane, Next& next) {
+Status Simplifier::advance(Lane& lane, Next& next, uint32_t ceiling) {
   while (true) {
     if (lane.queue.empty()) {
       if (rounds() && end_round()) continue;
@@ -230,6 +232,12 @@ Status Simplifier::advance(Lane& lane, Next& next) {
     }
     if (options_.max_error && entry.error > *options_.max_error) {
       next = Next::kMaxError;
+      return {};
+    }
+    if (const uint32_t bucket = CutBound::bucket(entry.error); bucket > ceiling) {
+      lane.queue.push(entry);  // no lower than the last popped: taken first next time
+      lane.paused_at = bucket;
+      next = Next::kPaused;
       return {};
     }
     Scratch& s = lane.scratch;
@@ -303,20 +311,29 @@ bool Simplifier::stop_reached(uint32_t live_vertices, size_t live_faces,
 // constraint edges are known, before the quadrics and the queue take their memory.
 Result<SimplifyResult> Simplifier::run(Adjacency adjacency) {
   std::vector<uint8_t> constrained;
-  initial_stats_ = topology_stats(input_, adjacency);
+  report("quadrics", 0, input_.vertex_count);
+  // Both read the adjacency alone: on two threads at once.
+  parallel_for(2, 2, thread_count(options_.threads), [&](size_t part, size_t, size_t) {
+    if (part == 0)
+      initial_stats_ = topology_stats(input_, adjacency);
+    else
+      rules_.classify_vertices(adjacency);
+  });
   const size_t vertices = initial_stats_.referenced_vertices;
-  report("quadrics", 0, vertices);
-  rules_.classify_vertices(adjacency);
   constrained = constrained_edges(input_, adjacency, rules_.features());
   adjacency = {};
-  if (use_islands(vertices)) {
+  const bool regions = use_regions(vertices);
+  if (!regions && use_islands(vertices)) {
     size_t count = 0;
     auto island_of = form_islands(rules_, mesh_, least_island_vertices(vertices), count);
-    if (count > 1) mesh_.split_into_islands(std::move(island_of), count);
+    if (count > 1)
+      mesh_.split_into_islands(std::move(island_of), count, thread_count(options_.threads));
   }
   lanes_ = std::vector<Lane>(mesh_.island_count());
   quadrics_.build(input_, mesh_, std::move(constrained), options_.boundary_weight,
                   options_.regularize, thread_count(options_.threads));
+  // Regions read every vertex's quadrics, as the one queue that takes over does.
+  if (regions) cut_into_regions();
   release_free_heap();  // the adjacency's small arrays, before the queue
 
   target_vertices_ = options_.target_vertices.value_or(0);
@@ -332,15 +349,16 @@ Result<SimplifyResult> Simplifier::run(Adjacency adjacency) {
     rate_all_edges();
     ++lanes_[0].time;
   }
-  report("quadrics", vertices, vertices);
+  report("quadrics", input_.vertex_count, input_.vertex_count);
 
   SimplifyResult result;
   collapse_goal_ = vertices - std::min<size_t>(target_vertices_, vertices);
   report("collapsing", 0, collapse_goal_);
-  const bool cut = lanes_.size() > 1 && has_stop();  // the result is made by run_islands()
-  if (lanes_.size() > 1) {
+  const bool cut = lanes_.size() > 1 && regions_ == 0 && has_stop();  // made by run_islands()
+  if (lanes_.size() > 1 && regions_ == 0) {
     DYNPM_RETURN_IF_ERROR(run_islands(result));
   } else {
+    if (regions_ > 0) DYNPM_RETURN_IF_ERROR(run_regions());
     while (!stop_reached(mesh_.live_vertices(), mesh_.live_faces(), result.stop_reason)) {
       Next next = Next::kCollapsed;
       DYNPM_RETURN_IF_ERROR(advance(lanes_[0], next));
@@ -354,8 +372,7 @@ Result<SimplifyResult> Simplifier::run(Adjacency adjacency) {
   if (!cut) {
     result.topology = mesh_.to_topology(input_, result.original_vertex);
     result.collapses = collapses();
-    for (const Lane& lane : lanes_)
-      result.max_error = std::max(result.max_error, lane.max_error_done);
+    result.max_error = max_error_done();
   }
   result.target_reached = !result.stop_reason.empty();
   if (!result.target_reached)
@@ -364,7 +381,9 @@ Result<SimplifyResult> Simplifier::run(Adjacency adjacency) {
   report("collapsing", result.collapses, result.collapses);
   result.key_steps = key_steps_;
   result.key_step_box = quadrics_.box();
-  result.islands = lanes_.size();
+  result.islands = regions_ > 0 ? 1 : lanes_.size();
+  result.regions = regions_;
+  result.region_collapses = region_collapses_;
   result.quadric_vertices_held = quadrics_.most_held();
   result.collapses_made = collapses();
   if (optimal()) {
@@ -375,9 +394,15 @@ Result<SimplifyResult> Simplifier::run(Adjacency adjacency) {
 }
 
 size_t Simplifier::collapses() const {
-  size_t total = 0;
+  size_t total = region_collapses_;
   for (const Lane& lane : lanes_) total += lane.collapses;
   return total;
+}
+
+double Simplifier::max_error_done() const {
+  double most = region_max_error_;
+  for (const Lane& lane : lanes_) most = std::max(most, lane.max_error_done);
+  return most;
 }
 
 }  // namespace simplification

@@ -3,8 +3,10 @@
 #pragma once
 
 #include <algorithm>
+#include <cstdint>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "collapse_mesh.h"
@@ -13,6 +15,7 @@
 #include "legality.h"
 #include "monotone_queue.h"
 #include "quadrics.h"
+#include "regions.h"
 #include "spares.h"
 
 namespace dynpm::simplification {
@@ -46,21 +49,34 @@ class Simplifier {
   void rate_all_edges();
   void rate_island(Lane& lane);
   void drop_stale_entries(Lane& lane);
-  enum class Next { kCollapsed, kMaxError, kExhausted };
-  Status advance(Lane& lane, Next& next);
+  // kPaused: the next collapse's key lies in a bucket past the ceiling (regions, in key order);
+  // its entry stays queued.
+  enum class Next { kCollapsed, kMaxError, kExhausted, kPaused };
+  Status advance(Lane& lane, Next& next, uint32_t ceiling = CutBound::kBuckets);
   Status collapse(Lane& lane, uint32_t v0, uint32_t v1, double error);
   bool use_islands(size_t vertices) const;
+  bool use_regions(size_t vertices) const;
   bool has_count_target() const {
     return options_.target_vertices || options_.target_ratio || options_.target_faces;
   }
   bool has_stop() const { return has_count_target() || options_.max_error; }
   void stop_islands_past_the_cut();
   Status run_islands(SimplifyResult& result);
+  // Regions (regions.h): cuts the mesh, runs the regions up to their bound and hands their mesh
+  // to one queue.
+  void cut_into_regions();
+  // Collapses and removed faces that surely keep the mesh above a vertex or face target.
+  std::pair<size_t, size_t> left_to_target() const;
+  Status run_regions();
   void open_island(Lane& lane);
-  // Up to `quota` collapses, until the island is exhausted; the first error.
-  Status collapse_island(Lane& lane, size_t quota);
+  // Up to `quota` collapses, until the island is exhausted, one more collapse could take its
+  // removed faces past `face_limit`, or its key's bucket passes `ceiling` (it goes on in a later
+  // round); the first error.
+  Status collapse_island(Lane& lane, size_t quota, size_t face_limit = SIZE_MAX,
+                         uint32_t ceiling = CutBound::kBuckets);
   void close_island(Lane& lane);
   size_t collapses() const;
+  double max_error_done() const;
   Status check_mesh(size_t collapse_index) const;
   bool stop_reached(uint32_t live_vertices, size_t live_faces, std::string& reason) const;
   void report(std::string_view phase, size_t done, size_t total) const {
@@ -111,11 +127,19 @@ class Simplifier {
     bool exhausted = false;
     bool over_max_error = false;  // its next collapse would exceed the maximum error
     size_t collapses = 0;
+    size_t faces_removed = 0;  // with islands or regions and a vertex or face target
     double max_error_done = 0;
-    IslandLog log;       // with islands, until every island is done
-    CutBound cut_bound;  // with islands and a vertex or face target
+    uint32_t paused_at = 0;  // regions: the key bucket its next collapse waits in
+    IslandLog log;           // with islands, until every island is done
+    CutBound cut_bound;      // with islands and a vertex or face target
   };
   std::vector<Lane> lanes_;
+  // Regions: 1 per vertex that no collapse may move or keep while they run (empty otherwise);
+  // what the regions did, once one queue has taken over.
+  std::vector<uint8_t> frozen_;
+  bool frozen(uint32_t v) const { return !frozen_.empty() && frozen_[v] != 0; }
+  size_t regions_ = 0, region_collapses_ = 0;
+  double region_max_error_ = 0;
   Spares<MonotoneQueue<Entry>> spare_queues_;  // closed islands' queues (emptied), for the next
   // Per vertex: the time it last changed (31 bits) and, in the top bit, whether an entry of it was
   // dropped as illegal. In one word, because islands write their vertices' at once (a vector of
