@@ -15,6 +15,8 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
+#include <limits>
 #include <utility>
 
 #include "core/parallel.h"
@@ -51,8 +53,14 @@ std::vector<uint16_t> spatial_regions(const Topology& input, const float* xyz, s
       for (int c = 1; c < 3; ++c)
         if (high[c] - low[c] > high[axis] - low[axis]) axis = c;
       const auto middle = begin + (end - begin) / 2;
+      // A strict order even where a library caller's positions hold NaN (as +∞): nth_element
+      // needs one.
+      const auto coordinate = [&](uint32_t v) {
+        const float c = xyz[v * stride + axis];
+        return std::isnan(c) ? std::numeric_limits<float>::infinity() : c;
+      };
       std::nth_element(begin, middle, end, [&](uint32_t a, uint32_t b) {
-        const float pa = xyz[a * stride + axis], pb = xyz[b * stride + axis];
+        const float pa = coordinate(a), pb = coordinate(b);
         return pa < pb || (pa == pb && a < b);
       });
       next.push_back(static_cast<size_t>(middle - order.begin()));
