@@ -187,12 +187,13 @@ struct SimplifyOptions {
   // With islands: at most this many run, and hold their key-step quadrics, at once (0: 2 ×
   // threads). Fewer take less memory with many key steps and change no collapse.
   unsigned islands_at_once = 0;
-  // Regions (docs/simplify.md "Regions"): without optimal placement or independent rounds, a
-  // mesh of one connected component and at least this many vertices in faces, simplified to a
-  // stop condition, is cut by space into 8 regions that collapse on any free thread, each with
-  // a queue of its own and the corners of faces across a cut frozen, up to a bound below the
-  // stop (regions.h kRegionShare); then one queue goes on over the whole mesh. The result does
-  // not depend on the thread count. UINT32_MAX: never.
+  // Regions (docs/simplify.md "Regions"): without independent rounds (nor optimal placement with
+  // a listener), a mesh of at least this many vertices in faces, a quarter of them or more in one
+  // connected component, simplified to a stop condition, is cut by space into 8 regions that
+  // collapse in key order on any free thread, each with a queue of its own and the corners of
+  // faces across a cut frozen, up to a share of the stop's work (regions.h kRegionShare); then
+  // one queue goes on over the whole mesh. The result does not depend on the thread count.
+  // UINT32_MAX: never.
   uint32_t region_min_vertices = uint32_t{1} << 16;
   // Phases "checking the mesh" (faces; not with a proof in `checked`), "reading key steps" (steps),
   // "quadrics" (vertices) and "collapsing" (vertices removed, of those to remove; it ends at the

@@ -98,9 +98,10 @@ std::vector<uint8_t> frozen_borders(const Topology& input, std::span<const uint1
 // The simplifier's regions (simplifier.h): when, their rounds, and the hand-over.
 
 // Where one component holds a quarter of the vertices or more: islands of whole components would
-// leave it to one thread.
+// leave it to one thread. With optimal placement v1 moves, within its region (its faces are the
+// region's): allowed without a listener, as the regions' logs keep no positions.
 bool Simplifier::use_regions(size_t vertices) const {
-  if (options_.placement == Placement::kOptimal || options_.independent_rounds > 0 ||
+  if ((optimal() && listener_) || options_.independent_rounds > 0 ||
       vertices < options_.region_min_vertices || !has_stop())
     return false;
   uint32_t largest = 0;
