@@ -316,6 +316,43 @@ TEST(Regions, OnlyWithAStopAndOneLargeComponent) {
   ASSERT_TRUE(r.ok()) << r.message();
   EXPECT_EQ(r->regions, 0u);
   EXPECT_EQ(r->islands, 5u);
+  EXPECT_EQ(island_vertex_counts(sheets, parts).size(), 5u);  // what a memory estimate is told
+}
+
+// One large component beside small ones (the dragon's case): regions with a stop, and then no
+// islands for a memory estimate (the regions hold every vertex's quadrics); islands to the end.
+TEST(Regions, OneLargeComponentBesideSmallOnes) {
+  const test::Mesh sheet = bumpy_sheet();
+  const test::Mesh speck = test::quad_grid(2, 2);
+  Topology all = sheet.topology;
+  std::vector<float> xyz = sheet.positions;
+  for (uint32_t k = 0; k < 4; ++k) {
+    const uint32_t first = all.vertex_count;
+    all.vertex_count += speck.topology.vertex_count;
+    for (Face f : speck.topology.faces) {
+      for (uint32_t& c : f.v)
+        if (c != kNoVertex) c += first;
+      all.add_face(f, 0);
+    }
+    for (size_t i = 0; i < speck.positions.size(); ++i)
+      xyz.push_back(speck.positions[i] + (i % 3 == 2 ? 20.0f + k : 0.0f));
+  }
+  all.node_ids.resize(all.vertex_count);
+  Frames frames;
+  frames.set_vertex_count(all.vertex_count);
+  frames.add_step(xyz, 0);
+  SimplifyOptions to_target;
+  to_target.target_ratio = 0.5;
+  auto r = simplify(all, frames, to_target);
+  ASSERT_TRUE(r.ok()) << r.message();
+  EXPECT_EQ(r->regions, size_t{1} << simplification::kRegionLevels);
+  EXPECT_TRUE(island_vertex_counts(all, to_target).empty());
+  SimplifyOptions to_the_end;
+  r = simplify(all, frames, to_the_end);
+  ASSERT_TRUE(r.ok()) << r.message();
+  EXPECT_EQ(r->regions, 0u);
+  EXPECT_GE(r->islands, 2u);
+  EXPECT_EQ(island_vertex_counts(all, to_the_end).size(), r->islands);
 }
 
 }  // namespace

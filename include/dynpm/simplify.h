@@ -262,8 +262,9 @@ Result<SimplifyResult> simplify(const Topology& topology, const FrameSource& fra
                                 CollapseListener* listener = nullptr);
 
 // The vertices of each island simplify() will cut the mesh into, largest first (every vertex,
-// in faces or not, counts in its component's island); empty when it will make no islands. For
-// memory estimates before the work: one pass over the faces.
+// in faces or not, counts in its component's island); empty when it will make no islands (one
+// component, or regions: those hold every vertex's quadrics). For memory estimates before the
+// work: one pass over the faces.
 std::vector<size_t> island_vertex_counts(const Topology& topology, const SimplifyOptions& options);
 // At most how many vertices' key-step quadrics simplify() will hold at once
 // (SimplifyResult::quadric_vertices_held): with islands, those of the largest islands that run

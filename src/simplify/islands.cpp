@@ -10,6 +10,7 @@
 
 #include "core/components.h"
 #include "core/parallel.h"
+#include "regions.h"
 #include "simplifier.h"
 
 namespace dynpm::simplification {
@@ -272,7 +273,10 @@ std::vector<size_t> island_vertex_counts(const Topology& topology, const Simplif
     live[component[v]] += in_face[v];
     referenced += in_face[v];
   }
-  if (!simplification::islands_allowed(options, referenced) || components < 2) return {};
+  const size_t largest = components ? *std::max_element(live.begin(), live.end()) : 0;
+  if (!simplification::islands_allowed(options, referenced) || components < 2 ||
+      simplification::regions_allowed(options, false, referenced, largest))
+    return {};
   size_t count = 0;
   const std::vector<uint16_t> island_of = simplification::gather_islands(
       live, simplification::least_island_vertices(referenced), count);

@@ -100,14 +100,20 @@ std::vector<uint8_t> frozen_borders(const Topology& input, std::span<const uint1
 // Where one component holds a quarter of the vertices or more: islands of whole components would
 // leave it to one thread. With optimal placement v1 moves, within its region (its faces are the
 // region's): allowed without a listener, as the regions' logs keep no positions.
+bool regions_allowed(const SimplifyOptions& options, bool listener, size_t referenced,
+                     size_t largest) {
+  const bool stop =
+      options.target_vertices || options.target_ratio || options.target_faces || options.max_error;
+  return stop && !(options.placement == Placement::kOptimal && listener) &&
+         options.independent_rounds <= 0 && referenced >= options.region_min_vertices &&
+         largest >= referenced / 4;
+}
+
 bool Simplifier::use_regions(size_t vertices) const {
-  if ((optimal() && listener_) || options_.independent_rounds > 0 ||
-      vertices < options_.region_min_vertices || !has_stop())
-    return false;
   uint32_t largest = 0;
   for (uint32_t c = 0; c < rules_.component_count(); ++c)
     largest = std::max(largest, rules_.component_live(c));
-  return largest >= vertices / 4;
+  return regions_allowed(options_, listener_ != nullptr, vertices, largest);
 }
 
 void Simplifier::cut_into_regions() {

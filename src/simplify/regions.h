@@ -11,8 +11,15 @@
 #include <vector>
 
 #include "dynpm/core.h"
+#include "dynpm/simplify.h"
 
 namespace dynpm::simplification {
+
+// Whether simplify() cuts a mesh of `referenced` vertices in faces, the largest component
+// holding `largest`, into regions (SimplifyOptions::region_min_vertices); `listener`: whether
+// the collapses are told to one.
+bool regions_allowed(const SimplifyOptions& options, bool listener, size_t referenced,
+                     size_t largest);
 
 // Regions the mesh is cut into: a power of two, fixed so that the result is the same
 // on any thread count. Eight keep two cores busy in rounds and freeze a few percent of a large
