@@ -177,12 +177,12 @@ struct SimplifyOptions {
   bool check_every_collapse = false;
   unsigned threads = 0;  // 0: one per hardware thread
   // Islands (docs/simplify.md "Islands"): without optimal placement or independent rounds, a
-  // mesh of at least this many vertices in faces and of several connected components is cut
-  // into islands of whole components, each simplified with a queue of its own on any free
-  // thread (to its end, or with a vertex or face target until its key is past a bound of the cut:
-  // islands.h CutBound); the collapses are told in the order of their keys (island by island
-  // where keys tie) up to the stop condition. The result does not depend on the thread
-  // count. UINT32_MAX: never.
+  // mesh of at least this many vertices in faces and of several connected components (where
+  // regions do not apply, below) is cut into islands of whole components, each simplified with a
+  // queue of its own on any free thread (to its end, or with a vertex or face target until its key
+  // is past a bound of the cut: islands.h CutBound); the collapses are told in the order of their
+  // keys (island by island where keys tie) up to the stop condition. The result does not depend on
+  // the thread count. UINT32_MAX: never.
   uint32_t island_min_vertices = uint32_t{1} << 16;
   // With islands: at most this many run, and hold their key-step quadrics, at once (0: 2 ×
   // threads). Fewer take less memory with many key steps and change no collapse.

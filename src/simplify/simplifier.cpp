@@ -180,7 +180,7 @@ Status Simplifier::collapse(Lane& lane, uint32_t v0, uint32_t v1, double error) 
     if (has_count_target()) {
       uint32_t removed = 0;
       for (uint8_t w = 0; w < record.wing_count; ++w) removed += record.wings[w].was_triangle();
-      lane.cut_bound.add(static_cast<float>(lane.max_error_done), removed);
+      if (regions_ == 0) lane.cut_bound.add(static_cast<float>(lane.max_error_done), removed);
       lane.faces_removed += removed;
     }
   } else {
