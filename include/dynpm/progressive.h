@@ -205,6 +205,10 @@ class DpmStepEncoder {
   // The next step's positions (steps 0, 1, … in order): every vertex, in the progressive
   // numbering, on the grid (as quantize_positions() leaves them).
   void add_step(std::span<const float> xyz);
+  // The same from a step as read: xyz in the input's numbering, not yet on the grid, and
+  // progressive_of[v] input vertex v's number in the mesh. Put on the grid as quantize_step()
+  // would, renumbered and checked in one pass; an error when a coordinate is not finite.
+  Status add_input_step(std::span<const float> xyz, std::span<const uint32_t> progressive_of);
   // The file, once every step was given; with a THMB chunk before END when `thumbnail_png` is
   // not empty (the bytes with_thumbnail() would give, without copying the file once more).
   Result<std::string> finish(std::string_view thumbnail_png = {});

@@ -237,9 +237,9 @@ Result<Recorded> record(const Topology& topology, const FrameSource& frames,
   return recorded;
 }
 
-// The last pass: every step's positions, read once each (several at once where the source
-// allows), permuted into the progressive numbering and put on the grid, to use(t, xyz) in step
-// order. Reports `phase` (steps).
+// Every step's positions, read once each (several at once where the source allows), permuted
+// into the progressive numbering and put on the grid, to use(t, xyz) in step order. Reports
+// `phase` (steps). (build_dpm()'s last pass is encode_steps().)
 Status for_each_progressive_step(const FrameSource& frames, const Recorded& r,
                                  const BuildOptions& options, const char* phase,
                                  const std::function<void(size_t, std::span<const float>)>& use) {
@@ -294,6 +294,34 @@ void release_coded_records(ProgressiveMesh& mesh) {
   keep(mesh.element_ids, mesh.base_face_count);
 }
 
+// The build's last pass: every step read once and given to the encoder as read (renumbered and
+// put on the grid there, in one pass over the step); the thumbnail's level keeps the first and
+// the last step, quantized as the file has them.
+Status encode_steps(const FrameSource& frames, const Recorded& r, const BuildOptions& options,
+                    DpmStepEncoder& encoder, ProgressiveMesh* thumbnail) {
+  const size_t steps = frames.step_count();
+  std::vector<uint32_t> input_of(thumbnail ? thumbnail->vertex_count() : 0);  // level → input
+  for (uint32_t v = 0; v < r.new_vertex.size(); ++v)
+    if (r.new_vertex[v] < input_of.size()) input_of[r.new_vertex[v]] = v;
+  std::vector<size_t> every(steps);
+  std::iota(every.begin(), every.end(), size_t{0});
+  const char* phase = "encoding positions";
+  if (options.progress) options.progress(phase, 0, steps);
+  return for_each_step(frames, every, options.simplify.threads,
+                       [&](size_t t, std::span<const float> step) {
+                         DYNPM_RETURN_IF_ERROR(encoder.add_input_step(step, r.new_vertex));
+                         if (thumbnail && (t == 0 || t + 1 == steps)) {
+                           std::vector<float> xyz(input_of.size() * 3);
+                           for (size_t u = 0; u < input_of.size(); ++u)
+                             std::copy_n(&step[size_t{input_of[u]} * 3], 3, &xyz[u * 3]);
+                           quantize_step(r.pm, xyz);
+                           keep_thumbnail_step(*thumbnail, t, steps, xyz);
+                         }
+                         if (options.progress) options.progress(phase, t + 1, steps);
+                         return Status{};
+                       });
+}
+
 }  // namespace
 
 Result<ProgressiveMesh> build_progressive_mesh(const Topology& topology, const FrameSource& frames,
@@ -325,12 +353,8 @@ Result<BuiltFile> record_and_code(const Topology& topology, Topology* release,
   std::optional<ProgressiveMesh> thumbnail;  // its level, before the records go
   if (options.thumbnail) thumbnail = thumbnail_level(recorded->pm, *options.thumbnail);
   release_coded_records(recorded->pm);  // the records are coded: room for the steps
-  const size_t steps = frames.step_count();
-  DYNPM_RETURN_IF_ERROR(for_each_progressive_step(
-      frames, *recorded, options, "encoding positions", [&](size_t t, std::span<const float> xyz) {
-        encoder->add_step(xyz);
-        if (thumbnail) keep_thumbnail_step(*thumbnail, t, steps, xyz);
-      }));
+  DYNPM_RETURN_IF_ERROR(
+      encode_steps(frames, *recorded, options, *encoder, thumbnail ? &*thumbnail : nullptr));
   // The picture first: the file is then written once, with it in place before END.
   std::string picture;
   if (thumbnail) {

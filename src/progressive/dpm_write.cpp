@@ -4,7 +4,10 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
+#include <bit>
 #include <cassert>
+#include <cmath>
 #include <optional>
 #include <string>
 #include <vector>
@@ -173,6 +176,13 @@ struct DpmStepEncoder::State {
   std::optional<StepPositionEncoder> positions;
   std::vector<std::vector<uint32_t>> base_q;  // per step, the base vertices' q-values
   size_t steps_given = 0;
+
+  // The next step's q-values, every vertex in the progressive numbering.
+  void add_step(std::vector<uint32_t> q) {
+    base_q.emplace_back(q.begin(), q.begin() + size_t{mesh.base_vertex_count} * 3);
+    positions->add_step(std::move(q));
+    ++steps_given;
+  }
 };
 
 DpmStepEncoder::DpmStepEncoder(std::unique_ptr<State> state) : state_(std::move(state)) {}
@@ -239,9 +249,42 @@ void DpmStepEncoder::add_step(std::span<const float> xyz) {
                  for (size_t k = begin * 3; k < end * 3; ++k)
                    q[k] = static_cast<uint32_t>(g.q(xyz[k], static_cast<int>(k % 3)));
                });
-  s.base_q.emplace_back(q.begin(), q.begin() + size_t{s.mesh.base_vertex_count} * 3);
-  s.positions->add_step(std::move(q));
-  ++s.steps_given;
+  s.add_step(std::move(q));
+}
+
+Status DpmStepEncoder::add_input_step(std::span<const float> xyz,
+                                      std::span<const uint32_t> progressive_of) {
+  State& s = *state_;
+  assert(s.steps_given < s.mesh.step_count() && xyz.size() == progressive_of.size() * 3 &&
+         progressive_of.size() == s.mesh.vertex_count());
+  const Grid g = grid_of(s.mesh);
+  std::vector<uint32_t> q = s.positions->spare_step();
+  const size_t vertices = progressive_of.size();
+  std::atomic<bool> finite{true};
+  parallel_for(vertices, std::max<size_t>(1, vertices / 65536), s.threads,
+               [&](size_t begin, size_t end, size_t) {
+                 bool all_finite = true;
+                 for (size_t v = begin; v < end; ++v) {
+                   const float* p = &xyz[v * 3];
+                   uint32_t* out = &q[size_t{progressive_of[v]} * 3];
+                   for (int c = 0; c < 3; ++c) {
+                     all_finite &= std::isfinite(p[c]);
+                     // quantize_step()'s grid point, whose q() it is (a float within a quarter
+                     // step of it: the grid is at least 4 ulps wide); 0 for a bad value, refused.
+                     out[c] = g.lossless ? std::bit_cast<uint32_t>(p[c])
+                              : std::isfinite(p[c])
+                                  ? static_cast<uint32_t>(static_cast<int64_t>(
+                                        std::nearbyint((p[c] - g.origin[c]) / g.step)))
+                                  : 0u;
+                   }
+                 }
+                 if (!all_finite) finite = false;
+               });
+  if (!finite)
+    return Status::error("time step " + std::to_string(s.steps_given) +
+                         " has a non-finite coordinate");
+  s.add_step(std::move(q));
+  return {};
 }
 
 Result<std::string> DpmStepEncoder::finish(std::string_view thumbnail_png) {
