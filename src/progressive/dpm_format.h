@@ -18,7 +18,7 @@ inline constexpr std::string_view kMagic{
     "\x89"
     "DPM\r\n\x1a\n",
     8};
-inline constexpr uint32_t kVersion = 5;
+inline constexpr uint32_t kVersion = 6;
 inline constexpr size_t kChunkHeaderSize = 24;
 // Bound on a chunk's stored and decompressed sizes (a corrupt header cannot ask for more).
 inline constexpr uint64_t kMaxRawChunk = uint64_t{1} << 31;

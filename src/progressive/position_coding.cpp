@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cmath>
 
 #include "core/parallel.h"
 
@@ -13,11 +14,72 @@ namespace {
 // How many splits ahead the motion guess asks for its ring's values (code_batch()).
 constexpr size_t kRingsAhead = 8;
 
+// The ring fit's pull toward the identity: λ = (trace(B) + 1) / 1024 (ring_motion_guess()).
+// Measured on the crash data: 2⁻⁸ … 2⁻¹⁴ of the trace give files within 1.5 % of each other,
+// no pull 5–27 % larger ones (a shell's ring is flat: B is singular across it).
+constexpr double kRingFitPull = 1.0 / 1024;
+// A fitted guess this far out (grid steps) is refused: it stays an exact integer in int64 and JS.
+constexpr double kRingFitLimit = 0x1p40;
+
 // ⌊a / b⌋ for b > 0 (C++ division truncates toward zero).
 int64_t floor_div(int64_t a, int64_t b) { return a / b - ((a % b != 0) && (a < 0)); }
 
 // ⌊(2 · sum + count) / (2 · count)⌋: the mean rounded half up.
 int64_t rounded_mean(int64_t sum, int64_t count) { return floor_div(2 * sum + count, 2 * count); }
+
+// Step t > 0 (FORMAT.md "Positions", in SPLT): the linear map that takes the ring's offsets from
+// its centre at t − 1 to those at t (least squares, pulled toward the identity by λ), applied
+// to v0's offset at t − 1 and added to the centre at t. A shell turns and stretches as it crushes:
+// the ring's mean motion alone misses the turn by the angle times v0's offset (the files are
+// 8–24 % smaller with the fit on the crash data: docs/BENCHMARKS.md). Binary64, each operation in
+// the order written: the JS decoder repeats it step by step (the module is compiled with
+// -ffp-contract=off, so no fused multiply-add changes a rounding). False (the mean motion is used)
+// with fewer than 3 ring vertices or when the system or the result is not sound.
+template <class Now, class Before>
+bool ring_motion_guess(const ChunkStencils& cs, const SplitStencil& s, uint32_t v0, Now now,
+                       Before before, std::array<int64_t, 3>& guess) {
+  const uint32_t count = s.ring_end - s.ring_begin;
+  if (count < 3) return false;
+  std::array<int64_t, 3> sum0{}, sum1{};
+  for (uint32_t k = s.ring_begin; k < s.ring_end; ++k)
+    for (int c = 0; c < 3; ++c) sum0[c] += before(cs.ring[k], c), sum1[c] += now(cs.ring[k], c);
+  const double n = count;
+  std::array<double, 3> c0, c1;
+  for (int c = 0; c < 3; ++c) c0[c] = double(sum0[c]) / n, c1[c] = double(sum1[c]) / n;
+  // B = Σ e0 e0ᵀ (symmetric: 00 11 22 01 02 12), A = Σ e1 e0ᵀ, in ring order (ascending).
+  double b00 = 0, b11 = 0, b22 = 0, b01 = 0, b02 = 0, b12 = 0;
+  std::array<std::array<double, 3>, 3> a{};
+  for (uint32_t k = s.ring_begin; k < s.ring_end; ++k) {
+    std::array<double, 3> e0, e1;
+    for (int c = 0; c < 3; ++c)
+      e0[c] = double(before(cs.ring[k], c)) - c0[c], e1[c] = double(now(cs.ring[k], c)) - c1[c];
+    b00 += e0[0] * e0[0], b11 += e0[1] * e0[1], b22 += e0[2] * e0[2];
+    b01 += e0[0] * e0[1], b02 += e0[0] * e0[2], b12 += e0[1] * e0[2];
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) a[r][c] += e1[r] * e0[c];
+  }
+  const double lambda = (b00 + b11 + b22) * kRingFitPull + kRingFitPull;
+  const double k00 = b00 + lambda, k11 = b11 + lambda, k22 = b22 + lambda;
+  // y = (B + λI)⁻¹ d by the adjugate, d = v0's offset at t − 1.
+  const double m00 = k11 * k22 - b12 * b12, m01 = b02 * b12 - b01 * k22,
+               m02 = b01 * b12 - b02 * k11, m11 = k00 * k22 - b02 * b02,
+               m12 = b01 * b02 - k00 * b12, m22 = k00 * k11 - b01 * b01;
+  const double det = k00 * m00 + b01 * m01 + b02 * m02;
+  if (!(det > 0)) return false;
+  std::array<double, 3> d;
+  for (int c = 0; c < 3; ++c) d[c] = double(before(v0, c)) - c0[c];
+  const std::array<double, 3> y{(m00 * d[0] + m01 * d[1] + m02 * d[2]) / det,
+                                (m01 * d[0] + m11 * d[1] + m12 * d[2]) / det,
+                                (m02 * d[0] + m12 * d[1] + m22 * d[2]) / det};
+  std::array<double, 3> x;
+  for (int r = 0; r < 3; ++r) {
+    x[r] = std::floor(c1[r] + ((a[r][0] * y[0] + a[r][1] * y[1] + a[r][2] * y[2]) + lambda * y[r]) +
+                      0.5);
+    if (!(std::abs(x[r]) < kRingFitLimit)) return false;  // NaN too
+  }
+  for (int c = 0; c < 3; ++c) guess[c] = static_cast<int64_t>(x[c]);
+  return true;
+}
 
 // The guesses of q_t(v0) on the three coordinates before the correction by v0's own last misses
 // (FORMAT.md "Positions", in SPLT); now(u, c) and before(u, c) give vertex u's q-value on
@@ -46,6 +108,7 @@ std::array<int64_t, 3> uncorrected_guesses(const ChunkStencils& cs, const SplitS
     }
     return guess;
   }
+  if (ring_motion_guess(cs, s, v0, now, before, guess)) return guess;
   std::array<int64_t, 3> motion{};
   for (uint32_t k = s.ring_begin; k < s.ring_end; ++k)
     for (int c = 0; c < 3; ++c) motion[c] += now(cs.ring[k], c) - before(cs.ring[k], c);

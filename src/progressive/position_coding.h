@@ -1,11 +1,13 @@
 // The positions of a SPLT's new vertices (docs/FORMAT.md "Positions"): one range-coded section
-// per time step, predicted from the split's quad wings (a parallelogram) at step 0 and from the
-// vertex's own previous position moved by its neighbours' mean motion later. The browser's
+// per time step, predicted from the split's quad wings (a parallelogram) at step 0 and later from
+// the vertex's own previous position moved as its ring moved (the ring fit). The browser's
 // decoder is viewer/src/dpm/positions.js; both follow FORMAT.md.
 //
 //   for each SPLT, for t = 0 … m−1, for each new vertex v0 (in split order), for c = x, y, z:
 //     guess  = round(mean over v0's quad wings (w, v0, v1, x) of w + v1 − x)   (v1 if none)  t = 0
-//            = q_{t−1}(v0) + round(mean over v0's ring R of q_t(u) − q_{t−1}(u))          t > 0
+//            = c_t + M (q_{t−1}(v0) − c_{t−1}), rounded (c: the ring R's centre, M the      t > 0
+//              least-squares map of R's offsets from t − 1 to t; with |R| < 3 or M unsound
+//              q_{t−1}(v0) + round(mean over R of q_t(u) − q_{t−1}(u))), + 3/8 of the last miss
 //     (lossless: v1, and q_{t−1}(v0) + v1's motion, modulo 2^32)
 //     residual = q_t(v0) − guess, coded with model[t][c][bucket of v0's residual at t − 1]
 #pragma once

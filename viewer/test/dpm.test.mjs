@@ -80,10 +80,37 @@ function fieldDefs() {
   return out.bytes;
 }
 
+// FORMAT.md "Positions", the ring fit, step by step: P and Q the ring's q-vectors at t − 1 and t
+// (ascending vertex order), p v0's at t − 1.
+function ringFit(P, Q, p) {
+  const n = P.length;
+  const c0 = [0, 1, 2].map((c) => P.reduce((a, x) => a + x[c], 0) / n);
+  const c1 = [0, 1, 2].map((c) => Q.reduce((a, x) => a + x[c], 0) / n);
+  const B = [[0, 0, 0], [0, 0, 0], [0, 0, 0]], A = [[0, 0, 0], [0, 0, 0], [0, 0, 0]];
+  for (let j = 0; j < n; j++) {
+    const e = [0, 1, 2].map((c) => P[j][c] - c0[c]), h = [0, 1, 2].map((c) => Q[j][c] - c1[c]);
+    for (const [r, c] of [[0, 0], [1, 1], [2, 2], [0, 1], [0, 2], [1, 2]]) B[r][c] += e[r] * e[c];
+    for (let r = 0; r < 3; r++) for (let c = 0; c < 3; c++) A[r][c] += h[r] * e[c];
+  }
+  const lambda = (B[0][0] + B[1][1] + B[2][2]) * 2 ** -10 + 2 ** -10;
+  const K = [B[0][0] + lambda, B[1][1] + lambda, B[2][2] + lambda];
+  const M = [
+    [K[1] * K[2] - B[1][2] * B[1][2], B[0][2] * B[1][2] - B[0][1] * K[2], B[0][1] * B[1][2] - B[0][2] * K[1]],
+    [0, K[0] * K[2] - B[0][2] * B[0][2], B[0][1] * B[0][2] - K[0] * B[1][2]],
+    [0, 0, K[0] * K[1] - B[0][1] * B[0][1]],
+  ];
+  M[1][0] = M[0][1], M[2][0] = M[0][2], M[2][1] = M[1][2];
+  const det = K[0] * M[0][0] + B[0][1] * M[0][1] + B[0][2] * M[0][2];
+  assert.ok(det > 0);
+  const d = [0, 1, 2].map((c) => p[c] - c0[c]);
+  const y = M.map((row) => (row[0] * d[0] + row[1] * d[1] + row[2] * d[2]) / det);
+  return [0, 1, 2].map((r) => Math.floor(c1[r] + ((A[r][0] * y[0] + A[r][1] * y[1] + A[r][2] * y[2]) + lambda * y[r]) + 0.5));
+}
+
 function makeFile(baseFrame = null, { fields = true, extra = null, upToBase = false } = {}) {
   const out = new Bytes();
   [0x89, 0x44, 0x50, 0x4d, 0x0d, 0x0a, 0x1a, 0x0a].forEach((x) => out.u8(x));
-  out.u32(5);
+  out.u32(6);
   const head = new Bytes();
   [6, 3, 5, 2, 1, 2, 0, 0].forEach((x) => head.u32(x));
   BMIN.forEach((x) => head.f64(x));
@@ -131,13 +158,12 @@ function makeFile(baseFrame = null, { fields = true, extra = null, upToBase = fa
     faces: [{ part: 9, element: 3, original: 2 }],
   }]);
   // Positions: after the split the quad wing is (w, v0, v1, x) = (0, 5, 1, 2), so step 0 guesses
-  // q(0) + q(1) − q(2); step 1 moves q_0(5) by the mean motion of 5's ring {0, 1, 3, 4} (its
-  // wing vertices, its parent, and its neighbours 4 and 3 in the moved face (5, 4, 3)), rounded
-  // half up. Contexts: 0 at step 0, then the bucket of the coordinate's residual at step 0.
+  // q(0) + q(1) − q(2); step 1 moves q_0(5) as 5's ring {0, 1, 3, 4} moves (its wing vertices,
+  // its parent, and its neighbours 4 and 3 in the moved face (5, 4, 3)): the ring fit, written
+  // here from FORMAT.md's steps. Contexts: 0 at step 0, then the bucket of the residual at step 0.
   const ring = [0, 1, 3, 4];
-  const motion = (c) => ring.reduce((a, u) => a + Q[1][u][c] - Q[0][u][c], 0);
-  const guess = (t, c) => (t === 0 ? Q[0][0][c] + Q[0][1][c] - Q[0][2][c]
-    : Q[0][5][c] + Math.floor((2 * motion(c) + 4) / 8));
+  const fit = ringFit(ring.map((u) => Q[0][u]), ring.map((u) => Q[1][u]), Q[0][5]);
+  const guess = (t, c) => (t === 0 ? Q[0][0][c] + Q[0][1][c] - Q[0][2][c] : fit[c]);
   const bucket = (r) => (r === 0 ? 0 : Math.min(Math.floor(Math.log2(Math.abs(r))) + 1, 4));
   const positions = [0, 1].map((t) => {
     const e = new RangeEncoder();
@@ -335,8 +361,8 @@ test('shown values: max |value| and mean of what each vertex and face stands for
   assert.equal(nav.fieldError(1), 0);
 });
 
-test('a file of version 1 to 4 is refused with what to do about it', () => {
-  for (const version of [1, 2, 3, 4]) {
+test('a file of version 1 to 5 is refused with what to do about it', () => {
+  for (const version of [1, 2, 3, 4, 5]) {
     const old = FILE.slice();
     old[8] = version;
     assert.throws(() => readDpm(old, 'old.dpm'), new RegExp(

@@ -18,7 +18,7 @@ import { HEAD_FLAG_LOSSLESS, ProgressiveMesh } from './progressive_mesh.js';
 import { decodeSplitRecords, RecordModels } from './split_records.js';
 
 export const MAGIC = Uint8Array.of(0x89, 0x44, 0x50, 0x4d, 0x0d, 0x0a, 0x1a, 0x0a);
-const VERSION = 5;
+const VERSION = 6;
 const CHUNK_HEADER_BYTES = 24;
 const FLAG_ZSTD = 1;
 const TAGS = ['HEAD', 'FDEF', 'PART', 'VARI', 'BASE', 'FLDS', 'SPLT', 'END '];

@@ -1,6 +1,6 @@
 // The positions of a SPLT's new vertices (docs/FORMAT.md "Positions"): one range-coded section
-// per step, predicted from the split's quad wings (a parallelogram) at step 0 and from the
-// vertex's own previous position moved by its neighbours' mean motion later. The C++ side is
+// per step, predicted from the split's quad wings (a parallelogram) at step 0 and later from the
+// vertex's own previous position moved as its ring moves (a fitted linear map). The C++ side is
 // src/progressive/position_coding.cpp; both follow FORMAT.md.
 //
 // Speed: one loop per kind of step (step 0, later steps, lossless), the three coordinates of a
@@ -54,6 +54,14 @@ export class ChunkStencils {
         this.addToRing(first, corners[f + (c + 1 === d ? 0 : c + 1)]);
         this.addToRing(first, corners[f + (c === 0 ? d - 1 : c - 1)]);
       }
+    }
+    // Ascending, as position_coding.cpp keeps it: the ring fit sums in this order.
+    const data = ring.data;
+    for (let j = first + 1; j < ring.length; j++) {
+      const u = data[j];
+      let h = j;
+      for (; h > first && data[h - 1] > u; h--) data[h] = data[h - 1];
+      data[h] = u;
     }
     this.ringStart[k + 1] = ring.length;
   }
@@ -140,7 +148,59 @@ function firstStep({ d, m, cur, first, n }, stencils, before, top) {
   return null;
 }
 
-// Step t > 0: its own position moved by its ring's mean motion, plus (t ≥ 2) 3/8 of the last
+// The ring fit's pull toward the identity and the largest guess it may give (position_coding.cpp).
+const RING_FIT_PULL = 1 / 1024;
+const RING_FIT_LIMIT = 2 ** 40;
+const fit = new Float64Array(3);  // ringMotionGuess()'s result
+
+// Step t > 0's guess (FORMAT.md "Positions", in SPLT): the least-squares linear map of the ring's
+// offsets from its centre at t − 1 to those at t, pulled toward the identity, applied to v0's
+// offset (v: 3 · v0) and added to the centre at t; into fit. Binary64, operation by operation as
+// position_coding.cpp's ring_motion_guess(); false (the mean motion is used) as there.
+function ringMotionGuess(cur, prev, ring, r0, r1, v) {
+  const count = r1 - r0;
+  if (count < 3) return false;
+  let s0x = 0, s0y = 0, s0z = 0, s1x = 0, s1y = 0, s1z = 0;
+  for (let j = r0; j < r1; j++) {
+    const u = 3 * ring[j];
+    s0x += prev[u], s0y += prev[u + 1], s0z += prev[u + 2];
+    s1x += cur[u], s1y += cur[u + 1], s1z += cur[u + 2];
+  }
+  const c0x = s0x / count, c0y = s0y / count, c0z = s0z / count;
+  const c1x = s1x / count, c1y = s1y / count, c1z = s1z / count;
+  let b00 = 0, b11 = 0, b22 = 0, b01 = 0, b02 = 0, b12 = 0;
+  let a00 = 0, a01 = 0, a02 = 0, a10 = 0, a11 = 0, a12 = 0, a20 = 0, a21 = 0, a22 = 0;
+  for (let j = r0; j < r1; j++) {
+    const u = 3 * ring[j];
+    const ex = prev[u] - c0x, ey = prev[u + 1] - c0y, ez = prev[u + 2] - c0z;
+    const fx = cur[u] - c1x, fy = cur[u + 1] - c1y, fz = cur[u + 2] - c1z;
+    b00 += ex * ex, b11 += ey * ey, b22 += ez * ez;
+    b01 += ex * ey, b02 += ex * ez, b12 += ey * ez;
+    a00 += fx * ex, a01 += fx * ey, a02 += fx * ez;
+    a10 += fy * ex, a11 += fy * ey, a12 += fy * ez;
+    a20 += fz * ex, a21 += fz * ey, a22 += fz * ez;
+  }
+  const lambda = (b00 + b11 + b22) * RING_FIT_PULL + RING_FIT_PULL;
+  const k00 = b00 + lambda, k11 = b11 + lambda, k22 = b22 + lambda;
+  const m00 = k11 * k22 - b12 * b12, m01 = b02 * b12 - b01 * k22, m02 = b01 * b12 - b02 * k11;
+  const m11 = k00 * k22 - b02 * b02, m12 = b01 * b02 - k00 * b12, m22 = k00 * k11 - b01 * b01;
+  const det = k00 * m00 + b01 * m01 + b02 * m02;
+  if (!(det > 0)) return false;
+  const dx = prev[v] - c0x, dy = prev[v + 1] - c0y, dz = prev[v + 2] - c0z;
+  const y0 = (m00 * dx + m01 * dy + m02 * dz) / det;
+  const y1 = (m01 * dx + m11 * dy + m12 * dz) / det;
+  const y2 = (m02 * dx + m12 * dy + m22 * dz) / det;
+  const x = Math.floor(c1x + ((a00 * y0 + a01 * y1 + a02 * y2) + lambda * y0) + 0.5);
+  const y = Math.floor(c1y + ((a10 * y0 + a11 * y1 + a12 * y2) + lambda * y1) + 0.5);
+  const z = Math.floor(c1z + ((a20 * y0 + a21 * y1 + a22 * y2) + lambda * y2) + 0.5);
+  if (!(Math.abs(x) < RING_FIT_LIMIT && Math.abs(y) < RING_FIT_LIMIT && Math.abs(z) < RING_FIT_LIMIT))
+    return false;
+  fit[0] = x, fit[1] = y, fit[2] = z;
+  return true;
+}
+
+// Step t > 0: its own position moved by its ring (the fitted map above, else the ring's mean
+// motion), plus (t ≥ 2) 3/8 of the last
 // step's miss, rounded half up (at t = 1 the miss is step 0's, not a motion's); the context is
 // the bucket of the coordinate's last residual. The residuals of `before` become those of `now`.
 function laterStep({ d, m, cur, prev, t, first, n }, stencils, before, now, top) {
@@ -162,19 +222,27 @@ function laterStep({ d, m, cur, prev, t, first, n }, stencils, before, now, top)
   const later = t >= 2 ? 1 : 0;
   for (let k = 0; k < n; k++) {
     const v = 3 * (first + k);
-    let mx = 0, my = 0, mz = 0;
     const r0 = ringStart[k], r1 = ringStart[k + 1];
-    for (let j = r0; j < r1; j++) {
-      const u = 3 * ring[j];
-      mx += cur[u] - prev[u];
-      my += cur[u + 1] - prev[u + 1];
-      mz += cur[u + 2] - prev[u + 2];
+    let gx, gy, gz;
+    if (ringMotionGuess(cur, prev, ring, r0, r1, v)) {
+      gx = fit[0], gy = fit[1], gz = fit[2];
+    } else {
+      let mx = 0, my = 0, mz = 0;
+      for (let j = r0; j < r1; j++) {
+        const u = 3 * ring[j];
+        mx += cur[u] - prev[u];
+        my += cur[u + 1] - prev[u + 1];
+        mz += cur[u + 2] - prev[u + 2];
+      }
+      const count = r1 - r0;
+      gx = prev[v] + roundedMean(mx, count);
+      gy = prev[v + 1] + roundedMean(my, count);
+      gz = prev[v + 2] + roundedMean(mz, count);
     }
-    const count = r1 - r0;
     const e = 3 * k;
-    const x = prev[v] + roundedMean(mx, count) + later * Math.floor((3 * before[e] + 4) * 0.125) + now[e];
-    const y = prev[v + 1] + roundedMean(my, count) + later * Math.floor((3 * before[e + 1] + 4) * 0.125) + now[e + 1];
-    const z = prev[v + 2] + roundedMean(mz, count) + later * Math.floor((3 * before[e + 2] + 4) * 0.125) + now[e + 2];
+    const x = gx + later * Math.floor((3 * before[e] + 4) * 0.125) + now[e];
+    const y = gy + later * Math.floor((3 * before[e + 1] + 4) * 0.125) + now[e + 1];
+    const z = gz + later * Math.floor((3 * before[e + 2] + 4) * 0.125) + now[e + 2];
     if (e + 3 > cut || !(x >= -2 && x <= top0 && y >= -2 && y <= top1 && z >= -2 && z <= top2)) {
       const xyz = [x, y, z];
       for (let c = 0; c < 3; c++) {
