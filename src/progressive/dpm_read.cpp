@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "bytes.h"
+#include "core/parallel.h"
 #include "dpm_format.h"
 #include "dpm_read_fields.h"
 #include "dynpm/progressive.h"
@@ -32,7 +33,15 @@ class Decoder {
   Decoder(std::string_view bytes, const std::string& name, const DpmReadLimits& limits)
       : bytes_(bytes), name_(name), limits_(limits) {}
 
+  // A SPLT's positions are decoded beside the next one's records: a problem in them comes first.
   Result<ProgressiveMesh> run() {
+    auto mesh = read();
+    if (Status earlier = flush_positions(); !mesh.ok() && !earlier.ok()) return earlier;
+    return mesh;
+  }
+
+ private:
+  Result<ProgressiveMesh> read() {
     if (bytes_.size() < kMagic.size() + 4 || !looks_like_dpm(bytes_))
       return fail(0, "not a .dpm file (no DPM signature)");
     uint32_t version;
@@ -108,7 +117,7 @@ class Decoder {
         break;
       }
       const uint32_t first = mesh_.split_count(), faces_before = records_->face_count();
-      DYNPM_RETURN_IF_ERROR(parse_splits(payload));
+      DYNPM_RETURN_IF_ERROR(parse_splits(std::move(payload)));
       if (!fields) continue;
       // A SPLT and its FLDS are one unit: a file that ends before the FLDS is complete holds
       // the levels before that SPLT.
@@ -126,6 +135,7 @@ class Decoder {
                                       records_->face_count()))
         return bad_at(*e);
     }
+    DYNPM_RETURN_IF_ERROR(flush_positions());
     for (size_t t = 0; t < steps_; ++t) q_->move_to_positions(mesh_, t, mesh_.base_vertex_count);
     drop_steps_not_asked();
     if (fields && !decode_fields_) {  // checked, not decoded: not in the result
@@ -135,7 +145,14 @@ class Decoder {
     return std::move(mesh_);
   }
 
- private:
+  // Decodes the SPLT positions kept for later, if any; the first problem they had, kept.
+  Status flush_positions() {
+    const std::string problem = deferred_ ? deferred_->decode(mesh_, *models_, *q_) : "";
+    if (!problem.empty()) positions_problem_ = fail(deferred_->payload_start, problem);
+    deferred_.reset();
+    return positions_problem_;
+  }
+
   // What DpmReadLimits asks of this file, once HEAD has given its counts.
   void apply_limits_of_head() {
     const ProgressiveMesh& m = mesh_;
@@ -468,7 +485,8 @@ class Decoder {
     return {};
   }
 
-  Status parse_splits(std::string_view payload) {
+  Status parse_splits(std::string payload_bytes) {
+    const std::string_view payload = payload_bytes;
     ByteReader r(payload);
     ProgressiveMesh& m = mesh_;
     const uint32_t first = r.get<uint32_t>();
@@ -485,25 +503,33 @@ class Decoder {
     for (uint64_t& size : sizes) total += size = r.get<uint32_t>();
     if (!r.ok() || total != r.remaining())
       return bad(r, "the SPLT's section sizes do not add up to its payload");
-    std::vector<std::string_view> section;
+    DeferredPositions next;  // of the steps asked for; the later steps' are not decoded
     for (size_t k = 0, at = r.offset(); k < sections; at += sizes[k++])
-      section.push_back(payload.substr(at, sizes[k]));
-    // The records, applied to the faces as they are decoded (checked: the navigator can apply
-    // them unchecked); the faces right after each split give its stencil.
-    ChunkStencils stencils;
-    if (auto e = decode_split_records(section[0], section[1], first, n, m, *records_,
-                                      [&](uint32_t i) { stencils.add(m, i, records_->faces()); }))
-      return bad_at({e->what, size_t(section[0].data() - payload.data()) + e->offset});
-    // The positions of the steps asked for; the later steps' sections are not decoded.
+      if (k < 2 + steps_) next.sections.emplace_back(at, sizes[k]);
+    // The records, checked and applied as decoded; the faces after each split give its stencil.
+    // Beside them the last SPLT's positions (they write only q_, read only m's header values).
+    std::optional<PayloadError> e;
+    const auto [records, attributes] = std::pair(next.sections[0], next.sections[1]);
+    parallel_for(2, 2, thread_count(0), [&](size_t part, size_t, size_t) {
+      if (part == 1) return void(flush_positions());
+      e = decode_split_records(payload.substr(records.first, records.second),
+                               payload.substr(attributes.first, attributes.second), first, n, m,
+                               *records_,
+                               [&](uint32_t i) { next.stencils.add(m, i, records_->faces()); });
+    });
+    DYNPM_RETURN_IF_ERROR(positions_problem_);
+    if (e) return bad_at({e->what, records.first + e->offset});
     q_->resize(steps_, m.base_vertex_count + first + n);  // positions: at the end (run())
-    const std::string problem = decode_split_positions(m, first, stencils, *models_,
-                                                       std::span(section).subspan(2, steps_), *q_);
-    if (!problem.empty()) return fail(payload_start_, problem);
+    next.sections.erase(next.sections.begin(), next.sections.begin() + 2);
+    next.payload = std::move(payload_bytes), next.first = first,
+    next.payload_start = payload_start_;
+    deferred_ = std::move(next);
     return {};
   }
 
   // Back to the levels before split `splits`, which had `faces` faces (a prefix, or a limit).
   void truncate(uint32_t splits, uint32_t faces) {
+    flush_positions();  // a problem in them is kept, and returned before the mesh
     ProgressiveMesh& m = mesh_;
     const uint32_t vertices = m.base_vertex_count + splits;
     m.parent.resize(splits);
@@ -540,6 +566,8 @@ class Decoder {
   std::optional<SplitPositionModels> models_;  // sized by HEAD's step count
   std::optional<GridValues> q_;                // the decoded positions' q-values
   std::optional<RecordModels> records_;        // the records' models and the decode-time replay
+  std::optional<DeferredPositions> deferred_;  // the last SPLT's positions, not yet decoded
+  Status positions_problem_;                   // the first problem in them
   // The last SPLT's split and face counts, for the size of the FLDS that follows it.
   uint32_t pending_splits_ = 0, pending_faces_ = 0;
 };

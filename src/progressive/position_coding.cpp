@@ -323,7 +323,7 @@ void StepPositionEncoder::code_batch() {
   batch_.clear();
 }
 
-std::string decode_split_positions(ProgressiveMesh& mesh, uint32_t first,
+std::string decode_split_positions(const ProgressiveMesh& mesh, uint32_t first,
                                    const ChunkStencils& stencils, SplitPositionModels& models,
                                    std::span<const std::string_view> sections, GridValues& q) {
   const Grid g = grid_of(mesh);

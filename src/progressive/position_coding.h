@@ -130,8 +130,26 @@ class StepPositionEncoder {
 
 // Decodes the sections given (steps 0 … sections.size() − 1) into `q` (sized for the new
 // vertices), which holds the earlier vertices' values. Empty, or what is wrong.
-std::string decode_split_positions(ProgressiveMesh& mesh, uint32_t first,
+std::string decode_split_positions(const ProgressiveMesh& mesh, uint32_t first,
                                    const ChunkStencils& stencils, SplitPositionModels& models,
                                    std::span<const std::string_view> sections, GridValues& q);
+
+// A SPLT's positions kept for later: the reader decodes them while it decodes the next SPLT's
+// records, on a second thread (dpm_read.cpp). Holds the chunk's payload.
+struct DeferredPositions {
+  std::string payload;
+  std::vector<std::pair<size_t, size_t>> sections;  // each step's: offset in payload, size
+  ChunkStencils stencils;
+  uint32_t first = 0;        // the chunk's first split
+  size_t payload_start = 0;  // the payload's place in the file, for a message
+  // decode_split_positions() of them; it reads of `mesh` only its header's values.
+  std::string decode(const ProgressiveMesh& mesh, SplitPositionModels& models,
+                     GridValues& q) const {
+    std::vector<std::string_view> views;
+    for (const auto& [at, size] : sections)
+      views.push_back(std::string_view(payload).substr(at, size));
+    return decode_split_positions(mesh, first, stencils, models, views, q);
+  }
+};
 
 }  // namespace dynpm::progressive
