@@ -310,7 +310,7 @@ Status encode_steps(const FrameSource& frames, const Recorded& r, const BuildOpt
   return for_each_step(frames, every, options.simplify.threads,
                        [&](size_t t, std::span<const float> step) {
                          DYNPM_RETURN_IF_ERROR(encoder.add_input_step(step, r.new_vertex));
-                         if (thumbnail && (t == 0 || t + 1 == steps)) {
+                         if (thumbnail && thumbnail_keeps_step(t, steps)) {
                            std::vector<float> xyz(input_of.size() * 3);
                            for (size_t u = 0; u < input_of.size(); ++u)
                              std::copy_n(&step[size_t{input_of[u]} * 3], 3, &xyz[u * 3]);

@@ -227,7 +227,7 @@ ProgressiveMesh thumbnail_level(const ProgressiveMesh& mesh, const ThumbnailOpti
 
 void keep_thumbnail_step(ProgressiveMesh& level, size_t t, size_t steps,
                          std::span<const float> xyz) {
-  if (t != 0 && t + 1 != steps) return;
+  if (!thumbnail_keeps_step(t, steps)) return;
   level.positions.emplace_back(xyz.begin(), xyz.begin() + size_t{level.vertex_count()} * 3);
   level.times.push_back(static_cast<double>(t));
   level.steps_read = level.times.size();

@@ -13,8 +13,11 @@ namespace dynpm {
 // what a reader with thumbnail_read_limits(options) holds but the positions (empty).
 ProgressiveMesh thumbnail_level(const ProgressiveMesh& mesh, const ThumbnailOptions& options);
 
-// Step t of `steps` (quantized as the file stores it, in the progressive numbering): the level
-// keeps the first and the last, which are all render_thumbnail() reads.
+// The steps the level keeps: the first and the last, which are all render_thumbnail() reads.
+inline bool thumbnail_keeps_step(size_t t, size_t steps) { return t == 0 || t + 1 == steps; }
+
+// Step t of `steps` (quantized as the file stores it, in the progressive numbering), if the level
+// keeps it.
 void keep_thumbnail_step(ProgressiveMesh& level, size_t t, size_t steps,
                          std::span<const float> xyz);
 

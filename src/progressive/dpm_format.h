@@ -120,6 +120,11 @@ struct Grid {
     if (lossless) return std::bit_cast<uint32_t>(p);
     return std::llround((p - origin[c]) / step);
   }
+  // The grid index nearest p, half to even: the point quantize_step() puts p on (q() of that
+  // point gives it back: a float lies within a quarter step of it, the grid being 4 ulps wide).
+  int64_t nearest(float p, int c) const {
+    return static_cast<int64_t>(std::nearbyint((p - origin[c]) / step));
+  }
   float p(int64_t q, int c) const {
     if (lossless) return std::bit_cast<float>(static_cast<uint32_t>(q));
     return static_cast<float>(origin[c] + static_cast<double>(q) * step);

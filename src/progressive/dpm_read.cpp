@@ -504,6 +504,7 @@ class Decoder {
     if (!r.ok() || total != r.remaining())
       return bad(r, "the SPLT's section sizes do not add up to its payload");
     DeferredPositions next;  // of the steps asked for; the later steps' are not decoded
+    next.first = first, next.payload_start = payload_start_;
     for (size_t k = 0, at = r.offset(); k < sections; at += sizes[k++])
       if (k < 2 + steps_) next.sections.emplace_back(at, sizes[k]);
     // The records, checked and applied as decoded; the faces after each split give its stencil.
@@ -521,8 +522,7 @@ class Decoder {
     if (e) return bad_at({e->what, records.first + e->offset});
     q_->resize(steps_, m.base_vertex_count + first + n);  // positions: at the end (run())
     next.sections.erase(next.sections.begin(), next.sections.begin() + 2);
-    next.payload = std::move(payload_bytes), next.first = first,
-    next.payload_start = payload_start_;
+    next.payload = std::move(payload_bytes);
     deferred_ = std::move(next);
     return {};
   }

@@ -268,14 +268,10 @@ Status DpmStepEncoder::add_input_step(std::span<const float> xyz,
                    const float* p = &xyz[v * 3];
                    uint32_t* out = &q[size_t{progressive_of[v]} * 3];
                    for (int c = 0; c < 3; ++c) {
-                     all_finite &= std::isfinite(p[c]);
-                     // quantize_step()'s grid point, whose q() it is (a float within a quarter
-                     // step of it: the grid is at least 4 ulps wide); 0 for a bad value, refused.
+                     const bool ok = std::isfinite(p[c]);  // a step with a bad one is refused
+                     all_finite &= ok;
                      out[c] = g.lossless ? std::bit_cast<uint32_t>(p[c])
-                              : std::isfinite(p[c])
-                                  ? static_cast<uint32_t>(static_cast<int64_t>(
-                                        std::nearbyint((p[c] - g.origin[c]) / g.step)))
-                                  : 0u;
+                                         : static_cast<uint32_t>(ok ? g.nearest(p[c], c) : 0);
                    }
                  }
                  if (!all_finite) finite = false;

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "core/face_geometry.h"
+#include "dpm_format.h"
 #include "dynpm/progressive.h"
 
 namespace dynpm {
@@ -170,11 +171,10 @@ void set_position_grid(ProgressiveMesh& mesh) {
 
 void quantize_step(const ProgressiveMesh& mesh, std::span<float> xyz) {
   if (mesh.lossless) return;
-  const double step = mesh.quant_step;
+  const progressive::Grid g = progressive::grid_of(mesh);
   for (size_t j = 0; j < xyz.size(); ++j) {
-    const double origin = mesh.bbox_min[j % 3];
-    const double q = std::nearbyint((xyz[j] - origin) / step);
-    xyz[j] = static_cast<float>(origin + q * step);
+    const int c = static_cast<int>(j % 3);
+    xyz[j] = g.p(g.nearest(xyz[j], c), c);
   }
 }
 

@@ -20,6 +20,15 @@
 
 namespace dynpm::simplification {
 
+// Whether the options ask for a vertex or face count, and whether for any stop (a count or an
+// error): the islands' cut, the regions and the Simplifier ask alike.
+inline bool has_count_target(const SimplifyOptions& options) {
+  return options.target_vertices || options.target_ratio || options.target_faces;
+}
+inline bool has_stop(const SimplifyOptions& options) {
+  return has_count_target(options) || options.max_error;
+}
+
 // Whether the options allow islands on a mesh of `vertices` vertices in faces (of several
 // components): not with optimal placement, where v1 moves, nor with independent rounds, which
 // span the mesh.

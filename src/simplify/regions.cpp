@@ -102,9 +102,7 @@ std::vector<uint8_t> frozen_borders(const Topology& input, std::span<const uint1
 // region's): allowed without a listener, as the regions' logs keep no positions.
 bool regions_allowed(const SimplifyOptions& options, bool listener, size_t referenced,
                      size_t largest) {
-  const bool stop =
-      options.target_vertices || options.target_ratio || options.target_faces || options.max_error;
-  return stop && !(options.placement == Placement::kOptimal && listener) &&
+  return has_stop(options) && !(options.placement == Placement::kOptimal && listener) &&
          options.independent_rounds <= 0 && referenced >= options.region_min_vertices &&
          largest >= referenced / 4;
 }

@@ -56,10 +56,8 @@ class Simplifier {
   Status collapse(Lane& lane, uint32_t v0, uint32_t v1, double error);
   bool use_islands(size_t vertices) const;
   bool use_regions(size_t vertices) const;
-  bool has_count_target() const {
-    return options_.target_vertices || options_.target_ratio || options_.target_faces;
-  }
-  bool has_stop() const { return has_count_target() || options_.max_error; }
+  bool has_count_target() const { return simplification::has_count_target(options_); }
+  bool has_stop() const { return simplification::has_stop(options_); }
   void stop_islands_past_the_cut();
   Status run_islands(SimplifyResult& result);
   // Regions (regions.h): cuts the mesh, runs the regions up to their bound and hands their mesh
