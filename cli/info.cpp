@@ -345,7 +345,7 @@ int print_dpm_info(const std::string& path, bool json, const std::optional<std::
     std::cout << j.str();
     return kExitOk;
   }
-  std::printf("%s: dynamic progressive mesh (.dpm version 6)%s\n", path.c_str(),
+  std::printf("%s: dynamic progressive mesh (.dpm version 7)%s\n", path.c_str(),
               m.complete ? "" : ", a PREFIX of the file");
   if (m.complete) {
     std::printf("full      %u vertices, %u faces (%zu quads, %zu triangles), %zu parts\n",

@@ -228,6 +228,27 @@ TEST(ProgressiveFields, DamagedFieldChunksAreRefusedAtTheirByte) {
   refuse_split(put<float>(split_values, errors + 4, -1.0f), "the field error is not in [0, 1]");
   refuse_split(put<float>(split_values, errors + 4, std::nanf("")),
                "the field error is not in [0, 1]");
+  // Then each step's section (version 7): a predictor, a size, the range-coded values. PEEQ's
+  // first; the ring's median is no guess at step 0, nor for an element field.
+  const size_t peeq = errors + 4 * 256;
+  refuse_split(put<uint8_t>(split_values, peeq, 2), "step 0: predictor 2 is not valid here");
+  refuse_split(put<uint8_t>(split_values, peeq, 1), "step 0: predictor 1 is not valid here");
+  refuse_split(put<uint32_t>(split_values, peeq + 1, 1u << 30), "values of step 0 are cut short");
+  uint32_t size = 0;
+  std::memcpy(&size, split_values.data() + peeq + 1, 4);
+  refuse_split(put<uint32_t>(split_values, peeq + 1, size - 1).erase(peeq + 5 + size - 1, 1),
+               "step 0: the values are cut short");
+  refuse_split(put<uint32_t>(split_values, peeq + 1, size + 1).insert(peeq + 5 + size, 1, '\0'),
+               "step 0: the values leave bytes unread");
+  size_t element = peeq;  // S_MISES_elem's step 1, past PEEQ's sections and its own errors
+  for (size_t t = 0; t < b.mesh.step_count(); ++t) {
+    std::memcpy(&size, split_values.data() + element + 1, 4);
+    element += 5 + size;
+  }
+  element += 4 * 256;
+  std::memcpy(&size, split_values.data() + element + 1, 4);
+  element += 5 + size;
+  refuse_split(put<uint8_t>(split_values, element, 1), "step 1: predictor 1 is not valid here");
   // A SPLT's FLDS that claims more than its counts allow: refused from its header.
   const std::string huge = bytes.substr(0, first) + chunk("FLDS", 1, 1u << 30, "xxxx");
   expect_refused_at(huge, first + 12, "the header's counts allow at most");

@@ -199,12 +199,13 @@ TEST(Progressive, DamagedFilesAreRefusedWithThePlace) {
   ASSERT_FALSE(wrong.ok());
   EXPECT_NE(wrong.message().find("not a .dpm file"), std::string::npos);
   std::string future = bytes;
-  future[8] = 7;
+  future[8] = 8;
   EXPECT_NE(
-      decode_dpm(future, "v7.dpm").message().find("v7.dpm: byte 8: version 7 is not supported"),
+      decode_dpm(future, "v8.dpm").message().find("v8.dpm: byte 8: version 8 is not supported"),
       std::string::npos);
-  // Versions 1 to 5 coded SPLT differently (docs/FORMAT.md): refused with what to do about it.
-  for (char version : {1, 2, 3, 4, 5}) {
+  // Versions 1 to 5 coded SPLT differently, version 6 FLDS (docs/FORMAT.md): refused with what
+  // to do about it.
+  for (char version : {1, 2, 3, 4, 5, 6}) {
     std::string old = bytes;
     old[8] = version;
     const std::string name = "v" + std::to_string(version) + ".dpm";

@@ -75,15 +75,18 @@ class ByteReader {
     const uint64_t u = varint();
     return static_cast<int64_t>((u >> 1) ^ (~(u & 1) + 1));
   }
-  std::string text() {
-    const uint16_t n = get<uint16_t>();
+  // The next n bytes as they are.
+  std::string_view bytes(size_t n) {
     if (!ok_ || remaining() < n) {
       ok_ = false;
       return {};
     }
-    std::string s(bytes_.substr(pos_, n));
     pos_ += n;
-    return s;
+    return bytes_.substr(pos_ - n, n);
+  }
+  std::string text() {
+    const uint16_t n = get<uint16_t>();
+    return std::string(bytes(n));
   }
 
  private:

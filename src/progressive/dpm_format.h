@@ -2,6 +2,7 @@
 // docs/FORMAT.md is the specification. Internal to dynpm_progressive.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <bit>
 #include <cmath>
@@ -18,7 +19,7 @@ inline constexpr std::string_view kMagic{
     "\x89"
     "DPM\r\n\x1a\n",
     8};
-inline constexpr uint32_t kVersion = 6;
+inline constexpr uint32_t kVersion = 7;
 inline constexpr size_t kChunkHeaderSize = 24;
 // Bound on a chunk's stored and decompressed sizes (a corrupt header cannot ask for more).
 inline constexpr uint64_t kMaxRawChunk = uint64_t{1} << 31;
@@ -108,6 +109,22 @@ inline int64_t wrap_add(int64_t prediction, int64_t residual, bool lossless) {
 inline int64_t wrap_residual(int64_t value, int64_t prediction, bool lossless) {
   const uint64_t diff = static_cast<uint64_t>(value) - static_cast<uint64_t>(prediction);
   return lossless ? static_cast<int32_t>(static_cast<uint32_t>(diff)) : static_cast<int64_t>(diff);
+}
+
+// ⌊a / b⌋ for b > 0 (C++ division truncates toward zero).
+inline int64_t floor_div(int64_t a, int64_t b) { return a / b - ((a % b != 0) && (a < 0)); }
+
+// ⌊(2 · sum + count) / (2 · count)⌋: the mean rounded half up.
+inline int64_t rounded_mean(int64_t sum, int64_t count) {
+  return floor_div(2 * sum + count, 2 * count);
+}
+
+// The context of a range-coded residual of a position or a field value (FORMAT.md "Positions"):
+// how large the same item's residual was at the step before, 0 … kResidualBuckets − 1.
+inline constexpr int kResidualBuckets = 5;
+inline int residual_bucket(int64_t residual) {
+  const uint64_t m = residual < 0 ? -static_cast<uint64_t>(residual) : residual;
+  return std::min(static_cast<int>(std::bit_width(m)), kResidualBuckets - 1);
 }
 
 // Position q-values (docs/FORMAT.md "Positions"): grid integers, or float bits when lossless.

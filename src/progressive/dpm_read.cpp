@@ -59,9 +59,8 @@ class Decoder {
     DYNPM_RETURN_IF_ERROR(expect_chunk("HEAD", payload, "the header"));
     DYNPM_RETURN_IF_ERROR(parse_head(payload));
     apply_limits_of_head();
-    // The field definitions, when the model has fields, the part names, when it has some, then
-    // the base mesh and its values.
-    // A family file's variants follow.
+    // The field definitions, the part names, a family's variants (each when there are any),
+    // then the base mesh and its values.
     auto got = next_chunk("BASE", tag, payload, "FDEF|PART|VARI");
     if (!got) return got.status();
     if (*got && tag == "FDEF") {
@@ -85,6 +84,7 @@ class Decoder {
     const bool fields = !mesh_.fields.empty();
     decode_fields_ = fields && limits_.fields;
     if (decode_fields_) wanted_splits_ = UINT32_MAX, error_ = -1;  // their peaks need every split
+    field_models_.emplace(mesh_.fields.size(), mesh_.step_count());
     if (error_ < 0) {  // the splits to read are known: the q-values' room taken at once
       // At most a split per bit of the file left for each step read (a real file spends a byte
       // or more on a split's step): a header's counts alone reserve no more than that.
@@ -97,8 +97,7 @@ class Decoder {
       pending_faces_ = mesh_.base_face_count;  // the base FLDS: no split, the base faces
       DYNPM_RETURN_IF_ERROR(expect_chunk("FLDS", payload, "the FLDS of the base mesh"));
       if (decode_fields_) {
-        if (auto e = parse_field_values(payload, mesh_, 0, 0, 0, mesh_.base_face_count))
-          return bad_at(*e);
+        if (auto e = parse_base_field_values(payload, mesh_)) return bad_at(*e);
       }
     }
     for (;;) {
@@ -119,8 +118,7 @@ class Decoder {
       const uint32_t first = mesh_.split_count(), faces_before = records_->face_count();
       DYNPM_RETURN_IF_ERROR(parse_splits(std::move(payload)));
       if (!fields) continue;
-      // A SPLT and its FLDS are one unit: a file that ends before the FLDS is complete holds
-      // the levels before that SPLT.
+      // A SPLT and its FLDS are one unit: a file that ends in the FLDS holds the levels before.
       pending_splits_ = mesh_.split_count() - first;
       pending_faces_ = records_->face_count() - faces_before;
       got = next_chunk("FLDS", tag, payload);
@@ -131,8 +129,9 @@ class Decoder {
         break;
       }
       if (!decode_fields_) continue;
-      if (auto e = parse_field_values(payload, mesh_, first, pending_splits_, faces_before,
-                                      records_->face_count()))
+      if (auto e = parse_split_field_values(
+              payload, mesh_, {first, mesh_.split_count(), faces_before, records_->face_count()},
+              deferred_->stencils, *field_models_))
         return bad_at(*e);
     }
     DYNPM_RETURN_IF_ERROR(flush_positions());
@@ -563,11 +562,12 @@ class Decoder {
   size_t pos_ = 0, chunk_start_ = 0, payload_start_ = 0;
   ProgressiveMesh mesh_;
   Deltas d_;
-  std::optional<SplitPositionModels> models_;  // sized by HEAD's step count
-  std::optional<GridValues> q_;                // the decoded positions' q-values
-  std::optional<RecordModels> records_;        // the records' models and the decode-time replay
-  std::optional<DeferredPositions> deferred_;  // the last SPLT's positions, not yet decoded
-  Status positions_problem_;                   // the first problem in them
+  std::optional<SplitPositionModels> models_;     // sized by HEAD's step count
+  std::optional<GridValues> q_;                   // the decoded positions' q-values
+  std::optional<RecordModels> records_;           // the records' models and the decode-time replay
+  std::optional<DeferredPositions> deferred_;     // the last SPLT's positions, not yet decoded
+  std::optional<SplitFieldModels> field_models_;  // the fields' models, SPLT to SPLT
+  Status positions_problem_;                      // the first problem in them
   // The last SPLT's split and face counts, for the size of the FLDS that follows it.
   uint32_t pending_splits_ = 0, pending_faces_ = 0;
 };

@@ -84,15 +84,51 @@ double field_values_limit(const ProgressiveMesh& mesh, uint32_t n, uint32_t face
   for (const ProgressiveField& f : mesh.fields) {
     const bool per_face = f.info.location == FieldLocation::kElement;
     const double items = per_face ? faces : (n > 0 ? double(n) : double(mesh.base_vertex_count));
-    limit += 4.0 * n + steps * items * kMaxVarint;
+    // After a SPLT: a predictor, a size and a range-coded section a step (5 bytes flushed).
+    limit += n > 0 ? 4.0 * n + steps * (1 + 4 + 5 + items * kMaxCodedInteger)
+                   : steps * items * kMaxVarint;
   }
   return limit;
 }
 
-std::optional<PayloadError> parse_field_values(std::string_view payload, ProgressiveMesh& mesh,
-                                               uint32_t first, uint32_t n, uint32_t face_begin,
-                                               uint32_t face_end) {
+std::optional<PayloadError> parse_base_field_values(std::string_view payload,
+                                                    ProgressiveMesh& mesh) {
   ByteReader r(payload);
+  const uint32_t got_first = r.get<uint32_t>();
+  const uint32_t got_n = r.get<uint32_t>();
+  if (!r.ok() || got_first != 0 || got_n != 0)
+    return at(r, "the field values are not those of the chunk before (splits 0 to 0)");
+  if (has_element_field(mesh)) mesh.face_heir.assign(mesh.base_face_count, kNoIndex);
+  for (ProgressiveField& f : mesh.fields) {
+    const std::string who = field_name(f);
+    const uint32_t end =
+        f.info.location == FieldLocation::kElement ? mesh.base_face_count : mesh.base_vertex_count;
+    if (!r.can_hold(uint64_t{end} * mesh.step_count(), 1))
+      return at(r, who + "the values are cut short");
+    const FieldGrid g(f);
+    // A quantized value lies in [min, max], give or take two grid steps.
+    const double top = g.lossless ? 0 : (f.max - f.min) / g.step + 2;
+    for (auto& values : f.values) values.resize(end);
+    for (size_t t = 0; t < mesh.step_count(); ++t)
+      for (uint32_t item = 0; item < end; ++item) {
+        const int64_t q = g.add(predict_field(mesh, f, g, item, t), r.svarint());
+        const float x = g.value(q);
+        if (g.lossless ? !(x >= f.min && x <= f.max) : (q < -2 || double(q) > top))
+          return at(r, who + "a value is far outside the field's range");
+        f.values[t][item] = x;
+      }
+    if (!r.ok()) return at(r, who + "the values are cut short");
+  }
+  if (r.remaining() != 0) return at(r, "unexpected bytes after the field values");
+  return std::nullopt;
+}
+
+std::optional<PayloadError> parse_split_field_values(std::string_view payload,
+                                                     ProgressiveMesh& mesh, const FieldChunk& chunk,
+                                                     const ChunkStencils& stencils,
+                                                     SplitFieldModels& models) {
+  ByteReader r(payload);
+  const uint32_t first = chunk.first, n = chunk.last - chunk.first;
   const uint32_t got_first = r.get<uint32_t>();
   const uint32_t got_n = r.get<uint32_t>();
   if (!r.ok() || got_first != first || got_n != n)
@@ -100,9 +136,9 @@ std::optional<PayloadError> parse_field_values(std::string_view payload, Progres
                      std::to_string(first) + " to " + std::to_string(first + n) + ")");
   // Heirs of the faces these splits create: each < F, the faces before its split.
   if (has_element_field(mesh)) {
-    mesh.face_heir.resize(n == 0 ? face_end : face_begin, kNoIndex);  // base faces have none
-    if (!r.can_hold(face_end - face_begin, 1)) return at(r, "the heirs are cut short");
-    uint32_t g = face_begin;
+    mesh.face_heir.resize(chunk.face_begin, kNoIndex);
+    if (!r.can_hold(chunk.face_end - chunk.face_begin, 1)) return at(r, "the heirs are cut short");
+    uint32_t g = chunk.face_begin;
     for (uint32_t i = first; i < first + n; ++i) {
       const uint32_t before = g;
       for (uint32_t k = mesh.wing_start[i]; k < mesh.wing_start[i + 1]; ++k) {
@@ -115,8 +151,8 @@ std::optional<PayloadError> parse_field_values(std::string_view payload, Progres
       }
     }
   }
-  const uint32_t b = mesh.base_vertex_count;
-  for (ProgressiveField& f : mesh.fields) {
+  for (size_t index = 0; index < mesh.fields.size(); ++index) {
+    ProgressiveField& f = mesh.fields[index];
     const std::string who = field_name(f);
     if (!r.can_hold(n, 4)) return at(r, who + "the field errors are cut short");
     for (uint32_t i = first; i < first + n; ++i) {
@@ -127,24 +163,16 @@ std::optional<PayloadError> parse_field_values(std::string_view payload, Progres
                          ": the field error is not in [0, 1] or increases");
       f.error.push_back(e);
     }
-    const bool per_face = f.info.location == FieldLocation::kElement;
-    const uint32_t begin = per_face ? face_begin : (n > 0 ? b + first : 0);
-    const uint32_t end = per_face ? face_end : b + first + n;
-    if (!r.can_hold(uint64_t{end - begin} * mesh.step_count(), 1))
-      return at(r, who + "the values are cut short");
-    const FieldGrid g(f);
-    // A quantized value lies in [min, max], give or take two grid steps.
-    const double top = g.lossless ? 0 : (f.max - f.min) / g.step + 2;
-    for (auto& values : f.values) values.resize(end);
-    for (size_t t = 0; t < mesh.step_count(); ++t)
-      for (uint32_t item = begin; item < end; ++item) {
-        const int64_t q = g.add(predict_field(mesh, f, g, item, t), r.svarint());
-        const float x = g.value(q);
-        if (g.lossless ? !(x >= f.min && x <= f.max) : (q < -2 || double(q) > top))
-          return at(r, who + "a value is far outside the field's range");
-        f.values[t][item] = x;
-      }
-    if (!r.ok()) return at(r, who + "the values are cut short");
+    const size_t start = r.offset();
+    std::vector<FieldSectionView> sections;
+    for (size_t t = 0; t < mesh.step_count(); ++t) {
+      const auto predictor = static_cast<FieldPredictor>(r.get<uint8_t>());
+      sections.push_back({predictor, r.bytes(r.get<uint32_t>())});
+      if (!r.ok()) return at(r, who + "the values of step " + std::to_string(t) + " are cut short");
+    }
+    if (std::string e = decode_split_field(mesh, f, chunk, stencils, models.field(index), sections);
+        !e.empty())
+      return PayloadError{who + e, start};
   }
   if (r.remaining() != 0) return at(r, "unexpected bytes after the field values");
   return std::nullopt;

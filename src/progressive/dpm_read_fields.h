@@ -9,6 +9,7 @@
 #include <string_view>
 
 #include "dynpm/progressive.h"
+#include "field_coding.h"
 
 namespace dynpm::progressive {
 
@@ -22,13 +23,19 @@ struct PayloadError {
 std::optional<PayloadError> parse_field_definitions(std::string_view payload,
                                                     ProgressiveMesh& mesh);
 
-// The FLDS after BASE (n = 0) or after the SPLT of splits [first, first + n), which created faces
-// [face_begin, face_end): the heirs of those faces, each field's errors and values.
-std::optional<PayloadError> parse_field_values(std::string_view payload, ProgressiveMesh& mesh,
-                                               uint32_t first, uint32_t n, uint32_t face_begin,
-                                               uint32_t face_end);
+// The FLDS after BASE: the base vertices' and faces' values.
+std::optional<PayloadError> parse_base_field_values(std::string_view payload,
+                                                    ProgressiveMesh& mesh);
 
-// The most bytes that FLDS can take, each value at its longest encoding.
+// The FLDS after the SPLT of `chunk`'s splits: the heirs of the faces they created, each field's
+// errors and values. `stencils` are the SPLT's, `models` continue from the FLDS before.
+std::optional<PayloadError> parse_split_field_values(std::string_view payload,
+                                                     ProgressiveMesh& mesh, const FieldChunk& chunk,
+                                                     const ChunkStencils& stencils,
+                                                     SplitFieldModels& models);
+
+// The most bytes the FLDS after BASE (n = 0) or after a SPLT of n splits that created faces
+// [face_begin, face_end) can take, each value at its longest encoding.
 double field_values_limit(const ProgressiveMesh& mesh, uint32_t n, uint32_t face_begin,
                           uint32_t face_end);
 

@@ -16,6 +16,7 @@
 #include "core/parallel.h"
 #include "dpm_format.h"
 #include "dynpm/progressive.h"
+#include "field_coding.h"
 #include "part_names_chunk.h"
 #include "position_coding.h"
 #include "split_records_coding.h"
@@ -104,33 +105,44 @@ std::string field_definitions(const ProgressiveMesh& mesh) {
   return std::move(w.bytes);
 }
 
-// The FLDS after BASE (splits [0, 0), the base faces [0, face_end)) or after the SPLT of splits
-// [first, last), whose vertices are b + [first, last) and whose faces are [face_begin, face_end).
-std::string field_values(const ProgressiveMesh& mesh, uint32_t first, uint32_t last,
-                         uint32_t face_begin, uint32_t face_end) {
+// The FLDS after BASE: the base vertices' (faces') values as svarints (FORMAT.md).
+std::string base_field_values(const ProgressiveMesh& mesh) {
   ByteWriter w;
-  w.put<uint32_t>(first);
-  w.put<uint32_t>(last - first);
-  const bool splits = last > first;
-  if (splits && has_element_field(mesh)) {
-    uint32_t g = face_begin;
-    for (uint32_t i = first; i < last; ++i) {
-      const uint32_t before = g;  // F: the faces before split i
-      for (uint32_t k = mesh.wing_start[i]; k < mesh.wing_start[i + 1]; ++k)
-        if (mesh.wings[k].was_triangle()) w.varint(before - 1 - mesh.face_heir[g++]);
-    }
-  }
-  const uint32_t b = mesh.base_vertex_count;
+  w.put<uint32_t>(0);
+  w.put<uint32_t>(0);
   for (const ProgressiveField& f : mesh.fields) {
-    if (splits)
-      for (uint32_t i = first; i < last; ++i) w.put<float>(f.error[i]);
-    const bool per_face = f.info.location == FieldLocation::kElement;
-    const uint32_t begin = per_face ? face_begin : splits ? b + first : 0;
-    const uint32_t end = per_face ? face_end : b + last;
+    const uint32_t end =
+        f.info.location == FieldLocation::kElement ? mesh.base_face_count : mesh.base_vertex_count;
     const FieldGrid g(f);
     for (size_t t = 0; t < mesh.step_count(); ++t)
-      for (uint32_t item = begin; item < end; ++item)
+      for (uint32_t item = 0; item < end; ++item)
         w.svarint(g.residual(g.q(f.values[t][item]), predict_field(mesh, f, g, item, t)));
+  }
+  return std::move(w.bytes);
+}
+
+// The FLDS after the SPLT of chunk c (the k-th): the heirs of the faces its splits create, then
+// per field the errors after each split and the range-coded sections of every step.
+std::string split_field_values(const ProgressiveMesh& mesh, const FieldChunk& c, size_t k,
+                               const std::vector<std::vector<std::vector<FieldSection>>>& coded) {
+  ByteWriter w;
+  w.put<uint32_t>(c.first);
+  w.put<uint32_t>(c.last - c.first);
+  if (has_element_field(mesh)) {
+    uint32_t g = c.face_begin;
+    for (uint32_t i = c.first; i < c.last; ++i) {
+      const uint32_t before = g;  // F: the faces before split i
+      for (uint32_t j = mesh.wing_start[i]; j < mesh.wing_start[i + 1]; ++j)
+        if (mesh.wings[j].was_triangle()) w.varint(before - 1 - mesh.face_heir[g++]);
+    }
+  }
+  for (size_t f = 0; f < mesh.fields.size(); ++f) {
+    for (uint32_t i = c.first; i < c.last; ++i) w.put<float>(mesh.fields[f].error[i]);
+    for (const std::vector<FieldSection>& step : coded[f]) {
+      w.put<uint8_t>(static_cast<uint8_t>(step[k].predictor));
+      w.put<uint32_t>(static_cast<uint32_t>(step[k].bytes.size()));
+      w.bytes += step[k].bytes;
+    }
   }
   return std::move(w.bytes);
 }
@@ -320,18 +332,20 @@ Result<std::string> DpmStepEncoder::finish(std::string_view thumbnail_png) {
     write_base_positions(w, grid_of(mesh), s.base_q, mesh.base_vertex_count);
     put_chunk(out, "BASE", w.bytes, true);
   }
-  if (fields) put_chunk(out, "FLDS", field_values(mesh, 0, 0, 0, mesh.base_face_count), true);
+  if (fields) put_chunk(out, "FLDS", base_field_values(mesh), true);
 
-  // The fields of each chunk, compressed on every thread.
+  // The fields of each chunk: coded a field and step a task, then compressed on every thread.
   const auto& chunks = s.chunks;
+  std::vector<FieldChunk> field_ranges;
+  for (const auto& c : chunks) field_ranges.push_back({c.first, c.last, c.first_face, c.end_face});
+  const auto coded_fields = fields ? encode_split_fields(mesh, s.stencils, field_ranges, s.threads)
+                                   : std::vector<std::vector<std::vector<FieldSection>>>{};
   std::vector<std::string> field_chunks(fields ? chunks.size() : 0);
   parallel_for(field_chunks.size(), field_chunks.size(), s.threads,
                [&](size_t begin, size_t end, size_t) {
-                 for (size_t k = begin; k < end; ++k) {
-                   const auto& c = chunks[k];
+                 for (size_t k = begin; k < end; ++k)
                    put_chunk(field_chunks[k], "FLDS",
-                             field_values(mesh, c.first, c.last, c.first_face, c.end_face), true);
-                 }
+                             split_field_values(mesh, field_ranges[k], k, coded_fields), true);
                });
 
   for (size_t k = 0; k < chunks.size(); ++k) {

@@ -21,12 +21,6 @@ constexpr double kRingFitPull = 1.0 / 1024;
 // A fitted guess this far out (grid steps) is refused: it stays an exact integer in int64 and JS.
 constexpr double kRingFitLimit = 0x1p40;
 
-// ⌊a / b⌋ for b > 0 (C++ division truncates toward zero).
-int64_t floor_div(int64_t a, int64_t b) { return a / b - ((a % b != 0) && (a < 0)); }
-
-// ⌊(2 · sum + count) / (2 · count)⌋: the mean rounded half up.
-int64_t rounded_mean(int64_t sum, int64_t count) { return floor_div(2 * sum + count, 2 * count); }
-
 // Step t > 0 (FORMAT.md "Positions", in SPLT): the linear map that takes the ring's offsets from
 // its centre at t − 1 to those at t (least squares, pulled toward the identity by λ), applied
 // to v0's offset at t − 1 and added to the centre at t. A shell turns and stretches as it crushes:
@@ -123,12 +117,6 @@ int64_t correction(const Grid& g, size_t t, int64_t before) {
   return !g.lossless && t >= 2 ? floor_div(3 * before + 4, 8) : 0;
 }
 
-// The context of a residual: how large the same vertex's residual was at the step before.
-int bucket(int64_t residual) {
-  const uint64_t m = residual < 0 ? -static_cast<uint64_t>(residual) : residual;
-  return std::min(static_cast<int>(std::bit_width(m)), kPositionContexts - 1);
-}
-
 // Walks the chunk's positions in the file's order; value(t, v, c, guess, model, got) codes or
 // decodes q_t(v) into got. False when value() is.
 template <class Value>
@@ -154,7 +142,7 @@ bool walk(const ProgressiveMesh& mesh, uint32_t first, const ChunkStencils& sten
         int64_t& r = before[k * 3 + c];
         const int64_t expected = guesses[c] + correction(g, t, r);
         int64_t got;
-        if (!value(t, v, c, expected, m[c][t > 0 ? bucket(r) : 0], got)) return false;
+        if (!value(t, v, c, expected, m[c][t > 0 ? residual_bucket(r) : 0], got)) return false;
         r = g.residual(got, expected);
       }
     }
@@ -303,13 +291,13 @@ void StepPositionEncoder::code_batch() {
   parallel_for(count, count, threads_, [&](size_t begin, size_t end, size_t) {
     for (size_t j = begin; j < end; ++j) {
       const size_t t = first + j;
-      std::array<std::array<SignedModel, kPositionContexts>, 3> m;  // step t's, chunk to chunk
+      std::array<std::array<SignedModel, kResidualBuckets>, 3> m;  // step t's, chunk to chunk
       for (const auto& [from, to] : chunks_) {
         RangeEncoder coder;
         for (uint32_t k = from; k < to; ++k)
           for (int c = 0; c < 3; ++c)
-            m[c][t > 0 ? bucket(before(j)[size_t{k} * 3 + c]) : 0].encode(coder,
-                                                                          r[j][size_t{k} * 3 + c]);
+            m[c][t > 0 ? residual_bucket(before(j)[size_t{k} * 3 + c]) : 0].encode(
+                coder, r[j][size_t{k} * 3 + c]);
         sections_[t].push_back(coder.finish());
       }
     }

@@ -43,16 +43,14 @@ struct ChunkStencils {
   void add(const ProgressiveMesh& mesh, uint32_t i, std::span<const Face> faces);
 };
 
-inline constexpr int kPositionContexts = 5;
-
 // The adaptive models of the position sections, one set per step, continued from SPLT to SPLT.
 class SplitPositionModels {
  public:
   explicit SplitPositionModels(size_t steps) : steps_(steps) {}
-  std::array<std::array<SignedModel, kPositionContexts>, 3>& step(size_t t) { return steps_[t]; }
+  std::array<std::array<SignedModel, kResidualBuckets>, 3>& step(size_t t) { return steps_[t]; }
 
  private:
-  std::vector<std::array<std::array<SignedModel, kPositionContexts>, 3>> steps_;
+  std::vector<std::array<std::array<SignedModel, kResidualBuckets>, 3>> steps_;
 };
 
 // Every vertex's q-values so far, per step: the predictions read a vertex's ring at every step,

@@ -251,7 +251,7 @@ def main():
         splt = data.index(b"SPLT")
         write("truncated-splits.dpm", data[:splt + 30])  # a prefix: the base mesh, no splits
         write("wrong-magic.dpm", b"\x89DPN" + data[4:])
-        write("wrong-version.dpm", data[:8] + struct.pack("<I", 7) + data[12:])
+        write("wrong-version.dpm", data[:8] + struct.pack("<I", 8) + data[12:])
         # A decompression bomb: the grid's HEAD, then a BASE chunk whose zstd frame really holds
         # 2^31 zero bytes (16384 RLE blocks of 128 KiB, 4 bytes each: 64 KiB for 2 GiB).
         head_end = base  # the BASE chunk starts where HEAD ends

@@ -44,29 +44,49 @@ const Q = [
 ];
 const QUANT = 0.25;
 const BMIN = [-1, -2, -3];
-// Two fields: 'stress' per node (quantized, step 0.5: vertex v at step t is 10t + v) and 'peeq'
-// per element (lossless). Face 2, created by split 0, has face 1 as its heir.
-const STRESS = [0, 1].map((t) => [0, 1, 2, 3, 4, 5].map((v) => 10 * t + v));
+// Two fields: 'stress' per node (quantized, step 0.5: vertex v at step 0 is v; step 1 moves each
+// by its own amount, so that vertex 5's ring {0, 1, 3, 4} changes by 10, 11, 11, 13 and its
+// parent 1 by 13) and 'peeq' per element (lossless). Face 2, created by split 0, has face 1 as
+// its heir.
+const STRESS = [[0, 1, 2, 3, 4, 5], [10, 14, 12, 14, 15, 15.5]];
 const PEEQ = [[1, -4, 3], [1.5, -4, 4]];
 const f32Bits = (x) => new Int32Array(Float32Array.of(x).buffer)[0];
+const bucket = (r) => (r === 0 ? 0 : Math.min(Math.floor(Math.log2(Math.abs(r))) + 1, 4));
 
-// FLDS after BASE (n = 0) or after split 0 (n = 1), FORMAT.md "Fields" residuals.
+// FLDS after BASE (n = 0) or after split 0 (n = 1), FORMAT.md "Fields": after BASE svarints;
+// after the SPLT per field its error after split 0, then per step a predictor, a size and a
+// range-coded section (fresh models: the first SPLT's FLDS; the context at step 1 is the bucket
+// of the residual at step 0).
 function fieldValues(n) {
   const out = new Bytes();
   out.u32(0), out.u32(n);
   if (n) out.varint(2 - 1 - 1);  // face 2's heir: face 1
   const q = STRESS.map((row) => row.map((x) => x / 0.5));
-  if (n) out.f32(0);  // stress: the field error after split 0
-  for (let t = 0; t < 2; t++) {
-    if (!n) for (let v = 0; v < 5; v++) out.svarint(t ? q[t][v] - q[t - 1][v] : q[0][v] - (v ? q[0][v - 1] : 0));
-    else out.svarint(t ? q[1][5] - q[0][5] - (q[1][1] - q[0][1]) : q[0][5] - q[0][1]);
-  }
   const p = PEEQ.map((row) => row.map(f32Bits));
-  if (n) out.f32(0);
-  for (let t = 0; t < 2; t++) {
-    if (!n) for (let f = 0; f < 2; f++) out.svarint(t ? p[t][f] - p[t - 1][f] : p[0][f] - (f ? p[0][f - 1] : 0));
-    else out.svarint(t ? p[1][2] - p[0][2] - (p[1][1] - p[0][1]) : p[0][2] - p[0][1]);
+  const steps = (residuals, predictors) => {
+    out.f32(0);  // the field error after split 0
+    residuals.forEach((r, t) => {
+      const e = new RangeEncoder();
+      const models = [0, 1, 2, 3, 4].map(() => new SignedModel());
+      encodeSigned(e, models[t ? bucket(residuals[0]) : 0], r);
+      const bytes = e.finish();
+      out.u8(predictors[t]), out.u32(bytes.length);
+      bytes.forEach((b) => out.u8(b));
+    });
+  };
+  if (!n) {
+    for (let t = 0; t < 2; t++)
+      for (let v = 0; v < 5; v++) out.svarint(t ? q[t][v] - q[t - 1][v] : q[0][v] - (v ? q[0][v - 1] : 0));
+    for (let t = 0; t < 2; t++)
+      for (let f = 0; f < 2; f++) out.svarint(t ? p[t][f] - p[t - 1][f] : p[0][f] - (f ? p[0][f - 1] : 0));
+    return out.bytes;
   }
+  // stress at step 1: the ring's lower median change (22 of 20, 22, 22, 26 in grid steps), not
+  // the parent's 26: predictor 1.
+  const changes = [0, 1, 3, 4].map((u) => q[1][u] - q[0][u]).sort((a, b) => a - b);
+  steps([q[0][5] - q[0][1], q[1][5] - (q[0][5] + changes[1])], [0, 1]);
+  // peeq, lossless per element: the heir's change, modulo 2^32 (predictor 0).
+  steps([(p[0][2] - p[0][1]) | 0, (p[1][2] - p[0][2] - (p[1][1] - p[0][1])) | 0], [0, 0]);
   return out.bytes;
 }
 
@@ -74,7 +94,7 @@ function fieldDefs() {
   const out = new Bytes();
   out.u32(2);
   out.string('stress'), out.string('MPa'), out.u8(0), out.u8(0), out.u16(0);
-  out.f64(0), out.f64(15), out.f64(0.5), out.f64(0.25), out.f32(0.3);
+  out.f64(0), out.f64(15.5), out.f64(0.5), out.f64(0.25), out.f32(0.3);
   out.string('peeq'), out.string(''), out.u8(1), out.u8(1), out.u16(0);
   out.f64(-4), out.f64(4), out.f64(0), out.f64(0), out.f32(0.75);
   return out.bytes;
@@ -110,7 +130,7 @@ function ringFit(P, Q, p) {
 function makeFile(baseFrame = null, { fields = true, extra = null, upToBase = false } = {}) {
   const out = new Bytes();
   [0x89, 0x44, 0x50, 0x4d, 0x0d, 0x0a, 0x1a, 0x0a].forEach((x) => out.u8(x));
-  out.u32(6);
+  out.u32(7);
   const head = new Bytes();
   [6, 3, 5, 2, 1, 2, 0, 0].forEach((x) => head.u32(x));
   BMIN.forEach((x) => head.f64(x));
@@ -164,7 +184,6 @@ function makeFile(baseFrame = null, { fields = true, extra = null, upToBase = fa
   const ring = [0, 1, 3, 4];
   const fit = ringFit(ring.map((u) => Q[0][u]), ring.map((u) => Q[1][u]), Q[0][5]);
   const guess = (t, c) => (t === 0 ? Q[0][0][c] + Q[0][1][c] - Q[0][2][c] : fit[c]);
-  const bucket = (r) => (r === 0 ? 0 : Math.min(Math.floor(Math.log2(Math.abs(r))) + 1, 4));
   const positions = [0, 1].map((t) => {
     const e = new RangeEncoder();
     const models = [0, 1, 2].map(() => [0, 1, 2, 3, 4].map(() => new SignedModel()));
@@ -338,8 +357,8 @@ test('shown values: max |value| and mean of what each vertex and face stands for
     return Array.from(s.values.subarray(0, s.itemCount(k)));
   };
   // Coarse: vertex 1 stands for 1 and 5; face 1 for faces 1 and 2.
-  assert.deepEqual(shown(stress, 'max', 1, 0), [10, 15, 12, 13, 14]);
-  assert.deepEqual(shown(stress, 'mean', 1, 0), [10, 13, 12, 13, 14]);
+  assert.deepEqual(shown(stress, 'max', 1, 0), [10, 15.5, 12, 14, 15]);
+  assert.deepEqual(shown(stress, 'mean', 1, 0), [10, 14.75, 12, 14, 15]);
   assert.deepEqual(shown(peeq, 'max', 0, 0), [1, -4]);
   assert.deepEqual(shown(peeq, 'max', 1, 0), [1.5, 4]);
   assert.deepEqual(shown(peeq, 'mean', 0, 0), [1, -0.5]);
@@ -361,8 +380,8 @@ test('shown values: max |value| and mean of what each vertex and face stands for
   assert.equal(nav.fieldError(1), 0);
 });
 
-test('a file of version 1 to 5 is refused with what to do about it', () => {
-  for (const version of [1, 2, 3, 4, 5]) {
+test('a file of version 1 to 6 is refused with what to do about it', () => {
+  for (const version of [1, 2, 3, 4, 5, 6]) {
     const old = FILE.slice();
     old[8] = version;
     assert.throws(() => readDpm(old, 'old.dpm'), new RegExp(

@@ -1,11 +1,14 @@
 // Adds result fields to a .dpm that has none, written here from docs/FORMAT.md "Fields: FDEF and
 // FLDS" (not by the C++ writer): an FDEF after HEAD and an FLDS after BASE and after each SPLT,
-// the other chunks kept byte for byte. For tests and the docs' screenshots of the viewer, on
+// the other chunks kept byte for byte. After a SPLT every section takes the parent's (heir's)
+// change (predictor 0; a writer may choose it for any section). For tests and the docs' screenshots of the viewer, on
 // models whose inputs carry no element field. Heirs: a quad wing of the split, else a moved face,
 // else any face that holds the parent before it; field errors computed as FORMAT.md defines them.
 import { crc32 } from 'node:zlib';
 
 import { DpmDecoder, Navigator } from '../src/dpm.js';
+import { SignedModel } from '../src/dpm/range_coder.js';
+import { encodeSigned, RangeEncoder } from './range_encoder.mjs';
 
 // Little-endian bytes of FORMAT.md's types, for writing test files.
 export class Bytes {
@@ -135,7 +138,12 @@ export function withFields(file, fields, { bound = 0.001 } = {}) {
     defs.f64(min), defs.f64(max), defs.f64(step), defs.f64(step / 2), defs.f32(base);
     return { ...f, q, errors };
   });
-  // One FLDS: items [first, end) of each field, base items from `base` on predicted from parents.
+  // The split sections' models: per field and step, a SignedModel per context, continued from
+  // FLDS to FLDS.
+  const models = coded.map(() => Array.from({ length: m }, () => [0, 1, 2, 3, 4].map(() => new SignedModel())));
+  const bucket = (r) => (r === 0 ? 0 : Math.min(Math.floor(Math.log2(Math.abs(r))) + 1, 4));
+  // One FLDS: items [first, end) of each field; after BASE svarints, after a SPLT a range-coded
+  // section per step, each item predicted from its parent (heir).
   const flds = (s, n) => {
     const out = new Bytes();
     out.u32(s), out.u32(n);
@@ -145,17 +153,28 @@ export function withFields(file, fields, { bound = 0.001 } = {}) {
       while (mesh.faceCountAt[i + 1] <= g) i++;
       out.varint(mesh.faceCountAt[i] - 1 - heir[g]);
     }
-    for (const f of coded) {
-      if (n) for (let i = s; i < s + n; i++) out.f32(f.errors[i]);
-      const [first, end, base] = f.perFace ? [...faces, h.baseFaceCount] : n ? [b + s, b + s + n, b] : [0, b, b];
+    coded.forEach((f, index) => {
+      const [first, end] = f.perFace ? faces : n ? [b + s, b + s + n] : [0, b];
       const parent = (x) => (f.perFace ? heir[x] : mesh.parent[x - b]);
-      for (let t = 0; t < m; t++)
-        for (let x = first; x < end; x++) {
-          const q = f.q[t], p = f.q[t - 1];
-          if (x < base) out.svarint(t ? q[x] - p[x] : q[x] - (x ? q[x - 1] : 0));
-          else out.svarint(t ? q[x] - p[x] - (q[parent(x)] - p[parent(x)]) : q[x] - q[parent(x)]);
-        }
-    }
+      const residual = (x, t) => {
+        const q = f.q[t], p = f.q[t - 1];
+        return t ? q[x] - p[x] - (q[parent(x)] - p[parent(x)]) : q[x] - q[parent(x)];
+      };
+      if (!n) {
+        for (let t = 0; t < m; t++)
+          for (let x = first; x < end; x++) out.svarint(t ? f.q[t][x] - f.q[t - 1][x] : f.q[0][x] - (x ? f.q[0][x - 1] : 0));
+        return;
+      }
+      for (let i = s; i < s + n; i++) out.f32(f.errors[i]);
+      for (let t = 0; t < m; t++) {
+        const e = new RangeEncoder();
+        for (let x = first; x < end; x++)
+          encodeSigned(e, models[index][t][t ? bucket(residual(x, t - 1)) : 0], residual(x, t));
+        const bytes = e.finish();
+        out.u8(0), out.u32(bytes.length);
+        bytes.forEach((c) => out.u8(c));
+      }
+    });
     return chunkBytes('FLDS', out.bytes);
   };
   const parts = [file.subarray(0, 12)];

@@ -4,6 +4,8 @@
 // (src/progressive/dpm_read.cpp). Values are kept as the file's quantized integers, one
 // Int32Array per step (f32 bit patterns when lossless), as the positions are.
 
+import { bitModels, decodeSigned, RangeDecoder, SIGNED_MODEL_SIZE } from './range_coder.js';
+
 export const FIELD_NODE = 0;
 export const FIELD_ELEMENT = 1;
 const FIELD_FLAG_LOSSLESS = 1;
@@ -91,6 +93,20 @@ function textBytes(r) {
   return r.bytes.slice(r.pos - n, r.pos);
 }
 
+// A split section's predictor at t > 0 (FORMAT.md "Fields"): the parent's (heir's) change, or
+// the median change of the vertex's ring (node fields on a grid only).
+const PREDICTOR_PARENT = 0;
+const PREDICTOR_RING_MEDIAN = 1;
+const MAX_MEDIAN_RING = 16;  // ring vertices a median reads, the first in ascending order
+const CONTEXTS = 5;  // a residual's context: the bucket of the item's residual at t − 1
+
+// The models of the field sections after SPLTs: per field, one array per step (a SignedModel
+// per context), continued from FLDS to FLDS.
+export function fieldModels(mesh) {
+  return mesh.fields.map(() => Array.from({ length: mesh.head.stepCount },
+    () => bitModels(CONTEXTS * SIGNED_MODEL_SIZE)));
+}
+
 // The most bytes the FLDS after BASE (n = 0) or after a SPLT of splits [s, s + n) can hold, each
 // value at its longest encoding (10 bytes a varint).
 export function maxFieldValueBytes(mesh, s, n) {
@@ -99,13 +115,18 @@ export function maxFieldValueBytes(mesh, s, n) {
   const vertices = n || h.baseVertexCount;
   const faces = n ? created : h.baseFaceCount;
   let limit = 8 + (mesh.faceHeir ? 10 * created : 0);
-  for (const f of mesh.fields) limit += 4 * n + 10 * h.stepCount * (f.perFace ? faces : vertices);
+  // After a SPLT, a step's section: a predictor, a size, 5 flushed bytes and at most 64 bytes a
+  // value (C++ kMaxCodedInteger); after BASE, varints.
+  for (const f of mesh.fields) {
+    const items = f.perFace ? faces : vertices;
+    limit += n ? 4 * n + h.stepCount * (10 + 64 * items) : 10 * h.stepCount * items;
+  }
   return limit;
 }
 
 // FLDS: the values (and heirs, errors) of the base mesh (n = 0) or of splits [s, s + n), which
-// the SPLT before it has decoded.
-export function parseFieldValues(r, mesh, s, n) {
+// the SPLT before it has decoded with `stencils` (its rings); `models`: fieldModels(mesh).
+export function parseFieldValues(r, mesh, s, n, stencils, models) {
   const first = r.u32();
   const count = r.u32();
   if (first !== (n ? s : 0) || count !== n)
@@ -124,11 +145,27 @@ export function parseFieldValues(r, mesh, s, n) {
       }
     }
   }
-  for (const f of mesh.fields) {
-    if (n) parseErrors(r, f, s, n);
-    if (f.perFace) parseValues(r, f, faces[0], faces[1], h.baseFaceCount, faceHeir, 0);
-    else parseValues(r, f, n ? b + s : 0, n ? b + s + n : b, b, mesh.parent, b);
-  }
+  mesh.fields.forEach((f, index) => {
+    const [first, end] = f.perFace ? faces : [n ? b + s : 0, n ? b + s + n : b];
+    const [parent, offset] = f.perFace ? [faceHeir, 0] : [mesh.parent, b];
+    if (!n) return parseValues(r, f, first, end, f.perFace ? h.baseFaceCount : b, parent, offset);
+    parseErrors(r, f, s, n);
+    const start = r.pos;
+    const sections = [];
+    for (let t = 0; t < h.stepCount; t++) {
+      const predictor = r.u8();
+      const size = r.u32();
+      r.need(size);
+      sections.push({ predictor, bytes: r.bytes.subarray(r.pos, r.pos + size) });
+      r.pos += size;
+    }
+    const ring = f.perFace ? null : { stencils, first: b + s };
+    const problem = decodeSplitField(f, first, end, parent, offset, ring, models[index], sections);
+    if (problem) {
+      r.pos = start;
+      r.fail(`${f.name}: ${problem}`);
+    }
+  });
   if (r.remaining() !== 0) r.fail(`${r.remaining()} bytes left over at the end of FLDS`);
 }
 
@@ -167,4 +204,69 @@ function parseValues(r, f, first, end, base, parent, offset) {
         r.fail(`${f.name}: item ${v} step ${t}: a value outside [min, max]`);
     }
   }
+}
+
+// A split chunk's values of field f, items [first, end), section t for step t; the guess at t > 0
+// is the parent's change or the ring's median change, as each section says (FORMAT.md
+// "Fields"; C++ field_coding.cpp). `ring`: the chunk's stencils and its first split vertex
+// (null for an element field). Returns null or what is wrong.
+function decodeSplitField(f, first, end, parent, offset, ring, models, sections) {
+  const checked = !f.lossless;
+  const top = (f.max - f.min) / (f.quantStep || 1) + 2;
+  const before = new Float64Array(end - first);  // the residuals at t − 1
+  const change = new Float64Array(MAX_MEDIAN_RING);
+  const ringStart = ring?.stencils.ringStart, data = ring?.stencils.ring.data;
+  for (let t = 0; t < sections.length; t++) {
+    const { predictor, bytes } = sections[t];
+    if (predictor !== PREDICTOR_PARENT &&
+        !(predictor === PREDICTOR_RING_MEDIAN && t > 0 && ring && checked))
+      return `step ${t}: predictor ${predictor} is not valid here`;
+    const d = new RangeDecoder(bytes);
+    const cur = f.q[t];
+    const prev = t > 0 ? f.q[t - 1] : null;
+    const asFloat = f.lossless ? new Float32Array(cur.buffer) : null;
+    for (let v = first; v < end; v++) {
+      const e = v - first;
+      const r = decodeSigned(d, models[t], (t > 0 ? bucket(before[e]) : 0) * SIGNED_MODEL_SIZE);
+      if (!d.ok()) return `step ${t}: the values are cut short`;
+      let guess;
+      if (t === 0) guess = cur[parent[v - offset]];
+      else if (predictor === PREDICTOR_PARENT) {
+        const j = parent[v - offset];
+        guess = prev[v] + cur[j] - prev[j];
+      } else {
+        const k = v - ring.first;
+        const count = Math.min(ringStart[k + 1] - ringStart[k], MAX_MEDIAN_RING);
+        for (let j = 0; j < count; j++) {
+          const u = data[ringStart[k] + j];
+          change[j] = cur[u] - prev[u];
+        }
+        guess = prev[v] + lowerMedian(change, count);
+      }
+      const x = guess + r;
+      if (checked && (x < -2 || x > top)) return `step ${t}: item ${v}'s value is far outside the field's range`;
+      cur[v] = x;  // lossless: Int32Array wraps modulo 2^32, as the residual arithmetic requires
+      if (!checked && !(asFloat[v] >= f.min && asFloat[v] <= f.max))
+        return `step ${t}: item ${v}'s value is far outside the field's range`;
+      before[e] = r;
+    }
+    if (!d.exhausted()) return `step ${t}: the values leave bytes unread`;
+  }
+  return null;
+}
+
+// The bucket of a residual's magnitude: min(⌊log₂ |r|⌋ + 1, 4).
+function bucket(r) {
+  return 32 - Math.clz32(Math.min(Math.abs(r), 8));
+}
+
+// The lower median of a[0, n): the ((n − 1) / 2)-th smallest (insertion sort: n ≤ 16).
+function lowerMedian(a, n) {
+  for (let i = 1; i < n; i++) {
+    const x = a[i];
+    let j = i;
+    for (; j > 0 && a[j - 1] > x; j--) a[j] = a[j - 1];
+    a[j] = x;
+  }
+  return a[(n - 1) >> 1];
 }

@@ -10,7 +10,7 @@
 import { decompress } from 'fzstd';
 
 import { crc32, DpmError, Reader } from './bytes.js';
-import { maxFieldValueBytes, parseFieldDefs, parseFieldValues } from './fields.js';
+import { fieldModels, maxFieldValueBytes, parseFieldDefs, parseFieldValues } from './fields.js';
 import { parsePartNames } from './parts.js';
 import { parseVariants } from './variants.js';
 import { ChunkStencils, decodeSplitPositions, positionModels } from './positions.js';
@@ -18,7 +18,7 @@ import { HEAD_FLAG_LOSSLESS, ProgressiveMesh } from './progressive_mesh.js';
 import { decodeSplitRecords, RecordModels } from './split_records.js';
 
 export const MAGIC = Uint8Array.of(0x89, 0x44, 0x50, 0x4d, 0x0d, 0x0a, 0x1a, 0x0a);
-const VERSION = 6;
+const VERSION = 7;
 const CHUNK_HEADER_BYTES = 24;
 const FLAG_ZSTD = 1;
 const TAGS = ['HEAD', 'FDEF', 'PART', 'VARI', 'BASE', 'FLDS', 'SPLT', 'END '];
@@ -302,11 +302,13 @@ export class DpmDecoder {
     } else if (tag === 'SPLT') {
       this.models ??= positionModels(mesh.head.stepCount);
       const records = this.recordModels();
-      this.pending = { s: mesh.splitsLoaded, n: parseSplits(r, mesh, records, this.models) };
+      this.pending = { s: mesh.splitsLoaded, ...parseSplits(r, mesh, records, this.models) };
       if (withFields) this.state = 'FLDS';
       else this.commit();
     } else if (tag === 'FLDS') {
-      parseFieldValues(r, mesh, this.pending.s, this.pending.n);
+      this.fieldModels ??= fieldModels(mesh);
+      const { s, n, stencils } = this.pending;
+      parseFieldValues(r, mesh, s, n, stencils, this.fieldModels);
       this.commit();
     } else {
       const { splitsLoaded, head } = this.mesh;
@@ -495,8 +497,8 @@ function parseSplits(r, mesh, records, models) {
   const positions = decodeSplitPositions(mesh, s, n, stencils, models, sections);
   if (positions) r.failChunk(positions);
   // The loaded levels grow only at commit(): a chunk that fails half-way, or whose FLDS does
-  // not arrive, leaves them as they were.
-  return n;
+  // not arrive, leaves them as they were. The stencils' rings guess the FLDS's node values.
+  return { n, stencils };
 }
 
 // Reads a whole .dpm held in memory, or a prefix of one (Node tests, tools).
