@@ -131,7 +131,7 @@ class Decoder {
       if (!decode_fields_) continue;
       if (auto e = parse_split_field_values(
               payload, mesh_, {first, mesh_.split_count(), faces_before, records_->face_count()},
-              deferred_->stencils, *field_models_))
+              deferred_->stencils, *field_models_, steps_))
         return bad_at(*e);
     }
     DYNPM_RETURN_IF_ERROR(flush_positions());
@@ -509,7 +509,7 @@ class Decoder {
     // The records, checked and applied as decoded; the faces after each split give its stencil.
     // Beside them the last SPLT's positions (they write only q_, read only m's header values).
     std::optional<PayloadError> e;
-    const auto [records, attributes] = std::pair(next.sections[0], next.sections[1]);
+    const auto records = next.sections[0], attributes = next.sections[1];  // clang: no bindings
     parallel_for(2, 2, thread_count(0), [&](size_t part, size_t, size_t) {
       if (part == 1) return void(flush_positions());
       e = decode_split_records(payload.substr(records.first, records.second),

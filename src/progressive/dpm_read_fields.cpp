@@ -126,7 +126,7 @@ std::optional<PayloadError> parse_base_field_values(std::string_view payload,
 std::optional<PayloadError> parse_split_field_values(std::string_view payload,
                                                      ProgressiveMesh& mesh, const FieldChunk& chunk,
                                                      const ChunkStencils& stencils,
-                                                     SplitFieldModels& models) {
+                                                     SplitFieldModels& models, size_t steps) {
   ByteReader r(payload);
   const uint32_t first = chunk.first, n = chunk.last - chunk.first;
   const uint32_t got_first = r.get<uint32_t>();
@@ -170,6 +170,7 @@ std::optional<PayloadError> parse_split_field_values(std::string_view payload,
       sections.push_back({predictor, r.bytes(r.get<uint32_t>())});
       if (!r.ok()) return at(r, who + "the values of step " + std::to_string(t) + " are cut short");
     }
+    sections.resize(steps);
     if (std::string e = decode_split_field(mesh, f, chunk, stencils, models.field(index), sections);
         !e.empty())
       return PayloadError{who + e, start};

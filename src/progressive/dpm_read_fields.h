@@ -28,11 +28,12 @@ std::optional<PayloadError> parse_base_field_values(std::string_view payload,
                                                     ProgressiveMesh& mesh);
 
 // The FLDS after the SPLT of `chunk`'s splits: the heirs of the faces they created, each field's
-// errors and values. `stencils` are the SPLT's, `models` continue from the FLDS before.
+// errors and its values of steps [0, steps) (the later steps' sections are skipped, as the
+// positions' are). `stencils` are the SPLT's, `models` continue from the FLDS before.
 std::optional<PayloadError> parse_split_field_values(std::string_view payload,
                                                      ProgressiveMesh& mesh, const FieldChunk& chunk,
                                                      const ChunkStencils& stencils,
-                                                     SplitFieldModels& models);
+                                                     SplitFieldModels& models, size_t steps);
 
 // The most bytes the FLDS after BASE (n = 0) or after a SPLT of n splits that created faces
 // [face_begin, face_end) can take, each value at its longest encoding.

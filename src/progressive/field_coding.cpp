@@ -131,7 +131,7 @@ std::string decode_split_field(const ProgressiveMesh& mesh, ProgressiveField& f,
   const double top = g.lossless ? 0 : (f.max - f.min) / g.step + 2;
   const auto q = [&](uint32_t u, size_t s) { return g.q(f.values[s][u]); };
   std::vector<int64_t> before(last - first, 0);  // the residuals at t − 1
-  for (auto& values : f.values) values.resize(last);
+  for (size_t t = 0; t < sections.size(); ++t) f.values[t].resize(last);
   for (size_t t = 0; t < sections.size(); ++t) {
     const std::string at = "step " + std::to_string(t) + ": ";
     const FieldPredictor predictor = sections[t].predictor;

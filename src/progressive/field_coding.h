@@ -62,8 +62,9 @@ std::vector<std::vector<std::vector<FieldSection>>> encode_split_fields(
     const ProgressiveMesh& mesh, const ChunkStencils& all, std::span<const FieldChunk> chunks,
     unsigned threads);
 
-// Decodes field f's sections of one chunk (steps 0 … m−1) into f.values, whose earlier items are
-// there; `stencils` are the chunk's (split `chunk.first` first). Empty, or what is wrong.
+// Decodes field f's sections of one chunk (steps 0 … sections.size() − 1) into f.values, whose
+// earlier items are there; `stencils` are the chunk's (split `chunk.first` first). Empty, or what
+// is wrong.
 std::string decode_split_field(const ProgressiveMesh& mesh, ProgressiveField& f,
                                const FieldChunk& chunk, const ChunkStencils& stencils,
                                std::span<SplitFieldModels::StepModels> models,
