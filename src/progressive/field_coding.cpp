@@ -34,7 +34,8 @@ int64_t guess_of(const ProgressiveMesh& mesh, const ProgressiveField& f, const F
     if (t == 0) return q(p, 0);
     return g.add(q(item, t - 1), g.residual(q(p, t), q(p, t - 1)));
   }
-  // The ring's median change (the lower one of an even count), in ascending order.
+  // The median change over the ring's first kMaxMedianRing vertices in ascending order (a real
+  // ring has fewer), the lower one of an even count.
   std::array<int64_t, kMaxMedianRing> change;
   const uint32_t n = std::min<uint32_t>(s->ring_end - s->ring_begin, kMaxMedianRing);
   for (uint32_t k = 0; k < n; ++k)
