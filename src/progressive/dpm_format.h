@@ -161,7 +161,7 @@ inline Grid grid_of(const ProgressiveMesh& mesh) {
 
 // The prediction of base vertex v's coordinate at step t from values already known (FORMAT.md
 // "Positions", in BASE), q(u, s) giving vertex u's q-value at step s; split vertices are coded
-// in position_coding.cpp.
+// in position_coding.cpp. A base vertex's (face's) field value follows the same rule ("Fields").
 template <class Q>
 int64_t predict_base(uint32_t v, size_t t, Q q) {
   if (t > 0) return q(v, t - 1);
@@ -192,30 +192,6 @@ struct FieldGrid {
     return wrap_residual(value, prediction, lossless);
   }
 };
-
-// The item a field value of a split vertex (created face) is predicted from: its parent (its
-// heir); kNoIndex for a base vertex (face).
-inline uint32_t field_parent(const ProgressiveMesh& mesh, const ProgressiveField& f,
-                             uint32_t item) {
-  if (f.info.location == FieldLocation::kElement)
-    return item < mesh.base_face_count ? kNoIndex : mesh.face_heir[item];
-  return item < mesh.base_vertex_count ? kNoIndex : mesh.parent[item - mesh.base_vertex_count];
-}
-
-// The prediction of item `item`'s value of field f at step t from values already known
-// (docs/FORMAT.md, the residual table of "Fields"): as for the positions, with the heir as a
-// created face's parent.
-inline int64_t predict_field(const ProgressiveMesh& mesh, const ProgressiveField& f,
-                             const FieldGrid& g, uint32_t item, size_t t) {
-  auto q = [&](uint32_t u, size_t s) { return g.q(f.values[s][u]); };
-  const uint32_t p = field_parent(mesh, f, item);
-  if (p == kNoIndex) {
-    if (t > 0) return q(item, t - 1);
-    return item > 0 ? q(item - 1, 0) : 0;
-  }
-  if (t == 0) return q(p, 0);
-  return g.add(q(item, t - 1), g.residual(q(p, t), q(p, t - 1)));
-}
 
 // Heirs are in the file only when some field is per element.
 inline bool has_element_field(const ProgressiveMesh& mesh) {

@@ -109,9 +109,10 @@ std::optional<PayloadError> parse_base_field_values(std::string_view payload,
     // A quantized value lies in [min, max], give or take two grid steps.
     const double top = g.lossless ? 0 : (f.max - f.min) / g.step + 2;
     for (auto& values : f.values) values.resize(end);
+    const auto value = [&](uint32_t u, size_t s) { return g.q(f.values[s][u]); };
     for (size_t t = 0; t < mesh.step_count(); ++t)
       for (uint32_t item = 0; item < end; ++item) {
-        const int64_t q = g.add(predict_field(mesh, f, g, item, t), r.svarint());
+        const int64_t q = g.add(predict_base(item, t, value), r.svarint());
         const float x = g.value(q);
         if (g.lossless ? !(x >= f.min && x <= f.max) : (q < -2 || double(q) > top))
           return at(r, who + "a value is far outside the field's range");

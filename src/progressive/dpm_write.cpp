@@ -114,9 +114,10 @@ std::string base_field_values(const ProgressiveMesh& mesh) {
     const uint32_t end =
         f.info.location == FieldLocation::kElement ? mesh.base_face_count : mesh.base_vertex_count;
     const FieldGrid g(f);
+    const auto q = [&](uint32_t u, size_t s) { return g.q(f.values[s][u]); };
     for (size_t t = 0; t < mesh.step_count(); ++t)
       for (uint32_t item = 0; item < end; ++item)
-        w.svarint(g.residual(g.q(f.values[t][item]), predict_field(mesh, f, g, item, t)));
+        w.svarint(g.residual(q(item, t), predict_base(item, t, q)));
   }
   return std::move(w.bytes);
 }

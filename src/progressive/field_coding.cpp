@@ -19,6 +19,11 @@ std::pair<uint32_t, uint32_t> items_of(const ProgressiveMesh& mesh, const Progre
   return {mesh.base_vertex_count + c.first, mesh.base_vertex_count + c.last};
 }
 
+// The item a split item's value is predicted from: a vertex's parent, a face's heir.
+uint32_t parent_of(const ProgressiveMesh& mesh, const ProgressiveField& f, uint32_t item) {
+  return per_face(f) ? mesh.face_heir[item] : mesh.parent[item - mesh.base_vertex_count];
+}
+
 // Whether a section may use the ring: a node field on a grid (a median of float bit patterns
 // means nothing).
 bool ring_allowed(const ProgressiveField& f) { return !per_face(f) && !f.lossless; }
@@ -30,7 +35,7 @@ int64_t guess_of(const ProgressiveMesh& mesh, const ProgressiveField& f, const F
                  FieldPredictor predictor, const ChunkStencils& cs, const SplitStencil* s,
                  uint32_t item, size_t t, Q q) {
   if (t == 0 || predictor == FieldPredictor::kParent) {
-    const uint32_t p = field_parent(mesh, f, item);
+    const uint32_t p = parent_of(mesh, f, item);
     if (t == 0) return q(p, 0);
     return g.add(q(item, t - 1), g.residual(q(p, t), q(p, t - 1)));
   }
@@ -54,7 +59,8 @@ std::vector<std::vector<std::vector<FieldSection>>> encode_split_fields(
       mesh.fields.size(), std::vector<std::vector<FieldSection>>(steps));
   // Runs body(field, t, residual) for each field and step, a task each, where residual(item, s,
   // predictor) is item's residual at step s ∈ {t − 1, t}: each task turns the steps it reads
-  // into q-values once (t − 2 … t).
+  // into q-values once (t − 2 … t), and works out t − 1's residuals (its contexts) again rather
+  // than wait for the task before, so that every step codes on a thread of its own.
   const auto for_each_step = [&](auto&& body) {
     parallel_for(tasks, tasks, thread_count(threads), [&](size_t begin, size_t end, size_t) {
       for (size_t task = begin; task < end; ++task) {

@@ -4,6 +4,7 @@
 // (src/progressive/dpm_read.cpp). Values are kept as the file's quantized integers, one
 // Int32Array per step (f32 bit patterns when lossless), as the positions are.
 
+import { bucket, CONTEXTS } from './positions.js';
 import { bitModels, decodeSigned, RangeDecoder, SIGNED_MODEL_SIZE } from './range_coder.js';
 
 export const FIELD_NODE = 0;
@@ -98,7 +99,6 @@ function textBytes(r) {
 const PREDICTOR_PARENT = 0;
 const PREDICTOR_RING_MEDIAN = 1;
 const MAX_MEDIAN_RING = 16;  // ring vertices a median reads, the first in ascending order
-const CONTEXTS = 5;  // a residual's context: the bucket of the item's residual at t − 1
 
 // The models of the field sections after SPLTs: per field, one array per step (a SignedModel
 // per context), continued from FLDS to FLDS.
@@ -148,7 +148,7 @@ export function parseFieldValues(r, mesh, s, n, stencils, models) {
   mesh.fields.forEach((f, index) => {
     const [first, end] = f.perFace ? faces : [n ? b + s : 0, n ? b + s + n : b];
     const [parent, offset] = f.perFace ? [faceHeir, 0] : [mesh.parent, b];
-    if (!n) return parseValues(r, f, first, end, f.perFace ? h.baseFaceCount : b, parent, offset);
+    if (!n) return parseBaseValues(r, f, end);
     parseErrors(r, f, s, n);
     const start = r.pos;
     const sections = [];
@@ -178,24 +178,17 @@ function parseErrors(r, f, s, n) {
   }
 }
 
-// Residuals per FORMAT.md "Fields": an item of the base mesh against the previous item (step 0)
-// and its own previous step; a split's vertex (a created face) against its parent (its heir),
-// in both step and time. Items from `base` on have parent[item − offset].
-function parseValues(r, f, first, end, base, parent, offset) {
+// The values of the base mesh's items [0, end) as FORMAT.md "Fields" codes them after BASE: each
+// against the previous item at step 0 and its own previous step later (as the base positions).
+function parseBaseValues(r, f, end) {
   const checked = !f.lossless;
   const top = (f.max - f.min) / (f.quantStep || 1) + 2;
   for (let t = 0; t < f.q.length; t++) {
     const cur = f.q[t];
     const asFloat = f.lossless ? new Float32Array(cur.buffer) : null;
     const prev = t > 0 ? f.q[t - 1] : null;
-    for (let v = first; v < end; v++) {
-      let p = 0;
-      if (v < base) p = t > 0 ? prev[v] : v > 0 ? cur[v - 1] : 0;
-      else {
-        const j = parent[v - offset];
-        p = t > 0 ? prev[v] + cur[j] - prev[j] : cur[j];
-      }
-      const x = r.svarint() + p;
+    for (let v = 0; v < end; v++) {
+      const x = r.svarint() + (t > 0 ? prev[v] : v > 0 ? cur[v - 1] : 0);
       if (checked && (x < -2 || x > top))
         r.fail(`${f.name}: item ${v} step ${t}: a value far outside [min, max]`);
       cur[v] = x;  // lossless: Int32Array wraps modulo 2^32, as the residual arithmetic requires
@@ -253,11 +246,6 @@ function decodeSplitField(f, first, end, parent, offset, ring, models, sections)
     if (!d.exhausted()) return `step ${t}: the values leave bytes unread`;
   }
   return null;
-}
-
-// The bucket of a residual's magnitude: min(⌊log₂ |r|⌋ + 1, 4).
-function bucket(r) {
-  return 32 - Math.clz32(Math.min(Math.abs(r), 8));
 }
 
 // The lower median of a[0, n): the ((n − 1) / 2)-th smallest (insertion sort: n ≤ 16).

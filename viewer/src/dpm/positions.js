@@ -9,7 +9,9 @@ import { Growable } from './bytes.js';
 import { bitModels, decodeSigned, RangeDecoder, SIGNED_MODEL_SIZE } from './range_coder.js';
 import { WING_SLOT_SHIFT, WING_WAS_TRIANGLE } from './progressive_mesh.js';
 
-const CONTEXTS = 5;
+// A residual's contexts, as the field sections' (fields.js): the bucket of the same item's
+// residual at the step before.
+export const CONTEXTS = 5;
 // The SignedModel of coordinate c in context x starts at (c · CONTEXTS + x) · SIGNED_MODEL_SIZE.
 const COORDINATE_MODELS = CONTEXTS * SIGNED_MODEL_SIZE;
 
@@ -86,7 +88,7 @@ export class ChunkStencils {
 }
 
 // The bucket of a residual's magnitude: the next residual's context.
-function bucket(r) {
+export function bucket(r) {
   return 32 - Math.clz32(Math.min(Math.abs(r), 8));  // min(⌊log₂ |r|⌋ + 1, 4), without a branch
 }
 
