@@ -13,6 +13,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <span>
 #include <string>
 #include <string_view>
 #include <system_error>
@@ -151,6 +152,37 @@ inline void run_exodus_hdf5(std::string_view bytes) {
 }
 
 // decode_dpm, then a Navigator at the finest level, the base, and levels taken from the bytes.
+// Selective refinement of any file the reader accepts: the dependencies, then sets of splits
+// closed under them, refined and coarsened out of stream order (one split and its ancestors,
+// every other split, a prefix), each mesh's corners in range and its shown field values made.
+inline void run_selective(const ProgressiveMesh& mesh, std::span<const uint32_t> levels) {
+  const uint32_t splits = mesh.split_count();
+  const SplitDependencies deps = derive_split_dependencies(mesh);
+  if (deps.split_count() != splits) fail("dependencies for another number of splits");
+  SelectiveNavigator nav(mesh, deps);
+  std::vector<uint8_t> wanted(splits, 0);
+  std::vector<uint32_t> stack;
+  auto show = [&](const char* what) {
+    nav.set_active(wanted);
+    const SelectiveMesh shown = nav.active_mesh();
+    check_topology(shown.topology, what);
+    for (size_t f = 0; f < mesh.fields.size() && mesh.step_count() > 0; ++f)
+      nav.field_values(f, mesh.step_count() - 1, shown);
+  };
+  for (uint32_t level : levels) {
+    if (level == 0 || level > splits) continue;
+    std::fill(wanted.begin(), wanted.end(), uint8_t{0});
+    add_with_dependencies(deps, wanted, level - 1, stack);
+    show("SelectiveNavigator (a split and its ancestors)");
+  }
+  for (uint32_t i = 0; i < splits; ++i) wanted[i] = i % 2;
+  close_under_dependencies(deps, wanted);
+  show("SelectiveNavigator (every other split, closed)");
+  std::fill(wanted.begin(), wanted.end(), uint8_t{0});
+  std::fill_n(wanted.begin(), splits / 2, uint8_t{1});
+  show("SelectiveNavigator (a prefix)");
+}
+
 inline void run_dpm(std::string_view bytes) {
   const Result<ProgressiveMesh> decoded = decode_dpm(bytes, "fuzz.dpm");
   if (!decoded.ok()) return;
@@ -183,6 +215,7 @@ inline void run_dpm(std::string_view bytes) {
         fail("a field error outside [0, 1]");
     }
   }
+  run_selective(mesh, levels);
 }
 
 }  // namespace dynpm::fuzz

@@ -4,10 +4,14 @@
 // prints one line per file: "error <message>", or "counts" and the counts `dynpm info --json`
 // prints, as name=value pairs, then field_list=NAME:LOCATION:COUNT,… (each field's name with
 // bytes other than A-Z a-z 0-9 _ . - as %XX, node or element, its values per step present; empty
-// without fields), then part_list=ID:NAME,… (the PART chunk's names, escaped alike). Test-only;
-// reads with read_dpm() as `dynpm info` does.
+// without fields), then part_list=ID:NAME,… (the PART chunk's names, escaped alike), then
+// selective=V/F/Q,… (the selective navigator's active mesh on three closed sets of splits:
+// selective_counts()). Test-only; reads with read_dpm() as `dynpm info` does.
+#include <algorithm>
+#include <cstdint>
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include "dynpm/lod.h"
 #include "dynpm/progressive.h"
@@ -26,6 +30,35 @@ std::string escaped(const std::string& name) {
       out += hex;
     }
   }
+  return out;
+}
+
+// Vertices, faces and quads of the selective navigator's mesh for every other split (closed
+// under the face creators' dependencies), the first half of the splits, and the last split with
+// what it needs: out of stream order on any file the reader accepts, damaged ones too.
+std::string selective_counts(const dynpm::ProgressiveMesh& m) {
+  using namespace dynpm;
+  const uint32_t n = m.split_count();
+  const SplitDependencies deps = derive_split_dependencies(m);
+  SelectiveNavigator nav(m, deps);
+  std::vector<uint8_t> wanted(n, 0);
+  std::vector<uint32_t> stack;
+  std::string out;
+  auto show = [&] {
+    nav.set_active(wanted);
+    const SelectiveMesh shown = nav.active_mesh();
+    out += (out.empty() ? "" : ",") + std::to_string(shown.vertices.size()) + "/" +
+           std::to_string(shown.faces.size()) + "/" + std::to_string(shown.topology.quad_count());
+  };
+  for (uint32_t i = 0; i < n; ++i) wanted[i] = i % 2;
+  close_under_dependencies(deps, wanted);
+  show();
+  std::fill(wanted.begin(), wanted.end(), uint8_t{0});
+  std::fill_n(wanted.begin(), n / 2, uint8_t{1});
+  show();
+  std::fill(wanted.begin(), wanted.end(), uint8_t{0});
+  if (n > 0) add_with_dependencies(deps, wanted, n - 1, stack);
+  show();
   return out;
 }
 
@@ -59,7 +92,7 @@ int main(int argc, char** argv) {
     std::string parts;
     for (const PartName& p : m.part_names)
       parts += (parts.empty() ? "" : ",") + std::to_string(p.id) + ":" + escaped(p.name);
-    std::printf(" part_list=%s\n", parts.c_str());
+    std::printf(" part_list=%s selective=%s\n", parts.c_str(), selective_counts(m).c_str());
   }
   return 0;
 }

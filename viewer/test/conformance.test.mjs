@@ -15,12 +15,20 @@ import { test } from 'node:test';
 import { decompress } from 'fzstd';
 
 import { decodeDpm, Navigator } from '../src/dpm.js';
+import { SelectiveNavigator } from '../src/dpm/selective_navigator.js';
+import { SplitDependencies } from '../src/dpm/split_dependencies.js';
 import { chunkBytes, rawChunks, withFields } from './fields_fixture.mjs';
 
 const CLI = process.env.DYNPM_CLI;
 const TOOL = process.env.DYNPM_VERDICTS;
 const OUT = join(process.env.DYNPM_TEST_OUT ?? tmpdir(), 'conformance');
 const ROOT = new URL('../../', import.meta.url).pathname;
+
+// DYNPM_CONFORMANCE_EXTRA: a folder whose every file joins the corpus (e.g. the inputs a run of
+// fuzz_dpm kept: docs/RELIABILITY.md "Both decoders on the fuzzer's corpus").
+const EXTRA = process.env.DYNPM_CONFORMANCE_EXTRA;
+const extraFiles = () => (EXTRA ? readdirSync(EXTRA).sort() : [])
+  .map((f) => ({ name: join(EXTRA, f), bytes: new Uint8Array(readFileSync(join(EXTRA, f))) }));
 
 function dpmFiles(folder) {
   return readdirSync(join(ROOT, folder))
@@ -70,6 +78,7 @@ function jsVerdict(bytes) {
       lossless: mesh.lossless,
     },
     fieldList: fieldList(mesh, nav),
+    selective: selectiveCounts(mesh),
     partList: [...mesh.partNames].map(([id, name]) => `${id}:${escaped(new TextEncoder().encode(name))}`).join(','),
   };
 }
@@ -81,6 +90,27 @@ const escaped = (bytes) => Array.from(bytes, (c) =>
 function fieldList(mesh, nav) {
   return mesh.fields.map((f) =>
     `${escaped(f.nameBytes)}:${f.perFace ? 'element' : 'node'}:${f.perFace ? nav.faceCount : nav.vertexCount}`).join(',');
+}
+
+// As dpm_verdicts' selective_counts(): vertices/faces/quads of the selective navigator's mesh
+// for every other split (closed), the first half, and the last split with what it needs.
+function selectiveCounts(mesh) {
+  const n = mesh.splitsLoaded;
+  const deps = new SplitDependencies(mesh).update();
+  const nav = new SelectiveNavigator(mesh, deps);
+  const show = (wanted) => {
+    nav.setTarget(wanted);
+    const { vertices, faces } = nav.activeMesh();
+    let quads = 0;
+    for (let k = 3; k < faces.length; k += 4) quads += faces[k] >= 0 ? 1 : 0;
+    return `${vertices.length}/${faces.length / 4}/${quads}`;
+  };
+  const odd = [];
+  for (let i = 1; i < n; i += 2) odd.push(i);
+  const half = new Uint8Array(mesh.head.splitCount).fill(1, 0, Math.floor(n / 2));
+  const last = new Uint8Array(mesh.head.splitCount);
+  if (n > 0) deps.addWithDependencies(n - 1, last);
+  return [deps.close(odd, new Uint8Array(mesh.head.splitCount)), half, last].map(show).join(',');
 }
 
 // `dynpm info --json FILE`.
@@ -108,9 +138,9 @@ function toolVerdicts(paths) {
     const counts = {};
     for (const pair of rest) {
       const [key, value] = pair.split('=');
-      counts[key] = key === 'complete' || key === 'lossless' ? value === '1' : key.endsWith('_list') ? value : Number(value);
+      counts[key] = key === 'complete' || key === 'lossless' ? value === '1' : key.endsWith('_list') || key === 'selective' ? value : Number(value);
     }
-    return { counts: Object.fromEntries(COUNTS.map((key) => [key, counts[key]])), fieldList: counts.field_list, partList: counts.part_list };
+    return { counts: Object.fromEntries(COUNTS.map((key) => [key, counts[key]])), fieldList: counts.field_list, partList: counts.part_list, selective: counts.selective };
   });
 }
 
@@ -196,6 +226,7 @@ function mutants(name, bytes) {
 // ---------------------------------------------------------------------------------------------
 
 function same(cpp, js) {
+  if (cpp.counts && cpp.selective !== undefined && cpp.selective !== js.selective) return false;
   if (cpp.counts && cpp.fieldList !== undefined && cpp.fieldList !== js.fieldList) return false;
   if (cpp.counts && cpp.partList !== undefined && cpp.partList !== js.partList) return false;
   if (cpp.counts) return JSON.stringify(js.counts) === JSON.stringify(cpp.counts);
@@ -228,6 +259,7 @@ test('the C++ reader and dpm.js give every file the same verdict', { skip }, asy
     ...dpmFiles('fuzz/regressions/dpm'),
     ...dpmFiles('fuzz/corpus/dpm'),
     ...dpmFiles('tests/bad'),
+    ...extraFiles(),
   ];
   assert.ok(corpus.length >= 9, 'the corpus folders hold .dpm files');
   const mutated = corpus
@@ -244,6 +276,7 @@ test('the C++ reader and dpm.js give every file the same verdict', { skip }, asy
   // The tool says what the CLI says.
   const again = toolVerdicts(files.slice(0, corpus.length).map((f) => f.path));
   corpus.forEach((f, k) => assert.ok(same(verdicts[k], again[k]), f.name));
+  corpus.forEach((f, k) => (verdicts[k].selective = again[k].selective));  // info has none
   rmSync(OUT, { recursive: true, force: true });
   expectSameVerdicts(files, verdicts);
   const accepted = verdicts.filter((v) => v.counts).length;
