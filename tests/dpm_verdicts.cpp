@@ -6,10 +6,13 @@
 // bytes other than A-Z a-z 0-9 _ . - as %XX, node or element, its values per step present; empty
 // without fields), then part_list=ID:NAME,… (the PART chunk's names, escaped alike), then
 // selective=V/F/Q,… (the selective navigator's active mesh on three closed sets of splits:
-// selective_counts()). Test-only; reads with read_dpm() as `dynpm info` does.
+// selective_counts()), then values=HASH@T (values_hash()). Test-only; reads with read_dpm() as
+// `dynpm info` does.
 #include <algorithm>
+#include <bit>
 #include <cstdint>
 #include <cstdio>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -62,6 +65,28 @@ std::string selective_counts(const dynpm::ProgressiveMesh& m) {
   return out;
 }
 
+// FNV-1a over the bytes of `values` as stored (little-endian float bits).
+uint32_t fnv1a(uint32_t hash, std::span<const float> values) {
+  for (float v : values) {
+    const uint32_t word = std::bit_cast<uint32_t>(v);
+    for (int k = 0; k < 4; ++k) hash = (hash ^ ((word >> (8 * k)) & 0xff)) * 16777619u;
+  }
+  return hash;
+}
+
+// What the file decodes to at its last step T: a hash of every present vertex's position (in
+// progressive order) and then of each field's values, as hex, "@T"; "-" without steps.
+std::string values_hash(const dynpm::ProgressiveMesh& m) {
+  if (m.positions.empty()) return "-";
+  const size_t t = m.positions.size() - 1;
+  uint32_t hash = fnv1a(2166136261u, m.positions[t]);
+  for (const dynpm::ProgressiveField& f : m.fields)
+    if (t < f.values.size()) hash = fnv1a(hash, f.values[t]);
+  char hex[16];
+  std::snprintf(hex, sizeof hex, "%08x", hash);
+  return std::string(hex) + "@" + std::to_string(t);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -92,7 +117,8 @@ int main(int argc, char** argv) {
     std::string parts;
     for (const PartName& p : m.part_names)
       parts += (parts.empty() ? "" : ",") + std::to_string(p.id) + ":" + escaped(p.name);
-    std::printf(" part_list=%s selective=%s\n", parts.c_str(), selective_counts(m).c_str());
+    std::printf(" part_list=%s selective=%s values=%s\n", parts.c_str(),
+                selective_counts(m).c_str(), values_hash(m).c_str());
   }
   return 0;
 }

@@ -259,6 +259,28 @@ TEST(ProgressiveFields, DamagedFieldChunksAreRefusedAtTheirByte) {
                     "expected the FLDS chunk, found 'SPLT'");
 }
 
+// A lossless residual is a signed 32-bit value (FORMAT.md "Positions"): one beyond is refused
+// where it is read, as dpm.js does, which could not add it exactly beyond 2^53 (a decoder
+// disagreement found by differential fuzzing, docs/RELIABILITY.md finding 6).
+TEST(ProgressiveFields, ALosslessResidualBeyond32BitsIsRefused) {
+  const Built b = hat_rail_with_fields(true);
+  const std::string bytes = encode_dpm(b.mesh).value();
+  const auto chunks = chunks_of(bytes);
+  ASSERT_EQ(chunks[3].first, "FLDS");
+  const size_t base = chunks[3].second;
+  const std::string values = raw_payload(bytes, base);
+  const std::string rest = values.substr(8 + varint_length(values, 8));
+  for (uint64_t zigzag : {uint64_t{1} << 32, uint64_t{1} << 60, ~uint64_t{0}})
+    expect_refused_at(with_payload(bytes, base, values.substr(0, 8) + varint(zigzag) + rest),
+                      base + 24, "a lossless residual outside 32 bits");
+  // The base positions: the fuzzer's input, a residual above 2^53 in a lossless grid's BASE.
+  auto mesh =
+      read_dpm(test::source_dir() + "/fuzz/regressions/dpm/lossless-residual-beyond-2-53.dpm");
+  ASSERT_FALSE(mesh.ok());
+  EXPECT_NE(mesh.message().find("byte 220: a lossless residual outside 32 bits"), std::string::npos)
+      << mesh.message();
+}
+
 TEST(ProgressiveFields, UnknownOptionalChunksAreSkipped) {
   const Built b = hat_rail_with_fields(false);
   const std::string bytes = encode_dpm(b.mesh).value();

@@ -111,6 +111,14 @@ inline int64_t wrap_residual(int64_t value, int64_t prediction, bool lossless) {
   return lossless ? static_cast<int32_t>(static_cast<uint32_t>(diff)) : static_cast<int64_t>(diff);
 }
 
+// A lossless residual is a signed 32-bit value (FORMAT.md "Positions"); a reader refuses one
+// outside, so that every reader wraps the same sum (a JavaScript number is exact below 2^53 only,
+// and a varint holds 64 bits).
+inline constexpr const char* kLosslessResidual = "a lossless residual outside 32 bits";
+inline bool residual_fits(int64_t residual, bool lossless) {
+  return !lossless || (residual >= INT32_MIN && residual <= INT32_MAX);
+}
+
 // ⌊a / b⌋ for b > 0 (C++ division truncates toward zero).
 inline int64_t floor_div(int64_t a, int64_t b) { return a / b - ((a % b != 0) && (a < 0)); }
 

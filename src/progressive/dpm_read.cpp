@@ -59,8 +59,7 @@ class Decoder {
     DYNPM_RETURN_IF_ERROR(expect_chunk("HEAD", payload, "the header"));
     DYNPM_RETURN_IF_ERROR(parse_head(payload));
     apply_limits_of_head();
-    // The field definitions, the part names, a family's variants (each when there are any),
-    // then the base mesh and its values.
+    // Field definitions, part names, a family's variants (each if any), then the base mesh.
     auto got = next_chunk("BASE", tag, payload, "FDEF|PART|VARI");
     if (!got) return got.status();
     if (*got && tag == "FDEF") {
@@ -447,9 +446,10 @@ class Decoder {
           const auto known = [&](uint32_t u, size_t s) {
             return g.q(mesh_.positions[s][size_t{u} * 3 + c], c);
           };
-          const int64_t q = g.add(predict_base(v, t, known), r.svarint());
-          if (!g.lossless && (q < -2 || double(q) > top[c]))
-            return bad(r, "a position is far outside the bounding box");
+          const int64_t residual = r.svarint(), q = g.add(predict_base(v, t, known), residual);
+          if (g.lossless ? !residual_fits(residual, true) : q < -2 || double(q) > top[c])
+            return bad(
+                r, g.lossless ? kLosslessResidual : "a position is far outside the bounding box");
           mesh_.positions[t][size_t{v} * 3 + c] = g.p(q, c);
         }
     return r.ok() ? Status{} : bad(r, "positions are cut short");

@@ -112,7 +112,8 @@ std::optional<PayloadError> parse_base_field_values(std::string_view payload,
     const auto value = [&](uint32_t u, size_t s) { return g.q(f.values[s][u]); };
     for (size_t t = 0; t < mesh.step_count(); ++t)
       for (uint32_t item = 0; item < end; ++item) {
-        const int64_t q = g.add(predict_base(item, t, value), r.svarint());
+        const int64_t residual = r.svarint(), q = g.add(predict_base(item, t, value), residual);
+        if (!residual_fits(residual, g.lossless)) return at(r, who + kLosslessResidual);
         const float x = g.value(q);
         if (g.lossless ? !(x >= f.min && x <= f.max) : (q < -2 || double(q) > top))
           return at(r, who + "a value is far outside the field's range");

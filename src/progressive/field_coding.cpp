@@ -152,6 +152,8 @@ std::string decode_split_field(const ProgressiveMesh& mesh, ProgressiveField& f,
       int64_t& r = before[item - first];
       r = models[t][t > 0 ? residual_bucket(r) : 0].decode(d);
       if (!d.ok()) return at + "the values are cut short";
+      if (!residual_fits(r, g.lossless))
+        return at + "item " + std::to_string(item) + ": " + kLosslessResidual;
       const int64_t value = g.add(guess_of(mesh, f, g, predictor, stencils, s, item, t, q), r);
       const float x = g.value(value);
       if (g.lossless ? !(x >= f.min && x <= f.max) : (value < -2 || double(value) > top))

@@ -324,9 +324,15 @@ std::string decode_split_positions(const ProgressiveMesh& mesh, uint32_t first,
   walk(mesh, first, stencils, models, sections.size(), q,
        [&](size_t t, uint32_t v, int c, int64_t guess, SignedModel& m, int64_t& got) {
          RangeDecoder& d = decoders[t];
-         got = g.add(guess, m.decode(d));
+         const int64_t residual = m.decode(d);
+         got = g.add(guess, residual);
          if (!d.ok()) {
            problem = "the positions of step " + std::to_string(t) + " are cut short";
+           return false;
+         }
+         if (!residual_fits(residual, g.lossless)) {
+           problem = "step " + std::to_string(t) + ": vertex " + std::to_string(v) + ": " +
+                     kLosslessResidual;
            return false;
          }
          if (!g.lossless && (got < -2 || double(got) > top[c])) {

@@ -1,12 +1,13 @@
 // Both decoders give every .dpm the same verdict: the C++ reader (`dynpm info --json`, and
 // tests/dpm_verdicts.cpp for the mutants, in one process) and dpm.js (decodeDpm) either accept
-// a file with the same counts, or reject it at the same byte (the "byte N" of both messages). The files: every .dpm of fuzz/regressions/dpm/,
+// a file with the same counts — and the same selective meshes and the same positions and field
+// values at the last step (verdicts.mjs) — or reject it at the same byte (the "byte N" of both
+// messages). The files: every .dpm of fuzz/regressions/dpm/,
 // fuzz/corpus/dpm/ and tests/bad/, and mutants of the small corpus files made here — chunks
 // stored uncompressed (so that records can be changed), files cut at and around every chunk
 // boundary, and single bytes changed in every chunk header and in the payloads (checksums
 // fixed, so that the payload checks are reached).
 import assert from 'node:assert/strict';
-import { execFile, execFileSync } from 'node:child_process';
 import { mkdirSync, readdirSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
@@ -14,10 +15,8 @@ import { test } from 'node:test';
 
 import { decompress } from 'fzstd';
 
-import { decodeDpm, Navigator } from '../src/dpm.js';
-import { SelectiveNavigator } from '../src/dpm/selective_navigator.js';
-import { SplitDependencies } from '../src/dpm/split_dependencies.js';
 import { chunkBytes, rawChunks, withFields } from './fields_fixture.mjs';
+import { chunksOf, cliVerdict, concat, jsVerdictOrCrash, same, toolVerdicts } from './verdicts.mjs';
 
 const CLI = process.env.DYNPM_CLI;
 const TOOL = process.env.DYNPM_VERDICTS;
@@ -41,133 +40,8 @@ function dpmFiles(folder) {
 // ---------------------------------------------------------------------------------------------
 // Verdicts
 
-// What both compare of an accepted file (the names of `dynpm info --json`).
-const COUNTS = ['complete', 'vertices', 'faces', 'vertices_present', 'faces_present',
-  'quads_present', 'triangles_present', 'base_vertices', 'base_faces', 'splits', 'steps',
-  'key_steps', 'fields', 'parts', 'lossless'];
-const byteOf = (message) => Number(/: byte (\d+):/.exec(message)?.[1] ?? NaN);
-
-function jsVerdict(bytes) {
-  let mesh, complete;
-  try {
-    ({ mesh, complete } = decodeDpm(bytes, 'x.dpm'));
-  } catch (e) {
-    if (e.constructor.name !== 'DpmError') throw e;  // a crash is a difference, shown as one
-    return { byte: byteOf(e.message), message: e.message };
-  }
-  const h = mesh.head;
-  const nav = new Navigator(mesh);
-  nav.setLevel(mesh.splitsLoaded);
-  const parts = new Set(mesh.partId.subarray(0, nav.faceCount));
-  return {
-    counts: {
-      complete,
-      vertices: h.vertexCount,
-      faces: h.faceCount,
-      vertices_present: mesh.vertexCountLoaded,
-      faces_present: nav.faceCount,
-      quads_present: nav.quadCount,
-      triangles_present: nav.triangleCount,
-      base_vertices: h.baseVertexCount,
-      base_faces: h.baseFaceCount,
-      splits: mesh.splitsLoaded,
-      steps: h.stepCount,
-      key_steps: h.keySteps.length,
-      fields: mesh.fields.length,
-      parts: parts.size,
-      lossless: mesh.lossless,
-    },
-    fieldList: fieldList(mesh, nav),
-    selective: selectiveCounts(mesh),
-    partList: [...mesh.partNames].map(([id, name]) => `${id}:${escaped(new TextEncoder().encode(name))}`).join(','),
-  };
-}
-
-// As dpm_verdicts prints it: NAME:LOCATION:COUNT per field (bytes of the name other than
-// A-Z a-z 0-9 _ . - as %XX), COUNT the values per step present.
-const escaped = (bytes) => Array.from(bytes, (c) =>
-  /[A-Za-z0-9_.-]/.test(String.fromCharCode(c)) ? String.fromCharCode(c) : `%${c.toString(16).toUpperCase().padStart(2, '0')}`).join('');
-function fieldList(mesh, nav) {
-  return mesh.fields.map((f) =>
-    `${escaped(f.nameBytes)}:${f.perFace ? 'element' : 'node'}:${f.perFace ? nav.faceCount : nav.vertexCount}`).join(',');
-}
-
-// As dpm_verdicts' selective_counts(): vertices/faces/quads of the selective navigator's mesh
-// for every other split (closed), the first half, and the last split with what it needs.
-function selectiveCounts(mesh) {
-  const n = mesh.splitsLoaded;
-  const deps = new SplitDependencies(mesh).update();
-  const nav = new SelectiveNavigator(mesh, deps);
-  const show = (wanted) => {
-    nav.setTarget(wanted);
-    const { vertices, faces } = nav.activeMesh();
-    let quads = 0;
-    for (let k = 3; k < faces.length; k += 4) quads += faces[k] >= 0 ? 1 : 0;
-    return `${vertices.length}/${faces.length / 4}/${quads}`;
-  };
-  const odd = [];
-  for (let i = 1; i < n; i += 2) odd.push(i);
-  const half = new Uint8Array(mesh.head.splitCount).fill(1, 0, Math.floor(n / 2));
-  const last = new Uint8Array(mesh.head.splitCount);
-  if (n > 0) deps.addWithDependencies(n - 1, last);
-  return [deps.close(odd, new Uint8Array(mesh.head.splitCount)), half, last].map(show).join(',');
-}
-
-// `dynpm info --json FILE`.
-function cliVerdict(path) {
-  return new Promise((resolve) => {
-    execFile(CLI, ['info', '--json', path], (error, stdout, stderr) => {
-      if (error?.code === 1) return resolve({ byte: byteOf(stderr), message: stderr.trim() });
-      assert.equal(error, null, `dynpm info ${path}: ${stderr}`);
-      const j = JSON.parse(stdout);
-      const counts = {};
-      for (const key of COUNTS) counts[key] = j[key];
-      counts.key_steps = j.key_steps.length;
-      counts.fields = j.fields.length;
-      resolve({ counts });
-    });
-  });
-}
-
-// `dpm_verdicts FILE...`: a line per file, "error MESSAGE" or "counts name=value …".
-function toolVerdicts(paths) {
-  const lines = execFileSync(TOOL, paths, { encoding: 'utf8', maxBuffer: 1 << 26 }).split('\n');
-  return paths.map((_, k) => {
-    const [kind, ...rest] = lines[k].split(' ');
-    if (kind === 'error') return { byte: byteOf(lines[k]), message: rest.join(' ') };
-    const counts = {};
-    for (const pair of rest) {
-      const [key, value] = pair.split('=');
-      counts[key] = key === 'complete' || key === 'lossless' ? value === '1' : key.endsWith('_list') || key === 'selective' ? value : Number(value);
-    }
-    return { counts: Object.fromEntries(COUNTS.map((key) => [key, counts[key]])), fieldList: counts.field_list, partList: counts.part_list, selective: counts.selective };
-  });
-}
-
 // ---------------------------------------------------------------------------------------------
 // Mutants
-
-// The chunks of a file that has its magic and version: [{at, tag, flags, stored, raw, payload}].
-function chunksOf(bytes) {
-  const view = new DataView(bytes.buffer, bytes.byteOffset, bytes.byteLength);
-  const chunks = [];
-  for (let at = 12; at + 24 <= bytes.length; ) {
-    const stored = view.getUint32(at + 8, true);
-    const tag = String.fromCharCode(...bytes.subarray(at, at + 4));
-    const body = bytes.subarray(at + 24, at + 24 + stored);
-    const flags = view.getUint32(at + 4, true);
-    chunks.push({ at, tag, flags, payload: flags & 1 ? decompress(body) : body });
-    at += 24 + stored;
-  }
-  return chunks;
-}
-
-function concat(parts) {
-  const out = new Uint8Array(parts.reduce((n, p) => n + p.length, 0));
-  let at = 0;
-  for (const p of parts) out.set(p, at), (at += p.length);
-  return out;
-}
 
 // The file with every chunk stored uncompressed, and files that differ from it in one place.
 function mutants(name, bytes) {
@@ -225,22 +99,6 @@ function mutants(name, bytes) {
 
 // ---------------------------------------------------------------------------------------------
 
-function same(cpp, js) {
-  if (cpp.counts && cpp.selective !== undefined && cpp.selective !== js.selective) return false;
-  if (cpp.counts && cpp.fieldList !== undefined && cpp.fieldList !== js.fieldList) return false;
-  if (cpp.counts && cpp.partList !== undefined && cpp.partList !== js.partList) return false;
-  if (cpp.counts) return JSON.stringify(js.counts) === JSON.stringify(cpp.counts);
-  return !Number.isNaN(cpp.byte) && js.byte === cpp.byte;
-}
-
-function jsVerdictOrCrash(bytes) {
-  try {
-    return jsVerdict(bytes);
-  } catch (e) {
-    return { crash: `${e.constructor.name}: ${e.message}` };
-  }
-}
-
 // Both decoders on `files` ({name, bytes}) against the C++ verdicts given: none may differ.
 function expectSameVerdicts(files, verdicts) {
   const differences = [];
@@ -270,13 +128,13 @@ test('the C++ reader and dpm.js give every file the same verdict', { skip }, asy
   const files = [...corpus, ...mutated].map((f, k) => ({ ...f, path: join(OUT, `${k}.dpm`) }));
   for (const f of files) writeFileSync(f.path, f.bytes);
   const verdicts = [
-    ...(await Promise.all(corpus.map((f, k) => cliVerdict(files[k].path)))),
-    ...toolVerdicts(files.slice(corpus.length).map((f) => f.path)),
+    ...(await Promise.all(corpus.map((f, k) => cliVerdict(CLI, files[k].path)))),
+    ...toolVerdicts(TOOL, files.slice(corpus.length).map((f) => f.path)),
   ];
   // The tool says what the CLI says.
-  const again = toolVerdicts(files.slice(0, corpus.length).map((f) => f.path));
+  const again = toolVerdicts(TOOL, files.slice(0, corpus.length).map((f) => f.path));
   corpus.forEach((f, k) => assert.ok(same(verdicts[k], again[k]), f.name));
-  corpus.forEach((f, k) => (verdicts[k].selective = again[k].selective));  // info has none
+  corpus.forEach((f, k) => Object.assign(verdicts[k], { selective: again[k].selective, values: again[k].values }));  // info has neither
   rmSync(OUT, { recursive: true, force: true });
   expectSameVerdicts(files, verdicts);
   const accepted = verdicts.filter((v) => v.counts).length;
@@ -357,7 +215,7 @@ test('files with fields: the C++ reader and dpm.js give the same verdict', async
   mkdirSync(OUT, { recursive: true });
   const probe = join(OUT, 'fields-probe.dpm');
   writeFileSync(probe, fielded[0].bytes);
-  const [verdict] = toolVerdicts([probe]);
+  const [verdict] = toolVerdicts(TOOL, [probe]);
   if (verdict.message && /unknown chunk tag/.test(verdict.message))
     return t.skip('the C++ reader does not know FDEF yet (branch a18-format)');
   const files = [
@@ -366,7 +224,7 @@ test('files with fields: the C++ reader and dpm.js give the same verdict', async
     ...fielded.filter((f) => f.bytes.length < 16384).flatMap((f) => mutants(f.name, f.bytes)),
   ].map((f, k) => ({ ...f, path: join(OUT, `fields-${k}.dpm`) }));
   for (const f of files) writeFileSync(f.path, f.bytes);
-  const verdicts = toolVerdicts(files.map((f) => f.path));
+  const verdicts = toolVerdicts(TOOL, files.map((f) => f.path));
   rmSync(OUT, { recursive: true, force: true });
   expectSameVerdicts(files, verdicts);
   assert.ok(verdicts.slice(0, fielded.length).every((v) => v.counts?.fields === 2), 'the fielded files are read');
@@ -427,7 +285,7 @@ function acceptedByBoth(damaged, prefix) {
   const files = damaged.map((f, k) => ({ ...f, path: join(OUT, `${prefix}-${k}.dpm`) }));
   mkdirSync(OUT, { recursive: true });
   for (const f of files) writeFileSync(f.path, f.bytes);
-  const verdicts = toolVerdicts(files.map((f) => f.path));
+  const verdicts = toolVerdicts(TOOL, files.map((f) => f.path));
   rmSync(OUT, { recursive: true, force: true });
   expectSameVerdicts(files, verdicts);
   const accepted = files.filter((f, k) => verdicts[k].counts).map((f) => f.name.replace(/^.*, /, ''));

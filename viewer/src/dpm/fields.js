@@ -4,7 +4,7 @@
 // (src/progressive/dpm_read.cpp). Values are kept as the file's quantized integers, one
 // Int32Array per step (f32 bit patterns when lossless), as the positions are.
 
-import { bucket, CONTEXTS } from './positions.js';
+import { bucket, CONTEXTS, LOSSLESS_RESIDUAL, residualFits } from './positions.js';
 import { bitModels, decodeSigned, RangeDecoder, SIGNED_MODEL_SIZE } from './range_coder.js';
 
 export const FIELD_NODE = 0;
@@ -188,7 +188,9 @@ function parseBaseValues(r, f, end) {
     const asFloat = f.lossless ? new Float32Array(cur.buffer) : null;
     const prev = t > 0 ? f.q[t - 1] : null;
     for (let v = 0; v < end; v++) {
-      const x = r.svarint() + (t > 0 ? prev[v] : v > 0 ? cur[v - 1] : 0);
+      const residual = r.svarint();
+      if (!residualFits(residual, f.lossless)) r.fail(`${f.name}: item ${v} step ${t}: ${LOSSLESS_RESIDUAL}`);
+      const x = residual + (t > 0 ? prev[v] : v > 0 ? cur[v - 1] : 0);
       if (checked && (x < -2 || x > top))
         r.fail(`${f.name}: item ${v} step ${t}: a value far outside [min, max]`);
       cur[v] = x;  // lossless: Int32Array wraps modulo 2^32, as the residual arithmetic requires
@@ -222,6 +224,7 @@ function decodeSplitField(f, first, end, parent, offset, ring, models, sections)
       const e = v - first;
       const r = decodeSigned(d, models[t], (t > 0 ? bucket(before[e]) : 0) * SIGNED_MODEL_SIZE);
       if (!d.ok()) return `step ${t}: the values are cut short`;
+      if (!residualFits(r, f.lossless)) return `step ${t}: item ${v}: ${LOSSLESS_RESIDUAL}`;
       let guess;
       if (t === 0) guess = cur[parent[v - offset]];
       else if (predictor === PREDICTOR_PARENT) {

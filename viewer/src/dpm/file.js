@@ -13,7 +13,7 @@ import { crc32, DpmError, Reader } from './bytes.js';
 import { fieldModels, maxFieldValueBytes, parseFieldDefs, parseFieldValues } from './fields.js';
 import { parsePartNames } from './parts.js';
 import { parseVariants } from './variants.js';
-import { ChunkStencils, decodeSplitPositions, positionModels } from './positions.js';
+import { ChunkStencils, decodeSplitPositions, LOSSLESS_RESIDUAL, positionModels, residualFits } from './positions.js';
 import { HEAD_FLAG_LOSSLESS, ProgressiveMesh } from './progressive_mesh.js';
 import { decodeSplitRecords, RecordModels } from './split_records.js';
 
@@ -459,7 +459,9 @@ function parsePositions(r, mesh, count) {
     const cur = q[t];
     const prev = t > 0 ? q[t - 1] : null;
     for (let i = 0; i < 3 * count; i++) {
-      const x = r.svarint() + (t > 0 ? prev[i] : i >= 3 ? cur[i - 3] : 0);
+      const residual = r.svarint();
+      if (!residualFits(residual, mesh.lossless)) r.fail(`vertex ${Math.floor(i / 3)} step ${t}: ${LOSSLESS_RESIDUAL}`);
+      const x = residual + (t > 0 ? prev[i] : i >= 3 ? cur[i - 3] : 0);
       if (checked && (x < -2 || x > top[i % 3]))
         r.fail(`vertex ${Math.floor(i / 3)} step ${t}: a position far outside the bounding box`);
       cur[i] = x;

@@ -11,6 +11,11 @@ import { WING_SLOT_SHIFT, WING_WAS_TRIANGLE } from './progressive_mesh.js';
 
 // A residual's contexts, as the field sections' (fields.js): the bucket of the same item's
 // residual at the step before.
+// A lossless residual is a signed 32-bit value (FORMAT.md "Positions"): one outside is refused
+// (a number is exact below 2^53 only; the C++ reader wraps 64 bits: dpm_format.h residual_fits).
+export const residualFits = (r, lossless) => !lossless || (r >= -0x80000000 && r <= 0x7fffffff);
+export const LOSSLESS_RESIDUAL = 'a lossless residual outside 32 bits';
+
 export const CONTEXTS = 5;
 // The SignedModel of coordinate c in context x starts at (c · CONTEXTS + x) · SIGNED_MODEL_SIZE.
 const COORDINATE_MODELS = CONTEXTS * SIGNED_MODEL_SIZE;
@@ -270,6 +275,7 @@ function losslessStep({ d, m, cur, prev, t, first, n }, stencils, before) {
       const e = 3 * k + c;
       const r = decodeSigned(d, m, c * COORDINATE_MODELS + (t > 0 ? bucket(before[e]) : 0) * SIGNED_MODEL_SIZE);
       if (!d.ok()) return `the positions of step ${t} are cut short`;
+      if (!residualFits(r, true)) return `step ${t}: vertex ${first + k}: ${LOSSLESS_RESIDUAL}`;
       cur[v + c] = guess + r;
       before[e] = (cur[v + c] - (guess | 0)) | 0;  // modulo 2^32, as a signed value
     }
