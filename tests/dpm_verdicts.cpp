@@ -65,7 +65,8 @@ std::string selective_counts(const dynpm::ProgressiveMesh& m) {
   return out;
 }
 
-// FNV-1a over the bytes of `values` as stored (little-endian float bits).
+// FNV-1a over the bytes of `values` as stored (little-endian float bits; ids as their int64
+// bytes, in pairs of words).
 uint32_t fnv1a(uint32_t hash, std::span<const float> values) {
   for (float v : values) {
     const uint32_t word = std::bit_cast<uint32_t>(v);
@@ -75,13 +76,16 @@ uint32_t fnv1a(uint32_t hash, std::span<const float> values) {
 }
 
 // What the file decodes to at its last step T: a hash of every present vertex's position (in
-// progressive order) and then of each field's values, as hex, "@T"; "-" without steps.
+// progressive order), then of each field's values, then of the node and element ids (int64
+// little-endian), as hex, "@T"; "-" without steps.
 std::string values_hash(const dynpm::ProgressiveMesh& m) {
   if (m.positions.empty()) return "-";
   const size_t t = m.positions.size() - 1;
   uint32_t hash = fnv1a(2166136261u, m.positions[t]);
   for (const dynpm::ProgressiveField& f : m.fields)
     if (t < f.values.size()) hash = fnv1a(hash, f.values[t]);
+  for (const auto* ids : {&m.node_ids, &m.element_ids})
+    hash = fnv1a(hash, std::span(reinterpret_cast<const float*>(ids->data()), ids->size() * 2));
   char hex[16];
   std::snprintf(hex, sizeof hex, "%08x", hash);
   return std::string(hex) + "@" + std::to_string(t);

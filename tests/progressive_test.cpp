@@ -224,6 +224,34 @@ TEST(Progressive, DamagedFilesAreRefusedWithThePlace) {
   }
 }
 
+// Node and element ids lie strictly within ±2^51 (FORMAT.md "BASE payload"), so that dpm.js
+// holds them exactly and no reader's sum overflows: ids just inside come back (base and split
+// vertices, a created face), the writer refuses one outside, and the reader refuses a BASE whose
+// deltas overflowed int64 before (undefined behaviour: fuzz/regressions/dpm/
+// base-node-id-overflow.dpm, made by hand).
+TEST(Progressive, IdsWithinTwoToThe51ComeBackAndOthersAreRefused) {
+  const Animation a = load(test::sample_dir() + "/frame_00*.obj");
+  ProgressiveMesh pm = build(a, false);
+  const int64_t limit = int64_t{1} << 51;
+  pm.node_ids[0] = limit - 1;  // against 0
+  pm.node_ids[1] = 1 - limit;  // a delta of 2 − 2^52
+  pm.node_ids.back() = 1 - limit;
+  pm.element_ids.back() = limit - 1;
+  const ProgressiveMesh back = through_file(pm);
+  EXPECT_EQ(back.node_ids, pm.node_ids);
+  EXPECT_EQ(back.element_ids, pm.element_ids);
+  pm.node_ids.back() = limit;
+  auto refused = encode_dpm(pm);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_NE(refused.message().find("node id 2251799813685248 is not within ±2^51"),
+            std::string::npos)
+      << refused.message();
+  auto mesh = read_dpm(test::source_dir() + "/fuzz/regressions/dpm/base-node-id-overflow.dpm");
+  ASSERT_FALSE(mesh.ok());
+  EXPECT_NE(mesh.message().find("byte 220: an id is not within ±2^51"), std::string::npos)
+      << mesh.message();
+}
+
 // A SPLT is sections (docs/FORMAT.md "SPLT payload"): 2 + m of them, their sizes adding up to the
 // payload, each range-coded one decoded to its last byte.
 TEST(Progressive, SplitSectionsAreReadToTheirLastByte) {

@@ -209,6 +209,22 @@ inline bool has_element_field(const ProgressiveMesh& mesh) {
 }
 
 // Attribute deltas continue across chunks (docs/FORMAT.md).
+// Node and element ids lie strictly within ±2^51 (FORMAT.md "BASE payload"): exact as
+// JavaScript numbers, also through a split's sum of a guess, an index step and a residual, and no
+// int64 sum of them overflows. A BASE delta (an id's or an original index's) lies strictly within
+// ±2^52: any two valid ids differ by less, and its zigzag fits the 53 bits a number holds exactly.
+inline constexpr int64_t kIdLimit = int64_t{1} << 51;
+inline constexpr const char* kIdOutOfRange = "an id is not within ±2^51";
+inline bool id_fits(int64_t id) { return id > -kIdLimit && id < kIdLimit; }
+// value += delta, for a BASE delta: false when the delta or the sum is out of range (the sum
+// must lie in [low, end)); value is then meaningless, the file refused.
+inline bool add_base_delta(int64_t& value, int64_t delta, int64_t low = 1 - kIdLimit,
+                           int64_t end = kIdLimit) {
+  if (delta <= -2 * kIdLimit || delta >= 2 * kIdLimit) return false;
+  value += delta;  // |value| < 2^51 before: no overflow
+  return value >= low && value < end;
+}
+
 struct Deltas {
   int64_t vertex_index = 0, node_id = 0, element_id = 0, face_index = 0;
 };

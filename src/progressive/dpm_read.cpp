@@ -406,10 +406,9 @@ class Decoder {
 
   Status read_vertex_attributes(ByteReader& r, uint32_t count) {
     for (uint32_t k = 0; k < count; ++k) {
-      d_.vertex_index += r.svarint();
-      d_.node_id += r.svarint();
-      if (d_.vertex_index < 0 || d_.vertex_index >= mesh_.full_vertex_count)
-        return bad(r, "a vertex's original index is out of range");
+      const bool index = add_base_delta(d_.vertex_index, r.svarint(), 0, mesh_.full_vertex_count);
+      if (!add_base_delta(d_.node_id, r.svarint()) || !index)
+        return bad(r, index ? kIdOutOfRange : "a vertex's original index is out of range");
       mesh_.vertex_original_index.push_back(static_cast<uint32_t>(d_.vertex_index));
       mesh_.node_ids.push_back(d_.node_id);
     }
@@ -419,11 +418,11 @@ class Decoder {
   Status read_face_attributes(ByteReader& r, uint32_t count) {
     for (uint32_t k = 0; k < count; ++k) {
       const int64_t part = r.svarint();
-      d_.element_id += r.svarint();
-      d_.face_index += r.svarint();
+      const bool id = add_base_delta(d_.element_id, r.svarint());
+      const bool index = add_base_delta(d_.face_index, r.svarint(), 0, mesh_.full_face_count);
       if (part < INT32_MIN || part > INT32_MAX) return bad(r, "a part id is out of range");
-      if (d_.face_index < 0 || d_.face_index >= mesh_.full_face_count)
-        return bad(r, "a face's original index is out of range");
+      if (!index) return bad(r, "a face's original index is out of range");
+      if (!id) return bad(r, kIdOutOfRange);
       mesh_.part_ids.push_back(static_cast<int32_t>(part));
       mesh_.element_ids.push_back(d_.element_id);
       mesh_.face_original_index.push_back(static_cast<uint32_t>(d_.face_index));

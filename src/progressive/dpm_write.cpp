@@ -204,6 +204,12 @@ DpmStepEncoder& DpmStepEncoder::operator=(DpmStepEncoder&&) noexcept = default;
 DpmStepEncoder::~DpmStepEncoder() = default;
 
 Result<DpmStepEncoder> DpmStepEncoder::start(const ProgressiveMesh& mesh, unsigned threads) {
+  // Ids a reader would refuse (dpm_format.h kIdLimit) are refused here, before any is coded.
+  for (const auto* ids : {&mesh.node_ids, &mesh.element_ids})
+    for (size_t k = 0; k < ids->size(); ++k)
+      if (!id_fits((*ids)[k]))
+        return Status::error(std::string(ids == &mesh.node_ids ? "node" : "element") + " id " +
+                             std::to_string((*ids)[k]) + " is not within ±2^51, as a .dpm needs");
   auto state = std::make_unique<State>(mesh);
   state->threads = thread_count(threads);
   uint32_t chunk = kFirstChunkSplits;

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "core/face_geometry.h"
+#include "dpm_format.h"
 
 namespace dynpm::progressive {
 namespace {
@@ -370,6 +371,7 @@ std::string code_attributes(Coder<kDecode>& c, RecordModels& st, ProgressiveMesh
   c.part = kNodeId;
   node = node_guess + (index - index_guess) +
          c.s(st.node_id, node - node_guess - (index - index_guess));
+  if (!id_fits(node)) return at_split(i, kIdOutOfRange);
   if constexpr (kDecode) {
     mesh.vertex_original_index.push_back(static_cast<uint32_t>(index));
     mesh.node_ids.push_back(node);
@@ -415,6 +417,7 @@ std::string code_attributes(Coder<kDecode>& c, RecordModels& st, ProgressiveMesh
     element = element_guess + step + c.s(st.element_id, element - element_guess - step);
     if constexpr (kDecode) {
       if (part < INT32_MIN || part > INT32_MAX) return at_split(i, "a part id is out of range");
+      if (!id_fits(element)) return at_split(i, kIdOutOfRange);
       mesh.part_ids.push_back(static_cast<int32_t>(part));
       mesh.face_original_index.push_back(static_cast<uint32_t>(face));
       mesh.element_ids.push_back(element);

@@ -84,7 +84,8 @@ function selectiveCounts(mesh) {
 }
 
 // As dpm_verdicts' values_hash(): FNV-1a over the float bits of every present vertex's position
-// at the last step T, then of each field's values there, as hex, "@T"; "-" without steps.
+// at the last step T, then of each field's values there, then over the node and element ids as
+// int64, as hex, "@T"; "-" without steps.
 function valuesHash(mesh, nav) {
   const steps = mesh.head.stepCount;
   if (steps === 0) return '-';
@@ -96,6 +97,8 @@ function valuesHash(mesh, nav) {
   };
   add(mesh.positionsAt(t, n, new Float32Array(3 * n)));
   for (const f of mesh.fields) add(f.valuesAt(t, f.perFace ? nav.faceCount : nav.vertexCount));
+  for (const [ids, count] of [[mesh.nodeId, nav.vertexCount], [mesh.elementId, nav.faceCount]])
+    add(BigInt64Array.from(ids.subarray(0, count), (id) => BigInt(id)));
   return `${hash.toString(16).padStart(8, '0')}@${t}`;
 }
 

@@ -15,7 +15,7 @@ import { parsePartNames } from './parts.js';
 import { parseVariants } from './variants.js';
 import { ChunkStencils, decodeSplitPositions, LOSSLESS_RESIDUAL, positionModels, residualFits } from './positions.js';
 import { HEAD_FLAG_LOSSLESS, ProgressiveMesh } from './progressive_mesh.js';
-import { decodeSplitRecords, RecordModels } from './split_records.js';
+import { baseDeltaFits, decodeSplitRecords, idFits, RecordModels } from './split_records.js';
 
 export const MAGIC = Uint8Array.of(0x89, 0x44, 0x50, 0x4d, 0x0d, 0x0a, 0x1a, 0x0a);
 const VERSION = 7;
@@ -419,14 +419,18 @@ function parseBase(r, mesh) {
   mesh.faceCountAt[0] = nf;
 }
 
-// Original indices must name an input vertex (face); part ids are int32 (the C++ reader's
-// read_vertex_attributes() and read_face_attributes()).
+// Original indices must name an input vertex (face); part ids are int32; node and element ids
+// lie strictly within ±2^51 and a delta within ±2^52 (the C++ reader's read_vertex_attributes()
+// and read_face_attributes(); idFits() in split_records.js).
+
 function parseVertexIds(r, mesh, first, count) {
   const V = mesh.head.vertexCount;
   for (let v = first; v < first + count; v++) {
-    const original = (mesh.lastVertexOriginal += r.svarint());
-    mesh.nodeId[v] = mesh.lastNodeId += r.svarint();
-    if (!(original >= 0 && original < V)) r.fail(`vertex ${v}: original index ${original}`);
+    const indexDelta = r.svarint(), idDelta = r.svarint();
+    const original = (mesh.lastVertexOriginal += indexDelta);
+    mesh.nodeId[v] = mesh.lastNodeId += idDelta;
+    if (!(baseDeltaFits(indexDelta) && original >= 0 && original < V)) r.fail(`vertex ${v}: original index ${original}`);
+    if (!(baseDeltaFits(idDelta) && idFits(mesh.lastNodeId))) r.fail(`vertex ${v}: node id ${mesh.lastNodeId} is not within ±2^51`);
     mesh.vertexOriginal[v] = original;
   }
 }
@@ -436,11 +440,12 @@ function parseFaceIds(r, mesh, first, count) {
   for (let f = first; f < first + count; f++) {
     // part_id is absolute; element_id and original_index are deltas (FORMAT.md, and the C++
     // writer: the "delta" note binds to the fields after part_id).
-    const part = r.svarint();
-    mesh.elementId[f] = mesh.lastElementId += r.svarint();
-    const original = (mesh.lastFaceOriginal += r.svarint());
+    const part = r.svarint(), idDelta = r.svarint(), indexDelta = r.svarint();
+    mesh.elementId[f] = mesh.lastElementId += idDelta;
+    const original = (mesh.lastFaceOriginal += indexDelta);
     if (!(part >= -2147483648 && part <= 2147483647)) r.fail(`face ${f}: part id ${part}`);
-    if (!(original >= 0 && original < F)) r.fail(`face ${f}: original index ${original}`);
+    if (!(baseDeltaFits(indexDelta) && original >= 0 && original < F)) r.fail(`face ${f}: original index ${original}`);
+    if (!(baseDeltaFits(idDelta) && idFits(mesh.lastElementId))) r.fail(`face ${f}: element id ${mesh.lastElementId} is not within ±2^51`);
     mesh.partId[f] = part;
     mesh.faceOriginal[f] = original;
   }

@@ -15,6 +15,14 @@ import { DpmError } from './bytes.js';
 
 // Split errors on the file's grid: code 0 is 0, code c ≥ 1 is P · (16 + (c−1) mod 16) ·
 // 2^((c−1) div 16 − 44), P the power of two at or above HEAD's base_error. Exact in f64 and f32.
+// Node and element ids lie strictly within ±2^51 (FORMAT.md "BASE payload"; C++ dpm_format.h
+// kIdLimit): exact as numbers, also through a split's sum of a guess, an index step and a
+// residual. A BASE delta lies strictly within ±2^52: any two valid ids differ by less, and its
+// zigzag fits the 53 bits a number holds exactly (a larger one is never mistaken for a fitting one).
+export const ID_LIMIT = 2 ** 51;
+export const idFits = (id) => id > -ID_LIMIT && id < ID_LIMIT;
+export const baseDeltaFits = (delta) => delta > -2 * ID_LIMIT && delta < 2 * ID_LIMIT;
+
 const ERROR_STEPS = 16;
 const ERROR_OCTAVES = 40;
 export const TOP_ERROR_CODE = ERROR_STEPS * ERROR_OCTAVES + 1;
@@ -523,7 +531,9 @@ function decodeAttributes(d, st, mesh, i) {
   const index = free.nth(rank);
   free.take(index);
   mesh.vertexOriginal[v0] = index;
-  mesh.nodeId[v0] = mesh.nodeId[v1] + (index - indexGuess) + st.nodeId.decode(d);
+  const node = mesh.nodeId[v1] + (index - indexGuess) + st.nodeId.decode(d);
+  if (!idFits(node)) return `split ${i}: node id ${node} is not within ±2^51`;
+  mesh.nodeId[v0] = node;
 
   const firstCreated = mesh.faceCountAt[i];
   let like = -1;
@@ -549,6 +559,7 @@ function decodeAttributes(d, st, mesh, i) {
     freeFaces.take(face);
     const element = elementGuess + (face - faceGuess) + st.elementId.decode(d);
     if (!(part >= -2147483648 && part <= 2147483647)) return `split ${i}: a part id is out of range`;
+    if (!idFits(element)) return `split ${i}: element id ${element} is not within ±2^51`;
     mesh.partId[g] = part;
     mesh.faceOriginal[g] = face;
     mesh.elementId[g] = element;
