@@ -91,6 +91,15 @@ std::string values_hash(const dynpm::ProgressiveMesh& m) {
   return std::string(hex) + "@" + std::to_string(t);
 }
 
+// The message on one line: a name it quotes may hold any byte, and a line break in it would give
+// the next files' verdicts to the wrong files (it did: differential fuzzing, 2026-12-06).
+std::string one_line(const std::string& message) {
+  std::string out;
+  for (char c : message)
+    out += c == '\n' ? std::string("\\n") : c == '\r' ? std::string("\\r") : std::string(1, c);
+  return out;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -98,7 +107,7 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     auto mesh = read_dpm(argv[i]);
     if (!mesh) {
-      std::printf("error %s\n", mesh.message().c_str());
+      std::printf("error %s\n", one_line(mesh.message()).c_str());
       continue;
     }
     const ProgressiveMesh& m = *mesh;

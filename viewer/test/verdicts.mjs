@@ -122,6 +122,7 @@ export function cliVerdict(cli, path) {
 // "counts name=value …".
 export function toolVerdicts(tool, paths) {
   const lines = execFileSync(tool, paths, { encoding: 'utf8', maxBuffer: 1 << 26 }).split('\n');
+  assert.equal(lines.length, paths.length + 1, 'dpm_verdicts prints one line per file');
   return paths.map((_, k) => {
     const [kind, ...rest] = lines[k].split(' ');
     if (kind === 'error') return { byte: byteOf(lines[k]), message: rest.join(' ') };
