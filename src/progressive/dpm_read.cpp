@@ -383,9 +383,9 @@ class Decoder {
       largest = std::max({largest, std::abs(m.bbox_min[k]), std::abs(m.bbox_max[k])});
     if (!m.lossless && m.quant_step < 4 * largest * std::ldexp(1.0, -23))
       return bad(r, "the quantization step is finer than float32 holds in the bounding box");
-    if (!(std::isfinite(m.max_error) && m.max_error >= 0 && std::isfinite(m.base_error) &&
-          m.base_error >= 0))
-      return bad(r, "the header's error bounds are not finite numbers ≥ 0");
+    if (!(std::isfinite(m.max_error) && m.max_error >= 0 && m.base_error >= 0 &&
+          m.base_error <= kMaxBaseError))
+      return bad(r, "the header's error bounds are not finite numbers ≥ 0 (base error ≤ 2^1000)");
     m.times.resize(steps);
     for (double& t : m.times) t = r.get<double>();
     for (double t : m.times)

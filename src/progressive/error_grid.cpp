@@ -10,7 +10,9 @@ namespace dynpm::progressive {
 
 double error_reference(double base_error) {
   double p = 1;
-  if (!(base_error > 0) || !std::isfinite(base_error)) return p;
+  // Above 2^1023 no power of two is ≥ base_error, and the loops below never ended (both readers
+  // hung on such a HEAD: docs/RELIABILITY.md finding 8); the readers refuse it first.
+  if (!(base_error > 0 && base_error <= kMaxBaseError)) return p;
   while (p < base_error) p *= 2;
   while (p / 2 >= base_error) p /= 2;
   return p;

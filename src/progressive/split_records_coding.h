@@ -35,6 +35,9 @@ namespace dynpm::progressive {
 inline constexpr uint32_t kErrorStepsPerOctave = 16;
 inline constexpr uint32_t kErrorOctaves = 40;
 inline constexpr uint32_t kTopErrorCode = kErrorStepsPerOctave * kErrorOctaves + 1;  // value P
+// HEAD's base_error is at most 2^1000 (FORMAT.md "HEAD"): the grid needs a power of two P ≥ it,
+// times 31, to be finite.
+inline constexpr double kMaxBaseError = 0x1p1000;
 double error_reference(double base_error);
 float error_of_code(uint32_t code, double reference);
 // The smallest code whose value is ≥ e (kTopErrorCode when none is below it).

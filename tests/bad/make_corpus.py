@@ -264,6 +264,11 @@ def main():
         payload[96:104] = struct.pack("<d", math.nan)
         write("base-error-nan.dpm", data[:head] + chunk(b"HEAD", 0, len(payload), bytes(payload))
               + data[base:])
+        # base_error finite but above 2^1023: no power of two is ≥ it, and the split errors' grid
+        # (its P) looped forever in both readers (docs/RELIABILITY.md finding 8); refused in HEAD.
+        payload[96:104] = struct.pack("<d", 1.6e308)
+        write("base-error-huge.dpm", data[:head] + chunk(b"HEAD", 0, len(payload), bytes(payload))
+              + data[base:])
         # HEAD claims 30 million vertices and faces (the counts kept consistent, the checksum
         # made again) for a file of a few hundred bytes: both readers must size what they keep by
         # the splits that arrive, not by the claim (at 300 million it took 3.6 GB and 10 s in C++,

@@ -15,7 +15,7 @@ import { parsePartNames } from './parts.js';
 import { parseVariants } from './variants.js';
 import { ChunkStencils, decodeSplitPositions, LOSSLESS_RESIDUAL, positionModels, residualFits } from './positions.js';
 import { HEAD_FLAG_LOSSLESS, ProgressiveMesh } from './progressive_mesh.js';
-import { baseDeltaFits, decodeSplitRecords, idFits, RecordModels } from './split_records.js';
+import { baseDeltaFits, decodeSplitRecords, idFits, MAX_BASE_ERROR, RecordModels } from './split_records.js';
 
 export const MAGIC = Uint8Array.of(0x89, 0x44, 0x50, 0x4d, 0x0d, 0x0a, 0x1a, 0x0a);
 const VERSION = 7;
@@ -373,8 +373,8 @@ function parseHead(r) {
   const largest = Math.max(...h.bboxMin.map(Math.abs), ...h.bboxMax.map(Math.abs));
   if (!(h.flags & HEAD_FLAG_LOSSLESS) && h.quantStep < 4 * largest * 2 ** -23)
     r.fail(`quant_step ${h.quantStep} is finer than float32 holds in the bounding box`);
-  if (!(h.maxError >= 0 && h.maxError < Infinity && h.baseError >= 0 && h.baseError < Infinity))
-    r.fail('the error bounds are not finite numbers ≥ 0');
+  if (!(h.maxError >= 0 && h.maxError < Infinity && h.baseError >= 0 && h.baseError <= MAX_BASE_ERROR))
+    r.fail('the error bounds are not finite numbers ≥ 0 (base error ≤ 2^1000)');
   h.times = new Float64Array(h.stepCount);
   for (let t = 0; t < h.stepCount; t++) h.times[t] = r.f64();
   if (!h.times.every(Number.isFinite)) r.fail('a step time is not finite');

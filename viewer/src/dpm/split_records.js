@@ -20,6 +20,9 @@ import { DpmError } from './bytes.js';
 // residual. A BASE delta lies strictly within ±2^52: any two valid ids differ by less, and its
 // zigzag fits the 53 bits a number holds exactly (a larger one is never mistaken for a fitting one).
 export const ID_LIMIT = 2 ** 51;
+// HEAD's base_error is at most 2^1000 (FORMAT.md "HEAD"; C++ kMaxBaseError): the errors' grid
+// needs a power of two P ≥ base_error, times 31, to be finite.
+export const MAX_BASE_ERROR = 2 ** 1000;
 export const idFits = (id) => id > -ID_LIMIT && id < ID_LIMIT;
 export const baseDeltaFits = (delta) => delta > -2 * ID_LIMIT && delta < 2 * ID_LIMIT;
 
@@ -29,7 +32,9 @@ export const TOP_ERROR_CODE = ERROR_STEPS * ERROR_OCTAVES + 1;
 
 export function errorReference(baseError) {
   let p = 1;
-  if (!(baseError > 0) || !Number.isFinite(baseError)) return p;
+  // Above 2^1023 no power of two is ≥ baseError, and the loops below never ended (readDpm hung on
+  // such a HEAD: docs/RELIABILITY.md finding 8); the reader refuses it first (MAX_BASE_ERROR).
+  if (!(baseError > 0 && baseError <= MAX_BASE_ERROR)) return p;
   while (p < baseError) p *= 2;
   while (p / 2 >= baseError) p /= 2;
   return p;
