@@ -208,7 +208,6 @@ inline bool has_element_field(const ProgressiveMesh& mesh) {
   return false;
 }
 
-// Attribute deltas continue across chunks (docs/FORMAT.md).
 // Node and element ids lie strictly within ±2^51 (FORMAT.md "BASE payload"): exact as
 // JavaScript numbers, also through a split's sum of a guess, an index step and a residual, and no
 // int64 sum of them overflows. A BASE delta (an id's or an original index's) lies strictly within
@@ -225,6 +224,7 @@ inline bool add_base_delta(int64_t& value, int64_t delta, int64_t low = 1 - kIdL
   return value >= low && value < end;
 }
 
+// Attribute deltas continue across chunks (docs/FORMAT.md).
 struct Deltas {
   int64_t vertex_index = 0, node_id = 0, element_id = 0, face_index = 0;
 };

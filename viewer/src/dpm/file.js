@@ -422,7 +422,6 @@ function parseBase(r, mesh) {
 // Original indices must name an input vertex (face); part ids are int32; node and element ids
 // lie strictly within ±2^51 and a delta within ±2^52 (the C++ reader's read_vertex_attributes()
 // and read_face_attributes(); idFits() in split_records.js).
-
 function parseVertexIds(r, mesh, first, count) {
   const V = mesh.head.vertexCount;
   for (let v = first; v < first + count; v++) {

@@ -9,13 +9,13 @@ import { Growable } from './bytes.js';
 import { bitModels, decodeSigned, RangeDecoder, SIGNED_MODEL_SIZE } from './range_coder.js';
 import { WING_SLOT_SHIFT, WING_WAS_TRIANGLE } from './progressive_mesh.js';
 
-// A residual's contexts, as the field sections' (fields.js): the bucket of the same item's
-// residual at the step before.
 // A lossless residual is a signed 32-bit value (FORMAT.md "Positions"): one outside is refused
 // (a number is exact below 2^53 only; the C++ reader wraps 64 bits: dpm_format.h residual_fits).
 export const residualFits = (r, lossless) => !lossless || (r >= -0x80000000 && r <= 0x7fffffff);
 export const LOSSLESS_RESIDUAL = 'a lossless residual outside 32 bits';
 
+// A residual's contexts, as the field sections' (fields.js): the bucket of the same item's
+// residual at the step before.
 export const CONTEXTS = 5;
 // The SignedModel of coordinate c in context x starts at (c · CONTEXTS + x) · SIGNED_MODEL_SIZE.
 const COORDINATE_MODELS = CONTEXTS * SIGNED_MODEL_SIZE;

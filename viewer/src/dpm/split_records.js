@@ -13,19 +13,19 @@ import {
 } from './progressive_mesh.js';
 import { DpmError } from './bytes.js';
 
-// Split errors on the file's grid: code 0 is 0, code c ≥ 1 is P · (16 + (c−1) mod 16) ·
-// 2^((c−1) div 16 − 44), P the power of two at or above HEAD's base_error. Exact in f64 and f32.
 // Node and element ids lie strictly within ±2^51 (FORMAT.md "BASE payload"; C++ dpm_format.h
 // kIdLimit): exact as numbers, also through a split's sum of a guess, an index step and a
 // residual. A BASE delta lies strictly within ±2^52: any two valid ids differ by less, and its
 // zigzag fits the 53 bits a number holds exactly (a larger one is never mistaken for a fitting one).
 export const ID_LIMIT = 2 ** 51;
-// HEAD's base_error is at most 2^1000 (FORMAT.md "HEAD"; C++ kMaxBaseError): the errors' grid
-// needs a power of two P ≥ base_error, times 31, to be finite.
-export const MAX_BASE_ERROR = 2 ** 1000;
 export const idFits = (id) => id > -ID_LIMIT && id < ID_LIMIT;
 export const baseDeltaFits = (delta) => delta > -2 * ID_LIMIT && delta < 2 * ID_LIMIT;
 
+// Split errors on the file's grid: code 0 is 0, code c ≥ 1 is P · (16 + (c−1) mod 16) ·
+// 2^((c−1) div 16 − 44), P the power of two at or above HEAD's base_error. Exact in f64 and f32.
+// HEAD's base_error is at most 2^1000 (FORMAT.md "HEAD"; C++ kMaxBaseError): P times 31 must be
+// finite.
+export const MAX_BASE_ERROR = 2 ** 1000;
 const ERROR_STEPS = 16;
 const ERROR_OCTAVES = 40;
 export const TOP_ERROR_CODE = ERROR_STEPS * ERROR_OCTAVES + 1;
