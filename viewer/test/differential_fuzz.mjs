@@ -95,10 +95,11 @@ const corpus = ['fuzz/corpus/dpm', 'fuzz/regressions/dpm', 'tests/bad']
   .concat(folders.flatMap(filesIn));
 // Three mutants in four come from a file the C++ reader accepts (most of a fuzzer's corpus is
 // refused files), the rest from any.
-mkdirSync(options.out, { recursive: true });
-const probe = join(options.out, 'probe.dpm');
-const sources = corpus.map((f) => (writeFileSync(probe, f.bytes), toolVerdicts(options.tool, [probe])[0]));
-rmSync(probe);
+const probes = join(options.out, 'probe');
+mkdirSync(probes, { recursive: true });
+const probePaths = corpus.map((f, k) => (writeFileSync(join(probes, `${k}.dpm`), f.bytes), join(probes, `${k}.dpm`)));
+const sources = toolVerdicts(options.tool, probePaths);  // one process for the whole corpus
+rmSync(probes, { recursive: true, force: true });
 const acceptedSources = corpus.filter((f, k) => sources[k].counts);
 const random = generator(Number(options.seed));
 const batch = Number(options.batch), rounds = Number(options.rounds);
