@@ -31,13 +31,15 @@ export class ProgressiveMesh {
     // per face a split re-creates: the face that stands for it while the split is undone
     // (Int32Array(F), −1 for base faces; only when a field is per element)
     this.faceHeir = null;
-    this.vertexOriginal = new Float64Array(V);  // per vertex: its position in the input's order
+    // Original indices lie in [0, V) and [0, F), part ids in int32 (both readers refuse others);
+    // node and element ids need 53 bits (±2^51).
+    this.vertexOriginal = new Int32Array(V);  // per vertex: its position in the input's order
     this.nodeId = new Float64Array(V);  // per vertex: the FE node id
     // Faces as the base mesh has them; splits re-create the others (Navigator).
     this.baseDegree = null;  // per base face: 3 or 4 (Uint8Array, from BASE)
     this.baseCorners = null;  // per base face: 4 slots, −1 in slot 3 of a triangle (Int32Array)
-    this.faceOriginal = new Float64Array(F);  // per face: its position in the input's order
-    this.partId = new Float64Array(F);  // per face: the FE part id
+    this.faceOriginal = new Int32Array(F);  // per face: its position in the input's order
+    this.partId = new Int32Array(F);  // per face: the FE part id
     this.elementId = new Float64Array(F);  // per face: the FE element id
     // The split records (paper §4's vsp), flat; split i creates vertex v0 = b + i.
     const S = head.splitCount;
