@@ -92,6 +92,12 @@ TEST(CliProgress, ARedirectedBuildPrintsALineAtTheEndOfEveryPhase) {
   const size_t collapsing = run.err.find("collapsing done: ");
   ASSERT_NE(collapsing, std::string::npos) << run.err;
   EXPECT_EQ(digits_between(run.err.substr(collapsing), "collapsing done: ", " in"), 4) << run.err;
+  // The splits are counted while they are recorded and coded (both end at the split count).
+  for (const std::string phase : {"recording the splits", "coding the splits"}) {
+    const size_t at = run.err.find(phase + " done: ");
+    ASSERT_NE(at, std::string::npos) << run.err;
+    EXPECT_EQ(digits_between(run.err.substr(at), phase + " done: ", " in"), 4) << run.err;
+  }
   EXPECT_NE(run.err.find("encoding positions done: 26 in"), std::string::npos) << run.err;
   // stdout keeps its report only.
   EXPECT_EQ(run.out.find("done"), std::string::npos) << run.out;

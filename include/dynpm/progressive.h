@@ -201,7 +201,10 @@ Result<std::string> encode_dpm(const ProgressiveMesh& mesh, unsigned threads = 0
 class DpmStepEncoder {
  public:
   // The records' chunks, coded before the first step; an error as encode_dpm()'s.
-  static Result<DpmStepEncoder> start(const ProgressiveMesh& mesh, unsigned threads = 0);
+  // `coded_splits`, if set, hears how many splits are coded (records and attributes together, the
+  // last call with every split) after each chunk, on the caller's thread.
+  static Result<DpmStepEncoder> start(const ProgressiveMesh& mesh, unsigned threads = 0,
+                                      const std::function<void(uint32_t)>& coded_splits = {});
   // The next step's positions (steps 0, 1, … in order): every vertex, in the progressive
   // numbering, on the grid (as quantize_positions() leaves them).
   void add_step(std::span<const float> xyz);

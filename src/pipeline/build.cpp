@@ -112,10 +112,17 @@ Result<Recorded> record(const Topology& topology, const FrameSource& frames,
   CollapseLog log(topology.vertex_count);
   auto simplified = simplify(topology, frames, simplify_options, &log);
   if (!simplified) return simplified.status();
-  if (options.progress) options.progress("recording the splits", 0, 1);  // ends at the next phase
 
   const uint32_t n = topology.vertex_count;
   const uint32_t splits = static_cast<uint32_t>(log.entries.size());
+  // In splits, by the share of the phase's time each part took at 1 M vertices (BENCHMARKS.md
+  // "The table, redone"): the records a fifth, the split order seven tenths, then the rest.
+  const auto recording = [&](double share) {
+    if (options.progress)
+      options.progress("recording the splits", static_cast<size_t>(share * splits),
+                       std::max(1u, splits));
+  };
+  recording(0);
   Recorded recorded;
   ProgressiveMesh& pm = recorded.pm;
   std::vector<uint32_t>& new_vertex = recorded.new_vertex;
@@ -181,6 +188,7 @@ Result<Recorded> record(const Topology& topology, const FrameSource& frames,
     pm.moved_start.push_back(static_cast<uint32_t>(pm.moved_faces.size()));
   }
   log.release();  // before the attributes, the box and the reordering take their memory
+  recording(0.2);
 
   // Attributes in the progressive numbering.
   pm.full_vertex_count = n;
@@ -229,11 +237,13 @@ Result<Recorded> record(const Topology& topology, const FrameSource& frames,
   pm.note = options.note;
   pm.variants = options.variants;
   set_position_grid(pm);
-  order_splits_by_parent(pm, new_vertex, new_face);  // parents ascending within error bands
+  order_splits_by_parent(pm, new_vertex, new_face,  // parents ascending within error bands
+                         [&](double share) { recording(0.2 + 0.7 * share); });
   prepare_split_records(pm);  // errors on the file's grid, moved faces ascending (as read back)
   // Result fields, per vertex or per face, permuted like the positions (build_fields.cpp).
   DYNPM_RETURN_IF_ERROR(
       build_fields(frames, new_vertex, new_face, options.field_bound, options.lossless, pm));
+  if (splits > 0) recording(1);  // (none: 0 of 1, ended by the next phase)
   return recorded;
 }
 
@@ -347,8 +357,11 @@ Result<BuiltFile> record_and_code(const Topology& topology, Topology* release,
   if (!recorded) return recorded.status();
   std::vector<uint32_t>().swap(recorded->new_face);  // the steps need only new_vertex
   if (release) release->release_faces();
-  if (options.progress) options.progress("coding the splits", 0, 1);  // ends at the next phase
-  auto encoder = DpmStepEncoder::start(recorded->pm, options.simplify.threads);
+  const uint32_t splits = std::max(1u, recorded->pm.split_count());  // 0 of 1 while coding none
+  const auto coded = [&](uint32_t done) { options.progress("coding the splits", done, splits); };
+  if (options.progress) coded(0);
+  auto encoder = DpmStepEncoder::start(recorded->pm, options.simplify.threads,
+                                       options.progress ? coded : std::function<void(uint32_t)>{});
   if (!encoder) return encoder.status();
   std::optional<ProgressiveMesh> thumbnail;  // its level, before the records go
   if (options.thumbnail) thumbnail = thumbnail_level(recorded->pm, *options.thumbnail);

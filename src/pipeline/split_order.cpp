@@ -10,6 +10,9 @@
 namespace dynpm {
 namespace {
 
+// How often the ordering of the bands tells its progress: every this many splits.
+constexpr uint32_t kSplitsTold = 1 << 16;
+
 // The band of an error: floor(log2(e) · bands per octave); zero errors share the lowest.
 int64_t band_of(float e) {
   if (!(e > 0)) return INT64_MIN;
@@ -61,10 +64,16 @@ void order_band(const ProgressiveMesh& pm, const SplitDependencies& deps, uint32
 }  // namespace
 
 void order_splits_by_parent(ProgressiveMesh& pm, std::vector<uint32_t>& new_vertex,
-                            std::vector<uint32_t>& new_face) {
+                            std::vector<uint32_t>& new_face,
+                            const std::function<void(double)>& progress) {
   const uint32_t splits = pm.split_count(), base = pm.base_vertex_count;
   if (splits == 0) return;
+  // Shares of the work, as timed at 1 M vertices: the dependencies 0.55, the bands 0.2.
+  const auto told = [&](double share) {
+    if (progress) progress(share);
+  };
   SplitDependencies deps = derive_split_dependencies(pm, SplitReads::kFan);
+  told(0.55);
   std::vector<uint32_t> new_position(splits, 0), order;
   order.reserve(splits);
   for (uint32_t first = 0; first < splits;) {
@@ -76,6 +85,7 @@ void order_splits_by_parent(ProgressiveMesh& pm, std::vector<uint32_t>& new_vert
     order_band(pm, deps, first, last, new_position, order);
     const auto before_band = static_cast<float>(pm.level_error(first));
     for (uint32_t i = first; i + 1 < last; ++i) pm.error[i] = before_band;
+    if (first / kSplitsTold != last / kSplitsTold) told(0.55 + 0.2 * last / splits);
     first = last;
   }
   // Only the face counts are read from here on: the rest goes before the records are copied.
@@ -132,6 +142,7 @@ void order_splits_by_parent(ProgressiveMesh& pm, std::vector<uint32_t>& new_vert
     if (v != kNoVertex) v = vertex_now(v);
   for (uint32_t& f : new_face)
     if (f != kNoIndex) f = created_face[f];
+  told(1);
 }
 
 }  // namespace dynpm

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "dynpm/progressive.h"
@@ -22,8 +23,9 @@ inline constexpr int kSplitOrderBandsPerOctave = 4;
 // (SplitReads::kFan: every split sees its parent's fan as the error order left it, so each
 // record stays valid as it is), band after band, the smallest parent first; renumbers the
 // vertices and faces the splits create and maps new_vertex / new_face (input → progressive) to
-// the new numbering.
+// the new numbering. `progress`, if set, hears the share of the work done (0 … 1) now and then.
 void order_splits_by_parent(ProgressiveMesh& pm, std::vector<uint32_t>& new_vertex,
-                            std::vector<uint32_t>& new_face);
+                            std::vector<uint32_t>& new_face,
+                            const std::function<void(double)>& progress = {});
 
 }  // namespace dynpm

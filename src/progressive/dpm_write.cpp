@@ -10,6 +10,7 @@
 #include <cmath>
 #include <optional>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "bytes.h"
@@ -203,7 +204,8 @@ DpmStepEncoder::DpmStepEncoder(DpmStepEncoder&&) noexcept = default;
 DpmStepEncoder& DpmStepEncoder::operator=(DpmStepEncoder&&) noexcept = default;
 DpmStepEncoder::~DpmStepEncoder() = default;
 
-Result<DpmStepEncoder> DpmStepEncoder::start(const ProgressiveMesh& mesh, unsigned threads) {
+Result<DpmStepEncoder> DpmStepEncoder::start(const ProgressiveMesh& mesh, unsigned threads,
+                                             const std::function<void(uint32_t)>& coded_splits) {
   // Ids a reader would refuse (dpm_format.h kIdLimit) are refused here, before any is coded.
   for (const auto* ids : {&mesh.node_ids, &mesh.element_ids})
     for (size_t k = 0; k < ids->size(); ++k)
@@ -226,6 +228,9 @@ Result<DpmStepEncoder> DpmStepEncoder::start(const ProgressiveMesh& mesh, unsign
   // two walks of about equal work, on two threads when there are, each writing only its own
   // fields of the chunks.
   std::array<Status, 2> walked;
+  // Each walk's splits so far; the walk on the caller's thread tells their mean.
+  std::array<std::atomic<uint32_t>, 2> walked_to{};
+  const std::thread::id caller = std::this_thread::get_id();
   parallel_for(2, 2, state->threads, [&](size_t begin, size_t end, size_t) {
     for (size_t walk = begin; walk < end; ++walk) {
       const bool records = walk == 0;
@@ -249,10 +254,14 @@ Result<DpmStepEncoder> DpmStepEncoder::start(const ProgressiveMesh& mesh, unsign
         } else {
           c.attributes = std::move(coded->second);
         }
+        walked_to[walk] = c.last;
+        if (coded_splits && std::this_thread::get_id() == caller)
+          coded_splits(static_cast<uint32_t>((uint64_t{walked_to[0]} + walked_to[1]) / 2));
       }
     }
   });
   for (const Status& status : walked) DYNPM_RETURN_IF_ERROR(status);
+  if (coded_splits) coded_splits(mesh.split_count());  // both walks are done
   state->positions.emplace(mesh, state->stencils, state->ranges, state->threads);
   return DpmStepEncoder(std::move(state));
 }
