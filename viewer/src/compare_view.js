@@ -7,13 +7,15 @@
 // colour list offers |p_A(t) − p_B(t)|, drawn on both with a marker at its largest. B may be a
 // family file's member (`&compareVariant=NAME|INDEX`, as `?variant=` for the first; the same
 // file as the first's for two members of one family, which always hold one hierarchy: then B is
-// the member's view of the mesh the first's decode fills, fetched and decoded once).
+// the member's view of the mesh the first's decode fills, fetched and decoded once). B may also
+// be drawn over A on A's canvas (`&compareLayout=edges|surface`, compare_overlay.js).
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 
 import { hierarchyDifference, linkedVertexCount, positionDifference } from './compare_math.js';
 import { Navigator, ProgressiveMesh, updateIndices } from './dpm.js';
 import { BaseLevel } from './base_level.js';
+import { CompareOverlay } from './compare_overlay.js';
 import { growDrawBuffers, uploadIndices } from './draw_buffers.js';
 import { edgeMaterial, fieldColoursAtVertices } from './edge_lines.js';
 import { commonFields, FIELD_DIFFERENCE, FieldDifference } from './field_difference.js';
@@ -28,16 +30,17 @@ export const DIFFERENCE = 'difference';
 const HEADLIGHT = new THREE.Vector3(0.3, 0.5, 1);  // in camera space, as the first model's
 
 // The second model's path from ?compare= (only of this origin, as ?file=) or dpm.json's
-// `compare` (dynpm view A B), with its name and the family member ?compareVariant= names (null:
-// variant 0 of a family file); null when there is none.
+// `compare` (dynpm view A B), with its name, the family member ?compareVariant= names (null:
+// variant 0 of a family file) and the layout ?compareLayout= names (null: side by side); null
+// when there is none.
 export function compareFile(params, config) {
   const query = params.get('compare');
   if (query && new URL(query, location.href).origin !== location.origin)
     throw new Error(`?compare=${query}: not on this server (${location.origin})`);
-  const variant = params.get('compareVariant');
+  const variant = params.get('compareVariant'), layout = params.get('compareLayout');
   // Named by its file name, as ?model= names the first (model_file.js).
-  if (query) return { file: query, name: decodeURIComponent(new URL(query, location.href).pathname.split('/').pop()), variant };
-  return config?.compare ? { file: config.compare, name: config.compareName ?? config.compare, variant } : null;
+  if (query) return { file: query, name: decodeURIComponent(new URL(query, location.href).pathname.split('/').pop()), variant, layout };
+  return config?.compare ? { file: config.compare, name: config.compareName ?? config.compare, variant, layout } : null;
 }
 
 // A model's name in its label, with the family member shown (variant_choice.js's view).
@@ -54,8 +57,8 @@ function levelText(mesh, nav, t) {
 }
 
 export class CompareView {
-  // viewer: {state, camera, controls, deformation, ui, requestRender, colours()} (viewer.js).
-  constructor(viewer, { file, name, variant }, { antialias }) {
+  // viewer: {state, scene, camera, controls, deformation, ui, requestRender, resize} (viewer.js).
+  constructor(viewer, { file, name, variant, layout }, { antialias }) {
     this.viewer = viewer;
     this.url = new URL(file, location.href).href;
     this.name = name;
@@ -89,6 +92,13 @@ export class CompareView {
       scene.add(m);
       return m;
     });
+    this.overlay = new CompareOverlay(viewer);
+    // Overlaid, B's marker is on A's canvas, where B is drawn.
+    this.overlay.onChange = () => {
+      (this.overlay.overlaid ? viewer.scene : this.scene).add(this.markers[1]);
+      if (this.nav && viewer.state.nav) this.label();
+    };
+    Object.assign((window.dynpm ??= {}), { setCompareLayout: (l) => (this.overlay.set(l), this.overlay.layout) });
     this.buffers = {};  // positions, colours, triIndex, edgeIndex, scratch (draw_buffers.js)
     this.room = { vertices: 0, faces: 0 };
     this.mesh = this.nav = this.parts = this.fieldView = null;
@@ -99,6 +109,7 @@ export class CompareView {
     this.option = new Option('difference |p_A(t) − p_B(t)|', DIFFERENCE);
     this.option.disabled = true;
     viewer.ui.colour.add(this.option);
+    if (layout !== null && layout !== undefined) this.overlay.set(layout);
     this.fieldPairs = new Map();  // A's field k → B's field of the same name (field_difference.js)
     this.fieldDifferences = new Map();  // 'k aggregate' → the FieldDifference both canvases show
   }
@@ -172,6 +183,7 @@ export class CompareView {
     this.surface.geometry = geometry;
     this.edgeLines.geometry = edges;
     this.scene.add(this.surface, this.edgeLines);
+    this.overlay.draw(geometry, edges);
     this.parts = new PartView(this.scene, mesh, this.surface.material, geometry.boundingSphere);
     this.nav = new BaseLevel(mesh);
     this.sync({ level: true });
@@ -317,7 +329,8 @@ export class CompareView {
     this.labels[0].textContent = `A: ${shownName(state.name, state.mesh)} — ${levelText(state.mesh, state.nav, state.t)}`;
     const why = this.why && this.viewer.state.mesh?.complete && this.mesh.complete ? `; no difference fringe: ${this.why}` : '';
     const clamped = state.t > this.mesh.head.stepCount - 1 ? ' (its last step)' : '';
-    this.labels[1].textContent = `B: ${shownName(this.name, this.mesh)} — ${levelText(this.mesh, this.nav, this.step())}${clamped}${this.note ? `; ${this.note}` : ''}${why}`;
+    const where = this.overlay.overlaid ? ', in magenta over A' : '';
+    this.labels[1].textContent = `B${where}: ${shownName(this.name, this.mesh)} — ${levelText(this.mesh, this.nav, this.step())}${clamped}${this.note ? `; ${this.note}` : ''}${why}`;
   }
 
   upload(name, n) {
@@ -346,11 +359,17 @@ export class CompareView {
     return strip;
   }
 
+  // The canvases that share the width: two side by side, one when B is drawn over A.
+  columns() {
+    return this.overlay.overlaid ? 1 : 2;
+  }
+
   resize(w, h) {
     this.renderer.setSize(w, h, false);
   }
 
   render() {
+    if (this.overlay.overlaid) return;  // B's canvas is hidden; A's draws B
     const camera = this.viewer.camera;
     this.light.position.copy(HEADLIGHT).applyMatrix4(camera.matrixWorld);
     this.edgeLines.visible = this.viewer.ui.edges.checked;  // the panel's check box
@@ -362,6 +381,7 @@ export class CompareView {
     const nav = this.nav;
     return {
       name: this.name,
+      layout: this.overlay.layout,
       variant: this.mesh?.variant?.name ?? null,
       complete: Boolean(this.mesh?.complete),
       vertices: nav?.vertexCount ?? 0,

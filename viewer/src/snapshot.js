@@ -1,11 +1,7 @@
 // The picture as a small grey-level image, for the browser tests (viewer.js's
 // dpmViewer.snapshot()): rendered and read back at once, so no preserveDrawingBuffer is needed.
 export function greySnapshot(renderer, scene, camera, size = 64) {
-  renderer.render(scene, camera);
-  const gl = renderer.getContext();
-  const w = gl.drawingBufferWidth, h = gl.drawingBufferHeight;
-  const rgba = new Uint8Array(4 * w * h);
-  gl.readPixels(0, 0, w, h, gl.RGBA, gl.UNSIGNED_BYTE, rgba);
+  const { width: w, height: h, rgba } = pixels(renderer, scene, camera);
   const grey = new Float32Array(size * size);
   const count = new Float32Array(size * size);
   for (let y = 0; y < h; y++)
@@ -17,4 +13,14 @@ export function greySnapshot(renderer, scene, camera, size = 64) {
     }
   for (let i = 0; i < grey.length; i++) grey[i] /= count[i] || 1;
   return Array.from(grey);
+}
+
+// The picture at full size: {width, height, rgba} (rows bottom-up, as WebGL reads them).
+export function pixels(renderer, scene, camera) {
+  renderer.render(scene, camera);
+  const gl = renderer.getContext();
+  const width = gl.drawingBufferWidth, height = gl.drawingBufferHeight;
+  const rgba = new Uint8Array(4 * width * height);
+  gl.readPixels(0, 0, width, height, gl.RGBA, gl.UNSIGNED_BYTE, rgba);
+  return { width, height, rgba };
 }

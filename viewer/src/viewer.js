@@ -30,7 +30,7 @@ import { PartView } from './part_view.js';
 import { drawLabels } from './labels.js';
 import { installRefine } from './refine_view.js';
 import { scrub } from './scrub.js';
-import { greySnapshot } from './snapshot.js';
+import { greySnapshot, pixels } from './snapshot.js';
 import { States } from './states.js';
 import { VariantList } from './variant_choice.js';
 import { decodeInWorker, decodeOnPage } from './worker_decoder.js';
@@ -143,8 +143,8 @@ function makeRoom(vertices, faces) {
 }
 
 function resize() {
-  const left = compare ? compare.left(panel) : 0;  // compare: half each of what the panel leaves
-  const w = (window.innerWidth - left) / (compare ? 2 : 1), h = window.innerHeight - (compare ? compare.bottom(ui.stats) : 0);
+  const left = compare ? compare.left(panel) : 0;  // compare: what the panel leaves, halved side by side
+  const w = (window.innerWidth - left) / (compare?.columns() ?? 1), h = window.innerHeight - (compare ? compare.bottom(ui.stats) : 0);
   renderer.setSize(w, h, false);
   compare?.resize(w, h);
   camera.aspect = w / h;
@@ -507,7 +507,7 @@ window.addEventListener('keydown', (e) => {
 // scripting API (api.js) see the page through `viewer`.
 const redraw = () => ((state.shownT = NaN), updateTime());
 const fitBox = () => grownBox(geometry.boundingBox, positions, state.nav?.vertexCount ?? 0);
-const viewer = { state, ui, scene, camera, controls, canvas: renderer.domElement, requestRender, renderNow, setTime, setVertexCount, setColour, extendBase0, redraw, fitBox, updateLevel, partView: () => parts };
+const viewer = { state, ui, scene, camera, controls, canvas: renderer.domElement, requestRender, renderNow, resize, setTime, setVertexCount, setColour, extendBase0, redraw, fitBox, updateLevel, partView: () => parts };
 const panel = new Panel();
 panel.onToggle = () => compare && resize();
 const states = (viewer.states = new States(viewer));
@@ -553,6 +553,7 @@ window.dpmViewer = {
   compare: () => compare && { ...compare.describe(), done: Promise.all([compare.loading, done]).then(() => true) },
   compareSnapshot: (size = 64) => compare.snapshot(size),
   snapshot: (size = 64) => greySnapshot(renderer, scene, camera, size),
+  pixels: () => pixels(renderer, scene, camera),
   // Sets the resolution as the slider does and renders; returns the milliseconds taken by the
   // page's JS (navigator, index and position buffers) and in all, with the upload and one frame
   // (the refine measurement of docs/viewer.md).

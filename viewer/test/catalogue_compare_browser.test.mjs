@@ -5,7 +5,7 @@
 // 20; two selected in the page open side by side with the difference fringe, whose largest
 // value and its vertex are the ones `dynpm extract` of both gives at a level and a step: two
 // separate files, then two members of the family (`extract --variant`), exact per vertex, the
-// family file fetched and decoded once for both.
+// family file fetched and decoded once for both, and the same overlaid (B's edges on A's canvas).
 // Screenshots: DYNPM_TEST_OUT/catalogue-compare/*.png.
 //
 // Environment (CTest): DYNPM_CLI, DYNPM_TEST_OUT, DYNPM_SAMPLE_DIR (the sample's frame_*.obj).
@@ -177,6 +177,14 @@ test('two members of one family file open side by side: one file, two variants, 
   for (const max of largest) assert.ok(max > 100 * mesh.head.maxError, `${max}`);
   await page.locator('#legend').scrollIntoViewIfNeeded();
   await page.screenshot({ path: join(base, 'compare-members.png') });
+  // Overlaid (B's edges in magenta on A's canvas): the same level, step and largest difference,
+  // B's marker on A's canvas at B's end of it.
+  const side = await page.evaluate(() => window.dpmViewer.compare());
+  assert.equal(await page.evaluate(() => window.dynpm.setCompareLayout('edges')), 'edges');
+  const over = await page.evaluate(() => window.dpmViewer.compare());
+  assert.deepEqual({ ...over, layout: side.layout, labels: side.labels }, side);
+  assert.match(over.labels[1], /^B, in magenta over A: family\.dpm \[scale200\] — /);
+  await page.screenshot({ path: join(base, 'compare-members-overlay.png') });
   await page.close();
   assert.deepEqual(errors, []);
   assert.ok(readdirSync(base).includes('compare-members.png'));

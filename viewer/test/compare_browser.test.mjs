@@ -134,6 +134,83 @@ test('linked time and resolution: the slider, the API and the state buttons move
   await page.close();
 });
 
+// A's canvas as counts: the model's pixels (not the background, 0xeef0f3) and the magenta ones
+// (B overlaid, compare_overlay.js), each with its box [x0, y0, x1, y1] in pixels; and how many
+// pixels turned more magenta (r + b − 2g up by more than 20) since the last call's picture.
+const pictureOfA = (page) => page.evaluate(() => {
+  const { width, rgba } = window.dpmViewer.pixels();
+  const model = { count: 0, box: [Infinity, Infinity, -Infinity, -Infinity] }, magenta = structuredClone(model);
+  const add = (set, x, y) => {
+    set.count++;
+    set.box = [Math.min(set.box[0], x), Math.min(set.box[1], y), Math.max(set.box[2], x), Math.max(set.box[3], y)];
+  };
+  const magentaness = new Int16Array(rgba.length / 4), last = window.lastMagentaness;
+  let tinted = 0;
+  for (let i = 0, k = 0; i < rgba.length; i += 4, k++) {
+    const [r, g, b] = [rgba[i], rgba[i + 1], rgba[i + 2]];
+    const x = k % width, y = Math.floor(k / width);
+    if (Math.abs(r - 0xee) + Math.abs(g - 0xf0) + Math.abs(b - 0xf3) > 12) add(model, x, y);
+    if (r > 150 && g < 0.5 * Math.min(r, b) && Math.abs(r - b) < 20) add(magenta, x, y);  // (not a lit viridis purple)
+    magentaness[k] = r + b - 2 * g;
+    if (last?.length === magentaness.length && magentaness[k] > last[k] + 20) tinted++;
+  }
+  window.lastMagentaness = magentaness;
+  return { model, magenta, tinted };
+});
+
+test('overlaid: B drawn in magenta on A\'s canvas, at B\'s level and step, following the camera; back side by side', async () => {
+  const { page, seen } = await openBoth([fine, coarse], '?compareLayout=edges');
+  await page.selectOption('#colour', 'displacement');  // viridis: no magenta of A's own
+  const visible = () => page.locator('canvas').evaluateAll((cs) => cs.map((e) => getComputedStyle(e).display !== 'none' && [e.getBoundingClientRect().x, e.getBoundingClientRect().width, e.width]));
+  assert.deepEqual(await visible(), [[330, 870, 870], false], 'A takes what the panel leaves; B\'s canvas is hidden');
+  const c = await compare(page);
+  assert.equal(c.layout, 'edges');
+  assert.equal(await page.locator('#compare-layout').inputValue(), 'edges');
+  assert.match(c.labels[1], /^B, in magenta over A: coarse\.dpm — 2,608 of 2,608 vertices/);
+  // The two builds differ by their grids only: B's edges cover A's model, box for box (within 2 %
+  // of its size: the silhouette's blended pixels are not magenta enough to count).
+  const close = (a, b, what) => {
+    const slack = 0.02 * Math.max(b[2] - b[0], b[3] - b[1]);
+    assert.ok(a.every((x, i) => Math.abs(x - b[i]) <= slack), `${what}: ${a} against ${b}`);
+  };
+  for (const step of [0, 30]) {
+    await page.evaluate((t) => window.dynpm.setStep(t), step);
+    const { model, magenta } = await pictureOfA(page);
+    assert.ok(magenta.count > 0.1 * model.count, `step ${step}: ${magenta.count} magenta of ${model.count} pixels`);
+    close(magenta.box, model.box, `step ${step}, the boxes of B's edges and of the model`);
+  }
+  // A drag turns B with A; a coarser level draws fewer of B's edges.
+  const before = await pictureOfA(page);
+  await page.mouse.move(700, 300);
+  await page.mouse.down();
+  await page.mouse.move(790, 340, { steps: 6 });
+  await page.mouse.up();
+  const turned = await pictureOfA(page);
+  assert.notDeepEqual(turned.model.box, before.model.box, 'the drag turned the camera');
+  close(turned.magenta.box, turned.model.box, 'after the drag, the boxes of B\'s edges and of the model');
+  await page.evaluate(() => window.dynpm.setLevel({ vertices: 13 }));
+  assert.equal((await compare(page)).vertices, 13);
+  const coarseEdges = await pictureOfA(page);
+  assert.ok(coarseEdges.magenta.count < turned.magenta.count / 3, `13 vertices: ${coarseEdges.magenta.count} magenta pixels, 2,608: ${turned.magenta.count}`);
+  // B translucent: its skin tints the model's pixels toward magenta, the background stays.
+  await page.evaluate(() => window.dynpm.setLevel({ vertices: 2608 }));
+  const edges = await pictureOfA(page);
+  await page.selectOption('#compare-layout', 'surface');
+  const skin = await pictureOfA(page);
+  assert.ok(skin.tinted > 0.6 * edges.model.count, `${skin.tinted} of ${edges.model.count} model pixels tinted`);
+  assert.equal(skin.model.count, edges.model.count, 'the background is untouched');
+  await page.screenshot({ path: join(shots, 'compare-overlay.png') });
+  // Side by side again: two halves, no magenta on A.
+  assert.equal(await page.evaluate(() => window.dynpm.setCompareLayout('side')), 'side');
+  assert.deepEqual(await visible(), [[330, 435, 435], [765, 435, 435]]);
+  const sideBySide = await pictureOfA(page);
+  assert.equal(sideBySide.magenta.count, 0, `magenta pixels at ${sideBySide.magenta.box}`);
+  assert.match((await compare(page)).labels[1], /^B: coarse\.dpm/);
+  await assert.rejects(page.evaluate(() => window.dynpm.setCompareLayout('stacked')), /layout "stacked": one of side, edges, surface/);
+  assert.deepEqual(seen.errors, []);
+  await page.close();
+});
+
 test('the difference fringe: its largest |p_A − p_B| is the one extract gives, within both grids', async () => {
   const { page, seen } = await openBoth([fine, coarse]);
   await page.selectOption('#colour', 'difference');
