@@ -25,11 +25,12 @@ const VerbSpec kSpec{
     "       dynpm extract MODEL.dpm --step T --refine REQUEST... --elsewhere LEVEL -o OUTPUT",
     "Writes the progressive mesh at one resolution: N vertices, a fraction R of the full\n"
     "vertex count, or the coarsest level whose simplification error is at most E (absolute,\n"
-    "or '0.5%' of the bounding-box diagonal). --step T picks a time step; a fractional T\n"
-    "interpolates between steps. Without --step every step is written: OUTPUT must then hold a\n"
-    "{:03d} field. Fully refined (--full), vertices and faces come in the input's order, so\n"
-    "the output compares equal to the input (exactly, for a --lossless build); at other levels\n"
-    "they come in progressive order (base first). Coordinates round-trip float32.\n"
+    "or '0.5%' of the bounding-box diagonal). --step T picks a time step ('last': the last\n"
+    "one); a fractional T interpolates between steps. Without --step every step is written:\n"
+    "OUTPUT must then hold a {:03d} field. Fully refined (--full), vertices and faces come in\n"
+    "the input's order, so the output compares equal to the input (exactly, for a --lossless\n"
+    "build); at other levels they come in progressive order (base first). Coordinates\n"
+    "round-trip float32.\n"
     "Result fields are written as point data (node fields) and cell data (element fields) in\n"
     "VTK and VTU, and as vertex and face properties in PLY: at a coarse level each vertex or\n"
     "face shows the aggregate of the original ones it stands for (--aggregate).\n"
@@ -44,7 +45,7 @@ const VerbSpec kSpec{
      {"--ratio", "", true, "R", "resolution as a fraction of the full vertex count"},
      {"--max-error", "", true, "E", "coarsest level with error ≤ E (absolute, or E%)"},
      {"--full", "", false, "", "the fully refined mesh (the input)"},
-     {"--step", "", true, "T", "time step (fractional interpolates); default every step"},
+     {"--step", "", true, "T", "time step (fractional interpolates; 'last'); default every step"},
      kVariantFlag,
      {"--aggregate", "", true, "max|mean",
       "what a coarse vertex or face shows of the ones it stands for: the value of largest\n"
@@ -110,19 +111,16 @@ int run_extract(std::span<char* const> arguments) {
     else if (*v != "max")
       return fail_usage("--aggregate is max or mean, got " + quoted_value(*v));
   }
-  std::optional<double> step;
-  if (auto v = args.value("--step")) {
-    // The model's last step is known once it is read (below).
-    auto r = parse_number("--step", *v, kNonNegative);
-    if (!r) return fail_usage(r.message());
-    step = *r;
-  }
+  // The model's last step is known once it is read (below).
+  auto step_choice = parse_step_flag(args);
+  if (!step_choice) return fail_usage(step_choice.message());
   if (args.has("--refine") || args.has("--elsewhere"))
-    return run_refined_extract(args, kSpec.name, *output, step, aggregate);
+    return run_refined_extract(args, kSpec.name, *output, *step_choice, aggregate);
+  std::optional<double> step;
   const int choices =
       args.has("--vertices") + args.has("--ratio") + args.has("--max-error") + args.has("--full");
   if (choices != 1) return fail_usage("give one of --vertices, --ratio, --max-error, --full");
-  if (!step && !has_step_field(*output))
+  if (!*step_choice && !has_step_field(*output))
     return fail_usage(
         "without --step every step is written; give a pattern such as "
         "'out_{:03d}.obj'");
@@ -145,7 +143,7 @@ int run_extract(std::span<char* const> arguments) {
     limits.error = *level->max_error / 100.0;
     limits.error_of_diagonal = true;
   }
-  if (step) limits.last_step = static_cast<size_t>(std::ceil(*step));
+  if (*step_choice) limits.last_step = (*step_choice)->last_step_to_read();
   limits.fields = format_from_extension(*output) != FileFormat::kObj;  // OBJ holds no fields
   std::optional<Phase> phase(std::in_place, "reading the model");
   auto mesh = read_dpm_of_variant(args, args.positional[0], limits);
@@ -157,11 +155,11 @@ int run_extract(std::span<char* const> arguments) {
   if (Status s = choose_variant(args, kSpec.name, args.positional[0], *mesh); !s.ok())
     return fail(kSpec.name, kExitFailure, s.message());
   const size_t steps = mesh->step_count();
-  if (step && *step > double(steps - 1))
-    return fail_usage("--step needs a number in [0, " + std::to_string(steps - 1) + "] (" +
-                      args.positional[0] + " has " + std::to_string(steps) +
-                      (steps == 1 ? " step), got " : " steps), got ") +
-                      quoted_value(*args.value("--step")));
+  if (*step_choice) {
+    auto t = (*step_choice)->in_model(steps, args.positional[0]);
+    if (!t) return fail_usage(t.message());
+    step = *t;
+  }
 
   phase.emplace("extracting the meshes");
   Navigator nav(*mesh);

@@ -43,7 +43,7 @@ std::vector<std::vector<float>> shown_fields(const SelectiveNavigator& nav,
 }  // namespace
 
 int run_refined_extract(const Args& args, const std::string& verb, const std::string& output,
-                        std::optional<double> step, FieldAggregate aggregate) {
+                        const std::optional<StepChoice>& step_choice, FieldAggregate aggregate) {
   auto usage = [&](const std::string& message) { return fail(verb, kExitUsage, message); };
   for (const char* level : {"--vertices", "--ratio", "--max-error", "--full"})
     if (args.has(level))
@@ -56,7 +56,7 @@ int run_refined_extract(const Args& args, const std::string& verb, const std::st
     return usage(
         "--refine needs --elsewhere LEVEL (the level outside the regions: 5%, 20000 "
         "or error:0.01)");
-  if (!step) return usage("--refine needs --step T: the regions are taken at that step");
+  if (!step_choice) return usage("--refine needs --step T: the regions are taken at that step");
   std::vector<RefineTarget> targets;
   for (const std::string& r : requests) {
     auto target = parse_refine_target(r);
@@ -69,7 +69,7 @@ int run_refined_extract(const Args& args, const std::string& verb, const std::st
 
   // Every split (the regions need the finest), the steps up to --step.
   DpmReadLimits limits;
-  limits.last_step = static_cast<size_t>(std::ceil(*step));
+  limits.last_step = step_choice->last_step_to_read();
   limits.fields = format_from_extension(output) != FileFormat::kObj;
   for (const RefineTarget& t : targets) limits.fields |= t.kind == RefineTarget::Kind::kField;
   std::optional<Phase> phase(std::in_place, "reading the model");
@@ -84,10 +84,8 @@ int run_refined_extract(const Args& args, const std::string& verb, const std::st
   if (Status s = choose_variant(args, verb, path, *mesh); !s.ok())
     return fail(verb, kExitFailure, s.message());
   const size_t steps = mesh->step_count();
-  if (*step > double(steps - 1))
-    return usage("--step needs a number in [0, " + std::to_string(steps - 1) + "] (" + path +
-                 " has " + std::to_string(steps) + (steps == 1 ? " step), got " : " steps), got ") +
-                 quoted_value(*args.value("--step")));
+  auto step = step_choice->in_model(steps, path);
+  if (!step) return usage(step.message());
 
   phase.emplace("refining");
   const SplitDependencies deps = derive_split_dependencies(*mesh);

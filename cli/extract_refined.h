@@ -7,6 +7,7 @@
 
 #include "args.h"
 #include "dynpm/progressive.h"
+#include "shared_flags.h"
 
 namespace dynpm::cli {
 
@@ -24,9 +25,9 @@ inline const FlagSpec kElsewhereFlag{
     "the level outside the --refine regions: 5% (of the vertices), a "
     "vertex count, or error:E (absolute)"};
 
-// Runs extract with --refine/--elsewhere given; `step` as parsed (required here). Checks every
-// request before the model is read; writes nothing on an error.
+// Runs extract with --refine/--elsewhere given; `step_choice` as parsed (required here). Checks
+// every request before the model is read; writes nothing on an error.
 int run_refined_extract(const Args& args, const std::string& verb, const std::string& output,
-                        std::optional<double> step, FieldAggregate aggregate);
+                        const std::optional<StepChoice>& step_choice, FieldAggregate aggregate);
 
 }  // namespace dynpm::cli

@@ -1,5 +1,6 @@
 #include "shared_flags.h"
 
+#include <cmath>
 #include <string>
 
 namespace dynpm::cli {
@@ -69,6 +70,33 @@ Status check_cost_fields(const SimplifyOptions& options, const FrameSource& fram
   auto fields = cost_fields(options, frames);
   if (!fields) return Status::error("--field: " + fields.message());
   return {};
+}
+
+Result<std::optional<StepChoice>> parse_step_flag(const Args& args) {
+  auto v = args.value("--step");
+  if (!v) return std::optional<StepChoice>();
+  StepChoice step;
+  step.text = *v;
+  step.last = *v == "last";
+  if (!step.last) {
+    auto r = parse_number("--step", *v, kNonNegative);
+    if (!r) return Status::error("--step needs a number ≥ 0 or 'last', got " + quoted_value(*v));
+    step.value = *r;
+  }
+  return std::optional<StepChoice>(step);
+}
+
+std::optional<size_t> StepChoice::last_step_to_read() const {
+  if (last) return std::nullopt;
+  return static_cast<size_t>(std::ceil(value));
+}
+
+Result<double> StepChoice::in_model(size_t steps, const std::string& path) const {
+  if (last) return double(steps - 1);
+  if (value <= double(steps - 1)) return value;
+  return Status::error("--step needs a number in [0, " + std::to_string(steps - 1) +
+                       "] or 'last' (" + path + " has " + std::to_string(steps) +
+                       (steps == 1 ? " step), got " : " steps), got ") + quoted_value(text));
 }
 
 Result<LevelFlags> parse_level_flags(const Args& args) {

@@ -79,6 +79,19 @@ struct LevelFlags {
 // The error is the usage message, without the verb.
 Result<LevelFlags> parse_level_flags(const Args& args);
 
+// ---- A time step (extract): a number, fractional between two steps, or the model's last.
+struct StepChoice {
+  double value = 0;   // the step, when not `last`
+  bool last = false;  // "last": known once the model's step count is read
+  // What a reader decodes: the steps up to this one (every step for "last").
+  std::optional<size_t> last_step_to_read() const;
+  // The step in a model of `steps` steps; the error is the usage message, without the verb.
+  Result<double> in_model(size_t steps, const std::string& path) const;
+  std::string text;  // as given, for messages
+};
+// --step T|last; nothing when it is not given. The error is the usage message.
+Result<std::optional<StepChoice>> parse_step_flag(const Args& args);
+
 // ---- Surface sampling (hausdorff, eval): HausdorffOptions.
 inline const FlagSpec kSamplesFlag{"--samples", "", true, "N",
                                    "area samples on each surface (default 10 per face of the "

@@ -11,6 +11,7 @@
 #include "dynpm/io.h"
 #include "dynpm/lod.h"
 #include "random_meshes.h"
+#include "third_party.h"
 
 namespace dynpm {
 namespace {
@@ -121,6 +122,20 @@ TEST(CliRefine, SeveralRequestsAreAUnion) {
   EXPECT_GE(all, std::max({box, peeq, moved}));
   EXPECT_LE(all, box + peeq + moved);
   EXPECT_EQ(vertices("--refine part:1"), model->mesh.full_vertex_count);
+}
+
+// "--step last" is the model's last step (14 of crashbox-fields' 15): the regions are taken there.
+TEST(CliRefine, StepLastIsTheLastStep) {
+  DYNPM_CRASHBOX_OR_SKIP(model, "crashbox-fields");
+  test::TempDir dir;
+  for (const char* step : {"14", "last"}) {
+    auto r = dynpm_cli("extract " + model->dpm + " --step " + step +
+                       " --refine 'moved:>20' --elsewhere 5% -o " +
+                       dir.file(step + std::string(".vtk")));
+    ASSERT_EQ(r.exit_code, 0) << step << "\n" << r.output;
+  }
+  EXPECT_EQ(test::run_command("cmp " + dir.file("14.vtk") + " " + dir.file("last.vtk")).exit_code,
+            0);
 }
 
 TEST(CliRefine, BadRequestsNameTheArgumentAndWriteNothing) {

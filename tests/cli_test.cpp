@@ -316,11 +316,13 @@ TEST(Cli, NumericFlagsOutsideTheirRangeAreRefused) {
   };
   for (const Case& c : std::vector<Case>{
            {"extract " + model + " --full --step nan" + out,
-            "--step needs a number ≥ 0, got 'nan'"},
+            "--step needs a number ≥ 0 or 'last', got 'nan'"},
            {"extract " + model + " --full --step 1e400" + out, "got '1e400'"},
-           {"extract " + model + " --full --step -1" + out, "--step needs a number ≥ 0, got '-1'"},
+           {"extract " + model + " --full --step -1" + out,
+            "--step needs a number ≥ 0 or 'last', got '-1'"},
            {"extract " + model + " --full --step 3" + out,
-            "--step needs a number in [0, 0] (" + model + " has 1 step), got '3'"},
+            "--step needs a number in [0, 0] or 'last' (" + model + " has 1 step), got '3'"},
+           {"extract " + model + " --full --step Last" + out, "got 'Last'"},
            {"extract " + model + " --vertices 0 --step 0" + out,
             "--vertices needs a whole number in [1, 4294967294], got '0'"},
            {"extract " + model + " --vertices 1e12 --step 0" + out, "--vertices needs a whole"},
