@@ -18,6 +18,7 @@ import { Deformation } from './deformation.js';
 import { Navigator, ProgressiveMesh, updateIndices } from './dpm.js';
 import { compileShaders, growDrawBuffers, uploadIndices } from './draw_buffers.js';
 import { edgeMaterial, fieldColoursAtVertices } from './edge_lines.js';
+import { installErrorLevel } from './error_level.js';
 import { FieldView } from './field_view.js';
 import { Images } from './images.js';
 import { installInspect } from './inspect.js';
@@ -515,6 +516,7 @@ const orientation = (viewer.orientation = new Orientation(viewer));
 const deformation = (viewer.deformation = new Deformation(viewer));
 viewer.images = new Images(viewer);
 const refine = installRefine(viewer);  // selective refinement (refine_view.js)
+installErrorLevel(viewer);  // the panel's "max error" box (error_level.js)
 // A family file's members (variant_choice.js); the field view and picking then read the new one.
 const variants = new VariantList(viewer, params.get('variant'), (mesh) => ((fieldView && (fieldView.mesh = mesh)), inspect.meshChanged()));
 

@@ -1,7 +1,8 @@
 // The page in Debian's headless Chromium, driven by playwright-core: `dynpm view` serves the
 // sample's .dpm (throttled, so that loading is seen to be progressive); the test waits for the
 // base mesh, checks the canvas shows something, moves the resolution and time sliders with the
-// mouse and checks the stats line and the picture change. Screenshots go to DYNPM_TEST_OUT.
+// mouse and checks the stats line and the picture change; the max error box gives the levels
+// dpm.js gives. Screenshots go to DYNPM_TEST_OUT.
 //
 // If Chromium cannot start, this fails: it never skips.
 import assert from 'node:assert/strict';
@@ -13,6 +14,7 @@ import { after, before, test } from 'node:test';
 
 import { chromium } from 'playwright-core';
 
+import { Navigator, readDpm } from '../src/dpm.js';
 import { allShown, CHROMIUM_ARGS, startServer } from './chromium.mjs';
 
 const { DYNPM_CLI: cli, DYNPM_DPM: dpm, DYNPM_TEST_OUT: out } = process.env;
@@ -89,6 +91,39 @@ test('the resolution slider changes the faces and the picture', async () => {
   await click('#resolution', 1);
   const back = statsNumbers(await page.locator('#stats').textContent());
   assert.deepEqual(back, before, 'back at full resolution: the same counts');
+});
+
+test('the max error box: E and E% give the coarsest level within them, as dpm.js does; bad values refused; the slider clears it', async () => {
+  const { mesh } = readDpm(new Uint8Array(readFileSync(dpm)), dpm);
+  const h = mesh.head;
+  const diagonal = Math.hypot(...h.bboxMax.map((x, c) => x - h.bboxMin[c]));
+  const box = page.locator('#resolution-error');
+  const vertices = async () => (await page.evaluate(() => window.dpmViewer.state())).vertices;
+  const nav = new Navigator(mesh);
+  for (const [text, e] of [[800, null], [3000, null], ['0.05%', 0.0005 * diagonal], ['1e9', 1e9]]) {
+    // A number from a level's own error (the boundary case), or as given.
+    if (e === null) nav.setVertexCount(text);
+    const error = e ?? nav.error;
+    await box.fill(e === null ? String(error) : text);
+    await box.press('Enter');
+    const n = h.baseVertexCount + mesh.levelForError(error);
+    assert.equal(await vertices(), n, `max error ${text}`);
+    nav.setVertexCount(n);
+    assert.ok(nav.error <= error, `${nav.error} ≤ ${error}`);
+    if (n > h.baseVertexCount) (nav.setVertexCount(n - 1), assert.ok(nav.error > error, `one split coarser than ${n} is above ${error}`));
+    assert.equal(await box.evaluate((b) => b.validationMessage), '');
+  }
+  assert.equal(await vertices(), h.baseVertexCount, '1e9: the base mesh');
+  for (const bad of ['abc', '-1', '101%', '1,5']) {
+    await box.fill(bad);
+    await box.press('Enter');
+    assert.match(await box.evaluate((b) => b.validationMessage), /a number ≥ 0 in model units, or a percentage of the box diagonal/, bad);
+    assert.equal(await vertices(), h.baseVertexCount, `${bad}: the level stays`);
+  }
+  await page.locator('#resolution').fill('1000');
+  assert.equal(await vertices(), 1000);
+  assert.deepEqual(await box.evaluate((b) => [b.value, b.validationMessage]), ['', ''], 'the slider clears the box');
+  await page.evaluate(() => window.dynpm.setLevel({ ratio: 1 }));
 });
 
 test('the time slider and play move the animation', async () => {

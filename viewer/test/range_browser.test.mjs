@@ -2,8 +2,8 @@
 // `dynpm view` (throttled, so that the order of what arrives is seen): the base mesh is drawn
 // before the whole file is in; a page that asks for a coarse level (?vertices=N) stops after the
 // chunks that hold it, having fetched only part of the file; the slider asks for the rest,
-// which then arrives whole. The plain GET (a server without ranges) is browser.test.mjs's
-// --export case.
+// which then arrives whole, as does a max error no loaded level reaches. The plain GET (a
+// server without ranges) is browser.test.mjs's --export case.
 import assert from 'node:assert/strict';
 import { statSync } from 'node:fs';
 import { after, before, test } from 'node:test';
@@ -61,16 +61,22 @@ test('the base mesh is drawn before the file is in, from range requests', async 
   await page.close();
 });
 
-test('?vertices=N fetches only the chunks up to N vertices; the slider fetches the rest', async () => {
-  const { page, errors } = await open('?vertices=1');
+// The page's state once nothing more arrives (the decoder paused at ?vertices=N).
+async function paused(page) {
   await page.waitForFunction(() => window.dpmViewer?.state().navigator, null, { timeout: 20000 });
-  // Paused: nothing more arrives.
   let s = await state(page);
   for (let before = -1; before !== s.bytesLoaded; ) {
     before = s.bytesLoaded;
     await new Promise((resolve) => setTimeout(resolve, 1500));
     s = await state(page);
   }
+  return s;
+}
+const followed = () => ((s) => s.complete && s.vertices === s.loadedVertices)(window.dpmViewer.state());
+
+test('?vertices=N fetches only the chunks up to N vertices; the slider fetches the rest', async () => {
+  const { page, errors } = await open('?vertices=1');
+  let s = await paused(page);
   const total = await page.evaluate(() => Number(document.getElementById('resolution').max));
   assert.ok(s.bytesLoaded < size, `${s.bytesLoaded} of ${size} bytes fetched for the base level`);
   assert.ok(s.loadedVertices < total, `${s.loadedVertices} of ${total} vertices`);
@@ -80,12 +86,26 @@ test('?vertices=N fetches only the chunks up to N vertices; the slider fetches t
   await page.locator('#panel-toggle').click();
   const box = await page.locator('#resolution').boundingBox();
   await page.mouse.click(box.x + box.width - 2, box.y + box.height / 2);
-  const followed = () => ((s) => s.complete && s.vertices === s.loadedVertices)(window.dpmViewer.state());
   await page.waitForFunction(followed, null, { timeout: 60000 });
   s = await state(page);
   assert.equal(s.bytesLoaded, size);
   assert.equal(s.loadedVertices, total);
   assert.equal(s.vertices, total, 'following the file to the full mesh');
+  assert.deepEqual(errors, []);
+  await page.close();
+});
+
+test('the max error box asks for the rest of the file when no level loaded reaches the error', async () => {
+  const { page, errors } = await open('?vertices=1');
+  const s = await paused(page);
+  assert.equal(s.complete, false);
+  await page.locator('#panel-toggle').click();
+  await page.locator('#resolution-error').fill('0');  // only the full mesh is exact
+  await page.locator('#resolution-error').press('Enter');
+  await page.waitForFunction(followed, null, { timeout: 60000 });
+  const full = await state(page);
+  assert.equal(full.bytesLoaded, size);
+  assert.equal(full.vertices, await page.evaluate(() => Number(document.getElementById('resolution').max)));
   assert.deepEqual(errors, []);
   await page.close();
 });
