@@ -42,7 +42,7 @@ const VerbSpec kSpec{
      kVariantFlag,
      {"--ratios", "", true, "R,R,…", "resolutions in % of the full vertex count, each in (0, 100]"},
      {"--steps", "", true, "T,T,…|every:N",
-      "time steps of the table (default: first, middle, last); every:N samples steps\n"
+      "time steps of the table, or 'last' (default: first, middle, last); every:N samples steps\n"
       "0, N, 2N, … and the last, and makes the max column over those (a long run at scale)"},
      {"--max-over", "", true, "all|chosen", "steps of the 'max' column (default all)"},
      {"--field", "", true, "NAME,…", "result fields to measure (field error, peak ratio)"},
@@ -239,7 +239,8 @@ int run_eval(std::span<char* const> arguments) {
     if (!r) return fail_usage(r.message() + " (percentages separated by commas)");
     options.ratios.push_back(*r);
   }
-  std::vector<uint64_t> step_values;
+  std::vector<uint64_t> step_values;  // kLastStep: "last", resolved once the count is known
+  constexpr uint64_t kLastStep = UINT64_MAX;
   uint64_t every = 0;  // --steps every:N, resolved once the step count is known
   if (auto text = args.value("--steps"); text && text->starts_with("every:")) {
     auto n = parse_whole("--steps every:N", text->substr(6), 1, 0xffffffffu);
@@ -248,8 +249,12 @@ int run_eval(std::span<char* const> arguments) {
     options.max_over_all_steps = false;  // a sample: the max over what was measured
   } else if (text) {
     for (const std::string& item : split_list(*text)) {
+      if (item == "last") {
+        step_values.push_back(kLastStep);
+        continue;
+      }
       auto t = parse_whole("--steps", item, 0, 0xffffffffu);
-      if (!t) return fail_usage(t.message() + " (step numbers separated by commas)");
+      if (!t) return fail_usage(t.message() + " (step numbers or 'last' separated by commas)");
       step_values.push_back(*t);
     }
   }
@@ -301,6 +306,7 @@ int run_eval(std::span<char* const> arguments) {
     if (step_values.back() != steps - 1) step_values.push_back(steps - 1);
   }
   for (uint64_t t : step_values) {
+    if (t == kLastStep) t = steps - 1;
     if (t > steps - 1)
       return fail_usage("--steps needs step numbers in [0, " + std::to_string(steps - 1) +
                         "] (the animation has " + std::to_string(steps) + " steps), got " +

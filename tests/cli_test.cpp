@@ -171,6 +171,15 @@ TEST(Cli, EvalMeasuresAProgressiveMeshAtSeveralResolutionsAndSteps) {
   auto zero = dynpm_cli("eval '" + sample_glob() + "' --dpm " + dir.file("rail.dpm") +
                         " --ratios 10 --steps every:0");
   EXPECT_EQ(zero.exit_code, 2) << zero.output;
+  // 'last' names the last step (30 of the sample's 31).
+  auto last =
+      dynpm_cli("eval '" + sample_glob() + "' --dpm " + dir.file("rail.dpm") +
+                " --ratios 10 --steps 10,last --max-over chosen --json " + dir.file("l.json"));
+  ASSERT_EQ(last.exit_code, 0) << last.output;
+  measured = json_numbers(read_text(dir.file("l.json")), "step");
+  ASSERT_EQ(measured.size(), 3u) << read_text(dir.file("l.json"));
+  EXPECT_EQ(measured[0], 10);
+  EXPECT_EQ(measured[1], 30);
 }
 
 TEST(Cli, EvalRefusesAModelOfAnotherMeshAndBadArguments) {
