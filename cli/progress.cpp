@@ -69,6 +69,9 @@ class Reporter {
   void update(std::string_view phase, size_t done, size_t total) {
     const std::lock_guard<std::mutex> lock(mutex_);
     if (form_ == Form::kNone) return;
+    // A phase told its end twice (a walk reaching the count, then the caller's closing call)
+    // ends once.
+    if (ended_ && phase == phase_ && done >= total) return;
     const Clock::time_point now = Clock::now();
     if (phase != phase_ || ended_) {
       if (!ended_) end_phase(now);

@@ -3,6 +3,7 @@
 // estimate it prints before the work. (Its refusal under a memory limit: bad_input_test.cpp.)
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cctype>
 #include <cstdio>
 #include <cstdlib>
@@ -87,6 +88,14 @@ TEST(CliProgress, ARedirectedBuildPrintsALineAtTheEndOfEveryPhase) {
         line.rfind("dynpm build: " + kBuildPhases[next] + " done", 0) == 0)
       ++next;
   EXPECT_EQ(next, kBuildPhases.size()) << "phases seen in order: " << next << "\n" << run.err;
+  for (const std::string& phase : kBuildPhases)  // each ends once
+    EXPECT_EQ(std::count_if(lines.begin(), lines.end(),
+                            [&](const std::string& l) {
+                              return l.rfind("dynpm build: " + phase + " done", 0) == 0;
+                            }),
+              1)
+        << phase << "\n"
+        << run.err;
   EXPECT_EQ(run.err.find("checking the mesh"), std::string::npos) << run.err;
   // Vertices removed of the 3,003: the crash box simplifies to a small base.
   const size_t collapsing = run.err.find("collapsing done: ");
