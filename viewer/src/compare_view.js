@@ -109,7 +109,13 @@ export class CompareView {
     this.option = new Option('difference |p_A(t) − p_B(t)|', DIFFERENCE);
     this.option.disabled = true;
     viewer.ui.colour.add(this.option);
-    if (layout !== null && layout !== undefined) this.overlay.set(layout);
+    if (layout !== null && layout !== undefined) {
+      try {
+        this.overlay.set(layout);
+      } catch (e) {
+        throw new Error(`?compareLayout=${layout}: ${e.message}`);
+      }
+    }
     this.fieldPairs = new Map();  // A's field k → B's field of the same name (field_difference.js)
     this.fieldDifferences = new Map();  // 'k aggregate' → the FieldDifference both canvases show
   }

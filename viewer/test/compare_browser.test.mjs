@@ -249,7 +249,7 @@ test('another hierarchy: levels linked, no difference offered, the reason shown'
   await page.close();
 });
 
-test('?compare= names a file of this server; one of another origin is refused', async () => {
+test('?compare= names a file of this server; one of another origin is refused, as is an unknown ?compareLayout=', async () => {
   const { page } = await openBoth([keys3, coarse], '?compare=model.dpm');
   const c = await compare(page);
   assert.equal(c.name, 'model.dpm');
@@ -262,4 +262,8 @@ test('?compare= names a file of this server; one of another origin is refused', 
   assert.match(await refused.locator('#error').textContent(), /\?compare=http:\/\/example\.com\/x\.dpm: not on this server/);
   assert.ok(seen.requests.every((r) => new URL(r.url).hostname === '127.0.0.1'), 'nothing left the origin');
   await refused.close();
+  const { page: badLayout } = await open([fine], '?compare=model.dpm&compareLayout=stacked');
+  await badLayout.waitForFunction(() => !document.getElementById('error').hidden, null, { timeout: 30000 });
+  assert.match(await badLayout.locator('#error').textContent(), /\?compareLayout=stacked: layout "stacked": one of side, edges, surface/);
+  await badLayout.close();
 });
