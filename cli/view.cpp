@@ -31,19 +31,22 @@ namespace fs = std::filesystem;
 
 const VerbSpec kSpec{
     "view",
-    "dynpm view MODEL.dpm [OTHER.dpm] [--port P] [--throttle KIB] | dynpm view MODEL.dpm "
-    "[OTHER.dpm] --export DIR",
+    "dynpm view MODEL.dpm [OTHER.dpm [--layout L]] [--port P] [--throttle KIB] | dynpm view "
+    "MODEL.dpm [OTHER.dpm [--layout L]] --export DIR",
     "Serves a browser viewer for a .dpm on http://127.0.0.1:P/ (default port 8765; 0 picks a\n"
     "free one) until Ctrl-C: a time slider with play/pause, a resolution slider, element\n"
     "edges, colour by part or displacement. The page streams the file and refines as it\n"
     "arrives. With a second .dpm the page compares the two side by side, with one camera,\n"
-    "time and resolution, and shows |p_A - p_B| when both hold one hierarchy. --export writes\n"
-    "the page, its modules and the .dpm files to DIR instead, for any static web server.",
+    "time and resolution, and shows |p_A - p_B| when both hold one hierarchy; --layout edges\n"
+    "or surface draws the second over the first instead. --export writes the page, its\n"
+    "modules and the .dpm files to DIR instead, for any static web server.",
     {{"--port", "", true, "P", "port on 127.0.0.1 (default 8765, 0: any free port)"},
      {"--export", "", true, "DIR",
       "write a static folder instead of serving (DIR: new, empty, or an earlier export)"},
      {"--throttle", "", true, "KIB",
-      "send the .dpm at most KIB KiB per second, 1…1048576 (to watch progressive loading)"}}};
+      "send the .dpm at most KIB KiB per second, 1…1048576 (to watch progressive loading)"},
+     {"--layout", "", true, "L",
+      "two models side (by side, default), or the second over the first: edges, surface"}}};
 
 // The names the page asks for (viewer/src/viewer.js).
 constexpr const char* kModelPath = "model.dpm";
@@ -71,13 +74,15 @@ std::string json_string(const std::string& s) {
   return out + "\"";
 }
 
-// `compare`: the second model, or empty.
-std::string config_json(const fs::path& model, const fs::path& compare) {
+// `compare`: the second model, or empty; `layout`: how the page lays the two out
+// (compare_overlay.js), or empty.
+std::string config_json(const fs::path& model, const fs::path& compare, const std::string& layout) {
   std::string json = "{\"file\": " + json_string(kModelPath) +
                      ", \"name\": " + json_string(model.filename().string());
   if (!compare.empty())
     json += ", \"compare\": " + json_string(kComparePath) +
             ", \"compareName\": " + json_string(compare.filename().string());
+  if (!layout.empty()) json += ", \"compareLayout\": " + json_string(layout);
   return json + "}\n";
 }
 
@@ -144,7 +149,8 @@ Status check_export_target(const fs::path& dir, bool& exists) {
 
 // The page, its configuration and a copy of the model (and of the second one), in `folder`
 // (which does not exist yet).
-Status write_export(const fs::path& model, const fs::path& compare, const fs::path& folder) {
+Status write_export(const fs::path& model, const fs::path& compare, const std::string& config,
+                    const fs::path& folder) {
   std::error_code error;
   auto failed = [&](const fs::path& path) {
     return Status::error(path.string() + ": " + error.message());
@@ -155,8 +161,7 @@ Status write_export(const fs::path& model, const fs::path& compare, const fs::pa
     if (fs::create_directories(path.parent_path(), error); error) return failed(path.parent_path());
     DYNPM_RETURN_IF_ERROR(write_file_atomically(path.string(), asset.bytes));
   }
-  DYNPM_RETURN_IF_ERROR(
-      write_file_atomically((folder / kConfigPath).string(), config_json(model, compare)));
+  DYNPM_RETURN_IF_ERROR(write_file_atomically((folder / kConfigPath).string(), config));
   if (!fs::copy_file(model, folder / kModelPath, error)) return failed(folder / kModelPath);
   if (!compare.empty() && !fs::copy_file(compare, folder / kComparePath, error))
     return failed(folder / kComparePath);
@@ -183,7 +188,8 @@ void remove_stale_exports(const fs::path& parent, const std::string& prefix) {
 // Built in a temporary sibling folder and renamed into place: a failed or killed export leaves
 // DIR as it was (a partial folder would show a page without its model, or a model prefix,
 // which reads as a valid coarser model).
-Status export_folder(const fs::path& model, const fs::path& compare, fs::path dir) {
+Status export_folder(const fs::path& model, const fs::path& compare, const std::string& config,
+                     fs::path dir) {
   if (!dir.has_filename()) dir = dir.parent_path();  // "out/" → "out"
   bool exists = false;
   DYNPM_RETURN_IF_ERROR(check_export_target(dir, exists));
@@ -197,7 +203,7 @@ Status export_folder(const fs::path& model, const fs::path& compare, fs::path di
   const std::string stem = dir.filename().string() + ".tmp-" + std::to_string(::getpid());
   const fs::path temp = parent / (stem + "-0"), old = parent / (stem + "-1");
   remove_stale_exports(parent, dir.filename().string() + ".tmp-");
-  Status s = write_export(model, compare, temp);
+  Status s = write_export(model, compare, config, temp);
   if (s.ok()) {
     // A missing or empty DIR is replaced by rename itself; an earlier export is moved aside
     // first, and put back if the new one cannot take its place.
@@ -243,14 +249,13 @@ ServerOptions server_options(const fs::path& model, const fs::path& compare,
   return options;
 }
 
-int serve_model(const fs::path& model, const fs::path& compare, uintmax_t model_size, int port,
-                double throttle_kib) {
+int serve_model(const fs::path& model, const fs::path& compare, const std::string& config,
+                uintmax_t model_size, int port, double throttle_kib) {
   // Ctrl-C and SIGTERM are read by the server's poll loop (a signalfd): blocked here.
   block_stop_signals();
 
   auto listener = listen_on_loopback(port);
   if (!listener) return fail(kSpec.name, kExitFailure, listener.message());
-  const std::string config = config_json(model, compare);
   std::cout << "dynpm view: " << model.filename().string() << " (" << model_size / 1024 << " KiB)"
             << (compare.empty() ? "" : " beside " + compare.filename().string())
             << " at http://127.0.0.1:" << listener->port << "/  (Ctrl-C stops)" << std::endl;
@@ -288,13 +293,20 @@ int run_view(std::span<char* const> arguments) {
   }
   const fs::path model = args.positional.front();
   const fs::path compare = args.positional.size() == 2 ? fs::path(args.positional[1]) : fs::path();
+  const std::string layout = args.value("--layout").value_or("");
+  if (!layout.empty() && compare.empty())
+    return fail(kSpec.name, kExitUsage, "--layout needs a second model to lay out");
+  if (!layout.empty() && layout != "side" && layout != "edges" && layout != "surface")
+    return fail(kSpec.name, kExitUsage,
+                "--layout is side, edges or surface, got " + quoted_value(layout));
+  const std::string config = config_json(model, compare, layout);
   uintmax_t model_size = 0, compare_size = 0;
   if (Status s = check_model(model, model_size); !s.ok())
     return fail(kSpec.name, kExitFailure, s.message());
   if (Status s = compare.empty() ? Status() : check_model(compare, compare_size); !s.ok())
     return fail(kSpec.name, kExitFailure, s.message());
   if (auto dir = args.value("--export")) {
-    if (Status s = export_folder(model, compare, *dir); !s.ok())
+    if (Status s = export_folder(model, compare, config, *dir); !s.ok())
       return fail(kSpec.name, kExitFailure, s.message());
     std::cout << "wrote " << (fs::path(*dir) / "index.html").string() << " with "
               << viewer::assets().size() << " files and " << kModelPath
@@ -303,7 +315,7 @@ int run_view(std::span<char* const> arguments) {
               << "  python3 -m http.server -d " << *dir << "\n";
     return kExitOk;
   }
-  return serve_model(model, compare, model_size, port, throttle_kib);
+  return serve_model(model, compare, config, model_size, port, throttle_kib);
 }
 
 }  // namespace dynpm::cli

@@ -31,13 +31,13 @@ const HEADLIGHT = new THREE.Vector3(0.3, 0.5, 1);  // in camera space, as the fi
 
 // The second model's path from ?compare= (only of this origin, as ?file=) or dpm.json's
 // `compare` (dynpm view A B), with its name, the family member ?compareVariant= names (null:
-// variant 0 of a family file) and the layout ?compareLayout= names (null: side by side); null
-// when there is none.
+// variant 0 of a family file) and the layout ?compareLayout= or dpm.json's `compareLayout`
+// (`dynpm view A B --layout L`) names (null: side by side); null when there is none.
 export function compareFile(params, config) {
   const query = params.get('compare');
   if (query && new URL(query, location.href).origin !== location.origin)
     throw new Error(`?compare=${query}: not on this server (${location.origin})`);
-  const variant = params.get('compareVariant'), layout = params.get('compareLayout');
+  const variant = params.get('compareVariant'), layout = params.get('compareLayout') ?? config?.compareLayout ?? null;
   // Named by its file name, as ?model= names the first (model_file.js).
   if (query) return { file: query, name: decodeURIComponent(new URL(query, location.href).pathname.split('/').pop()), variant, layout };
   return config?.compare ? { file: config.compare, name: config.compareName ?? config.compare, variant, layout } : null;

@@ -1,5 +1,5 @@
-// `dynpm view` as a command: its flags' messages, a second server on a taken port, and what
-// --export leaves behind when it fails or when DIR exists (docs/viewer.md).
+// `dynpm view` as a command: its flags' messages, a second server on a taken port, what
+// --export leaves behind when it fails or when DIR exists, and --layout (docs/viewer.md).
 import assert from 'node:assert/strict';
 import { spawn, spawnSync } from 'node:child_process';
 import { mkdirSync, readdirSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
@@ -114,4 +114,19 @@ test('a failed --export leaves no partial folder and touches nothing of yours', 
   assert.equal(r.status, 1);
   assert.match(r.stderr, /a-file/);
   assert.deepEqual(readdirSync(dir).filter((name) => name.includes('.tmp')), [], 'no temporary folder left');
+});
+
+test('--layout: with two models it goes into dpm.json for the page; alone, or another value, refused', () => {
+  const target = join(out, 'cli-layout');
+  rmSync(target, { recursive: true, force: true });
+  const both = (...args) => spawnSync(cli, ['view', dpm, dpm, ...args], { encoding: 'utf8', timeout: 10000 });
+  let r = both('--layout', 'edges', '--export', target);
+  assert.equal(r.status, 0, r.stderr);
+  assert.equal(JSON.parse(readFileSync(join(target, 'dpm.json'), 'utf8')).compareLayout, 'edges');
+  r = view('--layout', 'edges');
+  assert.equal(r.status, 2, r.stderr);
+  assert.match(r.stderr, /--layout needs a second model/);
+  r = both('--layout', 'stacked');
+  assert.equal(r.status, 2, r.stderr);
+  assert.match(r.stderr, /--layout is side, edges or surface, got 'stacked'/);
 });

@@ -159,7 +159,7 @@ const pictureOfA = (page) => page.evaluate(() => {
 });
 
 test('overlaid: B drawn in magenta on A\'s canvas, at B\'s level and step, following the camera; back side by side', async () => {
-  const { page, seen } = await openBoth([fine, coarse], '?compareLayout=edges');
+  const { page, seen } = await openBoth([fine, coarse, '--layout', 'edges']);  // dpm.json's compareLayout
   await page.selectOption('#colour', 'displacement');  // viridis: no magenta of A's own
   const visible = () => page.locator('canvas').evaluateAll((cs) => cs.map((e) => getComputedStyle(e).display !== 'none' && [e.getBoundingClientRect().x, e.getBoundingClientRect().width, e.width]));
   assert.deepEqual(await visible(), [[330, 870, 870], false], 'A takes what the panel leaves; B\'s canvas is hidden');
@@ -262,6 +262,10 @@ test('?compare= names a file of this server; one of another origin is refused, a
   assert.match(await refused.locator('#error').textContent(), /\?compare=http:\/\/example\.com\/x\.dpm: not on this server/);
   assert.ok(seen.requests.every((r) => new URL(r.url).hostname === '127.0.0.1'), 'nothing left the origin');
   await refused.close();
+  const { page: surface } = await openBoth([fine], '?compare=model.dpm&compareLayout=surface');
+  assert.equal((await compare(surface)).layout, 'surface');
+  assert.equal(await surface.locator('#compare-layout').inputValue(), 'surface');
+  await surface.close();
   const { page: badLayout } = await open([fine], '?compare=model.dpm&compareLayout=stacked');
   await badLayout.waitForFunction(() => !document.getElementById('error').hidden, null, { timeout: 30000 });
   assert.match(await badLayout.locator('#error').textContent(), /\?compareLayout=stacked: layout "stacked": one of side, edges, surface/);
