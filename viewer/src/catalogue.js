@@ -17,6 +17,7 @@ const ui = {
   count: $('count'),
   selection: $('selection'),
   compare: $('compare'),
+  overlay: $('compare-overlay'),
   clear: $('clear-selection'),
   entries: $('entries'),
   problems: $('problems'),
@@ -41,12 +42,14 @@ export function encodePath(path) {
 export const fileUrl = (path) => `/files/${encodePath(path)}`;
 export const thumbUrl = (path) => `/thumb/${encodePath(path.replace(/\.dpm$/, ''))}.png`;
 // The viewer on one model, or two (the second compared with the first); a family file's member
-// by its name: &variant= for the first, &compareVariant= for the second (docs/batch.md).
-export function viewerUrl(path, { compare, variant, compareVariant } = {}) {
+// by its name: &variant= for the first, &compareVariant= for the second (docs/batch.md); the
+// second drawn over the first with &compareLayout= (compare_overlay.js).
+export function viewerUrl(path, { compare, variant, compareVariant, layout } = {}) {
   const q = new URLSearchParams({ model: fileUrl(path) });
   if (variant != null) q.set('variant', variant);
   if (compare) q.set('compare', fileUrl(compare));
   if (compare && compareVariant != null) q.set('compareVariant', compareVariant);
+  if (compare && layout) q.set('compareLayout', layout);
   return `/view?${q}`;
 }
 
@@ -187,10 +190,13 @@ function updateSelection() {
   }
   const [a, b] = state.selected;
   const ready = state.selected.length === 2;
-  ui.compare.classList.toggle('disabled', !ready);
-  ui.compare.setAttribute('aria-disabled', String(!ready));
-  if (ready) ui.compare.href = viewerUrl(a.path, { variant: a.variant, compare: b.path, compareVariant: b.variant });
-  else ui.compare.removeAttribute('href');
+  // Side by side, or the second's edges over the first.
+  for (const [link, layout] of [[ui.compare, null], [ui.overlay, 'edges']]) {
+    link.classList.toggle('disabled', !ready);
+    link.setAttribute('aria-disabled', String(!ready));
+    if (ready) link.href = viewerUrl(a.path, { variant: a.variant, compare: b.path, compareVariant: b.variant, layout });
+    else link.removeAttribute('href');
+  }
   ui.selection.textContent = ready ? `${choiceName(a)} and ${choiceName(b)}` : a ? `${choiceName(a)}: select one more` : 'select two to compare';
 }
 
@@ -226,6 +232,7 @@ window.dynpmCatalogue = {
   // A file by its path, a family's member as PATH#NAME.
   selected: () => state.selected.map((c) => (c.variant == null ? c.path : `${c.path}#${c.variant}`)),
   compareUrl: () => ui.compare.getAttribute('href'),
+  overlayUrl: () => ui.overlay.getAttribute('href'),
 };
 
 poll();

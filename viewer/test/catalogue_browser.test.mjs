@@ -102,11 +102,12 @@ test('opens one variant in the viewer', async () => {
   assert.deepEqual(errors, []);
 });
 
-test('two selected open side by side: the compare link, and the viewer on the first', async () => {
+test('two selected open side by side: the compare link (and the overlay link), and the viewer on the first', async () => {
   const page = await newPage({ width: 900, height: 600 });
   await page.goto(url);
   await page.waitForFunction(() => window.dynpmCatalogue?.entries().length === 24);
   assert.equal(await page.getAttribute('#compare', 'aria-disabled'), 'true');
+  assert.equal(await page.getAttribute('#compare-overlay', 'aria-disabled'), 'true');
   for (const name of ['t02', 't05', 't09']) await page.check(`article[data-path="thickness/${name}.dpm"] .select`);
   // A third choice lets the oldest go: t05 and t09 stay.
   assert.deepEqual(await page.evaluate(() => window.dynpmCatalogue.selected()), ['thickness/t05.dpm', 'thickness/t09.dpm']);
@@ -116,6 +117,9 @@ test('two selected open side by side: the compare link, and the viewer on the fi
   assert.equal(new URL(href, url).pathname, '/view');
   assert.equal(query.get('model'), '/files/thickness/t05.dpm');
   assert.equal(query.get('compare'), '/files/thickness/t09.dpm');
+  // The overlay link: the same two, the second's edges over the first.
+  const overlay = new URL(await page.getAttribute('#compare-overlay', 'href'), url).searchParams;
+  assert.deepEqual(Object.fromEntries(overlay), { ...Object.fromEntries(query), compareLayout: 'edges' });
   await Promise.all([page.waitForURL(/compare=/), page.click('#compare')]);
   await page.waitForFunction(allShown, null, { timeout: 60000 });
   assert.equal(await page.textContent('#title'), 't05.dpm');
