@@ -6,7 +6,7 @@
 // B's own geometry (the same buffers B's canvas draws; three uploads them to A's context too).
 import * as THREE from 'three';
 
-import { element } from './fringe.js';
+import { panelChoice } from './panel.js';
 
 export const LAYOUTS = {
   side: 'side by side',
@@ -28,16 +28,8 @@ export class CompareOverlay {
     this.edges.renderOrder = 2;
     this.surface.renderOrder = 3;
     for (const o of [this.edges, this.surface]) (o.visible = false), viewer.scene.add(o);
-    this.select = element('select', {});
-    this.select.id = 'compare-layout';
-    this.select.title = 'B beside A, or drawn over A in magenta';
-    for (const [value, text] of Object.entries(LAYOUTS)) this.select.add(new Option(text, value));
-    const label = element('label', {}, 'Layout');
-    label.htmlFor = this.select.id;
-    const colourRow = document.getElementById('colour').closest('.row');
-    colourRow.before(element('div', { className: 'row' }, label, this.select));
-    this.select.addEventListener('change', () => this.set(this.select.value));
     this.layout = 'side';
+    this.select = panelChoice('compare-layout', 'Layout', LAYOUTS, 'B beside A, or drawn over A in magenta', (l) => this.set(l)).select;
   }
 
   get overlaid() {

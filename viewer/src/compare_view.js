@@ -8,11 +8,12 @@
 // family file's member (`&compareVariant=NAME|INDEX`, as `?variant=` for the first; the same
 // file as the first's for two members of one family, which always hold one hierarchy: then B is
 // the member's view of the mesh the first's decode fills, fetched and decoded once). B may also
-// be drawn over A on A's canvas (`&compareLayout=edges|surface`, compare_overlay.js).
+// be drawn over A on A's canvas (`&compareLayout=edges|surface`, compare_overlay.js), and two
+// hierarchies may be linked by error instead of the share of vertices (the panel's "Link by").
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 
-import { hierarchyDifference, linkedVertexCount, positionDifference } from './compare_math.js';
+import { errorLinkedVertexCount, hierarchyDifference, linkedVertexCount, positionDifference } from './compare_math.js';
 import { Navigator, ProgressiveMesh, updateIndices } from './dpm.js';
 import { BaseLevel } from './base_level.js';
 import { CompareOverlay } from './compare_overlay.js';
@@ -21,6 +22,7 @@ import { edgeMaterial, fieldColoursAtVertices } from './edge_lines.js';
 import { commonFields, FIELD_DIFFERENCE, FieldDifference } from './field_difference.js';
 import { FieldView } from './field_view.js';
 import { element, fmt, int } from './fringe.js';
+import { panelChoice } from './panel.js';
 import { PartView } from './part_view.js';
 import { greySnapshot } from './snapshot.js';
 import { variantCallbacks } from './variant_choice.js';
@@ -98,7 +100,13 @@ export class CompareView {
       (this.overlay.overlaid ? viewer.scene : this.scene).add(this.markers[1]);
       if (this.nav && viewer.state.nav) this.label();
     };
-    Object.assign((window.dynpm ??= {}), { setCompareLayout: (l) => (this.overlay.set(l), this.overlay.layout) });
+    // Levels linked by the share of vertices (default) or, for two hierarchies, by error.
+    this.link = panelChoice('compare-link', 'Link by', { vertices: 'share of vertices', error: 'error' },
+      'B\'s level: the same share of its vertices, or (two hierarchies) its coarsest level within A\'s error', () => this.sync({ level: true }));
+    Object.assign((window.dynpm ??= {}), {
+      setCompareLayout: (l) => (this.overlay.set(l), this.overlay.layout),
+      setCompareLink: (l) => (this.link.set(l), this.sync({ level: true }), this.link.value),
+    });
     this.buffers = {};  // positions, colours, triIndex, edgeIndex, scratch (draw_buffers.js)
     this.room = { vertices: 0, faces: 0 };
     this.mesh = this.nav = this.parts = this.fieldView = null;
@@ -222,7 +230,11 @@ export class CompareView {
     if (!this.nav || !state.nav) return;
     const nav = this.nav, mesh = this.mesh;
     const A = state.mesh.head;
-    const n = nav instanceof Navigator ? linkedVertexCount(state.nav.vertexCount, A.vertexCount, mesh.head, mesh.vertexCountLoaded) : nav.vertexCount;
+    // By error only between two hierarchies: one hierarchy is compared vertex for vertex.
+    const byError = this.link.value === 'error' && this.why !== null && Number.isFinite(state.nav.error);
+    const n = !(nav instanceof Navigator) ? nav.vertexCount
+      : byError ? errorLinkedVertexCount(state.nav.error, mesh)
+      : linkedVertexCount(state.nav.vertexCount, A.vertexCount, mesh.head, mesh.vertexCountLoaded);
     if (nav.vertexCount !== n) (nav.setVertexCount(n), (level = true));
     if (level || !this.buffers.positions) this.drawLevel();  // (B's base may come before A's)
     const t = this.step();
@@ -335,7 +347,8 @@ export class CompareView {
     this.labels[0].textContent = `A: ${shownName(state.name, state.mesh)} — ${levelText(state.mesh, state.nav, state.t)}`;
     const why = this.why && this.viewer.state.mesh?.complete && this.mesh.complete ? `; no difference fringe: ${this.why}` : '';
     const clamped = state.t > this.mesh.head.stepCount - 1 ? ' (its last step)' : '';
-    const where = this.overlay.overlaid ? ', in magenta over A' : '';
+    const where = (this.overlay.overlaid ? ', in magenta over A' : '') +
+      (this.link.value === 'error' && this.why !== null ? ', linked by error' : '');
     this.labels[1].textContent = `B${where}: ${shownName(this.name, this.mesh)} — ${levelText(this.mesh, this.nav, this.step())}${clamped}${this.note ? `; ${this.note}` : ''}${why}`;
   }
 
@@ -388,6 +401,7 @@ export class CompareView {
     return {
       name: this.name,
       layout: this.overlay.layout,
+      link: this.link.value,
       variant: this.mesh?.variant?.name ?? null,
       complete: Boolean(this.mesh?.complete),
       vertices: nav?.vertexCount ?? 0,

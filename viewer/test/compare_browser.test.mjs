@@ -58,6 +58,15 @@ async function openBoth(models, query = '') {
 }
 
 const compare = (page) => page.evaluate(() => window.dpmViewer.compare());
+// The error setCompareLink('pixels') throws, as "Name: message".
+const thrownLink = (page) => page.evaluate(() => {
+  try {
+    window.dynpm.setCompareLink('pixels');
+    return null;
+  } catch (e) {
+    return `${e.name}: ${e.message}`;
+  }
+});
 const meanDifference = (a, b) => a.reduce((s, x, i) => s + Math.abs(x - b[i]), 0) / a.length;
 const pictures = (page) => page.evaluate(() => ({ a: window.dpmViewer.snapshot(), b: window.dpmViewer.compareSnapshot() }));
 
@@ -131,6 +140,12 @@ test('linked time and resolution: the slider, the API and the state buttons move
   }
   await page.locator('#resolution').fill('800');
   await page.waitForFunction(() => window.dpmViewer.compare().vertices === 800);
+  // One hierarchy stays linked vertex for vertex when the panel says "error".
+  await page.selectOption('#compare-link', 'error');
+  await page.evaluate(() => window.dynpm.setLevel({ vertices: 500 }));
+  const c = await compare(page);
+  assert.equal(c.vertices, 500);
+  assert.doesNotMatch(c.labels[1], /linked by error/);
   await page.close();
 });
 
@@ -236,7 +251,7 @@ test('the difference fringe: its largest |p_A − p_B| is the one extract gives,
   await page.close();
 });
 
-test('another hierarchy: levels linked, no difference offered, the reason shown', async () => {
+test('another hierarchy: levels linked by share or by error, no difference offered, the reason shown', async () => {
   const { page, seen } = await openBoth([fine, keys3]);
   const c = await compare(page);
   assert.equal(c.sameHierarchy, false);
@@ -245,6 +260,19 @@ test('another hierarchy: levels linked, no difference offered, the reason shown'
   assert.ok(await page.locator('#colour option[value="difference"]').evaluate((o) => o.disabled));
   await page.evaluate(() => window.dynpm.setLevel({ ratio: 0.25 }));
   assert.equal((await compare(page)).vertices, Math.round(0.25 * 2608));
+  // Linked by error: B's coarsest level within A's error, as dpm.js gives it; back by share.
+  const b = compareMesh('keys3');
+  assert.equal(await page.evaluate(() => window.dynpm.setCompareLink('error')), 'error');
+  for (const vertices of [200, 800, 2000]) {
+    const { error } = await page.evaluate((n) => window.dynpm.setLevel({ vertices: n }), vertices);
+    const c = await compare(page);
+    assert.equal(c.vertices, b.head.baseVertexCount + b.levelForError(error), `A at ${vertices} vertices, error ${error}`);
+    assert.ok(b.levelError(c.vertices - b.head.baseVertexCount) <= error);
+    assert.match(c.labels[1], /^B, linked by error: keys3\.dpm/);
+  }
+  await page.selectOption('#compare-link', 'vertices');
+  assert.equal((await compare(page)).vertices, 2000);
+  assert.match(await thrownLink(page), /RangeError: link by "pixels": one of vertices, error/);
   assert.deepEqual(seen.errors, []);
   await page.close();
 });
