@@ -1,9 +1,10 @@
-// The resolution by error (docs/viewer.md "Resolution by error"): the panel's "max error" box
-// takes E (model units) or E% (of the box diagonal), as `dynpm extract --max-error` does, and
-// shows the coarsest level whose error is at most E — the level an engineer asks for in
-// millimetres rather than in vertices. Beyond what has arrived, the rest of the file is asked
-// for and the finest level follows it. The slider clears the box: it no longer says the level.
-// Under selective refinement it sets the level elsewhere, as the slider does.
+// The resolution by error (docs/viewer.md "The view's controls", Resolution): the panel's
+// "max error" box takes E (model units) or E% (of the box diagonal), as `dynpm extract
+// --max-error` does, and shows the coarsest level whose error is at most E — the level an
+// engineer asks for in millimetres rather than in vertices. Beyond what has arrived, the rest
+// of the file is asked for and the finest level follows it. The slider clears the box: it no
+// longer says the level. Under selective refinement it sets the level elsewhere, as the slider
+// does.
 
 // "0.5" or "0.1%" → {value, percent}, or null.
 export function parseMaxError(text) {
