@@ -54,7 +54,7 @@ export function installApi(viewer) {
         n = Math.round(spec.ratio * h.vertexCount);
       } else if ('error' in spec) {
         if (number('error', spec.error) < 0) throw new RangeError(`error ${spec.error}: ≥ 0`);
-        n = h.baseVertexCount + nav.levelForError(spec.error);
+        n = state.mesh.vertexCountForError(spec.error);
       } else throw new TypeError('setLevel: {vertices}, {ratio} or {error}');
       viewer.setVertexCount(Math.max(h.baseVertexCount, Math.min(n, h.vertexCount)), true);
       return { vertices: nav.activeVertexCount ?? nav.vertexCount, error: nav.error };  // refined: the level elsewhere

@@ -67,7 +67,3 @@ export function linkedVertexCount(n, V, head, loaded) {
   const wanted = V === head.vertexCount ? n : Math.round((n / V) * head.vertexCount);
   return Math.max(head.baseVertexCount, Math.min(wanted, loaded));
 }
-
-// Linked by error instead: the second's coarsest loaded level whose error is at most the
-// first's level's error e (ProgressiveMesh.levelForError), as a vertex count.
-export const errorLinkedVertexCount = (e, mesh) => mesh.head.baseVertexCount + mesh.levelForError(e);

@@ -13,7 +13,7 @@
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 
-import { errorLinkedVertexCount, hierarchyDifference, linkedVertexCount, positionDifference } from './compare_math.js';
+import { hierarchyDifference, linkedVertexCount, positionDifference } from './compare_math.js';
 import { Navigator, ProgressiveMesh, updateIndices } from './dpm.js';
 import { BaseLevel } from './base_level.js';
 import { CompareOverlay } from './compare_overlay.js';
@@ -230,10 +230,8 @@ export class CompareView {
     if (!this.nav || !state.nav) return;
     const nav = this.nav, mesh = this.mesh;
     const A = state.mesh.head;
-    // By error only between two hierarchies: one hierarchy is compared vertex for vertex.
-    const byError = this.link.value === 'error' && this.why !== null && Number.isFinite(state.nav.error);
     const n = !(nav instanceof Navigator) ? nav.vertexCount
-      : byError ? errorLinkedVertexCount(state.nav.error, mesh)
+      : this.linkedByError && Number.isFinite(state.nav.error) ? mesh.vertexCountForError(state.nav.error)
       : linkedVertexCount(state.nav.vertexCount, A.vertexCount, mesh.head, mesh.vertexCountLoaded);
     if (nav.vertexCount !== n) (nav.setVertexCount(n), (level = true));
     if (level || !this.buffers.positions) this.drawLevel();  // (B's base may come before A's)
@@ -247,6 +245,12 @@ export class CompareView {
     this.label();
     if (offered && state.colour !== 'part') this.viewer.setColour(state.colour);
     this.viewer.requestRender();
+  }
+
+  // B at its coarsest level within A's error: asked for, and only between two hierarchies (one
+  // hierarchy is compared vertex for vertex).
+  get linkedByError() {
+    return this.link.value === 'error' && this.why !== null;
   }
 
   step() {
@@ -348,7 +352,7 @@ export class CompareView {
     const why = this.why && this.viewer.state.mesh?.complete && this.mesh.complete ? `; no difference fringe: ${this.why}` : '';
     const clamped = state.t > this.mesh.head.stepCount - 1 ? ' (its last step)' : '';
     const where = (this.overlay.overlaid ? ', in magenta over A' : '') +
-      (this.link.value === 'error' && this.why !== null ? ', linked by error' : '');
+      (this.linkedByError ? ', linked by error' : '');
     this.labels[1].textContent = `B${where}: ${shownName(this.name, this.mesh)} — ${levelText(this.mesh, this.nav, this.step())}${clamped}${this.note ? `; ${this.note}` : ''}${why}`;
   }
 

@@ -18,9 +18,9 @@ export function parseMaxError(text) {
 // The vertex count of the coarsest loaded level with error ≤ e (model units), or null when no
 // loaded level reaches it and the file holds more.
 export function vertexCountForError(mesh, e) {
-  const k = mesh.levelForError(e);
-  if (mesh.levelError(k) > e && mesh.splitsLoaded < mesh.head.splitCount) return null;
-  return mesh.head.baseVertexCount + k;
+  const n = mesh.vertexCountForError(e);
+  if (mesh.levelError(n - mesh.head.baseVertexCount) > e && mesh.splitsLoaded < mesh.head.splitCount) return null;
+  return n;
 }
 
 // viewer: {state, ui, setVertexCount} (viewer.js).

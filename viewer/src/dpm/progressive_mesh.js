@@ -87,6 +87,11 @@ export class ProgressiveMesh {
     }
     return Math.min(lo + 1, this.splitsLoaded);
   }
+  // The same level as a vertex count (the panel's max error box, setLevel({error}), compare's
+  // link by error).
+  vertexCountForError(e) {
+    return this.head.baseVertexCount + this.levelForError(e);
+  }
   // Position of vertex v at integer step t, as the f32 the file means.
   position(v, t, out = [0, 0, 0]) {
     const q = this.q[t];
