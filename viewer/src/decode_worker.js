@@ -1,31 +1,33 @@
 // The page's decoder, off its main thread (docs/viewer.md "Decoding in a worker"): fetches the
 // .dpm (by ranges, range_fetch.js), feeds DpmDecoder as bytes arrive, and posts what each chunk
 // made loadable — the base mesh, then splits. With `shared` the mesh's arrays are shared with
-// the page and only the growing lists travel; else runs of at most `sliceSplits` splits go as
-// copies of the ranges the page's mesh needs, their buffers transferred (mesh_pieces.js). The
-// page (worker_decoder.js) starts it with { url, name, shared, sliceSplits, vertices } and may
-// later send { type: 'want', vertices } (fetch until that many vertices are loaded; Infinity:
-// the whole file); it hears: start, first-bytes, progress, head, base, navigator, splits,
-// dependencies, paused, end, done or error. It ends itself once the stream has: what the page
-// does not share goes with it. The split dependencies are derived here whenever the stream stops
-// (paused, end, done: the splits are shown first) and sent, so that no refinement derives them on
-// the page (moved_dependencies.js).
+// the page and only the growing lists (and the arrays of every step, when made anew) travel;
+// else runs of at most `sliceSplits` splits go as copies of the ranges the page's mesh needs,
+// their buffers transferred (mesh_pieces.js). The page (worker_decoder.js) starts it with
+// { url, name, shared, sliceSplits, vertices } and may later send { type: 'want', vertices }
+// (fetch until that many vertices are loaded; Infinity: the whole file); it hears: start,
+// first-bytes, progress, head, base, navigator, splits, dependencies, paused, end, done or error.
+// It ends itself once the stream has: what the page does not share goes with it. The split
+// dependencies are derived here whenever the stream stops (paused, end, done: the splits are
+// shown first) and sent, so that no refinement derives them on the page (moved_dependencies.js).
 import { DpmDecoder } from './dpm/file.js';
 import { Navigator } from './dpm/navigator.js';
 import { navigatorParts } from './moved_navigator.js';
 import { dependencyParts } from './moved_dependencies.js';
 import { fetchByRanges } from './range_fetch.js';
 import { SplitDependencies } from './dpm/split_dependencies.js';
-import { fieldDefs, growableTails, levelPieces, shareFields, shareMesh } from './mesh_pieces.js';
+import { fieldDefs, growableTails, levelPieces, regrownSteps, shareFields, shareMesh } from './mesh_pieces.js';
 
 const post = (message, transfer = []) => self.postMessage(message, transfer);
 
 // The page's wish: vertices it wants loaded; a promise's resolve while waiting for more.
 const want = { vertices: Infinity, wake: null };
+let decoding = null;  // the DpmDecoder
 
 async function decode({ url, name, shared, sliceSplits, vertices = Infinity }) {
   want.vertices = vertices;
   const sent = {};  // shared: the length of each growing list the page has
+  const sentSteps = {};  // shared: the arrays of every step the page has
   let deps = null;  // the split dependencies (derived when the stream stops)
   let depsSent = -1;  // how many splits the page's dependencies cover
   const sendDependencies = (last = false) => {
@@ -37,12 +39,13 @@ async function decode({ url, name, shared, sliceSplits, vertices = Infinity }) {
   };
   const decoder = new DpmDecoder({
     name,
+    vertices,
     onHead: (mesh) => post({ type: 'head', head: mesh.head, shared: shared ? shareMesh(mesh) : null }),
     onBase: (mesh) => {
       if (shared) {
         const fields = shareFields(mesh);
         const pieces = [['baseDegree', 0, mesh.baseDegree], ['baseCorners', 0, mesh.baseCorners]];
-        post({ type: 'base', fields, faceHeir: mesh.faceHeir, partNames: mesh.partNames, variants: mesh.variants, pieces: [...pieces, ...growableTails(mesh, sent)] });
+        post({ type: 'base', fields, faceHeir: mesh.faceHeir, partNames: mesh.partNames, variants: mesh.variants, pieces: [...pieces, ...growableTails(mesh, sent), ...regrownSteps(mesh, sentSteps)] });
       } else {
         const { pieces, transfer } = levelPieces(mesh, 0, 0);
         post({ type: 'base', fields: fieldDefs(mesh), partNames: mesh.partNames, variants: mesh.variants, pieces }, transfer);
@@ -53,7 +56,7 @@ async function decode({ url, name, shared, sliceSplits, vertices = Infinity }) {
       deps = new SplitDependencies(mesh);
     },
     onSplits: (mesh, s, n) => {
-      if (shared) return post({ type: 'splits', first: s, count: n, pieces: growableTails(mesh, sent) });
+      if (shared) return post({ type: 'splits', first: s, count: n, pieces: [...growableTails(mesh, sent), ...regrownSteps(mesh, sentSteps)] });
       for (let first = s; first < s + n; first += sliceSplits) {
         const count = Math.min(sliceSplits, s + n - first);
         const { pieces, transfer } = levelPieces(mesh, first, count);
@@ -68,6 +71,7 @@ async function decode({ url, name, shared, sliceSplits, vertices = Infinity }) {
     },
   });
   // More is wanted until the base mesh, the FLDS of a SPLT, the wanted vertices or END are in.
+  decoding = decoder;
   const wanted = () => {
     const mesh = decoder.mesh;
     if (!mesh?.hasBase || decoder.state !== 'SPLT') return true;
@@ -93,6 +97,7 @@ async function decode({ url, name, shared, sliceSplits, vertices = Infinity }) {
 self.onmessage = (e) => {
   if (e.data.type === 'want') {
     want.vertices = Math.max(want.vertices, e.data.vertices);
+    if (decoding) decoding.vertices = want.vertices;  // room for them at the next chunk
     want.wake?.();
     return;
   }

@@ -3,7 +3,8 @@
 // - shared (the page is cross-origin isolated, as `dynpm view` serves it): at HEAD the worker
 //   puts the ProgressiveMesh's typed arrays on SharedArrayBuffers (shareMesh), which the page
 //   reads in place (sharedMesh): nothing is copied but the base faces and the wing and
-//   moved-face lists, which grow by reallocation (growableTails);
+//   moved-face lists, which grow by reallocation (growableTails), and the arrays of every step
+//   when they are made anew with more room (regrownSteps);
 // - copied (elsewhere): the worker cuts the ranges of the arrays that the base mesh or a run of
 //   splits filled (levelPieces) and the page writes them into its own mesh. levelPieces is the
 //   one place that knows which array is indexed by vertex, face, split or wing: a new array in
@@ -126,16 +127,45 @@ export function addFields(mesh, fields, faceHeir) {
   else if (mesh.fields.some((f) => f.perFace)) mesh.faceHeir = new Int32Array(h.faceCount).fill(-1);
 }
 
-// Writes pieces into the page's mesh: typed arrays in place; the base faces whole; the wing
-// and moved-face lists (Growable) at their place, their length following.
+// Shared, worker: the arrays of every step (positions, field values) that ProgressiveMesh's
+// makeRoom() made anew since the last call, as pieces that replace the page's (first: null);
+// `sent` keeps the arrays the page has. Those it had still hold the levels it was told of.
+export function regrownSteps(mesh, sent) {
+  const pieces = [];
+  const lists = [['q', mesh.q], ...mesh.fields.map((f, k) => [`fields.${k}.q`, f.q])];
+  for (const [path, list] of lists) {
+    if (sent[path] && list.every((a, t) => a === sent[path][t])) continue;
+    sent[path] = list.slice();
+    pieces.push([path, null, list.slice()]);
+  }
+  return pieces;
+}
+
+// The room a run of copied pieces needs in the arrays of every step: vertices and faces.
+function stepRoom(mesh, pieces) {
+  let vertices = 0, faces = 0;
+  for (const [path, first, values] of pieces) {
+    const end = first + values.length;
+    if (path.startsWith('q.')) vertices = Math.max(vertices, end / 3);
+    const field = /^fields\.(\d+)\.q\./.exec(path);
+    if (field && mesh.fields[field[1]].perFace) faces = Math.max(faces, end);
+    else if (field) vertices = Math.max(vertices, end);
+  }
+  return [vertices, faces];
+}
+
+// Writes pieces into the page's mesh: typed arrays in place (the arrays of every step with room
+// made first); the base faces whole, and arrays replaced (first: null); the wing and moved-face
+// lists (Growable) at their place, their length following.
 export function applyPieces(mesh, pieces) {
+  mesh.makeRoom(...stepRoom(mesh, pieces));
   for (const [path, first, values] of pieces) {
     const keys = path.split('.');
     const last = keys.pop();
     const owner = keys.reduce((o, k) => o[k], mesh);
     const target = owner[last];
-    if (target === null) {
-      owner[last] = values;  // baseDegree, baseCorners: whole, once
+    if (target === null || first === null) {
+      owner[last] = values;  // baseDegree, baseCorners: whole, once; regrown arrays
     } else if (ArrayBuffer.isView(target)) {
       target.set(values, first);
     } else {

@@ -7,7 +7,8 @@ import { readFileSync } from 'node:fs';
 import { test } from 'node:test';
 
 import { DpmDecoder, Navigator, ProgressiveMesh } from '../src/dpm.js';
-import { addFields, applyPieces, fieldDefs, growableTails, levelPieces, shareFields, shareMesh, sharedMesh } from '../src/mesh_pieces.js';
+import { withRoom } from '../src/dpm/bytes.js';
+import { addFields, applyPieces, fieldDefs, growableTails, levelPieces, regrownSteps, shareFields, shareMesh, sharedMesh } from '../src/mesh_pieces.js';
 import { DEMO_FIELDS, withFields } from './fields_fixture.mjs';
 
 const { DYNPM_DPM: dpm } = process.env;
@@ -18,33 +19,36 @@ const file = withFields(new Uint8Array(readFileSync(dpm)), DEMO_FIELDS);
 // (structuredClone stands for postMessage: shared buffers stay shared, others are copied).
 function decodeMirrored(shared, slice) {
   const page = {};
-  const sent = {};
+  const sent = {}, sentSteps = {};
   const post = (m) => {
     m = structuredClone(m);
     if (m.type === 'head') page.mesh = m.shared ? sharedMesh(m.shared) : new ProgressiveMesh(m.head);
     if (m.type === 'base') addFields(page.mesh, m.fields, m.faceHeir), applyPieces(page.mesh, m.pieces), (page.mesh.hasBase = true);
     if (m.type === 'splits') applyPieces(page.mesh, m.pieces), (page.mesh.splitsLoaded = m.first + m.count);
     page.messages = (page.messages ?? 0) + 1;
+    page.regrown = (page.regrown ?? 0) + (m.pieces ?? []).filter(([path, first]) => path === 'q' && first === null).length;
   };
+  // Room for the base only at first, as for ?vertices=1: the arrays of every step grow.
   const decoder = new DpmDecoder({
+    vertices: 1,
     onHead: (mesh) => post({ type: 'head', head: mesh.head, shared: shared ? shareMesh(mesh) : null }),
     onBase: (mesh) => {
       if (shared) {
         const fields = shareFields(mesh);
-        post({ type: 'base', fields, faceHeir: mesh.faceHeir, pieces: [['baseDegree', 0, mesh.baseDegree], ['baseCorners', 0, mesh.baseCorners], ...growableTails(mesh, sent)] });
+        post({ type: 'base', fields, faceHeir: mesh.faceHeir, pieces: [['baseDegree', 0, mesh.baseDegree], ['baseCorners', 0, mesh.baseCorners], ...growableTails(mesh, sent), ...regrownSteps(mesh, sentSteps)] });
       } else {
         post({ type: 'base', fields: fieldDefs(mesh), pieces: levelPieces(mesh, 0, 0).pieces });
       }
     },
     onSplits: (mesh, s, n) => {
-      if (shared) return post({ type: 'splits', first: s, count: n, pieces: growableTails(mesh, sent) });
+      if (shared) return post({ type: 'splits', first: s, count: n, pieces: [...growableTails(mesh, sent), ...regrownSteps(mesh, sentSteps)] });
       for (let first = s; first < s + n; first += slice)
         post({ type: 'splits', first, count: Math.min(slice, s + n - first), pieces: levelPieces(mesh, first, Math.min(slice, s + n - first)).pieces });
     },
   });
   for (let at = 0; at < file.length; at += 5000) decoder.push(file.subarray(at, at + 5000));
   assert.ok(decoder.complete);
-  return { mesh: decoder.mesh, page: page.mesh, messages: page.messages };
+  return { mesh: decoder.mesh, page: page.mesh, messages: page.messages, regrown: page.regrown };
 }
 
 // Every array the page reads, by name, as plain arrays (a Growable up to its length).
@@ -65,7 +69,9 @@ function arrays(mesh) {
 
 for (const shared of [false, true]) {
   test(`the page's mesh equals the decoder's (${shared ? 'shared' : 'copied in runs of 300 splits'})`, () => {
-    const { mesh, page, messages } = decodeMirrored(shared, 300);
+    const { mesh, page, messages, regrown } = decodeMirrored(shared, 300);
+    // Shared: the positions made anew at the base and again as splits came (else copied in).
+    assert.ok(shared ? regrown >= 3 : regrown === 0, `positions made anew ${regrown} times`);
     assert.ok(mesh.fields.length === 2 && mesh.head.splitCount > 1000, 'a model with fields and splits');
     assert.ok(messages > 5, `${messages} messages`);
     assert.equal(page.splitsLoaded, mesh.splitsLoaded);
@@ -87,3 +93,17 @@ for (const shared of [false, true]) {
     }
   });
 }
+
+// Arrays that grow as levels arrive (dpm/bytes.js withRoom): the same array while it has room,
+// else a copy with twice the room (never past the most), new elements filled, shared when the
+// array was.
+test('withRoom keeps what was written and fills the new room', () => {
+  const a = Int32Array.of(7, 8);
+  assert.equal(withRoom(a, 2, 100), a);
+  const b = withRoom(a, 3, 100, -1);
+  assert.deepEqual(Array.from(b), [7, 8, -1, -1]);
+  assert.deepEqual(Array.from(withRoom(b, 9, 6)), [7, 8, -1, -1, 0, 0]);
+  const c = withRoom(new Float64Array(new SharedArrayBuffer(8)), 2, 4);
+  assert.ok(c.buffer instanceof SharedArrayBuffer);
+  assert.equal(c.length, 2);
+});

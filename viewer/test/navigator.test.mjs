@@ -40,6 +40,8 @@ function assertSame(nav, ref, what, before = null) {
   let changed = 0;
   for (let f = 0; f < a.length >> 2; f++) {
     const c = 4 * f;
+    // Room the navigator made since (it grows with the finest level reached) read −1 before.
+    if (c >= before.length && a[c] === -1 && a[c + 1] === -1 && a[c + 2] === -1 && a[c + 3] === -1) continue;
     if (a[c] === before[c] && a[c + 1] === before[c + 1] && a[c + 2] === before[c + 2] && a[c + 3] === before[c + 3]) continue;
     assert.ok(touched.has(f), `${what}: face ${f} changed and is not in the touched faces`);
     changed++;

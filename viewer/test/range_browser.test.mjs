@@ -82,6 +82,13 @@ test('?vertices=N fetches only the chunks up to N vertices; the slider fetches t
   assert.ok(s.loadedVertices < total, `${s.loadedVertices} of ${total} vertices`);
   assert.equal(s.complete, false);
   assert.doesNotMatch(await page.locator('#stats').textContent(), /…/, 'paused: the status line says no more is coming');
+  // Memory in proportion to what is loaded: every step's positions of the loaded vertices (with
+  // room for as many again, as arrays grow), not of the whole file (docs/viewer.md "Memory").
+  const steps = await page.evaluate(() => window.dynpm.view().stepCount);
+  const positionBytes = () => page.evaluate(() => window.dpmViewer.memory().positions);
+  const held = await positionBytes();
+  assert.ok(held >= 12 * s.loadedVertices * steps && held <= 2 * 12 * s.loadedVertices * steps && held < 12 * total * steps,
+    `${held} bytes of positions for ${s.loadedVertices} of ${total} vertices × ${steps} steps`);
   // The slider's far end asks for every vertex (the panel starts collapsed in this small window).
   await page.locator('#panel-toggle').click();
   const box = await page.locator('#resolution').boundingBox();
@@ -91,6 +98,7 @@ test('?vertices=N fetches only the chunks up to N vertices; the slider fetches t
   assert.equal(s.bytesLoaded, size);
   assert.equal(s.loadedVertices, total);
   assert.equal(s.vertices, total, 'following the file to the full mesh');
+  assert.equal(await positionBytes(), 12 * total * steps);
   assert.deepEqual(errors, []);
   await page.close();
 });

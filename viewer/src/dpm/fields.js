@@ -21,7 +21,8 @@ export class DpmField {
   constructor(def, stepCount, itemCount, splitCount) {
     Object.assign(this, def);
     this.q = [];
-    for (let t = 0; t < stepCount; t++) this.q.push(new Int32Array(itemCount));
+    // Each step's values of the items that have arrived (ProgressiveMesh.makeRoom()).
+    for (let t = 0; t < stepCount; t++) this.q.push(new Int32Array(0));
     this.error = new Float32Array(splitCount);
   }
   get perFace() {

@@ -93,8 +93,11 @@ function meshFor(head) {
 // Feed it the file's bytes with push() as they arrive; it parses each chunk once complete and
 // calls the callbacks: onHead(mesh), onBase(mesh), onSplits(mesh, first, count), onEnd(mesh).
 export class DpmDecoder {
-  constructor({ name = 'file', onHead, onBase, onSplits, onEnd } = {}) {
+  // vertices: how many the reader means to load (the page's ?vertices=N; raise it when it wants
+  // more): the arrays of every step take room for them at once and grow past them by doubling.
+  constructor({ name = 'file', onHead, onBase, onSplits, onEnd, vertices = Infinity } = {}) {
     this.name = name;
+    this.vertices = vertices;
     this.callbacks = { onHead, onBase, onSplits, onEnd };
     this.buffer = new Uint8Array(1 << 16);
     this.start = 0;   // first unparsed byte in buffer
@@ -295,11 +298,13 @@ export class DpmDecoder {
       parseVariants(r, mesh);
       this.state = 'BASE';
     } else if (tag === 'BASE') {
+      this.takeRoom();
       parseBase(r, mesh);
       this.pending = { s: 0, n: 0 };
       if (withFields) this.state = 'FLDS';
       else this.commit();
     } else if (tag === 'SPLT') {
+      this.takeRoom();
       this.models ??= positionModels(mesh.head.stepCount);
       const records = this.recordModels();
       this.pending = { s: mesh.splitsLoaded, ...parseSplits(r, mesh, records, this.models) };
@@ -318,6 +323,14 @@ export class DpmDecoder {
       this.state = 'done';
       this.callbacks.onEnd?.(this.mesh);
     }
+  }
+
+  // Room in the arrays of every step for the vertices the reader means to load, and their share
+  // of the faces.
+  takeRoom() {
+    const { vertexCount: V, faceCount: F } = this.mesh.head;
+    const n = Math.min(V, this.vertices);
+    this.mesh.makeRoom(n, n === V ? F : Math.ceil((F * n) / V));
   }
 
   // The base mesh, or the splits of the last SPLT, with their field values when the file has
@@ -395,6 +408,7 @@ function parseBase(r, mesh) {
   const b = h.baseVertexCount;
   const nf = h.baseFaceCount;
   if (r.remaining() < 2 * b + 4 * nf) r.fail(`${b} vertices and ${nf} faces do not fit in BASE`);
+  mesh.makeRoom(b, nf);
   parseVertexIds(r, mesh, 0, b);
   const degree = new Uint8Array(nf);
   const corners = new Int32Array(4 * nf).fill(-1);
@@ -500,6 +514,7 @@ function parseSplits(r, mesh, records, models) {
     r.fail(problem);
   }
   const sections = starts.slice(2).map((at, t) => r.bytes.subarray(at, at + sizes[2 + t]));
+  mesh.makeRoom(h.baseVertexCount + s + n, mesh.faceCountAt[s + n]);  // for positions, then FLDS
   const positions = decodeSplitPositions(mesh, s, n, stencils, models, sections);
   if (positions) r.failChunk(positions);
   // The loaded levels grow only at commit(): a chunk that fails half-way, or whose FLDS does

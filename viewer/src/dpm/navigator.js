@@ -1,6 +1,6 @@
 // The mesh at one level (C++: Navigator, src/lod/navigator.cpp): splits applied or undone in
 // place between levels, touching only the faces their records name.
-import { DpmError } from './bytes.js';
+import { DpmError, withRoom } from './bytes.js';
 import { DirtyFaces, splitRecords, WING_SLOT_SHIFT, WING_V1_FOLLOWS_V0, WING_WAS_TRIANGLE } from './progressive_mesh.js';
 
 // Holds the current faces (4 corner slots, −1 in slot 3 of a triangle) for levels up to what has
@@ -21,8 +21,9 @@ export class Navigator {
     const F = mesh.head.faceCount;
     const nf = mesh.head.baseFaceCount;
     // 4 slots per face, −1 in slot 3 of a triangle: the degree is read from the slots, so that a
-    // face is one 16-byte record (one cache miss per face a split touches, not two).
-    this.corners = new Int32Array(4 * F).fill(-1);
+    // face is one 16-byte record (one cache miss per face a split touches, not two). Room for
+    // the faces of the finest level reached so far (makeRoom()).
+    this.corners = withRoom(new Int32Array(0), 4 * nf, 4 * F, -1);
     this.corners.set(mesh.baseCorners);
     this.level = 0;  // splits applied
     this.quads = 0;
@@ -119,7 +120,7 @@ export class Navigator {
   tracks(from, to) {
     const { movedStart, wingStart } = this.mesh;
     const named = movedStart[to] - movedStart[from] + wingStart[to] - wingStart[from];
-    if (named <= this.corners.length >> 3) return true;
+    if (named <= this.mesh.head.faceCount >> 1) return true;
     this.dirty.addAll();
     return false;
   }
@@ -134,8 +135,9 @@ export class Navigator {
   }
 
   // Room in the learned slots for the records of splits [0, k) (grown by doubling: the records
-  // grow as the file arrives).
+  // grow as the file arrives), and in the faces for level k.
   makeRoom(k) {
+    this.corners = withRoom(this.corners, 4 * this.mesh.faceCountAt[k], 4 * this.mesh.head.faceCount, -1);
     const moved = this.mesh.movedStart[k], wings = this.mesh.wingStart[k];
     if (moved > this.movedSlot.length) this.movedSlot = grown(this.movedSlot, moved);
     if (wings > this.wingSlots.length) {

@@ -3,10 +3,11 @@
 // include/dynpm/progressive.h, apply_split()/undo_split() in src/progressive/progressive_mesh.cpp;
 // the names of the split record are the same on both sides.
 //
-// Positions are kept as the file's quantized integers, one Int32Array of 3·V per step, so that
-// any level at any (fractional) step is a prefix of them. Faces are 4 corner slots each, −1 in
-// slot 3 of a triangle (one 16-byte record per face).
-import { DpmError, Growable } from './bytes.js';
+// Positions are kept as the file's quantized integers, one Int32Array of 3 per vertex per step,
+// so that any level at any (fractional) step is a prefix of them; each holds the vertices that
+// have arrived (makeRoom()). Faces are 4 corner slots each, −1 in slot 3 of a triangle (one
+// 16-byte record per face).
+import { DpmError, Growable, withRoom } from './bytes.js';
 
 // A wing's flags (FORMAT.md "SPLT payload"; C++ SplitWing::kWasTriangle, kV1FollowsV0,
 // kSlotShift): the face was a triangle (re-created), v1 followed v0 in its corner order, and
@@ -24,8 +25,8 @@ export class ProgressiveMesh {
     const { vertexCount: V, faceCount: F, stepCount: m } = head;
     if (3 * V * 1 > MAX_ARRAY_ELEMENTS || 4 * F > MAX_ARRAY_ELEMENTS)
       throw new DpmError(`HEAD: ${V} vertices, ${F} faces, ${m} steps: more than a browser holds`);
-    this.q = [];  // per step: Int32Array(3V), quantized (or f32 bit patterns when lossless)
-    for (let t = 0; t < m; t++) this.q.push(new Int32Array(3 * V));
+    this.q = [];  // per step: Int32Array(3 per vertex), quantized (or f32 bit patterns when lossless)
+    for (let t = 0; t < m; t++) this.q.push(new Int32Array(0));
     this.fields = [];  // result fields (DpmField, fields.js), from FDEF
     this.partNames = new Map();  // part id → name, from PART (parts.js)
     // per face a split re-creates: the face that stands for it while the split is undone
@@ -63,6 +64,18 @@ export class ProgressiveMesh {
     this.lastNodeId = 0;
     this.lastElementId = 0;
     this.lastFaceOriginal = 0;
+  }
+
+  // Room in the arrays of every step (positions, field values) for the first `vertices`
+  // vertices and `faces` faces; the decoder asks before a chunk writes them. The arrays may be
+  // new ones: read this.q[t] (and a field's q[t]) after a chunk, not before.
+  makeRoom(vertices, faces) {
+    const { vertexCount: V, faceCount: F } = this.head;
+    for (let t = 0; t < this.q.length; t++) this.q[t] = withRoom(this.q[t], 3 * vertices, 3 * V);
+    for (const f of this.fields) {
+      const [n, max] = f.perFace ? [faces, F] : [vertices, V];
+      for (let t = 0; t < f.q.length; t++) f.q[t] = withRoom(f.q[t], n, max);
+    }
   }
 
   get lossless() {

@@ -16,7 +16,7 @@
 // closed set applied in ascending order gives each split of it the faces of R(i) exactly as the
 // full sequence had them.
 // Under both, every dependency is an earlier split, so every prefix of the stream is closed.
-import { Growable } from './bytes.js';
+import { Growable, withRoom } from './bytes.js';
 import { applySplits, DirtyFaces, WING_WAS_TRIANGLE } from './progressive_mesh.js';
 
 // The rules a SplitDependencies can derive; the first is the default.
@@ -24,36 +24,38 @@ export const SPLIT_RULES = ['faceCreators', 'fan'];
 
 export class SplitDependencies {
   constructor(mesh, { rule = SPLIT_RULES[0] } = {}) {
-    const { vertexCount: V, faceCount: F, splitCount: S, baseFaceCount: nf } = mesh.head;
+    const { splitCount: S, baseFaceCount: nf } = mesh.head;
     if (!SPLIT_RULES.includes(rule)) throw new Error(`unknown split dependency rule '${rule}'`);
     this.mesh = mesh;
     this.rule = rule;
     this.derived = 0;  // splits derived so far (a prefix of the loaded ones)
     // The mesh as the derived splits left it: after the last split, the fully refined mesh.
-    this.corners = new Int32Array(4 * F).fill(-1);
-    this.corners.set(mesh.baseCorners);
+    // The arrays by face, vertex and split hold those of the splits derived so far (room()).
+    this.corners = new Int32Array(0);
     // Dependencies as CSR: split i's are deps[depStart[i], depStart[i + 1]), ascending.
-    this.depStart = new Uint32Array(S + 1);
-    this.deps = new Growable(Int32Array, 4 * S);
-    this.lastWriter = new Int32Array(F).fill(-1);  // per face: the last split that wrote it
-    this.faceSplit = new Int32Array(F).fill(-1);  // per face: the split that creates it (−1: base)
-    this.quadBy = new Int32Array(F).fill(-1);  // per face: the split that made it a quad (−1: none)
+    this.depStart = new Uint32Array(0);
+    this.deps = new Growable(Int32Array, Math.min(4 * S, 1 << 16));
+    this.lastWriter = new Int32Array(0);  // per face: the last split that wrote it
+    this.faceSplit = new Int32Array(0);  // per face: the split that creates it (−1: base)
+    this.quadBy = new Int32Array(0);  // per face: the split that made it a quad (−1: none)
     // Per face, the splits that read it since its last writer: a list in a pool (head, next).
-    this.readerHead = new Int32Array(F).fill(-1);
-    this.readerSplit = new Growable(Int32Array, 4 * S);
-    this.readerNext = new Growable(Int32Array, 4 * S);
+    this.readerHead = new Int32Array(0);
+    this.readerSplit = new Growable(Int32Array, Math.min(4 * S, 1 << 16));
+    this.readerNext = new Growable(Int32Array, Math.min(4 * S, 1 << 16));
     // Per vertex, the faces that hold it (its fan, unordered): a list of (vertex, face) links
     // from fanHead[v] on. A face that moves from v1 to v0 takes its link along, so there are at
     // most 4 per face, allocated once.
-    this.fanHead = new Int32Array(V).fill(-1);
-    this.linkFace = new Int32Array(4 * F);
-    this.linkNext = new Int32Array(4 * F);
+    this.fanHead = new Int32Array(0);
+    this.linkFace = new Int32Array(0);
+    this.linkNext = new Int32Array(0);
     this.links = 0;
+    this.seen = new Int32Array(0);  // per split: the split whose dependencies hold it
+    this.writtenBy = new Int32Array(0);  // per face: the last split whose W holds it
+    this.room(0);
+    this.corners.set(mesh.baseCorners);
     for (let f = 0; f < nf; f++)
       for (let k = 0; k < 4; k++) if (this.corners[4 * f + k] >= 0) this.link(this.corners[4 * f + k], f);
-    this.seen = new Int32Array(S).fill(-1);  // per split: the split whose dependencies hold it
-    this.writtenBy = new Int32Array(F).fill(-1);  // per face: the last split whose W holds it
-    this.dirty = new DirtyFaces(F);
+    this.dirty = new DirtyFaces(mesh.head.faceCount);
     this.maxCount = 0;
   }
 
@@ -62,6 +64,7 @@ export class SplitDependencies {
     const { mesh } = this;
     const to = mesh.splitsLoaded;
     const fan = this.rule === 'fan';
+    this.room(to);
     for (let i = this.derived; i < to; i++) {
       const start = this.deps.length;
       if (fan) this.deriveFan(i);
@@ -73,6 +76,25 @@ export class SplitDependencies {
     }
     this.derived = Math.max(this.derived, to);
     return this;
+  }
+
+  // Room for the faces, vertices and splits of the first `splits` splits: a page that loaded 100 k
+  // of 5 M vertices holds no more (unset entries read −1, as "none").
+  room(splits) {
+    const { vertexCount: V, faceCount: F, splitCount: S, baseVertexCount: b } = this.mesh.head;
+    const faces = this.mesh.faceCountAt[splits];
+    const room = (a, n, max, fill = -1) => withRoom(a, n, max, fill);
+    this.lastWriter = room(this.lastWriter, faces, F);
+    this.faceSplit = room(this.faceSplit, faces, F);
+    this.quadBy = room(this.quadBy, faces, F);
+    this.readerHead = room(this.readerHead, faces, F);
+    this.writtenBy = room(this.writtenBy, faces, F);
+    this.corners = room(this.corners, 4 * faces, 4 * F);
+    this.linkFace = room(this.linkFace, 4 * faces, 4 * F, 0);
+    this.linkNext = room(this.linkNext, 4 * faces, 4 * F, 0);
+    this.fanHead = room(this.fanHead, b + splits, V);
+    this.seen = room(this.seen, splits, S);
+    this.depStart = room(this.depStart, splits + 1, S + 1, 0);
   }
 
   // Split i's dependencies: deps.data[depStart[i], depStart[i + 1]).

@@ -67,12 +67,9 @@ export function variantView(mesh, index) {
   const v = mesh.variants[index];
   const view = Object.create(mesh);
   const steps = Array.from(v.steps);
-  view.q = steps.map((s) => mesh.q[s]);
-  view.fields = mesh.fields.map((f) => {
-    const g = Object.create(f);
-    g.q = steps.map((s) => f.q[s]);
-    return g;
-  });
+  // Read through: a step's array is made anew when it needs more room (makeRoom()).
+  Object.defineProperty(view, 'q', { get: () => steps.map((s) => mesh.q[s]) });
+  view.fields = mesh.fields.map((f) => Object.create(f, { q: { get: () => steps.map((s) => f.q[s]) } }));
   const keySteps = [];
   steps.forEach((s, t) => mesh.head.keySteps.includes(s) && keySteps.push(t));
   view.head = { ...mesh.head, stepCount: steps.length, times: v.times, keySteps };
