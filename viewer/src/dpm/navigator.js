@@ -139,18 +139,10 @@ export class Navigator {
   makeRoom(k) {
     this.corners = withRoom(this.corners, 4 * this.mesh.faceCountAt[k], 4 * this.mesh.head.faceCount, -1);
     const moved = this.mesh.movedStart[k], wings = this.mesh.wingStart[k];
-    if (moved > this.movedSlot.length) this.movedSlot = grown(this.movedSlot, moved);
-    if (wings > this.wingSlots.length) {
-      this.wingSlots = grown(this.wingSlots, wings);
-      this.wingOpposite = grown(this.wingOpposite, wings);
-    }
+    this.movedSlot = withRoom(this.movedSlot, moved, Infinity);
+    this.wingSlots = withRoom(this.wingSlots, wings, Infinity);
+    this.wingOpposite = withRoom(this.wingOpposite, wings, Infinity);
   }
-}
-
-function grown(array, n) {
-  const out = new array.constructor(Math.max(n, 2 * array.length));
-  out.set(array);
-  return out;
 }
 
 // Splits [from, to), all learned (r: splitRecords()): nothing but stores to the faces and, when
