@@ -42,6 +42,7 @@ async function decode({ url, name, shared, sliceSplits, vertices = Infinity }) {
     vertices,
     onHead: (mesh) => post({ type: 'head', head: mesh.head, shared: shared ? shareMesh(mesh) : null }),
     onBase: (mesh) => {
+      post({ type: 'progress', bytes: decoder.bytesReceived });  // the bytes the base came in
       if (shared) {
         const fields = shareFields(mesh);
         const pieces = [['baseDegree', 0, mesh.baseDegree], ['baseCorners', 0, mesh.baseCorners]];

@@ -409,6 +409,7 @@ function onBase(mesh) {
   drawLegend();
   panel.loaded();
   timing.baseDone = performance.now();
+  timing.baseBytes = state.bytesLoaded;  // what had arrived when the base was drawn
   if (!state.worker) requestAnimationFrame(() => setTimeout(() => onNavigator(new Navigator(mesh))));
 }
 
@@ -522,7 +523,7 @@ const variants = new VariantList(viewer, params.get('variant'), (mesh) => ((fiel
 
 // For the browser tests and benchmarks: the state, the picture (snapshot.js), page times of the
 // first bytes (worker; else the fetch's responseStart), HEAD, BASE and the base mesh made.
-const timing = { firstByte: undefined, head: undefined, base: undefined, baseDone: undefined };
+const timing = { firstByte: undefined, head: undefined, base: undefined, baseDone: undefined, baseBytes: undefined };
 const loading = load();
 const done = loading.catch(showError);
 installApi({ ...viewer, loading });
