@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <zlib.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
@@ -52,6 +53,13 @@ TEST(Thumbnail, ZlibStreamInflatesWithZlib) {
   std::vector<uint8_t> noise(70000);  // beyond the 32 KiB window, nothing to match
   for (uint8_t& b : noise) b = static_cast<uint8_t>(random());
   inputs.push_back(noise);
+  // Byte k 2^k times, shuffled: its Huffman code (and the code of its code lengths) would be
+  // longer than deflate allows, so both are limited.
+  std::vector<uint8_t> skewed;
+  for (int k = 0; k < 18; ++k)
+    skewed.insert(skewed.end(), size_t{1} << k, static_cast<uint8_t>(k * 13));
+  std::shuffle(skewed.begin(), skewed.end(), random);
+  inputs.push_back(skewed);
   for (const auto& in : inputs) {
     const std::string z = pipeline::zlib_compress(in);
     EXPECT_EQ(inflated(z, in.size()), std::string(in.begin(), in.end())) << in.size() << " bytes";

@@ -159,7 +159,9 @@ test('two members of one family file open side by side: one file, two variants, 
   assert.ok(ranges.length > 0 && ranges.every(Boolean), `family.dpm's requests: ${requests.get('/files/family.dpm')}`);
   ranges.sort((x, y) => x[0] - y[0]);
   ranges.forEach(([first], k) => assert.ok(k === 0 ? first === 0 : first === ranges[k - 1][1] + 1, `ranges ${JSON.stringify(ranges)}`));
-  assert.equal(ranges.at(-1)[1] + 1, readFileSync(file).length);
+  // The last range reaches the end (it may ask past it, as the first 64 KiB of a smaller file do).
+  const length = readFileSync(file).length;
+  assert.ok(ranges.at(-1)[1] + 1 >= length && ranges.at(-1)[0] < length, `ranges ${JSON.stringify(ranges)} of ${length} bytes`);
   assert.equal(workers.filter((u) => u.endsWith('/decode_worker.js')).length, 1, `workers: ${workers}`);
   assert.deepEqual(Object.fromEntries(query), { model: '/files/family.dpm', variant: 'scale050', compare: '/files/family.dpm', compareVariant: 'scale200' });
   const c = await page.evaluate(() => window.dpmViewer.compare());
