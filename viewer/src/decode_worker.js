@@ -4,8 +4,9 @@
 // the page and only the growing lists (and the arrays of every step, when made anew) travel;
 // else runs of at most `sliceSplits` splits go as copies of the ranges the page's mesh needs,
 // their buffers transferred (mesh_pieces.js). The page (worker_decoder.js) starts it with
-// { url, name, shared, sliceSplits, vertices } and may later send { type: 'want', vertices }
-// (fetch until that many vertices are loaded; Infinity: the whole file); it hears: start,
+// { url, name, shared, sliceSplits, vertices, memory } and may later send { type: 'want', vertices }
+// (fetch until that many vertices are loaded; Infinity: the whole file, or with `memory` as many
+// as budgetedVertices() allows, model_file.js); it hears: start,
 // first-bytes, progress, head, base, navigator, splits, dependencies, paused, end, done or error.
 // It ends itself once the stream has: what the page does not share goes with it. The split
 // dependencies are derived here whenever the stream stops (paused, end, done: the splits are
@@ -14,6 +15,7 @@ import { DpmDecoder } from './dpm/file.js';
 import { Navigator } from './dpm/navigator.js';
 import { navigatorParts } from './moved_navigator.js';
 import { dependencyParts } from './moved_dependencies.js';
+import { budgetedVertices } from './model_file.js';
 import { fetchByRanges } from './range_fetch.js';
 import { SplitDependencies } from './dpm/split_dependencies.js';
 import { fieldDefs, growableTails, levelPieces, regrownSteps, shareFields, shareMesh } from './mesh_pieces.js';
@@ -24,7 +26,7 @@ const post = (message, transfer = []) => self.postMessage(message, transfer);
 const want = { vertices: Infinity, wake: null };
 let decoding = null;  // the DpmDecoder
 
-async function decode({ url, name, shared, sliceSplits, vertices = Infinity }) {
+async function decode({ url, name, shared, sliceSplits, vertices = Infinity, memory = Infinity }) {
   want.vertices = vertices;
   const sent = {};  // shared: the length of each growing list the page has
   const sentSteps = {};  // shared: the arrays of every step the page has
@@ -40,7 +42,11 @@ async function decode({ url, name, shared, sliceSplits, vertices = Infinity }) {
   const decoder = new DpmDecoder({
     name,
     vertices,
-    onHead: (mesh) => post({ type: 'head', head: mesh.head, shared: shared ? shareMesh(mesh) : null }),
+    onHead: (mesh) => {
+      // No count asked for: as many vertices as the memory budget holds, room for them at BASE.
+      if (want.vertices === Infinity && memory < Infinity) decoder.vertices = want.vertices = budgetedVertices(mesh.head, memory);
+      post({ type: 'head', head: mesh.head, shared: shared ? shareMesh(mesh) : null });
+    },
     onBase: (mesh) => {
       post({ type: 'progress', bytes: decoder.bytesReceived });  // the bytes the base came in
       if (shared) {

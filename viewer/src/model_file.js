@@ -41,3 +41,15 @@ export function wantedVertices(params) {
   const n = Number(params.get('vertices') ?? Infinity);
   return n >= 0 ? n : Infinity;
 }
+
+// Without ?vertices=N the page loads at first the levels whose positions at every step fit
+// ?memory=MiB (default 1 GiB): a vertex's take 12 bytes a step (grid integers), so a 5 M-vertex
+// model of 100 steps would need 5.6 GiB whole. The slider's far end asks for the rest.
+export const DEFAULT_MEMORY_MIB = 1024;
+export function memoryBudget(params) {
+  const mib = Number(params.get('memory') ?? DEFAULT_MEMORY_MIB);
+  return (mib > 0 ? mib : DEFAULT_MEMORY_MIB) * 2 ** 20;
+}
+export function budgetedVertices(head, budget) {
+  return Math.max(head.baseVertexCount, Math.floor(budget / (12 * head.stepCount)));
+}

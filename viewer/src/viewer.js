@@ -23,7 +23,7 @@ import { FieldView } from './field_view.js';
 import { Images } from './images.js';
 import { installInspect } from './inspect.js';
 import { memoryUse } from './memory_use.js';
-import { modelFile, wantedVertices } from './model_file.js';
+import { budgetedVertices, memoryBudget, modelFile, wantedVertices } from './model_file.js';
 import { grownBox, Orientation, upAxisOf } from './orientation.js';
 import { Panel } from './panel.js';
 import { addPartsApi, PartList } from './part_list.js';
@@ -227,7 +227,7 @@ const SPLITS_PER_STEP = 65536;
 // go (the tests' and benchmarks' entry), else in steps of SPLITS_PER_STEP, one a frame.
 function setVertexCount(n, now = false) {
   state.follow = n >= state.mesh.vertexCountLoaded;
-  if (n > state.mesh.vertexCountLoaded && state.decoder.want) (state.loading = true), state.decoder.want(n);  // by ranges: more
+  if (n > state.mesh.vertexCountLoaded && state.decoder.want) (state.loading = true), (state.budgetVertices = Infinity), state.decoder.want(n);  // by ranges: more
   state.targetVertices = n;
   ui.resolution.value = String(n);
   stepLevel(now);
@@ -387,6 +387,9 @@ function onHead(mesh) {
   ui.time.max = String(h.stepCount - 1);
   ui.resolution.min = String(h.baseVertexCount);
   ui.resolution.max = String(h.vertexCount);
+  // What the worker loads at first without ?vertices=N (model_file.js), for the label.
+  state.memoryBudget = memoryBudget(params);
+  state.budgetVertices = state.worker && wantedVertices(params) === Infinity ? budgetedVertices(h, state.memoryBudget) : Infinity;
   ui.note.textContent = h.note;
   createGeometry(mesh);
   states.onHead(h);  // a one-state model: no time controls, no displacement, no deformation
@@ -463,7 +466,7 @@ async function load() {
   const onFirstBytes = (at) => (timing.firstByte = at);
   // Fetched by ranges up to ?vertices=N (model_file.js); the slider asks for more.
   const onDependencies = (deps) => refine.dependenciesReady(deps);
-  const worker = { ...decode, onDependencies, onFirstBytes, vertices: wantedVertices(params), control: state.decoder, onPaused: () => ((state.loading = false), state.nav && updateLabels()) };
+  const worker = { ...decode, onDependencies, onFirstBytes, vertices: wantedVertices(params), memory: memoryBudget(params), control: state.decoder, onPaused: () => ((state.loading = false), state.nav && updateLabels()) };
   const decoding = state.worker ? decodeInWorker(worker) : decodeOnPage(decode);
   if (alongside) compare.follow(decoding);
   const decoder = await decoding;

@@ -1,7 +1,8 @@
 // Fetching by HTTP ranges (docs/viewer.md "Fetching by ranges"), in headless Chromium on
 // `dynpm view` (throttled, so that the order of what arrives is seen): the base mesh is drawn
-// before the whole file is in; a page that asks for a coarse level (?vertices=N) stops after the
-// chunks that hold it, having fetched only part of the file; the slider asks for the rest,
+// before the whole file is in; a page that asks for a coarse level (?vertices=N), or whose memory
+// budget for positions (?memory=MiB) holds only part of the model, stops after the chunks that
+// hold it, having fetched only part of the file; the slider asks for the rest,
 // which then arrives whole, as does a max error no loaded level reaches. The plain GET (a
 // server without ranges) is browser.test.mjs's --export case.
 import assert from 'node:assert/strict';
@@ -101,6 +102,30 @@ test('?vertices=N fetches only the chunks up to N vertices; the slider fetches t
   assert.equal(s.loadedVertices, total);
   assert.equal(s.vertices, total, 'following the file to the full mesh');
   assert.equal(await positionBytes(), 12 * total * steps);
+  assert.deepEqual(errors, []);
+  await page.close();
+});
+
+test('without ?vertices=N the page loads at first the levels whose positions fit ?memory=MiB; the slider the rest', async () => {
+  const { page, errors } = await open('?memory=0.5');
+  const s = await paused(page);
+  const steps = await page.evaluate(() => window.dynpm.view().stepCount);
+  const total = await page.evaluate(() => Number(document.getElementById('resolution').max));
+  const budgeted = Math.floor(2 ** 19 / (12 * steps));  // 0.5 MiB of positions: 12 B a vertex a step
+  assert.ok(budgeted < total, `the sample's ${total} vertices × ${steps} steps fit 0.5 MiB`);
+  assert.ok(s.loadedVertices >= budgeted && s.loadedVertices < total && s.bytesLoaded < size,
+    `${s.loadedVertices} of ${total} vertices (${budgeted} budgeted), ${s.bytesLoaded} of ${size} bytes`);
+  assert.match(await page.locator('#resolution-label').textContent(), /loaded \(the levels whose positions at every step fit 512\.0 KiB/);
+  const held = await page.evaluate(() => window.dpmViewer.memory().positions);
+  assert.ok(held >= 12 * s.loadedVertices * steps && held <= 2 * 12 * s.loadedVertices * steps, `${held} bytes of positions`);
+  await page.locator('#panel-toggle').click();
+  const box = await page.locator('#resolution').boundingBox();
+  await page.mouse.click(box.x + box.width - 2, box.y + box.height / 2);
+  await page.waitForFunction(followed, null, { timeout: 60000 });
+  const full = await state(page);
+  assert.equal(full.bytesLoaded, size);
+  assert.equal(full.loadedVertices, total);
+  assert.doesNotMatch(await page.locator('#resolution-label').textContent(), /fit 512/);
   assert.deepEqual(errors, []);
   await page.close();
 });

@@ -304,7 +304,11 @@ export class DpmDecoder {
       if (withFields) this.state = 'FLDS';
       else this.commit();
     } else if (tag === 'SPLT') {
-      this.takeRoom();
+      const at = r.pos;
+      r.u32();
+      const n = r.u32();  // the chunk's split count (parseSplits() reads and checks it again)
+      r.pos = at;
+      this.takeRoom(mesh.vertexCountLoaded + Math.min(n, mesh.head.splitCount - mesh.splitsLoaded));
       this.models ??= positionModels(mesh.head.stepCount);
       const records = this.recordModels();
       this.pending = { s: mesh.splitsLoaded, ...parseSplits(r, mesh, records, this.models) };
@@ -326,11 +330,13 @@ export class DpmDecoder {
   }
 
   // Room in the arrays of every step for the vertices the reader means to load, and their share
-  // of the faces.
-  takeRoom() {
+  // of the faces. The chunk that goes past them (ending at `chunkEnd`) is the last before a
+  // pause: room for all of it, not doubled (a page with a memory budget would hold twice it).
+  takeRoom(chunkEnd = 0) {
     const { vertexCount: V, faceCount: F } = this.mesh.head;
-    const n = Math.min(V, this.vertices);
-    this.mesh.makeRoom(n, n === V ? F : Math.ceil((F * n) / V));
+    const crossing = this.mesh.vertexCountLoaded < this.vertices && chunkEnd > this.vertices;
+    const n = Math.min(V, crossing ? chunkEnd : this.vertices);
+    this.mesh.makeRoom(n, n === V ? F : Math.ceil((F * n) / V), !crossing);
   }
 
   // The base mesh, or the splits of the last SPLT, with their field values when the file has

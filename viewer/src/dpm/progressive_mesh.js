@@ -68,13 +68,14 @@ export class ProgressiveMesh {
 
   // Room in the arrays of every step (positions, field values) for the first `vertices`
   // vertices and `faces` faces; the decoder asks before a chunk writes them. The arrays may be
-  // new ones: read this.q[t] (and a field's q[t]) after a chunk, not before.
-  makeRoom(vertices, faces) {
+  // new ones: read this.q[t] (and a field's q[t]) after a chunk, not before. `doubling`: as
+  // withRoom().
+  makeRoom(vertices, faces, doubling = true) {
     const { vertexCount: V, faceCount: F } = this.head;
-    for (let t = 0; t < this.q.length; t++) this.q[t] = withRoom(this.q[t], 3 * vertices, 3 * V);
+    for (let t = 0; t < this.q.length; t++) this.q[t] = withRoom(this.q[t], 3 * vertices, 3 * V, 0, doubling);
     for (const f of this.fields) {
       const [n, max] = f.perFace ? [faces, F] : [vertices, V];
-      for (let t = 0; t < f.q.length; t++) f.q[t] = withRoom(f.q[t], n, max);
+      for (let t = 0; t < f.q.length; t++) f.q[t] = withRoom(f.q[t], n, max, 0, doubling);
     }
   }
 
