@@ -129,11 +129,14 @@ std::vector<Token> lz77(std::span<const uint8_t> in) {
   return tokens;
 }
 
-// Huffman code lengths for `counts`, none longer than `limit` (a used symbol gets at least 1
-// bit; an unused one 0). Over the limit, the counts are halved (kept ≥ 1) and the code made
-// again: rare on a thumbnail's few hundred symbols, and deterministic.
+// Huffman code lengths for `counts`, none longer than `limit` (an unused symbol gets 0). Two
+// symbols at least are given a code (symbols 0 and 1 if need be): a code of one symbol is
+// incomplete, which inflate refuses for the code lengths' own code. Over the limit, the counts
+// are halved (kept ≥ 1) and the code made again: rare on a thumbnail's few hundred symbols.
 std::vector<uint8_t> code_lengths(std::vector<uint32_t> counts, int limit) {
   const uint32_t n = static_cast<uint32_t>(counts.size());
+  for (uint32_t s = 0; s < 2 && std::count(counts.begin(), counts.end(), 0u) + 2 > n; ++s)
+    counts[s] = std::max(counts[s], 1u);
   for (;;) {
     using Node = std::pair<uint64_t, uint32_t>;  // weight, node (leaves first, then merges)
     std::priority_queue<Node, std::vector<Node>, std::greater<>> heap;
@@ -150,10 +153,6 @@ std::vector<uint8_t> code_lengths(std::vector<uint32_t> counts, int limit) {
       heap.push({a.first + b.first, next++});
     }
     std::vector<uint8_t> lengths(n, 0);
-    if (next == n) {  // one symbol alone (or none): one bit
-      for (uint32_t s = 0; s < n; ++s) lengths[s] = counts[s] > 0 ? 1 : 0;
-      return lengths;
-    }
     // A parent is made after its children: depths from the root down by falling node number.
     std::vector<uint16_t> depth(next, 0);
     int deepest = 0;
@@ -220,10 +219,6 @@ void dynamic_block(BitWriter& w, const std::vector<Token>& tokens) {
     }
   }
   literal_counts[kEndOfBlock] = 1;
-  // Two used symbols at least, so that each code is complete (a single one would not be).
-  literal_counts[0] = std::max(literal_counts[0], 1u);
-  distance_counts[0] = std::max(distance_counts[0], 1u);
-  distance_counts[1] = std::max(distance_counts[1], 1u);
   const auto literal_lengths = code_lengths(literal_counts, kLongestCode);
   const auto distance_lengths = code_lengths(distance_counts, kLongestCode);
   size_t literals = 286, distances = 30;
