@@ -43,8 +43,8 @@ export function wantedVertices(params) {
 }
 
 // Without ?vertices=N the page loads at first the levels whose positions at every step fit
-// ?memory=MiB (default 1 GiB): a vertex's take 12 bytes a step (grid integers), so a 5 M-vertex
-// model of 100 steps would need 5.6 GiB whole. The slider's far end asks for the rest.
+// ?memory=MiB (default 1 GiB): a vertex's positions take 12 bytes a step (grid integers), so a
+// 5 M-vertex model of 100 steps would need 5.6 GiB whole. The slider's far end asks for the rest.
 export const DEFAULT_MEMORY_MIB = 1024;
 export function memoryBudget(params) {
   const mib = Number(params.get('memory') ?? DEFAULT_MEMORY_MIB);
