@@ -42,14 +42,17 @@ export function wantedVertices(params) {
   return n >= 0 ? n : Infinity;
 }
 
-// Without ?vertices=N the page loads at first the levels whose positions at every step fit
-// ?memory=MiB (default 1 GiB): a vertex's positions take 12 bytes a step (grid integers), so a
-// 5 M-vertex model of 100 steps would need 5.6 GiB whole. The slider's far end asks for the rest.
+// Without ?vertices=N the page loads at first the levels whose values at every step fit
+// ?memory=MiB (default 1 GiB): a vertex's position takes 12 bytes a step (grid integers) and each
+// field's value 4 (a face field counted as a node field: a quad mesh has about as many faces as
+// vertices), so a 5 M-vertex model of 100 steps would need 5.6 GiB whole for its positions
+// alone. The slider's far end asks for the rest.
 export const DEFAULT_MEMORY_MIB = 1024;
 export function memoryBudget(params) {
   const mib = Number(params.get('memory') ?? DEFAULT_MEMORY_MIB);
   return (mib > 0 ? mib : DEFAULT_MEMORY_MIB) * 2 ** 20;
 }
 export function budgetedVertices(head, budget) {
-  return Math.max(head.baseVertexCount, Math.floor(budget / (12 * head.stepCount)));
+  const perVertex = (12 + 4 * head.fieldCount) * head.stepCount;
+  return Math.max(head.baseVertexCount, Math.floor(budget / perVertex));
 }

@@ -6,11 +6,12 @@
 // which then arrives whole, as does a max error no loaded level reaches. The plain GET (a
 // server without ranges) is browser.test.mjs's --export case.
 import assert from 'node:assert/strict';
-import { statSync } from 'node:fs';
+import { readFileSync, statSync } from 'node:fs';
 import { after, before, test } from 'node:test';
 
 import { chromium } from 'playwright-core';
 
+import { readDpm } from '../src/dpm.js';
 import { CHROMIUM_ARGS, startServer } from './chromium.mjs';
 
 const { DYNPM_CLI: cli, DYNPM_DPM: dpm } = process.env;
@@ -111,11 +112,13 @@ test('without ?vertices=N the page loads at first the levels whose positions fit
   const s = await paused(page);
   const steps = await page.evaluate(() => window.dynpm.view().stepCount);
   const total = await page.evaluate(() => Number(document.getElementById('resolution').max));
-  const budgeted = Math.floor(2 ** 19 / (12 * steps));  // 0.5 MiB of positions: 12 B a vertex a step
+  // 0.5 MiB: 12 B a vertex a step for its position, 4 for each field's value.
+  const { fieldCount } = readDpm(new Uint8Array(readFileSync(dpm)), dpm).mesh.head;
+  const budgeted = Math.floor(2 ** 19 / ((12 + 4 * fieldCount) * steps));
   assert.ok(budgeted < total, `the sample's ${total} vertices × ${steps} steps fit 0.5 MiB`);
   assert.ok(s.loadedVertices >= budgeted && s.loadedVertices < total && s.bytesLoaded < size,
     `${s.loadedVertices} of ${total} vertices (${budgeted} budgeted), ${s.bytesLoaded} of ${size} bytes`);
-  assert.match(await page.locator('#resolution-label').textContent(), /loaded \(the levels whose positions at every step fit 512\.0 KiB/);
+  assert.match(await page.locator('#resolution-label').textContent(), /loaded \(the levels whose values at every step fit 512\.0 KiB/);
   const held = await page.evaluate(() => window.dpmViewer.memory().positions);
   assert.ok(held >= 12 * s.loadedVertices * steps && held <= 2 * 12 * s.loadedVertices * steps, `${held} bytes of positions`);
   await page.locator('#panel-toggle').click();
