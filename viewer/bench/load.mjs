@@ -1,7 +1,8 @@
 // Loading a model in headless Chromium: time from the first bytes to the first picture of the
-// base mesh and to the fully loaded model, the longest main-thread task meanwhile, and the
-// renderer's memory (RSS of Chromium's renderer processes, which hold the page and its worker)
-// against the file's size.
+// base mesh and to the fully loaded model (or to where the page pauses: ?vertices=N, or the
+// levels its memory budget holds, QUERY='?memory=MiB'), the longest main-thread task meanwhile,
+// and the renderer's memory (RSS of Chromium's renderer processes, which hold the page and its
+// worker) against the file's size.
 //   [THROTTLE=KiB/s] [QUERY=?worker=0] [TASKS=1] [FIRST_ONLY=1] [PROFILE=1] node bench/load.mjs DYNPM_BINARY MODEL.dpm
 // (?worker=0: the decoder on the page's main thread, as before the worker; TASKS: every long
 // task and the page's timings; FIRST_ONLY: stop 2 s after the first picture; PROFILE: the main
@@ -33,7 +34,7 @@ const probe = () => {
     // The frame after the one that drew the base: that one has ended (and was presented).
     if (window.loadProbe.baseFrame && !window.loadProbe.firstPicture) window.loadProbe.firstPicture = performance.now();
     if (s?.hasBase && !window.loadProbe.baseFrame) window.loadProbe.baseFrame = performance.now();
-    if (s?.complete && !window.loadProbe.complete) window.loadProbe.complete = performance.now();
+    if ((s?.complete || s?.paused) && !window.loadProbe.complete) window.loadProbe.complete = performance.now();
     if (!window.loadProbe.complete) requestAnimationFrame(tick);
   };
   requestAnimationFrame(tick);
@@ -115,9 +116,9 @@ try {
     const size = statSync(file).size / 2 ** 20;
     const during = r.longTasks.filter(([s]) => s >= r.firstByte && s <= r.complete);
     const longest = during.reduce((a, [, d]) => Math.max(a, d), 0);
-    console.log(`${file}: ${r.state.vertices} vertices, ${size.toFixed(1)} MiB, decoder in a worker: ${r.worker}`);
+    console.log(`${file}: ${r.state.vertices} vertices${r.state.complete ? '' : ` (paused: ${r.state.loadedVertices} loaded, ${(r.state.bytesLoaded / 2 ** 20).toFixed(1)} MiB fetched)`}, ${size.toFixed(1)} MiB, decoder in a worker: ${r.worker}`);
     console.log(`base mesh drawn in the frame of ${(r.baseFrame - r.firstByte).toFixed(0)} ms, first picture (the next frame) ${(r.firstPicture - r.firstByte).toFixed(0)} ms after the first bytes; ` +
-      `fully loaded after ${(r.complete - r.firstByte).toFixed(0)} ms`);
+      `${r.state.complete ? 'fully loaded' : 'paused'} after ${(r.complete - r.firstByte).toFixed(0)} ms`);
     const t = r.timing ?? {};  // the page before the worker had no timing
     const since = (x) => (x === undefined ? '?' : (x - r.firstByte).toFixed(0));
     console.log(`after the first bytes: HEAD on the page ${since(t.head)} ms, BASE ${since(t.base)} ms, ` +

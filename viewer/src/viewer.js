@@ -543,6 +543,7 @@ window.dpmViewer = {
     worker: Boolean(state.worker),
     sharedMemory: Boolean(state.sharedMemory),
     complete: Boolean(state.mesh?.complete),
+    paused: Boolean(state.nav && !state.loading && !state.mesh?.complete),  // ?vertices=N, the budget
     vertices: state.nav?.vertexCount ?? 0,
     faces: state.nav?.faceCount ?? 0,
     triangles: state.nav?.triangleCount ?? 0,
