@@ -20,7 +20,7 @@ const browser = await chromium.launch({ executablePath: process.env.DYNPM_CHROMI
 try {
   const page = await browser.newPage({ viewport: { width: 1100, height: 760 } });
   await page.goto(`${url}?antialias=0`);
-  await page.waitForFunction(() => window.dpmViewer?.state().complete && window.dynpm?.pick, null, { timeout: 900000 });
+  await page.waitForFunction(() => (window.dpmViewer?.state().complete || window.dpmViewer?.state().paused) && window.dynpm?.pick, null, { timeout: 900000 });  // or the memory budget's levels
   const result = await page.evaluate((repeat) => {
     const { dpmViewer, dynpm } = window;
     const s = dpmViewer.state();

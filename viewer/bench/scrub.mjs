@@ -18,7 +18,7 @@ try {
   const page = await browser.newPage({ viewport: { width, height } });
   const loadStart = Date.now();
   await page.goto(url + (process.env.QUERY ?? ''));
-  await page.waitForFunction(() => window.dpmViewer?.state().complete, null, { timeout: 600000 });
+  await page.waitForFunction(() => window.dpmViewer?.state().complete || window.dpmViewer?.state().paused, null, { timeout: 600000 });  // or the memory budget's levels
   const state = await page.evaluate(() => window.dpmViewer.state());
   console.log(`loaded ${state.vertices} vertices, ${state.faces} faces in ${Date.now() - loadStart} ms (fetch + decode + refine + first frames)`);
   const base = await page.evaluate(() => window.dpmViewer.setVertexCount(0));
