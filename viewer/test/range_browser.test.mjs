@@ -1,8 +1,8 @@
 // Fetching by HTTP ranges (docs/viewer.md "Fetching by ranges"), in headless Chromium on
 // `dynpm view` (throttled, so that the order of what arrives is seen): the base mesh is drawn
 // before the whole file is in; a page that asks for a coarse level (?vertices=N), or whose memory
-// budget for positions (?memory=MiB) holds only part of the model, stops after the chunks that
-// hold it, having fetched only part of the file; the slider asks for the rest,
+// budget for the steps' values (?memory=MiB) holds only part of the model, stops after the chunks
+// that hold it, having fetched only part of the file; the slider asks for the rest,
 // which then arrives whole, as does a max error no loaded level reaches. The plain GET (a
 // server without ranges) is browser.test.mjs's --export case.
 import assert from 'node:assert/strict';
@@ -107,7 +107,7 @@ test('?vertices=N fetches only the chunks up to N vertices; the slider fetches t
   await page.close();
 });
 
-test('without ?vertices=N the page loads at first the levels whose positions fit ?memory=MiB; the slider the rest', async () => {
+test('without ?vertices=N the page loads at first the levels whose values fit ?memory=MiB; the slider the rest', async () => {
   const { page, errors } = await open('?memory=0.5');
   const s = await paused(page);
   const steps = await page.evaluate(() => window.dynpm.view().stepCount);
@@ -116,6 +116,7 @@ test('without ?vertices=N the page loads at first the levels whose positions fit
   const { fieldCount } = readDpm(new Uint8Array(readFileSync(dpm)), dpm).mesh.head;
   const budgeted = Math.floor(2 ** 19 / ((12 + 4 * fieldCount) * steps));
   assert.ok(budgeted < total, `the sample's ${total} vertices × ${steps} steps fit 0.5 MiB`);
+  assert.equal(s.paused, true);
   assert.ok(s.loadedVertices >= budgeted && s.loadedVertices < total && s.bytesLoaded < size,
     `${s.loadedVertices} of ${total} vertices (${budgeted} budgeted), ${s.bytesLoaded} of ${size} bytes`);
   assert.match(await page.locator('#resolution-label').textContent(), /loaded \(the levels whose values at every step fit 512\.0 KiB/);
@@ -128,6 +129,7 @@ test('without ?vertices=N the page loads at first the levels whose positions fit
   const full = await state(page);
   assert.equal(full.bytesLoaded, size);
   assert.equal(full.loadedVertices, total);
+  assert.equal(full.paused, false);
   assert.doesNotMatch(await page.locator('#resolution-label').textContent(), /fit 512/);
   assert.deepEqual(errors, []);
   await page.close();
