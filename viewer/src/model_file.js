@@ -47,7 +47,7 @@ export function wantedVertices(params) {
 // field's value 4 (a face field counted as a node field: a quad mesh has about as many faces as
 // vertices), so a 5 M-vertex model of 100 steps would need 5.6 GiB whole for its positions
 // alone. The slider's far end asks for the rest.
-export const DEFAULT_MEMORY_MIB = 1024;
+const DEFAULT_MEMORY_MIB = 1024;
 export function memoryBudget(params) {
   const mib = Number(params.get('memory') ?? DEFAULT_MEMORY_MIB);
   return (mib > 0 ? mib : DEFAULT_MEMORY_MIB) * 2 ** 20;

@@ -227,7 +227,7 @@ const SPLITS_PER_STEP = 65536;
 // go (the tests' and benchmarks' entry), else in steps of SPLITS_PER_STEP, one a frame.
 function setVertexCount(n, now = false) {
   state.follow = n >= state.mesh.vertexCountLoaded;
-  if (n > state.mesh.vertexCountLoaded && state.decoder.want) (state.loading = true), (state.budgetVertices = Infinity), state.decoder.want(n);  // by ranges: more
+  if (n > state.mesh.vertexCountLoaded && state.decoder.want) (state.loading = true), (state.budgetLimits = false), state.decoder.want(n);  // by ranges: more
   state.targetVertices = n;
   ui.resolution.value = String(n);
   stepLevel(now);
@@ -387,9 +387,8 @@ function onHead(mesh) {
   ui.time.max = String(h.stepCount - 1);
   ui.resolution.min = String(h.baseVertexCount);
   ui.resolution.max = String(h.vertexCount);
-  // What the worker loads at first without ?vertices=N (model_file.js), for the label.
-  state.memoryBudget = memoryBudget(params);
-  state.budgetVertices = state.worker && wantedVertices(params) === Infinity ? budgetedVertices(h, state.memoryBudget) : Infinity;
+  // Whether the worker stops at the memory budget's levels (model_file.js), for the label.
+  state.budgetLimits = state.worker && wantedVertices(params) === Infinity && budgetedVertices(h, state.memoryBudget) < h.vertexCount;
   ui.note.textContent = h.note;
   createGeometry(mesh);
   states.onHead(h);  // a one-state model: no time controls, no displacement, no deformation
@@ -466,7 +465,8 @@ async function load() {
   const onFirstBytes = (at) => (timing.firstByte = at);
   // Fetched by ranges up to ?vertices=N (model_file.js); the slider asks for more.
   const onDependencies = (deps) => refine.dependenciesReady(deps);
-  const worker = { ...decode, onDependencies, onFirstBytes, vertices: wantedVertices(params), memory: memoryBudget(params), control: state.decoder, onPaused: () => ((state.loading = false), state.nav && updateLabels()) };
+  state.memoryBudget = memoryBudget(params);
+  const worker = { ...decode, onDependencies, onFirstBytes, vertices: wantedVertices(params), memory: state.memoryBudget, control: state.decoder, onPaused: () => ((state.loading = false), state.nav && updateLabels()) };
   const decoding = state.worker ? decodeInWorker(worker) : decodeOnPage(decode);
   if (alongside) compare.follow(decoding);
   const decoder = await decoding;

@@ -16,10 +16,10 @@ const SLICE_SPLITS = 32768;
 // Resolves with { mesh, complete } when the stream has ended (mesh null if HEAD never came);
 // rejects with the decoder's error. onStart(totalBytes, shared, ranges), onFirstBytes(pageTime),
 // onProgress(bytes), onPaused(bytes): the worker stopped fetching at `vertices` (by ranges;
-// Infinity: the whole file, or what `memory` bytes of positions hold) until
-// `control.want(vertices)` asks for more. onNavigator(nav):
-// the worker's Navigator at the base mesh, moved here (moved_navigator.js). onDependencies(deps):
-// the split dependencies the worker derived, as far as the splits loaded (moved_dependencies.js).
+// Infinity: the whole file, or what `memory` bytes of the steps' values hold) until
+// `control.want(vertices)` asks for more. onNavigator(nav): the worker's Navigator at the base
+// mesh, moved here (moved_navigator.js). onDependencies(deps): the split dependencies the
+// worker derived, as far as the splits loaded (moved_dependencies.js).
 export function decodeInWorker({ url, name, onHead, onBase, onNavigator, onDependencies, onSplits, onStart, onFirstBytes, onProgress, onPaused, vertices = Infinity, memory = Infinity, control = {}, pauseMs = 100 }) {
   const worker = new Worker(new URL('./decode_worker.js', import.meta.url), { type: 'module' });
   control.want = (n) => worker.postMessage({ type: 'want', vertices: n });
