@@ -55,7 +55,8 @@ function levelText(mesh, nav, t) {
   const t0 = Math.floor(t), t1 = Math.min(t0 + 1, h.stepCount - 1);
   const time = h.times[t0] + (h.times[t1] - h.times[t0]) * (t - t0);
   return `${int(n)} of ${int(h.vertexCount)} vertices (${((100 * n) / h.vertexCount).toFixed(1)}%), error ${fmt(nav.error)}` +
-    (h.stepCount > 1 ? `, step ${(Math.round(t * 100) / 100).toFixed(2)} of ${h.stepCount - 1}, time ${fmt(time)}` : '');
+    (h.stepCount > 1 ? `, step ${(Math.round(t * 100) / 100).toFixed(2)} of ${h.stepCount - 1}, time ${fmt(time)}` : '') +
+    (mesh.splitsLoaded < h.splitCount ? `, ${int(mesh.vertexCountLoaded)} loaded` : '');
 }
 
 export class CompareView {
@@ -141,15 +142,21 @@ export class CompareView {
   }
 
   // Starts B's decode (in a worker of its own unless ?worker=0); resolves when B is loaded.
-  // From the base mesh on, this.mesh is the chosen variant's view of a family file.
-  async load(worker) {
+  // From the base mesh on, this.mesh is the chosen variant's view of a family file. `memory`:
+  // B's share of the page's budget (model_file.js): its worker stops at the levels whose values
+  // fit it, and sync() asks for more when A's level links to a level of B not loaded yet.
+  async load(worker, memory = Infinity) {
     const onNavigator = (nav) => ((this.nav = nav), this.onSplits());
+    this.decoder = {};  // want(n): fetch B up to n vertices (worker_decoder.js)
+    this.asked = 0;  // the most vertices asked of B's worker
+    this.paused = false;  // B's worker stopped at its budget (until askFor())
     const decode = variantCallbacks(this.variant, {
       url: this.url, name: this.name,
       onHead: (mesh) => (this.mesh = mesh),
       onBase: (mesh) => this.onBase(mesh),
       onSplits: () => this.onSplits(),
       onNavigator,
+      memory, control: this.decoder, onPaused: () => ((this.paused = true), this.nav && this.label()),
     });
     await (worker ? decodeInWorker(decode) : decodeOnPage(decode));
     this.loaded();
@@ -233,6 +240,8 @@ export class CompareView {
     const n = !(nav instanceof Navigator) ? nav.vertexCount
       : this.linkedByError && Number.isFinite(state.nav.error) ? mesh.vertexCountForError(state.nav.error)
       : linkedVertexCount(state.nav.vertexCount, A.vertexCount, mesh.head, mesh.vertexCountLoaded);
+    this.askFor(this.linkedByError ? (this.finestLoadedError() > state.nav.error ? Infinity : n)
+      : linkedVertexCount(state.nav.vertexCount, A.vertexCount, mesh.head, Infinity));
     if (nav.vertexCount !== n) (nav.setVertexCount(n), (level = true));
     if (level || !this.buffers.positions) this.drawLevel();  // (B's base may come before A's)
     const t = this.step();
@@ -245,6 +254,22 @@ export class CompareView {
     this.label();
     if (offered && state.colour !== 'part') this.viewer.setColour(state.colour);
     this.viewer.requestRender();
+  }
+
+  // The error of B's finest loaded level.
+  finestLoadedError() {
+    const m = this.mesh;
+    return m.splitsLoaded > 0 ? m.error[m.splitsLoaded - 1] : m.head.baseError;
+  }
+
+  // B's level linked to A's needs n vertices (Infinity: B's finest loaded is coarser than A's
+  // error): a worker paused at B's budget fetches them.
+  askFor(n) {
+    const h = this.mesh.head, want = Math.min(n, h.vertexCount);
+    if (this.mesh.splitsLoaded >= h.splitCount || want <= this.mesh.vertexCountLoaded || want <= this.asked || !this.decoder?.want) return;
+    this.asked = want;
+    this.paused = false;
+    this.decoder.want(want);
   }
 
   // B at its coarsest level within A's error: asked for, and only between two hierarchies (one
@@ -408,7 +433,9 @@ export class CompareView {
       link: this.link.value,
       variant: this.mesh?.variant?.name ?? null,
       complete: Boolean(this.mesh?.complete),
+      paused: Boolean(this.paused && !this.mesh?.complete),  // at B's share of the memory budget
       vertices: nav?.vertexCount ?? 0,
+      loadedVertices: this.mesh?.vertexCountLoaded ?? 0,
       faces: nav?.faceCount ?? 0,
       navigator: nav instanceof Navigator,
       step: this.mesh ? this.step() : 0,

@@ -458,14 +458,16 @@ async function load() {
   state.worker = params.get('worker') !== '0';
   const url = new URL(file, location.href).href;
   const alongside = compare?.url === url;  // two members of this file: one fetch, one decode
-  if (compare && !alongside) compare.loading = compare.load(state.worker).catch(showError);  // its own worker
+  // The memory budget (model_file.js); a second file takes half of it.
+  state.memoryShared = Boolean(compare && !alongside);
+  state.memoryBudget = memoryBudget(params) / (state.memoryShared ? 2 : 1);
+  if (state.memoryShared) compare.loading = compare.load(state.worker, state.memoryBudget).catch(showError);  // its own worker
   const onStart = (total, shared = false, rangeRequests = false) => Object.assign(state, { totalBytes: total, sharedMemory: shared, rangeRequests });
   let decode = variants.callbacks({ url, name: state.name, onHead, onBase, onSplits, onStart, onProgress, onNavigator });
   if (alongside) decode = compare.alongside(decode);
   const onFirstBytes = (at) => (timing.firstByte = at);
   // Fetched by ranges up to ?vertices=N (model_file.js); the slider asks for more.
   const onDependencies = (deps) => refine.dependenciesReady(deps);
-  state.memoryBudget = memoryBudget(params);
   const worker = { ...decode, onDependencies, onFirstBytes, vertices: wantedVertices(params), memory: state.memoryBudget, control: state.decoder, onPaused: () => ((state.loading = false), state.nav && updateLabels()) };
   const decoding = state.worker ? decodeInWorker(worker) : decodeOnPage(decode);
   if (alongside) compare.follow(decoding);

@@ -149,6 +149,33 @@ test('linked time and resolution: the slider, the API and the state buttons move
   await page.close();
 });
 
+// The page's memory budget (?memory=MiB, docs/viewer.md "A memory budget") is shared: each
+// model's worker stops at the levels whose values fit half of it, and A's level asks B's worker
+// for B's linked level when B has not loaded it.
+test('a memory budget is halved between the two models; A\'s finest level loads the rest of both', async () => {
+  // The sample twice (coarse.dpm fits one 64 KiB request, the smallest the page makes).
+  const { page, seen } = await open([fine, fine], '?memory=0.25');
+  const bothPaused = () => ((s, c) => s?.paused && c?.paused && c.navigator)(window.dpmViewer?.state(), window.dpmViewer?.compare());
+  await page.waitForFunction(bothPaused, null, { timeout: 60000 });
+  const s = await page.evaluate(() => window.dpmViewer.state()), c = await compare(page);
+  // An eighth of a MiB each: 12 B a vertex a step for its position (the sample has no fields).
+  const steps = await page.evaluate(() => window.dynpm.view().stepCount), total = 2608;
+  const budgeted = Math.floor(2 ** 17 / (12 * steps));
+  for (const [name, loaded] of [['A', s.loadedVertices], ['B', c.loadedVertices]])
+    assert.ok(loaded >= budgeted && loaded < total, `${name}: ${loaded} of ${total} vertices loaded (${budgeted} budgeted)`);
+  assert.match(await page.locator('#resolution-label').textContent(), /fit 128\.0 KiB, half the page's budget/);
+  assert.match(c.labels[1], new RegExp(`, ${c.loadedVertices.toLocaleString('en')} loaded`));
+  // A's finest level: A loads the rest, and B follows it to its own finest.
+  await page.evaluate(() => window.dynpm.setLevel({ vertices: 2608 }));
+  await page.waitForFunction(bothShown, null, { timeout: 60000 });
+  const whole = await compare(page);
+  assert.equal(whole.vertices, total);
+  assert.equal(whole.paused, false);
+  assert.doesNotMatch(whole.labels[1], /loaded/);
+  assert.deepEqual(seen.errors, []);
+  await page.close();
+});
+
 // A's canvas as counts: the model's pixels (not the background, 0xeef0f3) and the magenta ones
 // (B overlaid, compare_overlay.js), each with its box [x0, y0, x1, y1] in pixels; and how many
 // pixels turned more magenta (r + b − 2g up by more than 20) since the last call's picture.
