@@ -67,7 +67,8 @@ TEST(Thumbnail, ZlibStreamInflatesWithZlib) {
   EXPECT_LT(pipeline::zlib_compress(inputs[2]).size(), 1000u);  // runs compress
 }
 
-// A decoded PNG: 8-bit RGB, filter types 0 or 1 (those encode_png writes).
+// A decoded PNG: 8-bit RGB with filter types 0 or 1, or 8-bit palette indices with filter type
+// 0 (those encode_png writes), as RGB.
 struct Picture {
   uint32_t width = 0, height = 0;
   std::vector<uint8_t> rgb;
@@ -79,7 +80,8 @@ Picture decode_png(const std::string& png) {
     return uint32_t(uint8_t(png[at])) << 24 | uint32_t(uint8_t(png[at + 1])) << 16 |
            uint32_t(uint8_t(png[at + 2])) << 8 | uint32_t(uint8_t(png[at + 3]));
   };
-  std::string idat;
+  std::string idat, palette;
+  char colour_type = 0;
   for (size_t at = 8; at + 12 <= png.size();) {
     const uint32_t length = be32(at);
     const std::string type = png.substr(at + 4, 4), data = png.substr(at + 8, length);
@@ -88,10 +90,28 @@ Picture decode_png(const std::string& png) {
         << type;
     if (type == "IHDR") {
       p.width = be32(at + 8), p.height = be32(at + 12);
-      EXPECT_EQ(data.substr(8, 2), std::string("\x08\x02", 2));  // 8 bits, RGB
+      EXPECT_EQ(data[8], 8);  // bits
+      colour_type = data[9];
+      EXPECT_TRUE(colour_type == 2 || colour_type == 3) << int(colour_type);  // RGB, palette
     }
+    if (type == "PLTE") palette = data;
     if (type == "IDAT") idat += data;
     at += 12 + length;
+  }
+  if (colour_type == 3) {
+    EXPECT_TRUE(palette.size() % 3 == 0 && palette.size() > 0 && palette.size() <= 768);
+    const std::string rows = inflated(idat, (size_t{p.width} + 1) * p.height);
+    EXPECT_EQ(rows.size(), (size_t{p.width} + 1) * p.height);
+    for (size_t i = 0; i < rows.size(); ++i) {
+      if (i % (p.width + 1) == 0) {
+        EXPECT_EQ(rows[i], 0) << "filter of row " << i / (p.width + 1);
+        continue;
+      }
+      const size_t k = 3 * uint8_t(rows[i]);
+      EXPECT_LT(k, palette.size());
+      for (int c = 0; c < 3; ++c) p.rgb.push_back(k < palette.size() ? uint8_t(palette[k + c]) : 0);
+    }
+    return p;
   }
   const size_t stride = size_t{p.width} * 3;
   const std::string rows = inflated(idat, (stride + 1) * p.height);
@@ -105,6 +125,46 @@ Picture decode_png(const std::string& png) {
     }
   }
   return p;
+}
+
+// encode_png keeps a picture's colours: exactly when 256 or fewer (as a palette, smaller) or
+// when they are many and far apart (RGB); a few extra colours near the 256 most common (blended
+// edge pixels) become the nearest of them, within 24 a channel.
+TEST(Thumbnail, PngKeepsTheColours) {
+  const uint32_t w = 64, h = 48;
+  std::mt19937 random(11);
+  auto image = [&](int colours, int extra) {  // pixels of `colours` colours, `extra` shaded off
+    std::vector<uint8_t> rgb(size_t{w} * h * 3);
+    for (size_t i = 0; i < size_t{w} * h; ++i) {
+      const uint32_t c = random() % colours;
+      for (int k = 0; k < 3; ++k) rgb[3 * i + k] = static_cast<uint8_t>((c * (37 + 60 * k)) % 231);
+    }
+    for (int e = 0; e < extra; ++e)  // a shade near a palette colour
+      rgb[3 * (random() % (size_t{w} * h)) + e % 3] += static_cast<uint8_t>(1 + e % 20);
+    return rgb;
+  };
+  auto max_difference = [](const std::vector<uint8_t>& a, const std::vector<uint8_t>& b) {
+    int most = 0;
+    for (size_t i = 0; i < a.size(); ++i) most = std::max(most, std::abs(int(a[i]) - int(b[i])));
+    return most;
+  };
+  const std::vector<uint8_t> few = image(150, 0), near = image(190, 120);
+  std::vector<uint8_t> many(size_t{w} * h * 3);
+  for (auto& b : many) b = static_cast<uint8_t>(random());
+  for (const std::vector<uint8_t>* rgb :
+       {&few, &near, static_cast<const std::vector<uint8_t>*>(&many)}) {
+    const std::string png = pipeline::encode_png(*rgb, w, h);
+    const Picture p = decode_png(png);
+    ASSERT_EQ(p.rgb.size(), rgb->size());
+    const bool palette = png.find("PLTE") != std::string::npos;
+    if (rgb == &many) {
+      EXPECT_FALSE(palette);
+      EXPECT_EQ(p.rgb, *rgb);
+    } else {
+      EXPECT_TRUE(palette);
+      EXPECT_LE(max_difference(p.rgb, *rgb), rgb == &few ? 0 : 24);
+    }
+  }
 }
 
 // The chunk tags of a .dpm, in order.

@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdlib>
+#include <optional>
 #include <queue>
 #include <utility>
 #include <vector>
@@ -29,6 +31,10 @@ constexpr int kChainSteps = 256;  // candidates tried per position (32: +7–10 
 constexpr int kHashBits = 15;
 constexpr int kLongestCode = 15, kLongestLengthCode = 7;  // RFC 1951's limits
 constexpr uint32_t kEndOfBlock = 256;
+// A palette image maps a colour outside its 256 to the nearest of them (RGB distance) if that
+// differs by at most this on every channel: on a thumbnail such colours are a few blended edge
+// pixels (measured on the crash boxes: 12–22 at most).
+constexpr int kPaletteTolerance = 24;
 // The code lengths' own code: its symbols in the order their lengths are sent.
 constexpr std::array<uint8_t, 19> kLengthCodeOrder = {16, 17, 18, 0, 8,  7, 9,  6, 10, 5,
                                                       11, 4,  12, 3, 13, 2, 14, 1, 15};
@@ -290,10 +296,90 @@ std::string zlib_compress(std::span<const uint8_t> in) {
   return std::move(w.bytes);
 }
 
+namespace {
+
+// The image as indices into its 256 most common colours (most common first, then by value),
+// the others mapped to the nearest of them; none when one of those lies farther than
+// kPaletteTolerance on a channel. rgb: the palette's bytes.
+struct Indexed {
+  std::string rgb;
+  std::vector<uint8_t> index;  // a pixel's
+};
+std::optional<Indexed> indexed(std::span<const uint8_t> rgb) {
+  const auto colour_at = [&](size_t i) {
+    return uint32_t{rgb[i]} << 16 | uint32_t{rgb[i + 1]} << 8 | rgb[i + 2];
+  };
+  std::vector<uint32_t> colours;
+  colours.reserve(rgb.size() / 3);
+  for (size_t i = 0; i + 2 < rgb.size(); i += 3) colours.push_back(colour_at(i));
+  std::sort(colours.begin(), colours.end());
+  std::vector<std::pair<size_t, uint32_t>> counted;  // (count, colour)
+  for (size_t i = 0; i < colours.size();) {
+    size_t j = i;
+    while (j < colours.size() && colours[j] == colours[i]) ++j;
+    counted.push_back({j - i, colours[i]});
+    i = j;
+  }
+  std::sort(counted.begin(), counted.end(), [](const auto& a, const auto& b) {
+    return a.first != b.first ? a.first > b.first : a.second < b.second;
+  });
+  const size_t kept = std::min<size_t>(counted.size(), 256);
+  Indexed out;
+  std::vector<std::pair<uint32_t, uint8_t>> slot;  // colour → index, sorted by colour
+  for (size_t k = 0; k < counted.size(); ++k) {
+    const uint32_t c = counted[k].second;
+    if (k < kept) {
+      for (int shift : {16, 8, 0}) out.rgb.push_back(static_cast<char>(c >> shift & 0xff));
+      slot.push_back({c, static_cast<uint8_t>(k)});
+      continue;
+    }
+    int best = -1, best_distance = 0, best_spread = 0;
+    for (size_t p = 0; p < kept; ++p) {
+      int distance = 0, spread = 0;
+      for (int shift : {16, 8, 0}) {
+        const int d = int(c >> shift & 0xff) - int(uint8_t(out.rgb[3 * p + (16 - shift) / 8]));
+        distance += d * d, spread = std::max(spread, std::abs(d));
+      }
+      if (best < 0 || distance < best_distance)
+        best = static_cast<int>(p), best_distance = distance, best_spread = spread;
+    }
+    if (best_spread > kPaletteTolerance) return std::nullopt;
+    slot.push_back({c, static_cast<uint8_t>(best)});
+  }
+  std::sort(slot.begin(), slot.end());
+  out.index.reserve(rgb.size() / 3);
+  for (size_t i = 0; i + 2 < rgb.size(); i += 3)
+    out.index.push_back(
+        std::lower_bound(slot.begin(), slot.end(), std::pair<uint32_t, uint8_t>{colour_at(i), 0})
+            ->second);
+  return out;
+}
+
+// The PNG of one IDAT stream; colour type 2 (RGB) or 3 (palette, `palette` its PLTE).
+std::string png_file(uint32_t width, uint32_t height, uint8_t colour_type,
+                     const std::string& palette, const std::string& idat) {
+  std::string header;
+  put_be32(header, width);
+  put_be32(header, height);
+  header.push_back(8);  // bits per sample (an index, for a palette)
+  header.push_back(static_cast<char>(colour_type));
+  header.append(3, '\0');  // deflate, filters of method 0, no interlace
+  std::string png("\x89PNG\r\n\x1a\n", 8);
+  put_png_chunk(png, "IHDR", header);
+  if (!palette.empty()) put_png_chunk(png, "PLTE", palette);
+  put_png_chunk(png, "IDAT", idat);
+  put_png_chunk(png, "IEND", {});
+  return png;
+}
+
+}  // namespace
+
 std::string encode_png(std::span<const uint8_t> rgb, uint32_t width, uint32_t height) {
   // Every row unfiltered (type 0) or every row as Sub (type 1, the difference to the pixel on the
   // left), whichever compresses smaller: flat-shaded facets repeat whole pixels, which LZ77
   // takes at distance 3 either way, and unfiltered mostly wins (crash boxes: by 13–15 %).
+  // A palette image of unfiltered rows is kept when smaller still (a third of the bytes to
+  // deflate: crash boxes 27–28 % smaller, docs/BENCHMARKS.md).
   const size_t stride = size_t{width} * 3;
   std::string smallest;
   for (uint8_t filter : {0, 1}) {
@@ -308,15 +394,18 @@ std::string encode_png(std::span<const uint8_t> rgb, uint32_t width, uint32_t he
     std::string z = zlib_compress(rows);
     if (smallest.empty() || z.size() < smallest.size()) smallest = std::move(z);
   }
-  std::string header;
-  put_be32(header, width);
-  put_be32(header, height);
-  header +=
-      std::string("\x08\x02\x00\x00\x00", 5);  // 8 bits, RGB, deflate, filters 0, no interlace
-  std::string png("\x89PNG\r\n\x1a\n", 8);
-  put_png_chunk(png, "IHDR", header);
-  put_png_chunk(png, "IDAT", smallest);
-  put_png_chunk(png, "IEND", {});
+  std::string png = png_file(width, height, 2, {}, smallest);
+  if (const std::optional<Indexed> image = indexed(rgb)) {
+    std::vector<uint8_t> rows;
+    rows.reserve((size_t{width} + 1) * height);
+    for (uint32_t y = 0; y < height; ++y) {
+      rows.push_back(0);
+      rows.insert(rows.end(), image->index.begin() + size_t{y} * width,
+                  image->index.begin() + size_t{y + 1} * width);
+    }
+    std::string indexed_png = png_file(width, height, 3, image->rgb, zlib_compress(rows));
+    if (indexed_png.size() < png.size()) png = std::move(indexed_png);
+  }
   return png;
 }
 

@@ -1,7 +1,9 @@
-// A PNG writer for the thumbnails (thumbnail.cpp): 8-bit RGB, one IDAT of a zlib stream made
-// here (deflate: one block with its own Huffman codes, LZ77 with one step of lazy evaluation). A
-// thumbnail is mostly background and flat-shaded facets, runs that LZ77 takes at distance 3 (a
-// pixel) or one row; this keeps the pipeline free of zlib, within a few % of its level 9.
+// A PNG writer for the thumbnails (thumbnail.cpp): 8-bit RGB, or 8-bit palette indices when its
+// 256 most common colours hold the picture (the rest, blended edge pixels, mapped to the nearest
+// within a small tolerance) and that is smaller; one IDAT of a zlib stream made here (deflate:
+// one block with its own Huffman codes, LZ77 with one step of lazy evaluation). A thumbnail is
+// mostly background and flat-shaded facets, runs that LZ77 takes at distance 3 (a pixel) or one
+// row; this keeps the pipeline free of zlib, within a few % of its level 9.
 #pragma once
 
 #include <cstdint>
