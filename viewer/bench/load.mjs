@@ -3,10 +3,11 @@
 // levels its memory budget holds, QUERY='?memory=MiB'), the longest main-thread task meanwhile,
 // and the renderer's memory (RSS of Chromium's renderer processes, which hold the page and its
 // worker) against the file's size.
-//   [THROTTLE=KiB/s] [QUERY=?worker=0] [TASKS=1] [FIRST_ONLY=1] [PROFILE=1] node bench/load.mjs DYNPM_BINARY MODEL.dpm
+//   [THROTTLE=KiB/s] [QUERY=?worker=0] [TASKS=1] [FIRST_ONLY=1] [PROFILE=1] [COMPARE=B.dpm] node bench/load.mjs DYNPM_BINARY MODEL.dpm
 // (?worker=0: the decoder on the page's main thread, as before the worker; TASKS: every long
 // task and the page's timings; FIRST_ONLY: stop 2 s after the first picture; PROFILE: the main
-// thread's functions by self time until the end, from Chromium's sampling profiler.)
+// thread's functions by self time until the end, from Chromium's sampling profiler; COMPARE: a
+// second model beside the first, `dynpm view MODEL B`, waited for as well: both share the budget.)
 import { readFileSync, readdirSync, statSync } from 'node:fs';
 
 import { chromium } from 'playwright-core';
@@ -18,7 +19,7 @@ if (!cli || !file) {
   console.error('usage: [THROTTLE=KiB/s] node bench/load.mjs DYNPM_BINARY MODEL.dpm');
   process.exit(2);
 }
-const extra = process.env.THROTTLE ? ['--throttle', process.env.THROTTLE] : [];
+const extra = [...(process.env.COMPARE ? [process.env.COMPARE] : []), ...(process.env.THROTTLE ? ['--throttle', process.env.THROTTLE] : [])];
 const { server, url } = await startServer(cli, file, extra);
 const browser = await chromium.launch({ executablePath: '/usr/bin/chromium', args: CHROMIUM_ARGS });
 
@@ -34,7 +35,8 @@ const probe = () => {
     // The frame after the one that drew the base: that one has ended (and was presented).
     if (window.loadProbe.baseFrame && !window.loadProbe.firstPicture) window.loadProbe.firstPicture = performance.now();
     if (s?.hasBase && !window.loadProbe.baseFrame) window.loadProbe.baseFrame = performance.now();
-    if ((s?.complete || s?.paused) && !window.loadProbe.complete) window.loadProbe.complete = performance.now();
+    const b = window.dpmViewer?.compare?.();  // the second model's, if any, as well
+    if ((s?.complete || s?.paused) && (!b || b.complete || b.paused) && !window.loadProbe.complete) window.loadProbe.complete = performance.now();
     if (!window.loadProbe.complete) requestAnimationFrame(tick);
   };
   requestAnimationFrame(tick);
@@ -105,7 +107,9 @@ try {
       // The first bytes: the fetch's response start, in the page's or (worker) the page's record.
       const entry = performance.getEntriesByType('resource').find((e) => e.name.endsWith('.dpm'));
       const firstByte = window.dpmViewer.timing?.firstByte ?? entry?.responseStart;
-      return { ...window.loadProbe, firstByte, timing: window.dpmViewer.timing, worker: window.dpmViewer.state().worker ?? false, state: window.dpmViewer.state() };
+      const b = window.dpmViewer.compare?.();
+      return { ...window.loadProbe, firstByte, timing: window.dpmViewer.timing, worker: window.dpmViewer.state().worker ?? false, state: window.dpmViewer.state(),
+        compare: b && { name: b.name, vertices: b.vertices, loaded: b.loadedVertices, complete: b.complete } };
     });
     if (process.env.PROFILE) await printProfile(cdp);
     const use = await page.evaluate(() => window.dpmViewer.memory());
@@ -117,6 +121,7 @@ try {
     const during = r.longTasks.filter(([s]) => s >= r.firstByte && s <= r.complete);
     const longest = during.reduce((a, [, d]) => Math.max(a, d), 0);
     console.log(`${file}: ${r.state.vertices} vertices${r.state.complete ? '' : ` (paused: ${r.state.loadedVertices} loaded, ${(r.state.bytesLoaded / 2 ** 20).toFixed(1)} MiB fetched)`}, ${size.toFixed(1)} MiB, decoder in a worker: ${r.worker}`);
+    if (r.compare) console.log(`B, ${r.compare.name}: ${r.compare.vertices} vertices${r.compare.complete ? '' : ` (paused: ${r.compare.loaded} loaded)`}`);
     console.log(`base mesh drawn in the frame of ${(r.baseFrame - r.firstByte).toFixed(0)} ms, first picture (the next frame) ${(r.firstPicture - r.firstByte).toFixed(0)} ms after the first bytes; ` +
       `${r.state.complete ? 'fully loaded' : 'paused'} after ${(r.complete - r.firstByte).toFixed(0)} ms`);
     const t = r.timing ?? {};  // the page before the worker had no timing
