@@ -299,8 +299,8 @@ std::string zlib_compress(std::span<const uint8_t> in) {
 namespace {
 
 // The image as indices into its 256 most common colours (most common first, then by value),
-// the others mapped to the nearest of them; none when one of those lies farther than
-// kPaletteTolerance on a channel. rgb: the palette's bytes.
+// each other colour mapped to the nearest of them (RGB distance); none when that nearest one
+// differs from it by more than kPaletteTolerance on a channel. rgb: the palette's bytes.
 struct Indexed {
   std::string rgb;
   std::vector<uint8_t> index;  // a pixel's
