@@ -240,8 +240,12 @@ export class CompareView {
     const n = !(nav instanceof Navigator) ? nav.vertexCount
       : this.linkedByError && Number.isFinite(state.nav.error) ? mesh.vertexCountForError(state.nav.error)
       : linkedVertexCount(state.nav.vertexCount, A.vertexCount, mesh.head, mesh.vertexCountLoaded);
-    this.askFor(this.linkedByError ? (this.finestLoadedError() > state.nav.error ? Infinity : n)
-      : linkedVertexCount(state.nav.vertexCount, A.vertexCount, mesh.head, Infinity));
+    // B's level for the one asked of A (viewer.js's targetVertices: the slider, the API), fetched
+    // if B's worker stopped before it; a level A reached by following its own file asks nothing,
+    // so that B keeps to its share of the budget.
+    if (state.targetVertices !== undefined)
+      this.askFor(this.linkedByError ? (this.finestLoadedError() > state.nav.error ? Infinity : n)
+        : linkedVertexCount(state.targetVertices, A.vertexCount, mesh.head, Infinity));
     if (nav.vertexCount !== n) (nav.setVertexCount(n), (level = true));
     if (level || !this.buffers.positions) this.drawLevel();  // (B's base may come before A's)
     const t = this.step();
