@@ -40,6 +40,9 @@ const MAX_CHUNK_BYTES = 2 ** 31;
 const MAX_ZSTD_RATIO = 32768;
 // The longest varint the reader takes (Reader.varint: 64 bits, 7 per byte).
 const MAX_VARINT = 10;
+// Room for this many vertices past the ones a reader means to load (takeRoom()): dynpm's
+// largest SPLT (kMaxChunkSplits in dpm_write.cpp).
+const ROOM_MARGIN_SPLITS = 16384;
 // A bound on the bytes of one range-coded integer (C++ kMaxCodedInteger).
 const MAX_CODED_INTEGER = 64;
 
@@ -330,12 +333,17 @@ export class DpmDecoder {
   }
 
   // Room in the arrays of every step for the vertices the reader means to load, and their share
-  // of the faces. The chunk that goes past them (ending at `chunkEnd`) is the last before a
-  // pause: room for all of it, not doubled (a page with a memory budget would hold twice it).
+  // of the faces, with a margin for the chunk that goes past them (the last before a pause):
+  // dynpm writes at most 16,384 splits a chunk, so past 65,536 vertices that chunk fits without
+  // the arrays being made anew, which held the old and the new arrays of every step at once (a
+  // page with a 1 GiB budget peaked 1.1 GiB above what it kept). Room no split writes is never
+  // touched: it costs address space, not memory. A crossing chunk beyond the margin gets room
+  // for all of it, not doubled.
   takeRoom(chunkEnd = 0) {
     const { vertexCount: V, faceCount: F } = this.mesh.head;
+    const margin = Math.min(ROOM_MARGIN_SPLITS, Math.ceil(this.vertices / 4));  // small: cheap
     const crossing = this.mesh.vertexCountLoaded < this.vertices && chunkEnd > this.vertices;
-    const n = Math.min(V, crossing ? chunkEnd : this.vertices);
+    const n = Math.min(V, Math.max(crossing ? chunkEnd : 0, this.vertices + margin));
     this.mesh.makeRoom(n, n === V ? F : Math.ceil((F * n) / V), !crossing);
   }
 
