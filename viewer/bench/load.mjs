@@ -36,7 +36,10 @@ const probe = () => {
     if (window.loadProbe.baseFrame && !window.loadProbe.firstPicture) window.loadProbe.firstPicture = performance.now();
     if (s?.hasBase && !window.loadProbe.baseFrame) window.loadProbe.baseFrame = performance.now();
     const b = window.dpmViewer?.compare?.();  // the second model's, if any, as well
-    if ((s?.complete || s?.paused) && (!b || b.complete || b.paused) && !window.loadProbe.complete) window.loadProbe.complete = performance.now();
+    // Loaded (or paused) and shown: the level catches up with what arrived a step a frame (but
+    // stays where ?vertices=N puts it).
+    const shown = /[?&]vertices=/.test(location.search) || (s && s.vertices === s.loadedVertices);
+    if ((s?.complete || s?.paused) && shown && (!b || b.complete || b.paused) && !window.loadProbe.complete) window.loadProbe.complete = performance.now();
     if (!window.loadProbe.complete) requestAnimationFrame(tick);
   };
   requestAnimationFrame(tick);
