@@ -94,6 +94,42 @@ for (const shared of [false, true]) {
   });
 }
 
+// A reader that means to load n vertices (a page's budget or ?vertices=N) takes room at BASE for
+// n and a margin (DpmDecoder.takeRoom(): a quarter of n, at most 16,384), so the chunk that
+// crosses n is decoded into the arrays taken then, not into new ones (which held the old and
+// the new arrays of every step at once); past the margin that chunk gets room for all of it.
+test('the chunk that crosses the vertices a reader means to load fits the room taken at BASE', () => {
+  const ends = [];  // the vertices loaded after each SPLT
+  const all = new DpmDecoder({ onSplits: (mesh) => ends.push(mesh.vertexCountLoaded) });
+  all.push(file);
+  assert.ok(all.complete && ends.length >= 3, `${ends.length} SPLTs`);
+  const load = (vertices) => {
+    const seen = {};
+    const decoder = new DpmDecoder({
+      vertices,
+      onBase: (mesh) => (seen.base = { positions: mesh.q[0], field: mesh.fields[0].q[0] }),
+      onSplits: (mesh) => (seen[mesh.vertexCountLoaded] = { positions: mesh.q[0], field: mesh.fields[0].q[0] }),
+    });
+    decoder.push(file);
+    return seen;
+  };
+  const margin = (n) => Math.min(16384, Math.ceil(n / 4));
+  // A target whose crossing chunk ends within the margin, and one whose does not.
+  const k = ends.findIndex((end, i) => i > 0 && end - ends[i - 1] > 8);
+  const [before, end] = [ends[k - 1], ends[k]];
+  const fits = Math.max(before + 1, Math.ceil((4 * end) / 5));  // n + n / 4 ≥ end
+  const seen = load(fits);
+  assert.ok(fits + margin(fits) >= end && fits < end);
+  assert.equal(seen[end].positions, seen.base.positions, `room for ${fits} + ${margin(fits)} holds the chunk to ${end}`);
+  assert.equal(seen[end].field, seen.base.field, 'and the field values');
+  assert.equal(seen.base.positions.length, 3 * (fits + margin(fits)));
+  const short = before + 1;  // its margin ends before the chunk does
+  assert.ok(short + margin(short) < end, `${short} + ${margin(short)} < ${end}`);
+  const other = load(short);
+  assert.notEqual(other[end].positions, other.base.positions);
+  assert.equal(other[end].positions.length, 3 * end, 'room for all of the crossing chunk, not doubled');
+});
+
 // Arrays that grow as levels arrive (dpm/bytes.js withRoom): the same array while it has room,
 // else a copy with twice the room (never past the most), new elements filled, shared when the
 // array was.

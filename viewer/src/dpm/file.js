@@ -96,8 +96,9 @@ function meshFor(head) {
 // Feed it the file's bytes with push() as they arrive; it parses each chunk once complete and
 // calls the callbacks: onHead(mesh), onBase(mesh), onSplits(mesh, first, count), onEnd(mesh).
 export class DpmDecoder {
-  // vertices: how many the reader means to load (the page's ?vertices=N; raise it when it wants
-  // more): the arrays of every step take room for them at once and grow past them by doubling.
+  // vertices: how many the reader means to load (the page's ?vertices=N or budget; raise it when
+  // it wants more): the arrays of every step take room for them and a margin at once
+  // (takeRoom()), and grow past them by doubling.
   constructor({ name = 'file', onHead, onBase, onSplits, onEnd, vertices = Infinity } = {}) {
     this.name = name;
     this.vertices = vertices;
