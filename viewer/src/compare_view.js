@@ -244,7 +244,7 @@ export class CompareView {
     // if B's worker stopped before it; a level A reached by following its own file asks nothing,
     // so that B keeps to its share of the budget.
     if (state.targetVertices !== undefined)
-      this.askFor(this.linkedByError ? (this.finestLoadedError() > state.nav.error ? Infinity : n)
+      this.askFor(this.linkedByError ? (mesh.levelError(mesh.splitsLoaded) > state.nav.error ? Infinity : n)
         : linkedVertexCount(state.targetVertices, A.vertexCount, mesh.head, Infinity));
     if (nav.vertexCount !== n) (nav.setVertexCount(n), (level = true));
     if (level || !this.buffers.positions) this.drawLevel();  // (B's base may come before A's)
@@ -258,12 +258,6 @@ export class CompareView {
     this.label();
     if (offered && state.colour !== 'part') this.viewer.setColour(state.colour);
     this.viewer.requestRender();
-  }
-
-  // The error of B's finest loaded level.
-  finestLoadedError() {
-    const m = this.mesh;
-    return m.splitsLoaded > 0 ? m.error[m.splitsLoaded - 1] : m.head.baseError;
   }
 
   // B's level linked to A's needs n vertices (Infinity: B's finest loaded is coarser than A's

@@ -130,9 +130,10 @@ export class Reader {
 // so that growing level by level copies each element a few times at most, but never more than
 // `max`; just `length` when not `doubling`), its new elements `fill`, on a SharedArrayBuffer when
 // `array` is on one. Arrays that multiply by the steps grow so as the levels arrive: a page that
-// fetches 100 k of 5 M vertices holds every step's positions of the 100 k, not of the 5 M. They stay plain fixed-length arrays:
-// V8 reads arrays on resizable or growable buffers 1.2× (resizable) to 3.3× (growable, shared)
-// slower in the decoder's loops (measured in Chromium 156, 2026-12-06).
+// fetches 100 k of 5 M vertices holds every step's positions of the 100 k, not of the 5 M. They
+// stay plain fixed-length arrays: V8 reads arrays on resizable or growable buffers 1.2×
+// (resizable) to 3.3× (growable, shared) slower in the decoder's loops (measured in Chromium 156,
+// 2026-12-06).
 export function withRoom(array, length, max, fill = 0, doubling = true) {
   if (array.length >= length) return array;
   const n = Math.min(max, doubling ? Math.max(length, 2 * array.length) : length);
