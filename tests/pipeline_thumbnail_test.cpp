@@ -220,6 +220,20 @@ TEST(Thumbnail, TheCrashBoxPictureShowsTheModelShaded) {
   EXPECT_LT(x1, p.width - 1);
   EXPECT_LT(y1, p.height - 1);
   EXPECT_GT(colours.size(), 20u);  // facets shaded differently (and their antialiased edges)
+  // Inside the facets (a pixel whose 3 × 3 block is one colour), the part's colour in at most
+  // 17 shades (16 steps of the headlight), and in several.
+  std::set<uint32_t> inside;
+  for (uint32_t y = 1; y + 1 < p.height; ++y)
+    for (uint32_t x = 1; x + 1 < p.width; ++x) {
+      const uint8_t* c = &p.rgb[(size_t(y) * p.width + x) * 3];
+      bool flat = !(c[0] == 0xee && c[1] == 0xf0 && c[2] == 0xf3);
+      for (int dy = -1; dy <= 1 && flat; ++dy)
+        for (int dx = -1; dx <= 1 && flat; ++dx)
+          flat = std::memcmp(c, &p.rgb[(size_t(y + dy) * p.width + x + dx) * 3], 3) == 0;
+      if (flat) inside.insert(uint32_t(c[0]) << 16 | uint32_t(c[1]) << 8 | c[2]);
+    }
+  EXPECT_LE(inside.size(), 17u);
+  EXPECT_GE(inside.size(), 5u);
   EXPECT_LT((*png)->size(), 40000u);
 
   // dynpm thumbnail -o draws the same picture from the file.

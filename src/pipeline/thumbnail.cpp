@@ -31,6 +31,10 @@ V3 normalized(const V3& a) {
 
 constexpr std::array<uint8_t, 3> kBackground = {0xee, 0xf0, 0xf3};  // the viewer's
 constexpr int kSupersample = 2;
+// The headlight's brightness in this many steps: facets of nearly one orientation get one
+// colour, so the PNG has fewer edges to tell (16: 18–33 % fewer bytes on the crash boxes and the
+// hat rail, 8 lets flat panels fall into streaks; docs/BENCHMARKS.md "Thumbnails in 16 shades").
+constexpr double kShadeLevels = 16;
 
 // The viewer's rule: the axis (y or z) the base mesh moves along most from the first step to the
 // last, if twice as much as along the other; else the one the box is thinner along.
@@ -181,7 +185,8 @@ std::string render_thumbnail(const ProgressiveMesh& mesh, const ThumbnailOptions
     const V3 normal =
         normalized(n == 4 ? cross(sub(corner[2], corner[0]), sub(corner[3], corner[1]))
                           : cross(sub(corner[1], corner[0]), sub(corner[2], corner[0])));
-    const double shade = 0.3 + 0.7 * std::abs(dot(normal, light));  // both sides lit
+    const double lit = std::round(std::abs(dot(normal, light)) * kShadeLevels) / kShadeLevels;
+    const double shade = 0.3 + 0.7 * lit;  // both sides lit
     const size_t rank =
         f < mesh.part_ids.size()
             ? static_cast<size_t>(std::lower_bound(ranked.begin(), ranked.end(), mesh.part_ids[f]) -
