@@ -79,6 +79,8 @@ try {
     await page.evaluate((n) => window.dpmViewer.setVertexCount(n), Math.round(h.baseVertexCount + ratio * h.splitCount));
     await page.locator('#colour').selectOption({ label: field.name });
     await page.locator('#scheme').selectOption(scheme);
+    // The legend is what these pictures are for: the panel scrolled to its end.
+    await page.evaluate(() => document.getElementById('legend').scrollIntoView({ block: 'end' }));
     await page.waitForTimeout(300);
     await page.screenshot({ path: join(out, name) });
     console.log(`${join(out, name)}: ${field.name} (${field.perFace ? 'element' : 'node'})`);

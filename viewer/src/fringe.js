@@ -109,26 +109,46 @@ export function fmt(x, digits = 4) {
   return a >= 1e5 || a < 1e-3 ? x.toExponential(2) : String(Number(x.toPrecision(digits)));
 }
 
+// A legend's labels in one format, as a results viewer prints them: the same decimals on every
+// label, enough to tell the step between neighbours to three digits (0.2590 … 0.0259, 0.0000;
+// 460.9 … 46.1, 0.0; no zeros that every label ends in: 40 … 5, 0), or all in exponent form
+// (2.60e-4) when fixed decimals would be too long or too short. `values` evenly spaced, `step`
+// their spacing.
+export function legendLabels(values, step) {
+  const largest = Math.max(...values.map(Math.abs));
+  if (!(step > 0) || !Number.isFinite(largest)) return values.map((x) => fmt(x));
+  const fixed = (d) => values.map((x) => x.toFixed(d).replace(/^-(0\.?0*)$/, '$1'));
+  let decimals = Math.max(0, Math.ceil(-Math.log10(step)) + 2);
+  if (largest < 1e5 && largest >= 1e-3 && decimals <= 6) {
+    while (decimals > 0 && fixed(decimals).every((label) => label.endsWith('0'))) decimals--;  // 40, 35, …
+    return fixed(decimals);
+  }
+  const digits = Math.min(6, Math.max(2, Math.ceil(Math.log10(largest / step)) + 2));
+  return values.map((x) => x.toExponential(digits - 1).replace(/^-(0\.?0*e\+0)$/, '$1'));
+}
+
 // The legend's children: the title (name and unit), the bands top (high) to bottom with their
 // edges, or a continuous bar, and the peak line. `peak`: {value, where} or null.
 export function fringeLegend(fringe, { title, unit, peak }) {
   const u = unit ? ` ${unit}` : '';
   const children = [element('div', { className: 'title' }, title, unit ? ` [${unit}]` : '')];
   if (fringe.bands > 0) {
+    const edges = Array.from({ length: fringe.bands + 1 }, (_, k) => fringe.edge(fringe.bands - k));
+    const labels = legendLabels(edges, (fringe.hi - fringe.lo) / fringe.bands);
     const rows = [];
     for (let k = fringe.bands - 1; k >= 0; k--)
       rows.push(element('div', { className: 'band' },
         element('span', { className: 'swatch', background: fringe.css((k + 0.5) / fringe.bands) }),
-        element('span', { className: 'edge' }, fmt(fringe.edge(k + 1)))));
+        element('span', { className: 'edge' }, labels[fringe.bands - 1 - k])));
     rows.push(element('div', { className: 'band' }, element('span', { className: 'swatch blank' }),
-      element('span', { className: 'edge' }, fmt(fringe.edge(0)))));
+      element('span', { className: 'edge' }, labels[fringe.bands])));
     children.push(element('div', { className: 'bands' }, ...rows));
   } else {
     const stops = Array.from({ length: 9 }, (_, k) => fringe.css(k / 8)).join(',');
+    const [lo, mid, hi] = legendLabels([fringe.lo, (fringe.lo + fringe.hi) / 2, fringe.hi], (fringe.hi - fringe.lo) / 2);
     children.push(
       element('div', { className: 'bar', background: `linear-gradient(to right,${stops})` }),
-      element('div', { className: 'ends' }, element('span', {}, fmt(fringe.lo)),
-        element('span', {}, fmt((fringe.lo + fringe.hi) / 2)), element('span', {}, fmt(fringe.hi))));
+      element('div', { className: 'ends' }, element('span', {}, lo), element('span', {}, mid), element('span', {}, hi)));
   }
   if (peak) children.push(element('div', { className: 'peak' }, `▲ max |value| ${fmt(peak.value)}${u} at ${peak.where}`));
   return children;

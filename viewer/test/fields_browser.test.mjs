@@ -70,6 +70,12 @@ test('an element field: flat per-face fringe, banded legend, the marker at the p
   assert.equal(edges.length, 11);
   assert.ok(Math.abs(Number(edges[0]) - field.max) <= 1e-3 * (field.max - field.min), `top ${edges[0]}`);
   assert.ok(Math.abs(Number(edges[10]) - field.min) <= 1e-3 * (field.max - field.min), `bottom ${edges[10]}`);
+  assert.equal(await page.isVisible('#variant-section'), false, 'no Variant row for a file that is not a family');
+  // In one format: the same decimals on every label, the step between neighbours to 3 digits.
+  const decimals = new Set(edges.map((e) => (e.split('.')[1] ?? '').length));
+  assert.equal(decimals.size, 1, `one format: ${edges.join(' ')}`);
+  const step = (field.max - field.min) / 10;
+  assert.ok(Math.abs(Number(edges[0]) - Number(edges[1]) - step) <= 0.01 * step, `${edges[0]} − ${edges[1]}`);
   assert.match(await page.locator('#legend .title').textContent(), /plastic strain .*\[mm\/mm\]/);
   // Every face one colour, the colour of its band; faces that share a vertex differ somewhere.
   assert.deepEqual(f.values, Array.from(shown.values.subarray(0, nav.faceCount)));
