@@ -148,7 +148,7 @@ int run_extract(std::span<char* const> arguments) {
   std::optional<Phase> phase(std::in_place, "reading the model");
   auto mesh = read_dpm_of_variant(args, args.positional[0], limits);
   if (!mesh) return fail(kSpec.name, kExitFailure, mesh.message());
-  if (!mesh->complete && !mesh->limited)
+  if (mesh->prefix)  // also when --step limited the read: the level asked may not be there
     note(kSpec.name, args.positional[0] + " is a prefix of a file; it holds " +
                          std::to_string(mesh->split_count()) + " of " +
                          std::to_string(mesh->full_split_count) + " splits");

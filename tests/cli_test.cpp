@@ -1,6 +1,7 @@
 // The dynpm command as a user runs it: exit codes, messages, and files.
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <fstream>
 
 #include "dynpm/io.h"
@@ -267,6 +268,16 @@ TEST(Cli, BuildFromFrdExtractFullIsTheInputAndInfoDescribesTheModel) {
   auto coarse = dynpm_cli("extract " + dir.file("rail.dpm") + " --max-error 1% --step 12.5 -o " +
                           dir.file("c.obj"));
   EXPECT_EQ(coarse.exit_code, 0) << coarse.output;
+  // A prefix of the file (a copy cut short) gives what it holds, and says so, with --step too.
+  const std::string prefix = dir.file("prefix.dpm");
+  std::filesystem::copy_file(dir.file("rail.dpm"), prefix);
+  std::filesystem::resize_file(prefix, std::filesystem::file_size(prefix) / 3);
+  for (const std::string step : {"", " --step 3"}) {
+    auto cut = dynpm_cli("extract " + prefix + " --full" + step + " -o " +
+                         dir.file(step.empty() ? "cut_{:03d}.ply" : "cut.ply"));
+    EXPECT_EQ(cut.exit_code, 0) << cut.output;
+    EXPECT_TRUE(contains(cut.output, "is a prefix of a file; it holds ")) << step << cut.output;
+  }
   auto bad = dynpm_cli("extract " + frd + " --full -o " + dir.file("x_{:03d}.obj"));
   EXPECT_EQ(bad.exit_code, 1) << bad.output;
   EXPECT_TRUE(contains(bad.output, "not a .dpm file")) << bad.output;

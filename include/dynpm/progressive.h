@@ -113,6 +113,9 @@ struct ProgressiveMesh {
   std::vector<uint32_t> face_heir;
 
   bool complete = true;  // false: read from a prefix of a file, or read with limits
+  // The file ended before END while the reader still wanted splits: it holds fewer than it
+  // promises (also when read with limits: `limited` may be true as well).
+  bool prefix = false;
   // Read with DpmReadLimits: fewer splits than the file holds, or the steps after
   // `steps_read − 1` not decoded (their positions and field values are empty).
   bool limited = false;

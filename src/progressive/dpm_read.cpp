@@ -104,7 +104,7 @@ class Decoder {
       got = next_chunk("SPLT", tag, payload);
       if (!got) return got.status();
       if (!*got) {  // a prefix: keep what has arrived
-        mesh_.complete = false;
+        mesh_.complete = false, mesh_.prefix = true;
         break;
       }
       if (tag == "END ") {
@@ -124,7 +124,7 @@ class Decoder {
       if (!got) return got.status();
       if (!*got) {
         truncate(first, faces_before);
-        mesh_.complete = false;
+        mesh_.complete = false, mesh_.prefix = true;
         break;
       }
       if (!decode_fields_) continue;
