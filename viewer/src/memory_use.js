@@ -1,12 +1,26 @@
 // What the page's arrays for a model take, in bytes, by what they are for (bench/load.mjs,
-// docs/viewer.md "Memory"): a typed array counts once however many objects hold it.
+// docs/viewer.md "Memory"): a typed array counts once however many objects hold it. The ids and
+// split records are made at the whole model's size (HEAD's counts) and filled as splits arrive:
+// they count as far as they are filled (a paused model's rest is never written, so never
+// resident); positions and field values count their room (`makeRoom()`), which is what they hold.
 const GROUPS = {
   positions: (m) => m.q,
-  ids: (m) => [m.vertexOriginal, m.nodeId, m.faceOriginal, m.partId, m.elementId],
-  splits: (m) => [m.parent, m.error, m.wingStart, m.movedStart, m.faceCountAt, m.baseCorners, m.baseDegree,
-    m.wingFace?.data, m.wingVertex?.data, m.wingFlags?.data, m.movedFaces?.data],
-  fields: (m) => [m.faceHeir, ...m.fields.flatMap((f) => [...f.q, f.error])],
+  ids: (m) => {
+    const [vertices, faces] = loaded(m);
+    return [[m.vertexOriginal, vertices], [m.nodeId, vertices], [m.faceOriginal, faces], [m.partId, faces], [m.elementId, faces]];
+  },
+  splits: (m) => {
+    const s = m.splitsLoaded;
+    return [[m.parent, s], [m.error, s], [m.wingStart, s + 1], [m.movedStart, s + 1], [m.faceCountAt, s + 1],
+      m.baseCorners, m.baseDegree, ...[m.wingFace, m.wingVertex, m.wingFlags, m.movedFaces].map((g) => g && [g.data, g.length])];
+  },
+  fields: (m) => [[m.faceHeir, loaded(m)[1]], ...m.fields.flatMap((f) => [...f.q, f.error])],
 };
+
+// The vertices and faces that have arrived (none before the base).
+function loaded(m) {
+  return m.hasBase ? [m.vertexCountLoaded, m.faceCountAt[m.splitsLoaded]] : [0, 0];
+}
 
 function typedArrays(object, seen = new Set(), depth = 0) {
   const out = [];
@@ -24,8 +38,13 @@ function typedArrays(object, seen = new Set(), depth = 0) {
 // { group: bytes } for the mesh, the navigator, the draw buffers and anything else `extra` holds.
 export function memoryUse(mesh, nav, draw, extra = {}) {
   const counted = new Set();
-  const sum = (arrays) => arrays.filter((a) => a && !counted.has(a.buffer) && counted.add(a.buffer))
-    .reduce((n, a) => n + a.buffer.byteLength, 0);
+  // An entry is an array (all of its buffer) or [array, elements filled].
+  const bytesOf = (entry) => Array.isArray(entry)
+    ? Math.min(entry[0].buffer.byteLength, entry[1] * entry[0].BYTES_PER_ELEMENT) : entry.buffer.byteLength;
+  const sum = (entries) => entries.filter((e) => {
+    const a = Array.isArray(e) ? e[0] : e;
+    return a && !counted.has(a.buffer) && counted.add(a.buffer);
+  }).reduce((n, e) => n + bytesOf(e), 0);
   const use = {};
   for (const [name, pick] of Object.entries(GROUPS)) use[name] = sum(pick(mesh));
   use.navigator = sum(typedArrays(nav));

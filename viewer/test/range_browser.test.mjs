@@ -93,6 +93,15 @@ test('?vertices=N fetches only the chunks up to N vertices; the slider fetches t
   const held = await positionBytes();
   assert.ok(held >= 12 * s.loadedVertices * steps && held <= 2 * 12 * s.loadedVertices * steps && held < 12 * total * steps,
     `${held} bytes of positions for ${s.loadedVertices} of ${total} vertices × ${steps} steps`);
+  // The ids and split records count as far as they are filled: 12 B a loaded vertex (original
+  // index, node id) and 16 a loaded face (original index, part, element id), not the whole
+  // model's arrays.
+  const { ids } = await page.evaluate(() => window.dpmViewer.memory());
+  // (faces: at most two a vertex on these meshes).
+  const { head } = readDpm(new Uint8Array(readFileSync(dpm)), dpm).mesh;
+  const allIds = 12 * head.vertexCount + 16 * head.faceCount;
+  assert.ok(ids >= 12 * s.loadedVertices && ids <= 44 * s.loadedVertices && ids < allIds,
+    `${ids} bytes of ids for ${s.loadedVertices} of ${total} vertices (all: ${allIds})`);
   // The slider's far end asks for every vertex (the panel starts collapsed in this small window).
   await page.locator('#panel-toggle').click();
   const box = await page.locator('#resolution').boundingBox();
