@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -359,6 +360,19 @@ TEST(ExodusTest, DamagedHdf5FilesAreErrorsNotCrashes) {
               std::string::npos)
         << run.output;
   }
+}
+
+// A 40 KB netCDF-4 file the fuzzer made (fuzz/regressions/exodus/): libhdf5 never returns from
+// it. The child is called hung after 10 s plus the file at 8 MiB/s (it was a flat 120 s).
+TEST(ExodusTest, AnHdf5FileThatHangsTheLibraryIsRefusedWithinSeconds) {
+  const std::string file = test::source_dir() + "/fuzz/regressions/exodus/netcdf4-libhdf5-hangs.e";
+  const auto start = std::chrono::steady_clock::now();
+  auto read = open_input(std::vector<std::string>{file});
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  ASSERT_FALSE(read.ok());
+  EXPECT_EQ(read.message(), file + ": damaged HDF5 file (the HDF5 library gave no answer in 10 s)");
+  EXPECT_LT(seconds, 60.0);
 }
 
 // open_in_child on stand-in readers: what the child reads arrives whole, its errors arrive as

@@ -13,7 +13,8 @@
 //
 // The child stays alive serving one step at a time, so memory stays what the reader's own
 // streaming needs (a 5 M-node × 100-step file is never decoded whole). Any death of the child
-// (a signal, a non-zero exit: sanitizers exit 1) or 120 s without an answer becomes
+// (a signal, a non-zero exit: sanitizers exit 1) or no answer for 10 s plus the time to read the
+// whole file at 8 MiB/s becomes
 // "<path>: damaged <library> file (the <library> library crashed reading it: …)" on whichever
 // call was waiting; later calls repeat it.
 #pragma once
