@@ -70,7 +70,23 @@ TEST(TextQuoting, ControlBytesAreEscaped) {
   EXPECT_EQ(printable("\x1b]0;title\x07\x1b[2J"), "\\x1b]0;title\\x07\\x1b[2J");
   EXPECT_EQ(printable("tab\there\r\n"), "tab\\there\\r\\n");
   EXPECT_EQ(printable("back\\slash"), "back\\\\slash");
-  EXPECT_EQ(printable("\x7f\xc3\xa9"), "\\x7f\\xc3\\xa9");
+  EXPECT_EQ(printable("\x7f\xc3\xa9"), "\\x7f\xc3\xa9");  // DEL escaped, é shown
+  // UTF-8: characters that show as themselves are kept (a note dynpm writes ends in "…"); the
+  // C1 controls (U+009B is CSI on some terminals), text-reordering marks (U+202E), a BOM,
+  // overlong forms, surrogates, stray continuation bytes and a character cut short are not.
+  EXPECT_EQ(printable("frame_000.obj \xe2\x80\xa6 Tr\xc3\xa4ger 5 \xc2\xb5m \xe6\x9d\xbf"),
+            "frame_000.obj \xe2\x80\xa6 Tr\xc3\xa4ger 5 \xc2\xb5m \xe6\x9d\xbf");
+  EXPECT_EQ(printable("\xc2\x9b"
+                      "2J"),
+            "\\xc2\\x9b2J");
+  EXPECT_EQ(printable("a\xe2\x80\xae"
+                      "b"),
+            "a\\xe2\\x80\\xaeb");
+  EXPECT_EQ(printable("\xef\xbb\xbfx"), "\\xef\\xbb\\xbfx");
+  EXPECT_EQ(printable("\xc0\xaf\xe0\x80\xaf"), "\\xc0\\xaf\\xe0\\x80\\xaf");
+  EXPECT_EQ(printable("\xed\xa0\x80"), "\\xed\\xa0\\x80");
+  EXPECT_EQ(printable("\x80x\xe2\x80"), "\\x80x\\xe2\\x80");
+  EXPECT_EQ(printable("\xf0\x9f\x98\x80"), "\xf0\x9f\x98\x80");
   EXPECT_EQ(quoted_bytes("x"), "'x'");
 }
 

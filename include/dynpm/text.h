@@ -28,9 +28,11 @@ std::string xml_escaped(std::string_view text);
 // `s` without the spaces and tabs at either end (fixed-column fields, HTTP header values).
 std::string_view trim_blanks(std::string_view s);
 
-// Bytes from a file as a message may show them: printable ASCII as it is, '\n', '\r', '\t' and
-// '\\' escaped, every other byte as \xNN, so that a message never carries a terminal escape
-// sequence or a NUL; at most kQuotedBytes bytes, then "… (N bytes)".
+// Bytes from a file as a message may show them: printable ASCII as it is, and well-formed UTF-8
+// characters from U+00A0 on that show as themselves (é, µ, …; not the C1 controls, nor the
+// invisible ones that reorder text); '\n', '\r', '\t' and '\\' escaped, every other byte as \xNN,
+// so that a message never carries a terminal escape sequence or a NUL; at most kQuotedBytes
+// bytes, then "… (N bytes)".
 inline constexpr size_t kQuotedBytes = 80;
 std::string printable(std::string_view bytes);
 // printable() in single quotes (not std::quoted, which ADL would find for a std::string): 'abc'.

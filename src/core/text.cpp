@@ -91,6 +91,35 @@ NumberError parse_count(std::string_view token, uint64_t& out) {
   return e;
 }
 
+namespace {
+
+// The length of the UTF-8 sequence at bytes[i] when it is a well-formed character a terminal
+// shows as itself, else 0: from U+00A0 on (not the C1 controls, which some terminals take as
+// escapes), not a surrogate, and none of the invisible format characters that reorder or hide
+// text (U+200B–U+200F, U+2028–U+202E, U+2060–U+206F, U+FEFF).
+size_t shown_character(std::string_view bytes, size_t i) {
+  const auto byte = [&](size_t k) { return static_cast<unsigned char>(bytes[k]); };
+  const unsigned char lead = byte(i);
+  const size_t length = lead >= 0xf0 && lead <= 0xf4   ? 4
+                        : lead >= 0xe0                 ? (lead < 0xf0 ? 3 : 0)
+                        : lead >= 0xc2 && lead <= 0xdf ? 2
+                                                       : 0;
+  if (length == 0 || i + length > bytes.size()) return 0;
+  uint32_t code = lead & (0x7f >> length);
+  for (size_t k = 1; k < length; ++k) {
+    if ((byte(i + k) & 0xc0) != 0x80) return 0;
+    code = code << 6 | (byte(i + k) & 0x3f);
+  }
+  const uint32_t smallest[] = {0, 0, 0x80, 0x800, 0x10000};
+  if (code < smallest[length] || code > 0x10ffff || code < 0xa0) return 0;  // overlong, C1
+  if ((code >= 0xd800 && code <= 0xdfff) || (code >= 0x200b && code <= 0x200f) ||
+      (code >= 0x2028 && code <= 0x202e) || (code >= 0x2060 && code <= 0x206f) || code == 0xfeff)
+    return 0;
+  return length;
+}
+
+}  // namespace
+
 std::string printable(std::string_view bytes) {
   static constexpr char kHex[] = "0123456789abcdef";
   std::string out;
@@ -98,7 +127,10 @@ std::string printable(std::string_view bytes) {
   out.reserve(shown + 16);
   for (size_t i = 0; i < shown; ++i) {
     const unsigned char c = static_cast<unsigned char>(bytes[i]);
-    if (c == '\\')
+    if (const size_t n = c >= 0x80 ? shown_character(bytes.substr(0, shown), i) : 0; n > 0) {
+      out.append(bytes.substr(i, n));  // é, µ, …: a character, not its bytes
+      i += n - 1;
+    } else if (c == '\\')
       out += "\\\\";
     else if (c >= 0x20 && c < 0x7f)
       out += static_cast<char>(c);
