@@ -176,15 +176,20 @@ Result<Control> parse_control(const std::string& path, std::string_view head, co
     if (head.size() < c.header_words * w.size)
       return Status::error(
           byte_error(path, head.size(), "the file ends inside the extended control block"));
-    c.nel20 = word(kNel20);
-    c.nt3d = word(kNt3d);
+    // Words past the EXTRA the file states are not in it: absent counts are 0 (a 69-word control
+    // block with EXTRA = 5 was read up to word 73, past the file: fuzz/regressions/d3plot/).
+    const auto extended = [&](int i) -> int64_t {
+      return uint64_t(i) < c.header_words ? word(i) : 0;
+    };
+    c.nel20 = extended(kNel20);
+    c.nt3d = extended(kNt3d);
     for (auto [index, name] : {std::pair{kNel27, "NEL27"},
                                {kNel21p, "NEL21P"},
                                {kNel15t, "NEL15T"},
                                {kNel20t, "NEL20T"},
                                {kNel40p, "NEL40P"},
                                {kNel64, "NEL64"}})
-      if (word(index) != 0)
+      if (extended(index) != 0)
         return Status::error(
             byte_error(path, uint64_t(index) * w.size,
                        std::string("higher-order solids (") + name + " > 0) are not supported"));
