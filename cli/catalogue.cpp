@@ -86,8 +86,8 @@ Result<std::string> catalogue_entry(const std::string& dir, const std::string& r
   auto mesh = read_dpm(path.string(), limits);
   if (!mesh) return mesh.status();
   const ProgressiveMesh& m = *mesh;
-  // Read with limits, `complete` is false by design; `limited` says so.
-  if (!m.complete && !m.limited) return Status::error(path.string() + ": the file is incomplete");
+  // Read with limits, `complete` is false by design; a file that ends early is no entry.
+  if (m.prefix) return Status::error(path.string() + ": the file is incomplete");
   auto thumbnail = read_dpm_thumbnail(path.string());
   if (!thumbnail) return thumbnail.status();
   std::error_code ec;

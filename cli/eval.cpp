@@ -296,7 +296,7 @@ int run_eval(std::span<char* const> arguments) {
     return fail_input(s.message());
   if (Status s = check_built_from(original, frames, *mesh, *dpm_path); !s.ok())
     return fail_input(s.message());
-  if (!mesh->complete)
+  if (mesh->prefix)
     note(kSpec.name,
          *dpm_path + " is a prefix of a file; it holds " + std::to_string(mesh->split_count()) +
              " of " + std::to_string(mesh->full_split_count) + " splits, so the finest level is " +

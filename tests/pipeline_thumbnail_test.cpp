@@ -201,10 +201,14 @@ TEST(Thumbnail, TheCrashBoxPictureShowsTheModelShaded) {
   size_t model = 0;
   std::set<uint32_t> colours;
   uint32_t x0 = p.width, x1 = 0, y0 = p.height, y1 = 0;
+  const auto pixel = [&](uint32_t x, uint32_t y) { return &p.rgb[(size_t(y) * p.width + x) * 3]; };
+  const auto background = [](const uint8_t* c) {
+    return c[0] == 0xee && c[1] == 0xf0 && c[2] == 0xf3;
+  };
   for (uint32_t y = 0; y < p.height; ++y)
     for (uint32_t x = 0; x < p.width; ++x) {
-      const uint8_t* c = &p.rgb[(size_t(y) * p.width + x) * 3];
-      if (c[0] == 0xee && c[1] == 0xf0 && c[2] == 0xf3) continue;  // the background
+      const uint8_t* c = pixel(x, y);
+      if (background(c)) continue;
       ++model;
       colours.insert(uint32_t(c[0]) << 16 | uint32_t(c[1]) << 8 | c[2]);
       x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
@@ -225,11 +229,11 @@ TEST(Thumbnail, TheCrashBoxPictureShowsTheModelShaded) {
   std::set<uint32_t> inside;
   for (uint32_t y = 1; y + 1 < p.height; ++y)
     for (uint32_t x = 1; x + 1 < p.width; ++x) {
-      const uint8_t* c = &p.rgb[(size_t(y) * p.width + x) * 3];
-      bool flat = !(c[0] == 0xee && c[1] == 0xf0 && c[2] == 0xf3);
+      const uint8_t* c = pixel(x, y);
+      bool flat = !background(c);
       for (int dy = -1; dy <= 1 && flat; ++dy)
         for (int dx = -1; dx <= 1 && flat; ++dx)
-          flat = std::memcmp(c, &p.rgb[(size_t(y + dy) * p.width + x + dx) * 3], 3) == 0;
+          flat = std::memcmp(c, pixel(x + dx, y + dy), 3) == 0;
       if (flat) inside.insert(uint32_t(c[0]) << 16 | uint32_t(c[1]) << 8 | c[2]);
     }
   EXPECT_LE(inside.size(), 17u);

@@ -256,8 +256,8 @@ struct DpmReadLimits {
 // HEAD that `mesh` holds: at least the base mesh, at most the whole stream.
 uint32_t splits_for_limits(const ProgressiveMesh& mesh, const DpmReadLimits& limits);
 
-// Reads a whole file or a prefix of one (then complete == false), or only what `limits` asks
-// for (then limited == true). Errors name the file and byte offset.
+// Reads a whole file or a prefix of one (then complete == false, prefix == true), or only what
+// `limits` asks for (then limited == true). Errors name the file and byte offset.
 Result<ProgressiveMesh> read_dpm(const std::string& path, const DpmReadLimits& limits = {});
 Result<ProgressiveMesh> decode_dpm(std::string_view bytes, const std::string& name,
                                    const DpmReadLimits& limits = {});

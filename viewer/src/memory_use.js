@@ -1,8 +1,9 @@
 // What the page's arrays for a model take, in bytes, by what they are for (bench/load.mjs,
-// docs/viewer.md "Memory"): a typed array counts once however many objects hold it. The ids and
-// split records are made at the whole model's size (HEAD's counts) and filled as splits arrive:
-// they count as far as they are filled (a paused model's rest is never written, so never
-// resident); positions and field values count their room (`makeRoom()`), which is what they hold.
+// docs/viewer.md "Memory"): a typed array counts once however many objects hold it. The ids, the
+// split records and the fields' split errors are made at the whole model's size (HEAD's counts)
+// and filled as splits arrive: they count as far as they are filled (a paused model's rest is
+// never written, so never resident); positions and field values count their room (`makeRoom()`),
+// which is what they hold.
 const GROUPS = {
   positions: (m) => m.q,
   ids: (m) => {
@@ -14,7 +15,7 @@ const GROUPS = {
     return [[m.parent, s], [m.error, s], [m.wingStart, s + 1], [m.movedStart, s + 1], [m.faceCountAt, s + 1],
       m.baseCorners, m.baseDegree, ...[m.wingFace, m.wingVertex, m.wingFlags, m.movedFaces].map((g) => g && [g.data, g.length])];
   },
-  fields: (m) => [[m.faceHeir, loaded(m)[1]], ...m.fields.flatMap((f) => [...f.q, f.error])],
+  fields: (m) => [[m.faceHeir, loaded(m)[1]], ...m.fields.flatMap((f) => [...f.q, [f.error, m.splitsLoaded]])],
 };
 
 // The vertices and faces that have arrived (none before the base).
