@@ -130,7 +130,7 @@ try {
     const t = r.timing ?? {};  // the page before the worker had no timing
     const since = (x) => (x === undefined ? '?' : (x - r.firstByte).toFixed(0));
     console.log(`after the first bytes: HEAD on the page ${since(t.head)} ms, BASE ${since(t.base)} ms, ` +
-      `base mesh made ${since(t.baseDone)} ms`);
+      `base mesh made ${since(t.baseDone)} ms, the worker through END ${since(t.decoded)} ms`);
     if (process.env.TASKS) console.log(JSON.stringify(Object.fromEntries(Object.entries(t).map(([k, v]) => [k, since(v)]))));
     if (process.env.TASKS) console.log(r.longTasks.map(([s, d]) => `${(s - r.firstByte).toFixed(0)}+${d.toFixed(0)}`).join(" "));
     console.log(`main-thread tasks > 50 ms while loading: ${during.length}, longest ${longest.toFixed(0)} ms ` +

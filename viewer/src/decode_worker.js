@@ -4,7 +4,7 @@
 // the page and only the growing lists (and the arrays of every step, when made anew) travel;
 // else runs of at most `sliceSplits` splits go as copies of the ranges the page's mesh needs,
 // their buffers transferred (mesh_pieces.js). The page (worker_decoder.js) starts it with
-// { url, name, shared, sliceSplits, vertices, memory } and may later send { type: 'want',
+// { url, name, shared, sliceSplits, vertices, memory, positionsWorker } and may later send { type: 'want',
 // vertices } (fetch until that many vertices are loaded; Infinity: the whole file, or with
 // `memory` as many as budgetedVertices() allows, model_file.js); it hears: start, first-bytes,
 // progress, head, base, navigator, splits, dependencies, paused, end, done or error.
@@ -22,11 +22,48 @@ import { fieldDefs, growableTails, levelPieces, regrownSteps, shareFields, share
 
 const post = (message, transfer = []) => self.postMessage(message, transfer);
 
+// DpmDecoder's `positions` executor on a second worker (positions_worker.js): while it decodes a
+// SPLT's positions into the shared arrays of every step, this worker parses the next chunk's
+// records, so a long file decodes on two cores (about 40 % of the decoding is the positions).
+// wait() blocks this worker (Atomics.wait) until the last job started is done; `ready` resolves
+// once the second worker runs (Chromium starts a nested worker through its parent's event loop:
+// blocked in wait() before that, this one would wait for ever).
+function positionsInWorker() {
+  const worker = new Worker(new URL('./positions_worker.js', import.meta.url), { type: 'module' });
+  const ready = new Promise((resolve, reject) => {
+    worker.onmessage = resolve;
+    worker.onerror = (e) => reject(new Error(`the positions' worker did not start: ${e.message ?? e}`));
+  });
+  const signal = new Int32Array(new SharedArrayBuffer(12));  // done, problem length, started
+  const text = new Uint8Array(new SharedArrayBuffer(4096));
+  let started = 0;
+  return {
+    ready,
+    start({ mesh, s, n, stencils, sections }) {
+      // Copies of exactly what the job reads (a view would send its whole buffer).
+      const ring = stencils.ring.data.slice(0, stencils.ring.length);
+      const bytes = sections.map((b) => b.slice());
+      Atomics.store(signal, 2, ++started);
+      worker.postMessage({ signal, text, head: mesh.head, lossless: mesh.lossless, q: mesh.q, s, n,
+        split: stencils.split, ringStart: stencils.ringStart, ring, sections: bytes },
+      [ring.buffer, ...bytes.map((b) => b.buffer)]);
+    },
+    wait() {
+      for (let done; (done = Atomics.load(signal, 0)) < started;) Atomics.wait(signal, 0, done);
+      const length = Atomics.load(signal, 1);
+      return length ? new TextDecoder().decode(text.slice(0, length)) : null;
+    },
+    close() {
+      worker.terminate();
+    },
+  };
+}
+
 // The page's wish: vertices it wants loaded; a promise's resolve while waiting for more.
 const want = { vertices: Infinity, wake: null };
 let decoding = null;  // the DpmDecoder
 
-async function decode({ url, name, shared, sliceSplits, vertices = Infinity, memory = Infinity }) {
+async function decode({ url, name, shared, sliceSplits, vertices = Infinity, memory = Infinity, positionsWorker = true }) {
   want.vertices = vertices;
   const sent = {};  // shared: the length of each growing list the page has
   const sentSteps = {};  // shared: the arrays of every step the page has
@@ -39,9 +76,13 @@ async function decode({ url, name, shared, sliceSplits, vertices = Infinity, mem
     post({ type: 'dependencies', parts }, transfer);
     if (last) deps = null;  // its arrays are the page's now
   };
+  // Only on shared memory: the second worker writes the positions where the page reads them
+  // (?positionsWorker=0: here, for comparison).
+  const positions = shared && positionsWorker ? positionsInWorker() : null;
   const decoder = new DpmDecoder({
     name,
     vertices,
+    positions,
     onHead: (mesh) => {
       // No count asked for: as many vertices as the memory budget holds, room for them at BASE.
       if (want.vertices === Infinity && memory < Infinity) decoder.vertices = want.vertices = budgetedVertices(mesh.head, memory);
@@ -73,19 +114,21 @@ async function decode({ url, name, shared, sliceSplits, vertices = Infinity, mem
     // The whole mesh is shown first; `done` (the page's load resolves) follows the dependencies.
     onEnd: () => {
       post({ type: 'progress', bytes: decoder.bytesReceived });  // all of it, before it says so
-      post({ type: 'end' });
+      post({ type: 'end', at: performance.timeOrigin + performance.now() });  // decoded: when
       sendDependencies(true);
     },
   });
-  // More is wanted until the base mesh, the FLDS of a SPLT, the wanted vertices or END are in.
+  // More is wanted until the base mesh, the FLDS of a SPLT, the wanted vertices or END are in
+  // (splits counted as their records are parsed: the positions of the last may be in flight).
   decoding = decoder;
   const wanted = () => {
     const mesh = decoder.mesh;
     if (!mesh?.hasBase || decoder.state !== 'SPLT') return true;
-    const all = mesh.head.splitCount;
-    return mesh.splitsLoaded === all || mesh.splitsLoaded < Math.min(all, want.vertices - mesh.head.baseVertexCount);
+    const all = mesh.head.splitCount, decoded = decoder.splitsDecoded;
+    return decoded === all || decoded < Math.min(all, want.vertices - mesh.head.baseVertexCount);
   };
   const more = () => {
+    decoder.flush();  // the last chunk's positions, then its splits go to the page
     post({ type: 'paused', bytes: decoder.bytesReceived });
     sendDependencies();  // the splits loaded so far, while the page wants no more
     return new Promise((resolve) => (want.wake = resolve));
@@ -96,7 +139,14 @@ async function decode({ url, name, shared, sliceSplits, vertices = Infinity, mem
     post({ type: 'start', total, shared, ranges });
   };
   const onBytes = () => post({ type: 'progress', bytes: decoder.bytesReceived });
-  await fetchByRanges(url, name, decoder, { wanted, more, onResponse, onBytes });
+  try {
+    // A page where the second worker cannot start decodes the positions here, as without shared memory.
+    await positions?.ready.catch(() => (decoder.positions = null));
+    await fetchByRanges(url, name, decoder, { wanted, more, onResponse, onBytes });
+    decoder.flush();  // a file that ends early: the last chunk's positions
+  } finally {
+    positions?.close();
+  }
   sendDependencies(true);  // a file that ends early: those of the splits it holds
   post({ type: 'done', complete: decoder.complete, chunkStart: decoder.chunkStart, state: decoder.state });
 }

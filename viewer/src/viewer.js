@@ -466,9 +466,11 @@ async function load() {
   let decode = variants.callbacks({ url, name: state.name, onHead, onBase, onSplits, onStart, onProgress, onNavigator });
   if (alongside) decode = compare.alongside(decode);
   const onFirstBytes = (at) => (timing.firstByte = at);
+  const onDecoded = (at) => (timing.decoded = at);  // the worker's last chunk, in the page's clock
   // Fetched by ranges up to ?vertices=N (model_file.js); the slider asks for more.
   const onDependencies = (deps) => refine.dependenciesReady(deps);
-  const worker = { ...decode, onDependencies, onFirstBytes, vertices: wantedVertices(params), memory: state.memoryBudget, control: state.decoder, onPaused: () => ((state.loading = false), state.nav && updateLabels()) };
+  const positionsWorker = params.get('positionsWorker') !== '0';  // a second worker's (decode_worker.js)
+  const worker = { ...decode, onDependencies, onFirstBytes, onDecoded, positionsWorker, vertices: wantedVertices(params), memory: state.memoryBudget, control: state.decoder, onPaused: () => ((state.loading = false), state.nav && updateLabels()) };
   const decoding = state.worker ? decodeInWorker(worker) : decodeOnPage(decode);
   if (alongside) compare.follow(decoding);
   const decoder = await decoding;

@@ -15,12 +15,13 @@ const SLICE_SPLITS = 32768;
 
 // Resolves with { mesh, complete } when the stream has ended (mesh null if HEAD never came);
 // rejects with the decoder's error. onStart(totalBytes, shared, ranges), onFirstBytes(pageTime),
+// onDecoded(pageTime): the worker has decoded the whole file (END),
 // onProgress(bytes), onPaused(bytes): the worker stopped fetching at `vertices` (by ranges;
 // Infinity: the whole file, or what `memory` bytes of the steps' values hold) until
 // `control.want(vertices)` asks for more. onNavigator(nav): the worker's Navigator at the base
 // mesh, moved here (moved_navigator.js). onDependencies(deps): the split dependencies the
 // worker derived, as far as the splits loaded (moved_dependencies.js).
-export function decodeInWorker({ url, name, onHead, onBase, onNavigator, onDependencies, onSplits, onStart, onFirstBytes, onProgress, onPaused, vertices = Infinity, memory = Infinity, control = {}, pauseMs = 100 }) {
+export function decodeInWorker({ url, name, onHead, onBase, onNavigator, onDependencies, onSplits, onStart, onFirstBytes, onDecoded, onProgress, onPaused, vertices = Infinity, memory = Infinity, positionsWorker = true, control = {}, pauseMs = 100 }) {
   const worker = new Worker(new URL('./decode_worker.js', import.meta.url), { type: 'module' });
   control.want = (n) => worker.postMessage({ type: 'want', vertices: n });
   let mesh = null;
@@ -80,6 +81,7 @@ export function decodeInWorker({ url, name, onHead, onBase, onNavigator, onDepen
           showSplits();
           onPaused?.(m.bytes);
         } else if (m.type === 'end') {
+          onDecoded?.(m.at - performance.timeOrigin);
           showSplits();  // the last splits are shown before the mesh says it is complete
           mesh.complete = complete = true;
         } else if (m.type === 'done') {
@@ -92,7 +94,7 @@ export function decodeInWorker({ url, name, onHead, onBase, onNavigator, onDepen
       }
     };
     // Shared memory needs a cross-origin isolated page (`dynpm view` serves it so).
-    worker.postMessage({ url, name, shared: Boolean(globalThis.crossOriginIsolated), sliceSplits: SLICE_SPLITS, vertices, memory });
+    worker.postMessage({ url, name, shared: Boolean(globalThis.crossOriginIsolated), sliceSplits: SLICE_SPLITS, vertices, memory, positionsWorker });
   });
 }
 

@@ -15,6 +15,7 @@ import { test } from 'node:test';
 
 import { decompress } from 'fzstd';
 
+import { deferredPositions } from '../src/dpm/positions.js';
 import { chunkBytes, rawChunks, withFields } from './fields_fixture.mjs';
 import { chunksOf, cliVerdict, concat, jsVerdictOrCrash, same, toolVerdicts } from './verdicts.mjs';
 
@@ -90,6 +91,18 @@ function mutants(name, bytes) {
       new DataView(p.buffer, p.byteOffset).setFloat64(4 * 8 + 8 * 8, e, true);
       return p;
     }));
+  // Two faults: a byte near the end of a SPLT (its last step's positions) and the next chunk's
+  // tag. Decoded in place the positions fail first; decoded later (a second thread in either
+  // reader) they must still be the error told.
+  chunks.forEach((c, k) => {
+    if (c.tag !== 'SPLT' || k + 1 >= chunks.length) return;
+    for (const back of [1, 2, 5, 9]) {
+      const i = c.payload.length - back;
+      const b = rebuild((kk, p) => (kk === k ? ((p[i] ^= 0x80), p) : null));
+      b[starts[k + 1]] = 0x78;  // 'x': no tag
+      add(`SPLT payload byte ${i} ^ 0x80, the next tag broken`, b);
+    }
+  });
   add('a byte after END', concat([plain, Uint8Array.of(0)]));
   add('END twice', concat([plain, chunkBytes('END ', new Uint8Array(0))]));
   const withoutEnd = plain.subarray(0, plain.length - 24);
@@ -99,13 +112,18 @@ function mutants(name, bytes) {
 
 // ---------------------------------------------------------------------------------------------
 
-// Both decoders on `files` ({name, bytes}) against the C++ verdicts given: none may differ.
+// Both decoders on `files` ({name, bytes}) against the C++ verdicts given: none may differ. And
+// dpm.js with each SPLT's positions decoded only when waited for (as the page's second worker
+// may deliver them: after the next chunk's records) says exactly what it says decoding in place.
 function expectSameVerdicts(files, verdicts) {
   const differences = [];
   files.forEach((f, k) => {
     const js = jsVerdictOrCrash(f.bytes);
     if (!same(verdicts[k], js))
       differences.push(`${f.name}:\n  C++: ${JSON.stringify(verdicts[k])}\n  JS:  ${JSON.stringify(js)}`);
+    const deferred = jsVerdictOrCrash(f.bytes, { positions: deferredPositions() });
+    if (JSON.stringify(deferred) !== JSON.stringify(js))
+      differences.push(`${f.name}:\n  JS:       ${JSON.stringify(js)}\n  deferred: ${JSON.stringify(deferred)}`);
   });
   assert.equal(differences.length, 0,
     `${differences.length} of ${files.length} files get different verdicts:\n` + differences.slice(0, 20).join('\n'));

@@ -16,10 +16,11 @@ export const COUNTS = ['complete', 'vertices', 'faces', 'vertices_present', 'fac
   'key_steps', 'fields', 'parts', 'lossless'];
 export const byteOf = (message) => Number(/: byte (\d+):/.exec(message)?.[1] ?? NaN);
 
-export function jsVerdict(bytes) {
+// options: the decoder's (`positions`).
+export function jsVerdict(bytes, options = {}) {
   let mesh, complete;
   try {
-    ({ mesh, complete } = decodeDpm(bytes, 'x.dpm'));
+    ({ mesh, complete } = decodeDpm(bytes, 'x.dpm', options));
   } catch (e) {
     if (e.constructor.name !== 'DpmError') throw e;  // a crash is a difference, shown as one
     return { byte: byteOf(e.message), message: e.message };
@@ -168,9 +169,9 @@ export function same(cpp, js) {
   return !Number.isNaN(cpp.byte) && js.byte === cpp.byte;
 }
 
-export function jsVerdictOrCrash(bytes) {
+export function jsVerdictOrCrash(bytes, options = {}) {
   try {
-    return jsVerdict(bytes);
+    return jsVerdict(bytes, options);
   } catch (e) {
     return { crash: `${e.constructor.name}: ${e.message}` };
   }

@@ -71,6 +71,9 @@ test('the decoder runs in a worker that shares the mesh and ends once the file i
   assert.ok(s.sharedMemory, 'the worker and the page share the mesh');
   const decoders = workers.filter((w) => new URL(w.url).pathname.endsWith('/src/decode_worker.js'));
   assert.equal(decoders.length, 1, `workers started: ${JSON.stringify(workers)}`);
+  // The positions on a second worker (docs/viewer.md "Decoding in a worker"), started by the first.
+  const positions = workers.filter((w) => new URL(w.url).pathname.endsWith('/src/positions_worker.js'));
+  assert.equal(positions.length, 1, `workers started: ${JSON.stringify(workers)}`);
   await page.waitForFunction(() => true);  // let the close event arrive
   await new Promise((resolve) => setTimeout(resolve, 200));
   assert.ok(decoders[0].closed, 'the worker has ended: its copy of the file is gone');

@@ -13,9 +13,10 @@ import { crc32, DpmError, Reader } from './bytes.js';
 import { fieldModels, maxFieldValueBytes, parseFieldDefs, parseFieldValues } from './fields.js';
 import { parsePartNames } from './parts.js';
 import { parseVariants } from './variants.js';
-import { ChunkStencils, decodeSplitPositions, LOSSLESS_RESIDUAL, positionModels, residualFits } from './positions.js';
-import { HEAD_FLAG_LOSSLESS, ProgressiveMesh } from './progressive_mesh.js';
-import { baseDeltaFits, decodeSplitRecords, idFits, MAX_BASE_ERROR, RecordModels } from './split_records.js';
+import { parseBase, parseHead } from './head_base.js';
+import { ChunkStencils, decodeSplitPositions, positionModels } from './positions.js';
+import { ProgressiveMesh } from './progressive_mesh.js';
+import { decodeSplitRecords, RecordModels } from './split_records.js';
 
 export const MAGIC = Uint8Array.of(0x89, 0x44, 0x50, 0x4d, 0x0d, 0x0a, 0x1a, 0x0a);
 const VERSION = 7;
@@ -95,14 +96,25 @@ function meshFor(head) {
 
 // Feed it the file's bytes with push() as they arrive; it parses each chunk once complete and
 // calls the callbacks: onHead(mesh), onBase(mesh), onSplits(mesh, first, count), onEnd(mesh).
+// With a `positions` executor, call flush() before taking mesh.splitsLoaded as final.
 export class DpmDecoder {
   // vertices: how many the reader means to load (the page's ?vertices=N or budget; raise it when
   // it wants more): the arrays of every step take room for them and a margin at once
   // (takeRoom()), and grow past them by doubling.
-  constructor({ name = 'file', onHead, onBase, onSplits, onEnd, vertices = Infinity } = {}) {
+  // positions: null (each SPLT's positions are decoded as it is parsed), or an executor that
+  // decodes them elsewhere while the next chunk is parsed — start(job), then wait() → null or
+  // what is wrong (decode_worker.js: a second worker; deferredPositions() in the tests). A SPLT
+  // is committed once its positions are in, and a file is refused at the same byte, with the
+  // same message, either way.
+  constructor({ name = 'file', onHead, onBase, onSplits, onEnd, vertices = Infinity, positions = null } = {}) {
     this.name = name;
     this.vertices = vertices;
     this.callbacks = { onHead, onBase, onSplits, onEnd };
+    this.positions = positions;
+    // The SPLT whose positions the executor is decoding: { chunk, at, parsed } (its FLDS too).
+    this.inFlight = null;
+    // Splits whose records are parsed: committed (mesh.splitsLoaded) or in flight.
+    this.splitsDecoded = 0;
     this.buffer = new Uint8Array(1 << 16);
     this.start = 0;   // first unparsed byte in buffer
     this.end = 0;     // end of the received bytes in buffer
@@ -145,6 +157,27 @@ export class DpmDecoder {
   }
 
   push(bytes) {
+    try {
+      this.parse(bytes);
+    } catch (e) {
+      // Decoded in place, the positions in flight were checked before anything that follows.
+      if (e instanceof DpmError) this.flush(false);
+      throw e;
+    }
+  }
+
+  // The positions in flight, waited for: an error of theirs is thrown; their SPLT is committed
+  // when it is parsed to its end (and `commit`).
+  flush(commit = true) {
+    const job = this.inFlight;
+    if (!job) return;
+    this.inFlight = null;
+    const problem = this.positions.wait();
+    if (problem) throw new DpmError(`${job.at}: ${problem}`);
+    if (job.parsed && commit) this.commit(job.chunk);
+  }
+
+  parse(bytes) {
     this.append(bytes);
     this.bytesReceived += bytes.length;
     for (;;) {
@@ -273,7 +306,7 @@ export class DpmDecoder {
       limit = h.baseVertexCount * perVertex +
         h.baseFaceCount * (1 + 4 * MAX_VARINT + perFaceAttributes);
     } else {
-      const splits = h.splitCount - this.mesh.splitsLoaded;
+      const splits = h.splitCount - this.splitsDecoded;
       const perRecord = MAX_VARINT + 4 + 1 + 4 * (1 + 2 * MAX_VARINT) + MAX_VARINT +
         MAX_VARINT * h.faceCount;
       const perAttributes = 2 * MAX_VARINT + 4 * perFaceAttributes;
@@ -306,24 +339,30 @@ export class DpmDecoder {
       parseBase(r, mesh);
       this.pending = { s: 0, n: 0 };
       if (withFields) this.state = 'FLDS';
-      else this.commit();
+      else this.parsed();
     } else if (tag === 'SPLT') {
       const at = r.pos;
       r.u32();
       const n = r.u32();  // the chunk's split count (parseSplits() reads and checks it again)
       r.pos = at;
-      this.takeRoom(mesh.vertexCountLoaded + Math.min(n, mesh.head.splitCount - mesh.splitsLoaded));
+      const s = this.splitsDecoded, b = mesh.head.baseVertexCount;
+      this.takeRoom(b + s + Math.min(n, mesh.head.splitCount - s));
       this.models ??= positionModels(mesh.head.stepCount);
       const records = this.recordModels();
-      this.pending = { s: mesh.splitsLoaded, ...parseSplits(r, mesh, records, this.models) };
+      const chunk = { s, ...parseSplits(r, mesh, records, s) };
+      this.room(b + s + chunk.n, mesh.faceCountAt[s + chunk.n]);  // for positions, then FLDS
+      this.splitsDecoded = s + chunk.n;
+      this.pending = chunk;
+      this.decodePositions(r, chunk);
       if (withFields) this.state = 'FLDS';
-      else this.commit();
+      else this.parsed();
     } else if (tag === 'FLDS') {
       this.fieldModels ??= fieldModels(mesh);
       const { s, n, stencils } = this.pending;
       parseFieldValues(r, mesh, s, n, stencils, this.fieldModels);
-      this.commit();
+      this.parsed();
     } else {
+      this.flush();
       const { splitsLoaded, head } = this.mesh;
       if (splitsLoaded !== head.splitCount)
         this.fail(at, `END after ${splitsLoaded} of ${head.splitCount} splits`);
@@ -341,20 +380,50 @@ export class DpmDecoder {
   // touched: it costs address space, not memory. A crossing chunk beyond the margin gets room
   // for all of it, not doubled.
   takeRoom(chunkEnd = 0) {
-    const { vertexCount: V, faceCount: F } = this.mesh.head;
+    const { vertexCount: V, faceCount: F, baseVertexCount: b } = this.mesh.head;
     const margin = Math.min(ROOM_MARGIN_SPLITS, Math.ceil(this.vertices / 4));  // small: cheap
-    const crossing = this.mesh.vertexCountLoaded < this.vertices && chunkEnd > this.vertices;
+    const decoded = this.mesh.hasBase ? b + this.splitsDecoded : 0;
+    const crossing = decoded < this.vertices && chunkEnd > this.vertices;
     const n = Math.min(V, Math.max(crossing ? chunkEnd : 0, this.vertices + margin));
-    this.mesh.makeRoom(n, n === V ? F : Math.ceil((F * n) / V), !crossing);
+    this.room(n, n === V ? F : Math.ceil((F * n) / V), !crossing);
   }
 
-  // The base mesh, or the splits of the last SPLT, with their field values when the file has
-  // fields: now they are levels a navigator may reach.
-  commit() {
+  // mesh.makeRoom(), after the positions in flight when it makes the arrays of every step anew
+  // (they write into the old ones).
+  room(vertices, faces, doubling = true) {
+    if (this.inFlight && 3 * vertices > this.mesh.q[0].length) this.flush();
+    this.mesh.makeRoom(vertices, faces, doubling);
+  }
+
+  // The positions of the SPLT just parsed: decoded here (a problem is the chunk's), or started
+  // on the executor once the ones in flight are in.
+  decodePositions(r, chunk) {
     const { mesh } = this;
-    const { s, n } = this.pending;
+    const { s, n, stencils, sections } = chunk;
+    if (!this.positions) {
+      const problem = decodeSplitPositions(mesh, s, n, stencils, this.models, sections);
+      if (problem) r.failChunk(problem);
+      return;
+    }
+    this.flush();
+    this.positions.start({ mesh, s, n, stencils, sections, models: this.models });
+    this.inFlight = { chunk, at: r.at, parsed: false };
+  }
+
+  // The base mesh, or a SPLT with its FLDS, parsed to its end: committed, or, while its
+  // positions are in flight, once they are in (flush()).
+  parsed() {
+    const chunk = this.pending;
     this.pending = null;
     this.state = 'SPLT';
+    if (this.inFlight?.chunk === chunk) this.inFlight.parsed = true;
+    else this.commit(chunk);
+  }
+
+  // The base mesh, or the splits of a SPLT, with their field values when the file has fields:
+  // now they are levels a navigator may reach.
+  commit({ s, n }) {
+    const { mesh } = this;
     if (!mesh.hasBase) {
       mesh.hasBase = true;
       this.callbacks.onBase?.(mesh);
@@ -368,145 +437,13 @@ export class DpmDecoder {
 // ---------------------------------------------------------------------------------------------
 // Payloads
 
-function parseHead(r) {
-  const h = {};
-  h.vertexCount = r.u32();
-  h.faceCount = r.u32();
-  h.baseVertexCount = r.u32();
-  h.baseFaceCount = r.u32();
-  h.splitCount = r.u32();
-  h.stepCount = r.u32();
-  h.fieldCount = r.u32();
-  h.flags = r.u32();
-  h.bboxMin = [r.f64(), r.f64(), r.f64()];
-  h.bboxMax = [r.f64(), r.f64(), r.f64()];
-  h.quantStep = r.f64();
-  h.maxError = r.f64();
-  h.baseError = r.f64();
-  // Each split brings back at most 4 faces (its triangle wings).
-  if (h.splitCount !== h.vertexCount - h.baseVertexCount)
-    r.fail(`split_count ${h.splitCount} is not V − b = ${h.vertexCount - h.baseVertexCount}`);
-  if (h.baseFaceCount > h.faceCount) r.fail('more base faces than faces');
-  if (h.faceCount - h.baseFaceCount > 4 * h.splitCount)
-    r.fail(`${h.faceCount - h.baseFaceCount} faces from ${h.splitCount} splits (4 each at most)`);
-  if (h.stepCount < 1) r.fail('no time steps');
-  if (r.remaining() < 8 * h.stepCount) r.fail(`${h.stepCount} step times do not fit in HEAD`);
-  if (h.flags & ~HEAD_FLAG_LOSSLESS) r.fail(`unknown HEAD flags ${h.flags}`);
-  if (![...h.bboxMin, ...h.bboxMax].every(Number.isFinite)) r.fail('the box is not finite');
-  if (!(h.flags & HEAD_FLAG_LOSSLESS) && !(h.quantStep > 0 && Number.isFinite(h.quantStep)))
-    r.fail(`quant_step ${h.quantStep} is not valid`);
-  // The writer keeps the grid at least 4 float32 ulps at the box's largest coordinate
-  // (FORMAT.md "Positions"); the C++ reader predicts from float32 positions, so a finer grid
-  // would decode differently there: refused by both.
-  const largest = Math.max(...h.bboxMin.map(Math.abs), ...h.bboxMax.map(Math.abs));
-  if (!(h.flags & HEAD_FLAG_LOSSLESS) && h.quantStep < 4 * largest * 2 ** -23)
-    r.fail(`quant_step ${h.quantStep} is finer than float32 holds in the bounding box`);
-  if (!(h.maxError >= 0 && h.maxError < Infinity && h.baseError >= 0 && h.baseError <= MAX_BASE_ERROR))
-    r.fail('the error bounds are not finite numbers ≥ 0 (base error ≤ 2^1000)');
-  h.times = new Float64Array(h.stepCount);
-  for (let t = 0; t < h.stepCount; t++) h.times[t] = r.f64();
-  if (!h.times.every(Number.isFinite)) r.fail('a step time is not finite');
-  const keyCount = r.u32();
-  if (r.remaining() < 4 * keyCount) r.fail(`${keyCount} key steps do not fit in HEAD`);
-  h.keySteps = [];
-  for (let i = 0; i < keyCount; i++) h.keySteps.push(r.u32());
-  // Fields have chunks of their own (FORMAT.md "HEAD payload").
-  if (h.fieldCount !== 0)
-    r.fail(`the header lists ${h.fieldCount} fields (written by an older dynpm: build it again)`);
-  h.note = r.string();
-  if (r.remaining() !== 0) r.fail(`${r.remaining()} bytes left over at the end of HEAD`);
-  return h;
-}
-
-function parseBase(r, mesh) {
-  const h = mesh.head;
-  const b = h.baseVertexCount;
-  const nf = h.baseFaceCount;
-  if (r.remaining() < 2 * b + 4 * nf) r.fail(`${b} vertices and ${nf} faces do not fit in BASE`);
-  mesh.makeRoom(b, nf);
-  parseVertexIds(r, mesh, 0, b);
-  const degree = new Uint8Array(nf);
-  const corners = new Int32Array(4 * nf).fill(-1);
-  for (let f = 0; f < nf; f++) {
-    const d = r.u8();
-    if (d !== 3 && d !== 4) r.fail(`base face ${f} has degree ${d}`);
-    degree[f] = d;
-    for (let c = 0; c < d; c++) {
-      const v = r.varint();
-      if (v >= b) r.fail(`base face ${f}: corner ${v} is not a base vertex (b = ${b})`);
-      corners[4 * f + c] = v;
-    }
-    for (let c = 0; c < d; c++)
-      for (let e = c + 1; e < d; e++)
-        if (corners[4 * f + c] === corners[4 * f + e]) r.fail(`base face ${f}: corner twice`);
-  }
-  mesh.baseDegree = degree;
-  mesh.baseCorners = corners;
-  parseFaceIds(r, mesh, 0, nf);
-  parsePositions(r, mesh, b);
-  if (r.remaining() !== 0) r.fail(`${r.remaining()} bytes left over at the end of BASE`);
-  mesh.faceCountAt[0] = nf;
-}
-
-// Original indices must name an input vertex (face); part ids are int32; node and element ids
-// lie strictly within ±2^51 and a delta within ±2^52 (the C++ reader's read_vertex_attributes()
-// and read_face_attributes(); idFits() in split_records.js).
-function parseVertexIds(r, mesh, first, count) {
-  const V = mesh.head.vertexCount;
-  for (let v = first; v < first + count; v++) {
-    const indexDelta = r.svarint(), idDelta = r.svarint();
-    const original = (mesh.lastVertexOriginal += indexDelta);
-    mesh.nodeId[v] = mesh.lastNodeId += idDelta;
-    if (!(baseDeltaFits(indexDelta) && original >= 0 && original < V)) r.fail(`vertex ${v}: original index ${original}`);
-    if (!(baseDeltaFits(idDelta) && idFits(mesh.lastNodeId))) r.fail(`vertex ${v}: node id ${mesh.lastNodeId} is not within ±2^51`);
-    mesh.vertexOriginal[v] = original;
-  }
-}
-
-function parseFaceIds(r, mesh, first, count) {
-  const F = mesh.head.faceCount;
-  for (let f = first; f < first + count; f++) {
-    // part_id is absolute; element_id and original_index are deltas (FORMAT.md, and the C++
-    // writer: the "delta" note binds to the fields after part_id).
-    const part = r.svarint(), idDelta = r.svarint(), indexDelta = r.svarint();
-    mesh.elementId[f] = mesh.lastElementId += idDelta;
-    const original = (mesh.lastFaceOriginal += indexDelta);
-    if (!(part >= -2147483648 && part <= 2147483647)) r.fail(`face ${f}: part id ${part}`);
-    if (!(baseDeltaFits(indexDelta) && original >= 0 && original < F)) r.fail(`face ${f}: original index ${original}`);
-    if (!(baseDeltaFits(idDelta) && idFits(mesh.lastElementId))) r.fail(`face ${f}: element id ${mesh.lastElementId} is not within ±2^51`);
-    mesh.partId[f] = part;
-    mesh.faceOriginal[f] = original;
-  }
-}
-
-// The base vertices' positions (FORMAT.md "Positions"), svarint residuals: step 0 against the
-// previous vertex, later steps against the vertex's own previous step. Int32Array stores wrap
-// modulo 2^32, as lossless residual arithmetic requires; a quantized position lies in the
-// bounding box, give or take two grid steps (dpm_read.cpp checks the same).
-function parsePositions(r, mesh, count) {
-  const q = mesh.q;
-  const { bboxMin, bboxMax, quantStep } = mesh.head;
-  const checked = !mesh.lossless;
-  const top = [0, 1, 2].map((c) => (bboxMax[c] - bboxMin[c]) / quantStep + 2);
-  for (let t = 0; t < q.length; t++) {
-    const cur = q[t];
-    const prev = t > 0 ? q[t - 1] : null;
-    for (let i = 0; i < 3 * count; i++) {
-      const residual = r.svarint();
-      if (!residualFits(residual, mesh.lossless)) r.fail(`vertex ${Math.floor(i / 3)} step ${t}: ${LOSSLESS_RESIDUAL}`);
-      const x = residual + (t > 0 ? prev[i] : i >= 3 ? cur[i - 3] : 0);
-      if (checked && (x < -2 || x > top[i % 3]))
-        r.fail(`vertex ${Math.floor(i / 3)} step ${t}: a position far outside the bounding box`);
-      cur[i] = x;
-    }
-  }
-}
-
-function parseSplits(r, mesh, records, models) {
+// A SPLT's header and records (its stencils made as they are applied), and its position sections;
+// `expected`: its first split.
+function parseSplits(r, mesh, records, expected) {
   const h = mesh.head;
   const s = r.u32();
   const n = r.u32();
-  if (s !== mesh.splitsLoaded) r.fail(`first_split ${s}, expected ${mesh.splitsLoaded}`);
+  if (s !== expected) r.fail(`first_split ${s}, expected ${expected}`);
   if (n === 0 || n > h.splitCount - s) r.fail(`${n} splits from ${s} (${h.splitCount} in all)`);
   // The sections: records, attributes, then the positions of each step (FORMAT.md).
   const count = r.u32();
@@ -529,27 +466,27 @@ function parseSplits(r, mesh, records, models) {
     r.fail(problem);
   }
   const sections = starts.slice(2).map((at, t) => r.bytes.subarray(at, at + sizes[2 + t]));
-  mesh.makeRoom(h.baseVertexCount + s + n, mesh.faceCountAt[s + n]);  // for positions, then FLDS
-  const positions = decodeSplitPositions(mesh, s, n, stencils, models, sections);
-  if (positions) r.failChunk(positions);
   // The loaded levels grow only at commit(): a chunk that fails half-way, or whose FLDS does
   // not arrive, leaves them as they were. The stencils' rings guess the FLDS's node values.
-  return { n, stencils };
+  return { n, stencils, sections };
 }
 
 // Reads a whole .dpm held in memory, or a prefix of one (Node tests, tools).
-export function readDpm(bytes, name = 'file') {
-  const decoder = new DpmDecoder({ name });
+// options: DpmDecoder's (`positions`).
+export function readDpm(bytes, name = 'file', options = {}) {
+  const decoder = new DpmDecoder({ ...options, name });
   decoder.push(bytes instanceof Uint8Array ? bytes : new Uint8Array(bytes));
+  decoder.flush();
   if (!decoder.mesh) throw new DpmError(`${name}: ends before HEAD is complete`);
   return { mesh: decoder.mesh, complete: decoder.complete, decoder };
 }
 
 // Reads a whole .dpm, or a prefix that holds at least HEAD and BASE, as the C++ decode_dpm()
 // does: a file that ends before is an error at the chunk it ends in.
-export function decodeDpm(bytes, name = 'file') {
-  const decoder = new DpmDecoder({ name });
+export function decodeDpm(bytes, name = 'file', options = {}) {
+  const decoder = new DpmDecoder({ ...options, name });
   decoder.push(bytes instanceof Uint8Array ? bytes : new Uint8Array(bytes));
+  decoder.flush();
   if (decoder.state === 'magic') decoder.fail(0, 'not a .dpm file (shorter than its signature)');
   if (!decoder.mesh?.hasBase)
     decoder.fail(decoder.chunkStart, `the file ends before ${decoder.state} is complete`);
@@ -566,5 +503,6 @@ export async function streamDpm(stream, decoder, onProgress) {
     decoder.push(value);
     onProgress?.(decoder.bytesReceived);
   }
+  decoder.flush();
   return decoder.mesh;
 }

@@ -129,6 +129,22 @@ function positionProblem(d, t, v, x, top) {
   return `step ${t}: vertex ${v}'s position is far outside the bounding box`;
 }
 
+// DpmDecoder's `positions` executor that decodes a SPLT's positions only when they are waited
+// for: the latest a second worker's could come (decode_worker.js), for the tests.
+export function deferredPositions() {
+  let job = null;
+  return {
+    start(next) {
+      job = next;
+    },
+    wait() {
+      const { mesh, s, n, stencils, models, sections } = job;
+      job = null;
+      return decodeSplitPositions(mesh, s, n, stencils, models, sections);
+    },
+  };
+}
+
 // Step 0: the parallelogram over the quad wings, else the parent; context 0.
 function firstStep({ d, m, cur, first, n }, stencils, before, top) {
   const split = stencils.split;
