@@ -4,10 +4,10 @@
 // the page and only the growing lists (and the arrays of every step, when made anew) travel;
 // else runs of at most `sliceSplits` splits go as copies of the ranges the page's mesh needs,
 // their buffers transferred (mesh_pieces.js). The page (worker_decoder.js) starts it with
-// { url, name, shared, sliceSplits, vertices, memory, positionsWorker } and may later send { type: 'want',
-// vertices } (fetch until that many vertices are loaded; Infinity: the whole file, or with
-// `memory` as many as budgetedVertices() allows, model_file.js); it hears: start, first-bytes,
-// progress, head, base, navigator, splits, dependencies, paused, end, done or error.
+// { url, name, shared, sliceSplits, vertices, memory, positionsWorker } and may later send
+// { type: 'want', vertices } (fetch until that many vertices are loaded; Infinity: the whole
+// file, or with `memory` as many as budgetedVertices() allows, model_file.js); it hears: start,
+// first-bytes, progress, head, base, navigator, splits, dependencies, paused, end, done or error.
 // It ends itself once the stream has: what the page does not share goes with it. The split
 // dependencies are derived here whenever the stream stops (paused, end, done: the splits are
 // shown first) and sent, so that no refinement derives them on the page (moved_dependencies.js).
@@ -49,7 +49,10 @@ function positionsInWorker() {
       [ring.buffer, ...bytes.map((b) => b.buffer)]);
     },
     wait() {
-      for (let done; (done = Atomics.load(signal, 0)) < started;) Atomics.wait(signal, 0, done);
+      // A chunk's positions take a second or two at most: a worker silent for a minute is gone.
+      for (let done; (done = Atomics.load(signal, 0)) < started;)
+        if (Atomics.wait(signal, 0, done, 60000) === 'timed-out' && Atomics.load(signal, 0) === done)
+          return "the positions' worker gave no answer in 60 s";
       const length = Atomics.load(signal, 1);
       return length ? new TextDecoder().decode(text.slice(0, length)) : null;
     },
