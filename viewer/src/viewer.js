@@ -469,7 +469,7 @@ async function load() {
   const onDecoded = (at) => (timing.decoded = at);  // the worker's last chunk, in the page's clock
   // Fetched by ranges up to ?vertices=N (model_file.js); the slider asks for more.
   const onDependencies = (deps) => refine.dependenciesReady(deps);
-  const positionsWorker = params.get('positionsWorker') !== '0';  // a second worker's (decode_worker.js)
+  const positionsWorker = params.get('positionsWorker') !== '0';  // 0: positions in the decode worker itself
   const worker = { ...decode, onDependencies, onFirstBytes, onDecoded, positionsWorker, vertices: wantedVertices(params), memory: state.memoryBudget, control: state.decoder, onPaused: () => ((state.loading = false), state.nav && updateLabels()) };
   const decoding = state.worker ? decodeInWorker(worker) : decodeOnPage(decode);
   if (alongside) compare.follow(decoding);
