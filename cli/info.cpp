@@ -1,5 +1,6 @@
 // dynpm info: what a mesh or animation holds, and whether dynpm can work on it.
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -41,28 +42,36 @@ const VerbSpec kSpec{
      kQuietFlag}};
 
 // Passes steps through to validate() and extends the bounding box of all steps on the way,
-// so every step is read once.
+// so every step is read once. validate() reads several steps at once where the source allows
+// it: each step's box is its own, merged by box().
 class BoxingSource final : public FrameSource {
  public:
-  explicit BoxingSource(const FrameSource& source) : source_(source) {}
+  explicit BoxingSource(const FrameSource& source) : source_(source), boxes_(source.step_count()) {}
   uint32_t vertex_count() const override { return source_.vertex_count(); }
   size_t step_count() const override { return source_.step_count(); }
   double step_time(size_t t) const override { return source_.step_time(t); }
   size_t step_float_count(size_t t) const override { return source_.step_float_count(t); }
+  bool parallel_reads() const override { return source_.parallel_reads(); }
   std::vector<FieldInfo> fields() const override { return source_.fields(); }
   Status read_field(size_t field, size_t t, std::span<float> out) const override {
     return source_.read_field(field, t, out);
   }
   Status read_step(size_t t, std::span<float> out) const override {
-    progress("reading step", t + 1, step_count());
     Status s = source_.read_step(t, out);
-    if (s.ok()) box.extend(out);
+    if (s.ok()) boxes_[t].extend(out);
+    progress("reading step", ++read_, step_count());
     return s;
   }
-  mutable BoundingBox box;
+  BoundingBox box() const {
+    BoundingBox all;
+    for (const BoundingBox& b : boxes_) all.extend(b);
+    return all;
+  }
 
  private:
   const FrameSource& source_;
+  mutable std::vector<BoundingBox> boxes_;
+  mutable std::atomic<size_t> read_{0};
 };
 
 // A field's range over every step (NaN values left out; NaN bounds when there is no value).
@@ -431,9 +440,9 @@ int run_info(std::span<char* const> arguments) {
   if (!fields) return fail(kSpec.name, kExitFailure, fields.message());
   const TopologyStats stats = topology_stats(topology, Adjacency::build(topology));
   if (args.has("--json"))
-    print_json(*inputs, topology, frames, *fields, stats, frames.box, report);
+    print_json(*inputs, topology, frames, *fields, stats, frames.box(), report);
   else
-    print_text(*inputs, topology, frames, *fields, stats, frames.box, report, problems);
+    print_text(*inputs, topology, frames, *fields, stats, frames.box(), report, problems);
   return report.ok() ? kExitOk : kExitInvalidMesh;
 }
 

@@ -141,6 +141,73 @@ TEST(Validate, NonFinitePositionsAreErrorsWithStepAndVertex) {
   EXPECT_EQ(r.problems[1].vertex, 7u);
 }
 
+// A source over in-memory steps that reads them one at a time or several at once, and fails
+// to read one step.
+class StepsRead final : public FrameSource {
+ public:
+  StepsRead(const Frames& frames, bool parallel, size_t unreadable)
+      : frames_(frames), parallel_(parallel), unreadable_(unreadable) {}
+  uint32_t vertex_count() const override { return frames_.vertex_count(); }
+  size_t step_count() const override { return frames_.step_count(); }
+  double step_time(size_t t) const override { return frames_.step_time(t); }
+  size_t step_float_count(size_t t) const override { return frames_.step_float_count(t); }
+  bool parallel_reads() const override { return parallel_; }
+  Status read_step(size_t t, std::span<float> out) const override {
+    if (t == unreadable_) return Status::error("step.bin: cut short");
+    return frames_.read_step(t, out);
+  }
+
+ private:
+  const Frames& frames_;
+  bool parallel_;
+  size_t unreadable_;
+};
+
+// validate() reads several steps at once where the source allows it; the problems come in step
+// order all the same, a face flat at several steps once (at its first), and a step of the wrong
+// size or unreadable inside a batch does not hide the others' problems.
+TEST(Validate, StepsReadAtOnceReportAsStepsReadInTurn) {
+  test::Mesh m = quad_grid(3, 2);  // 4 × 3 vertices, 6 quads
+  Animation a = m.animation();
+  const auto step_with = [&](std::initializer_list<std::pair<size_t, float>> changes) {
+    std::vector<float> xyz = m.positions;
+    for (auto [i, value] : changes) xyz[i] = value;
+    return xyz;
+  };
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  std::vector<float> flat = m.positions;
+  for (size_t v = 4; v < 12; ++v) flat[v * 3 + 1] = 0;    // the upper rows on the lowest: 3 faces
+  a.frames.add_step(step_with({{3 * 5 + 0, nan}}), 1.0);  // vertex 5
+  a.frames.add_step(flat, 2.0);                           // faces 0 1 2 … flat
+  a.frames.add_step(std::vector<float>(m.positions.begin(), m.positions.end() - 3), 3.0);
+  a.frames.add_step(flat, 4.0);                                             // unreadable (below)
+  a.frames.add_step(step_with({{3 * 2 + 1, nan}, {3 * 9 + 2, nan}}), 5.0);  // vertices 2, 9
+  a.frames.add_step(flat, 6.0);                                             // the same faces again
+  const auto messages = [&](bool parallel) {
+    std::vector<std::string> out;
+    const StepsRead source(a.frames, parallel, 4);
+    for (const Problem& p : validate(a.topology, &source).problems)
+      out.push_back(std::to_string(p.step) + " " + p.message);
+    return out;
+  };
+  const std::vector<std::string> in_turn = messages(false), at_once = messages(true);
+  EXPECT_EQ(at_once, in_turn);
+  std::vector<uint32_t> steps;
+  const StepsRead source(a.frames, true, 4);
+  const ValidationReport r = validate(a.topology, &source);
+  for (const Problem& p : r.problems) steps.push_back(p.step);
+  EXPECT_TRUE(std::is_sorted(steps.begin(), steps.end())) << all_messages(r);
+  EXPECT_EQ(r.count(ProblemKind::kNonFinitePosition), 3u);
+  EXPECT_EQ(r.count(ProblemKind::kStepVertexCount), 1u);
+  EXPECT_EQ(r.count(ProblemKind::kUnreadableStep), 1u);
+  EXPECT_GE(r.count(ProblemKind::kZeroAreaFace), 3u);
+  for (const Problem& p : r.problems) {
+    if (p.kind == ProblemKind::kZeroAreaFace) {
+      EXPECT_EQ(p.step, 2u) << p.message;
+    }
+  }
+}
+
 TEST(Validate, AnimationWithoutStepsIsAnError) {
   Animation a = quad_grid(1, 1).animation();
   a.frames = Frames(a.topology.vertex_count);

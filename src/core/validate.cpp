@@ -13,6 +13,7 @@
 #include <span>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "dynpm/core.h"
 #include "face_geometry.h"
@@ -178,6 +179,44 @@ bool has_zero_area(const Face& f, const float* xyz) {
   return length(doubled_vector_area(p, d)) <= kFlat * longest;
 }
 
+// Steps read and checked at once where the source allows it (12 B a vertex each).
+constexpr size_t kStepsAtOnce = 4;
+
+// What the check of one step found, reported afterwards in step order.
+struct StepFindings {
+  size_t floats = 0;                 // the step's size as the source gives it
+  Status read;                       // the read's outcome (when the size was right)
+  std::vector<uint32_t> non_finite;  // vertices, ascending
+  std::vector<uint32_t> zero_area;   // faces, ascending (only those face_ok)
+};
+
+// Reads step t into xyz and finds its problems, scanning the faces on `threads` threads; writes
+// nothing but its own findings and xyz.
+StepFindings find_step_problems(const Topology& topology, const std::vector<uint8_t>& face_ok,
+                                const FrameSource& frames, uint32_t t, std::vector<float>& xyz,
+                                unsigned threads) {
+  StepFindings found;
+  found.floats = frames.step_float_count(t);
+  if (found.floats != xyz.size()) return found;
+  found.read = frames.read_step(t, xyz);
+  if (!found.read.ok()) return found;
+  for (uint32_t v = 0; v < topology.vertex_count; ++v) {
+    const float* p = &xyz[size_t{v} * 3];
+    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
+      found.non_finite.push_back(v);
+  }
+  const size_t faces = topology.faces.size(), parts = std::max<size_t>(1, faces / 65536);
+  std::vector<std::vector<uint32_t>> part_faces(parts);
+  parallel_for(faces, parts, threads, [&](size_t begin, size_t end, size_t part) {
+    for (size_t fi = begin; fi < end; ++fi)
+      if (face_ok[fi] && has_zero_area(topology.faces[fi], xyz.data()))
+        part_faces[part].push_back(static_cast<uint32_t>(fi));
+  });
+  for (const auto& some : part_faces)
+    found.zero_area.insert(found.zero_area.end(), some.begin(), some.end());
+  return found;
+}
+
 void check_frames(const Topology& topology, const std::vector<uint8_t>& face_ok,
                   const FrameSource& frames, ValidationReport& report) {
   if (frames.step_count() == 0) {
@@ -191,41 +230,58 @@ void check_frames(const Topology& topology, const std::vector<uint8_t>& face_ok,
                     " vertices, the faces use " + std::to_string(topology.vertex_count)});
     return;
   }
-  std::vector<float> xyz(size_t{topology.vertex_count} * 3);
+  const size_t steps = frames.step_count();
+  const unsigned threads = thread_count(0);
+  // Several steps on as many threads where the source reads them at once, else one step with
+  // its faces scanned on every thread; each step's findings are reported in step order, so the
+  // report is the same either way.
+  const size_t batch =
+      frames.parallel_reads() ? std::min<size_t>({threads, kStepsAtOnce, steps}) : 1;
+  const unsigned face_threads = static_cast<unsigned>(std::max<size_t>(1, threads / batch));
+  std::vector<std::vector<float>> xyz(batch, std::vector<float>(size_t{topology.vertex_count} * 3));
+  std::vector<StepFindings> found(batch);
   std::vector<uint8_t> flat_seen(topology.faces.size(), 0);  // each face reported once
-  for (uint32_t t = 0; t < frames.step_count(); ++t) {
-    auto step = [&] { return "step " + std::to_string(t); };
-    const size_t floats = frames.step_float_count(t);
-    if (floats != xyz.size()) {
-      report.add({ProblemKind::kStepVertexCount, Severity::kError, kNoIndex, kNoIndex, t,
-                  step() + ": holds " + std::to_string(floats / 3) +
-                      (floats % 3 ? " and a partial" : "") + " vertices, expected " +
-                      std::to_string(topology.vertex_count)});
-      continue;
-    }
-    if (Status s = frames.read_step(t, xyz); !s.ok()) {
-      report.add({ProblemKind::kUnreadableStep, Severity::kError, kNoIndex, kNoIndex, t,
-                  step() + ": " + s.message()});
-      continue;
-    }
-    for (uint32_t v = 0; v < topology.vertex_count; ++v) {
-      const float* p = &xyz[size_t{v} * 3];
-      if (std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2])) continue;
-      char text[96];
-      std::snprintf(text, sizeof text, "(%g, %g, %g)", double(p[0]), double(p[1]), double(p[2]));
-      const std::string node = v < topology.node_ids.size()
-                                   ? " (node " + std::to_string(topology.node_ids[v]) + ")"
-                                   : "";
-      report.add({ProblemKind::kNonFinitePosition, Severity::kError, kNoIndex, v, t,
-                  step() + ", vertex " + std::to_string(v) + node + ": position " + text +
-                      " is not finite"});
-    }
-    for (uint32_t fi = 0; fi < topology.faces.size(); ++fi) {
-      if (!face_ok[fi] || flat_seen[fi] || !has_zero_area(topology.faces[fi], xyz.data())) continue;
-      flat_seen[fi] = 1;
-      report.add({ProblemKind::kZeroAreaFace, Severity::kWarning, fi, kNoIndex, t,
-                  "face " + std::to_string(fi) + " " + face_text(topology.faces[fi]) +
-                      ": zero area at " + step() + " (its corners lie on a line or coincide)"});
+  for (size_t first = 0; first < steps; first += batch) {
+    const size_t count = std::min(batch, steps - first);
+    parallel_for(count, count, static_cast<unsigned>(count), [&](size_t begin, size_t end, size_t) {
+      for (size_t j = begin; j < end; ++j)
+        found[j] = find_step_problems(topology, face_ok, frames, static_cast<uint32_t>(first + j),
+                                      xyz[j], face_threads);
+    });
+    for (size_t j = 0; j < count; ++j) {
+      const uint32_t t = static_cast<uint32_t>(first + j);
+      const StepFindings& f = found[j];
+      const std::string step = "step " + std::to_string(t);
+      if (f.floats != xyz[j].size()) {
+        report.add({ProblemKind::kStepVertexCount, Severity::kError, kNoIndex, kNoIndex, t,
+                    step + ": holds " + std::to_string(f.floats / 3) +
+                        (f.floats % 3 ? " and a partial" : "") + " vertices, expected " +
+                        std::to_string(topology.vertex_count)});
+        continue;
+      }
+      if (!f.read.ok()) {
+        report.add({ProblemKind::kUnreadableStep, Severity::kError, kNoIndex, kNoIndex, t,
+                    step + ": " + f.read.message()});
+        continue;
+      }
+      for (uint32_t v : f.non_finite) {
+        const float* p = &xyz[j][size_t{v} * 3];
+        char text[96];
+        std::snprintf(text, sizeof text, "(%g, %g, %g)", double(p[0]), double(p[1]), double(p[2]));
+        const std::string node = v < topology.node_ids.size()
+                                     ? " (node " + std::to_string(topology.node_ids[v]) + ")"
+                                     : "";
+        report.add({ProblemKind::kNonFinitePosition, Severity::kError, kNoIndex, v, t,
+                    step + ", vertex " + std::to_string(v) + node + ": position " + text +
+                        " is not finite"});
+      }
+      for (uint32_t fi : f.zero_area) {
+        if (flat_seen[fi]) continue;
+        flat_seen[fi] = 1;
+        report.add({ProblemKind::kZeroAreaFace, Severity::kWarning, fi, kNoIndex, t,
+                    "face " + std::to_string(fi) + " " + face_text(topology.faces[fi]) +
+                        ": zero area at " + step + " (its corners lie on a line or coincide)"});
+      }
     }
   }
 }
