@@ -317,7 +317,9 @@ struct ValidationReport {
   size_t count(Severity severity) const { return severity_totals[static_cast<size_t>(severity)]; }
 };
 
-// Checks connectivity and, when given, every time step (read one at a time) and the fields.
+// Checks connectivity and, when given, every time step (up to four read and checked at once on
+// the hardware's threads where the source allows parallel reads; the report is the same either
+// way) and the fields.
 ValidationReport validate(const Topology& topology, const FrameSource* frames = nullptr,
                           std::span<const ScalarField> fields = {});
 // The same, handing back the adjacency it built for a caller that needs one too (empty when a
