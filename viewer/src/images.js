@@ -38,8 +38,18 @@ export class Images {
   // The view as a PNG data URL: drawn and read in one task, so the canvas needs no preserved
   // drawing buffer.
   screenshot() {
+    this.exporting(true);
     this.viewer.renderNow();
-    return this.viewer.canvas.toDataURL('image/png');
+    const url = this.viewer.canvas.toDataURL('image/png');
+    this.exporting(false);
+    return url;
+  }
+
+  // A saved picture or video has no panel over it: the model at its centre, not moved aside
+  // for the panel as on the page (viewer.js panelCover()).
+  exporting(on) {
+    this.viewer.state.exporting = on;
+    this.viewer.dodgePanel();
   }
 
   // Records the animation once through, first state to last at the chosen speed (the rest of
@@ -68,13 +78,15 @@ export class Images {
     const done = new Promise((resolve, reject) => {
       recorder.addEventListener('stop', () => {
         this.recording = null;
+        this.exporting(false);
         this.ui.record.textContent = '● Record WebM';
         this.ui.status.textContent = '';
         resolve(new Blob(chunks, { type: WEBM }));
       });
-      recorder.addEventListener('error', (e) => reject(e.error ?? new Error('recording failed')));
+      recorder.addEventListener('error', (e) => (this.exporting(false), reject(e.error ?? new Error('recording failed'))));
     });
     this.recording = { recorder, stopped: false };
+    this.exporting(true);
     this.ui.record.textContent = '■ Stop';
     this.ui.status.textContent = 'recording…';
     recorder.start(200);

@@ -121,7 +121,9 @@ export class Orientation {
     camera.updateMatrixWorld();
     const [right, up, back] = [0, 1, 2].map((c) => new THREE.Vector3().setFromMatrixColumn(camera.matrixWorld, c));
     const tanV = Math.tan(THREE.MathUtils.degToRad(camera.fov / 2));
-    const tanH = tanV * camera.aspect;
+    // The part of the picture left free of the panel (viewer.js's view offset): its width.
+    const view = camera.view?.enabled ? camera.view : null;
+    const tanH = tanV * camera.aspect * (view ? (view.fullWidth + 2 * view.offsetX) / view.fullWidth : 1);
     let distance = 0, depth = 0;
     const p = new THREE.Vector3();
     for (let corner = 0; corner < 8; corner++) {

@@ -76,6 +76,7 @@ const state = {
   base0Count: 0,
   ranges: new Map(),  // colour mode → [min, max] over every step
   decoder: {},  // want(vertices): the worker fetches more (worker_decoder.js)
+  exporting: false,  // a picture or video is being made: no room left for the panel (dodgePanel())
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -149,10 +150,22 @@ function resize() {
   renderer.setSize(w, h, false);
   compare?.resize(w, h);
   camera.aspect = w / h;
-  camera.updateProjectionMatrix();
-  requestRender();
+  dodgePanel();
 }
 window.addEventListener('resize', resize);
+
+// The open panel floats over the canvas's left side: the picture's centre moves to the middle of
+// what it leaves free (three's view offset; orientation.js fits the model into that part), so
+// that a fitted model is not drawn under it. Not beside compare's canvases (they start right of
+// the panel), in a window the panel would half cover, nor in a saved picture or video
+// (images.js: `state.exporting`).
+function dodgePanel() {
+  const { x: w, y: h } = renderer.getSize(new THREE.Vector2());
+  const right = compare || state.exporting || panel.collapsed ? 0 : panel.ui.panel.getBoundingClientRect().right;
+  if (right > 0 && right < w / 2) camera.setViewOffset(w, h, -right / 2, 0, w, h);  // updates the projection
+  else camera.clearViewOffset();
+  requestRender();
+}
 
 let renderPending = false;
 function requestRender() {
@@ -516,9 +529,9 @@ window.addEventListener('keydown', (e) => {
 // scripting API (api.js) see the page through `viewer`.
 const redraw = () => ((state.shownT = NaN), updateTime());
 const fitBox = () => grownBox(geometry.boundingBox, positions, state.nav?.vertexCount ?? 0);
-const viewer = { state, ui, scene, camera, controls, canvas: renderer.domElement, requestRender, renderNow, resize, setTime, setVertexCount, setColour, extendBase0, redraw, fitBox, updateLevel, partView: () => parts };
+const viewer = { state, ui, scene, camera, controls, canvas: renderer.domElement, requestRender, renderNow, resize, dodgePanel, setTime, setVertexCount, setColour, extendBase0, redraw, fitBox, updateLevel, partView: () => parts };
 const panel = new Panel();
-panel.onToggle = () => compare && resize();
+panel.onToggle = () => (compare ? resize() : dodgePanel());  // compare's canvases move beside it
 const states = (viewer.states = new States(viewer));
 const orientation = (viewer.orientation = new Orientation(viewer));
 const deformation = (viewer.deformation = new Deformation(viewer));

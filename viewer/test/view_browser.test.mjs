@@ -255,12 +255,33 @@ test('orientation: the ±X/±Y/±Z and iso views, up axis, fit all, zoom toward 
     return { x0, x1, y0, y1 };
   };
   await api(() => window.dynpm.setView('+x'));
-  const fitted = await extent();
-  assert.ok(fitted.x0 > 0 && fitted.x1 < 63 && fitted.y0 > 0 && fitted.y1 < 63, `inside: ${JSON.stringify(fitted)}`);
-  assert.ok(fitted.x1 - fitted.x0 > 48, `fills the width: ${JSON.stringify(fitted)}`);
-  const before = await view();
   const canvas = page.locator('#view');
   const size = await canvas.boundingBox();
+  // The open panel floats over the canvas's left side: the model is framed in what it leaves.
+  const panelBox = await page.locator('#panel').boundingBox();
+  const covered = (64 * (panelBox.x + panelBox.width - size.x)) / size.width;
+  const fitted = await extent();
+  assert.ok(fitted.x0 > covered - 1 && fitted.x1 < 63 && fitted.y0 > 0 && fitted.y1 < 63, `right of the panel (${covered} of 64): ${JSON.stringify(fitted)}`);
+  assert.ok(fitted.x1 - fitted.x0 > 0.75 * (64 - covered), `fills the width the panel leaves: ${JSON.stringify(fitted)}`);
+  // A saved picture has no panel over it: the model at its centre.
+  const saved = await page.evaluate(async () => {
+    const image = new Image();
+    image.src = window.dynpm.screenshot();
+    await image.decode();
+    const c = document.createElement('canvas');
+    [c.width, c.height] = [image.width, image.height];
+    c.getContext('2d').drawImage(image, 0, 0);
+    const { data } = c.getContext('2d').getImageData(0, 0, c.width, Math.floor(c.height * 0.8));  // above the triad
+    let x0 = c.width, x1 = -1;
+    for (let i = 0; i < data.length; i += 4)
+      if (Math.abs(data[i] - data[0]) + Math.abs(data[i + 1] - data[1]) + Math.abs(data[i + 2] - data[2]) > 6) {
+        const x = (i / 4) % c.width;
+        x0 = Math.min(x0, x), x1 = Math.max(x1, x);
+      }
+    return { left: x0 / c.width, right: 1 - x1 / c.width };
+  });
+  assert.ok(Math.abs(saved.left - saved.right) < 0.05 && saved.left > 0, `the saved picture centres the model: ${JSON.stringify(saved)}`);
+  const before = await view();
   await page.mouse.move(size.width * 0.8, size.height * 0.5);
   for (let i = 0; i < 5; i++) await page.mouse.wheel(0, -120), await page.waitForTimeout(30);
   const zoomed = await view();
@@ -272,7 +293,7 @@ test('orientation: the ±X/±Y/±Z and iso views, up axis, fit all, zoom toward 
   assert.ok(close < 0.8 * far, `zoomed in: ${far} → ${close}`);
   await page.locator('#orientation [data-view="fit"]').click();
   const again = await extent();
-  assert.ok(again.x1 - again.x0 > 48 && again.x0 > 0 && again.x1 < 63, `fit again: ${JSON.stringify(again)}`);
+  assert.ok(again.x1 - again.x0 > 0.75 * (64 - covered) && again.x0 > covered - 1 && again.x1 < 63, `fit again: ${JSON.stringify(again)}`);
   await page.screenshot({ path: join(dir, 'view-orientation.png') });
 });
 
