@@ -264,22 +264,7 @@ test('orientation: the ±X/±Y/±Z and iso views, up axis, fit all, zoom toward 
   assert.ok(fitted.x0 > covered - 1 && fitted.x1 < 63 && fitted.y0 > 0 && fitted.y1 < 63, `right of the panel (${covered} of 64): ${JSON.stringify(fitted)}`);
   assert.ok(fitted.x1 - fitted.x0 > 0.75 * (64 - covered), `fills the width the panel leaves: ${JSON.stringify(fitted)}`);
   // A saved picture has no panel over it: the model at its centre.
-  const saved = await page.evaluate(async () => {
-    const image = new Image();
-    image.src = window.dynpm.screenshot();
-    await image.decode();
-    const c = document.createElement('canvas');
-    [c.width, c.height] = [image.width, image.height];
-    c.getContext('2d').drawImage(image, 0, 0);
-    const { data } = c.getContext('2d').getImageData(0, 0, c.width, Math.floor(c.height * 0.8));  // above the triad
-    let x0 = c.width, x1 = -1;
-    for (let i = 0; i < data.length; i += 4)
-      if (Math.abs(data[i] - data[0]) + Math.abs(data[i + 1] - data[1]) + Math.abs(data[i + 2] - data[2]) > 6) {
-        const x = (i / 4) % c.width;
-        x0 = Math.min(x0, x), x1 = Math.max(x1, x);
-      }
-    return { left: x0 / c.width, right: 1 - x1 / c.width };
-  });
+  const saved = await inScreenshot();
   assert.ok(Math.abs(saved.left - saved.right) < 0.05 && saved.left > 0, `the saved picture centres the model: ${JSON.stringify(saved)}`);
   const before = await view();
   await page.mouse.move(size.width * 0.8, size.height * 0.5);
@@ -297,17 +282,29 @@ test('orientation: the ±X/±Y/±Z and iso views, up axis, fit all, zoom toward 
   await page.screenshot({ path: join(dir, 'view-orientation.png') });
 });
 
-// The colour of CSS pixel (x, y) of the canvas in dynpm.screenshot().
-const pixelAt = (x, y) =>
-  page.evaluate(async ([x, y]) => {
+// dynpm.screenshot() read on the page: the colour of CSS pixel `point` ([x, y]), or without one
+// how far what is not background (above the triad) lies from the left and right edges, in
+// fractions of the width.
+const inScreenshot = (point = null) =>
+  page.evaluate(async (point) => {
     const image = new Image();
     image.src = window.dynpm.screenshot();
     await image.decode();
     const c = document.createElement('canvas');
     [c.width, c.height] = [image.width, image.height];
-    c.getContext('2d').drawImage(image, 0, 0);
-    return [...c.getContext('2d').getImageData(Math.round(x * devicePixelRatio), Math.round(y * devicePixelRatio), 1, 1).data];
-  }, [x, y]);
+    const g = c.getContext('2d');
+    g.drawImage(image, 0, 0);
+    if (point) return [...g.getImageData(Math.round(point[0] * devicePixelRatio), Math.round(point[1] * devicePixelRatio), 1, 1).data];
+    const { data } = g.getImageData(0, 0, c.width, Math.floor(c.height * 0.8));
+    let x0 = c.width, x1 = -1;
+    for (let i = 0; i < data.length; i += 4)
+      if (Math.abs(data[i] - data[0]) + Math.abs(data[i + 1] - data[1]) + Math.abs(data[i + 2] - data[2]) > 6) {
+        const x = (i / 4) % c.width;
+        x0 = Math.min(x0, x), x1 = Math.max(x1, x);
+      }
+    return { left: x0 / c.width, right: 1 - x1 / c.width };
+  }, point);
+const pixelAt = (x, y) => inScreenshot([x, y]);
 
 test('keys f (fit) and r (reset: iso), the Reset view button, ?up=z in the address', async () => {
   const s3 = 1 / Math.sqrt(3);
