@@ -1,6 +1,8 @@
 // Which file the page shows, and its name: `dpm.json` (written by `dynpm view` and --export),
 // else model.dpm; `?model=` (the catalogue's links, `dynpm serve`) or `?file=` overrides both,
 // but only with a file of the page's own origin.
+import { HEAD_FLAG_LOSSLESS } from './dpm/progressive_mesh.js';
+
 export async function modelFile(params) {
   const model = params.get('model');
   if (model) {
@@ -44,15 +46,17 @@ export function wantedVertices(params) {
 
 // Without ?vertices=N the page loads at first the levels whose values at every step fit
 // ?memory=MiB (default 1 GiB): a vertex's position takes 12 bytes a step (grid integers) and each
-// field's value 4 (a face field counted as a node field: a quad mesh has about as many faces as
-// vertices), so a 5 M-vertex model of 100 steps would need 5.6 GiB whole for its positions
-// alone. The slider's far end asks for the rest.
+// field's value 2 (4 in a lossless file; dpm/fields.js valueArrayType(): a field quantized finer
+// than 1/16383 of its range, which HEAD does not tell, also takes 4; a face field is counted as a
+// node field: a quad mesh has about as many faces as vertices), so a 5 M-vertex model of 100
+// steps would need 5.6 GiB whole for its positions alone. The slider's far end asks for the rest.
 const DEFAULT_MEMORY_MIB = 1024;
 export function memoryBudget(params) {
   const mib = Number(params.get('memory') ?? DEFAULT_MEMORY_MIB);
   return (mib > 0 ? mib : DEFAULT_MEMORY_MIB) * 2 ** 20;
 }
 export function budgetedVertices(head, budget) {
-  const perVertex = (12 + 4 * head.fieldCount) * head.stepCount;
+  const perValue = head.flags & HEAD_FLAG_LOSSLESS ? 4 : 2;
+  const perVertex = (12 + perValue * head.fieldCount) * head.stepCount;
   return Math.max(head.baseVertexCount, Math.floor(budget / perVertex));
 }

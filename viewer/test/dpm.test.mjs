@@ -6,6 +6,7 @@ import { test } from 'node:test';
 import { crc32 } from 'node:zlib';
 
 import { DpmDecoder, Navigator, readDpm, ShownValues, updateIndices } from '../src/dpm.js';
+import { valueArrayType } from '../src/dpm/fields.js';
 import { SignedModel } from '../src/dpm/range_coder.js';
 import { Bytes } from './fields_fixture.mjs';
 import { encodeSigned, RangeEncoder } from './range_encoder.mjs';
@@ -346,6 +347,20 @@ test('a SPLT whose FLDS has not arrived is not applied', () => {
   assert.equal(loaded(ends[4]).vertexCountLoaded, 5, 'SPLT without its FLDS');
   assert.equal(loaded(ends[5] - 1).vertexCountLoaded, 5);
   assert.equal(loaded(ends[5]).vertexCountLoaded, 6);
+});
+
+test('field values in 16 bits where every value the decoder accepts fits, else in 32', () => {
+  const { mesh } = readDpm(FILE);
+  const [stress, peeq] = mesh.fields;
+  assert.ok(stress.q.every((a) => a instanceof Int16Array), 'quantized, 31 steps of 0.5');
+  assert.ok(peeq.q.every((a) => a instanceof Int32Array), 'lossless: f32 bit patterns');
+  assert.deepEqual(Array.from(stress.valuesAt(1, 6)), STRESS[1]);
+  // The decoder accepts [−2, (max − min) / quant_step + 2]: 16 bits while that ends at 32767.
+  const def = (max, quantStep) => ({ lossless: false, min: 0, max, quantStep });
+  assert.equal(valueArrayType(def(32765, 1)), Int16Array);
+  assert.equal(valueArrayType(def(32765.5, 1)), Int32Array);
+  assert.equal(valueArrayType(def(1, 2 * 0.001)), Int16Array, 'the default bound, 0.1 % of the range');
+  assert.equal(valueArrayType({ lossless: true, min: 0, max: 1, quantStep: 0 }), Int32Array);
 });
 
 test('shown values: max |value| and mean of what each vertex and face stands for', () => {

@@ -1,8 +1,8 @@
 // Result fields of a .dpm (docs/FORMAT.md "Fields: FDEF and FLDS"): the FDEF chunk (names, units,
 // node or element, range, quantization) and the FLDS chunks (heirs of the faces a SPLT creates,
 // field errors per split, values per step), with the checks the C++ reader makes
-// (src/progressive/dpm_read.cpp). Values are kept as the file's quantized integers, one
-// Int32Array per step (f32 bit patterns when lossless), as the positions are.
+// (src/progressive/dpm_read.cpp). Values are kept as the file's quantized integers, one typed
+// array per step (valueArrayType(): 16 bits where they fit; f32 bit patterns when lossless).
 
 import { bucket, CONTEXTS, LOSSLESS_RESIDUAL, residualFits } from './positions.js';
 import { bitModels, decodeSigned, RangeDecoder, SIGNED_MODEL_SIZE } from './range_coder.js';
@@ -15,6 +15,14 @@ const FIELD_FLAG_LOSSLESS = 1;
 const MIN_FIELD_DEF_BYTES = 2 + 1 + 2 + 1 + 1 + 2 + 4 * 8 + 4;
 const MAX_NAME_BYTES = 255;
 
+// The typed array that holds a field's values: a quantized value lies in [−2, (max − min) /
+// quant_step + 2] (the decoder refuses any other before storing it), so at the default bound
+// (0.1 % of the range: about 500 steps) and down to 1/16383 of the range an Int16Array holds it
+// in half the memory; lossless values (f32 bit patterns) and finer grids take 32 bits.
+export function valueArrayType({ lossless, min, max, quantStep }) {
+  return !lossless && (max - min) / quantStep + 2 <= 0x7fff ? Int16Array : Int32Array;
+}
+
 // One field (C++: ProgressiveField). q[t]: per item (vertex of a node field, face of an element
 // field) its quantized value at step t; error[i]: the field error right after split i.
 export class DpmField {
@@ -22,7 +30,8 @@ export class DpmField {
     Object.assign(this, def);
     this.q = [];
     // Each step's values of the items that have arrived (ProgressiveMesh.makeRoom()).
-    for (let t = 0; t < stepCount; t++) this.q.push(new Int32Array(0));
+    const Values = valueArrayType(def);
+    for (let t = 0; t < stepCount; t++) this.q.push(new Values(0));
     this.error = new Float32Array(splitCount);
   }
   get perFace() {
