@@ -70,7 +70,11 @@ export class RefineView {
     if (!keep.some((item) => item.startsWith('PX='))) keep.push('PX=1');
     const { camera, controls, canvas } = this.viewer;
     const xyz = (v) => `${v.x},${v.y},${v.z}`;
-    const w = Math.max(1, canvas.clientWidth), h = Math.max(1, canvas.clientHeight);
+    // Beside the open panel the picture is offset by half its width (viewer.js dodgePanel()):
+    // what shows there is the centred window as wide as the part it leaves.
+    const view = camera.view?.enabled ? camera.view : null;
+    const share = view ? (view.fullWidth + 2 * view.offsetX) / view.fullWidth : 1;
+    const w = Math.max(1, Math.round(canvas.clientWidth * share)), h = Math.max(1, canvas.clientHeight);
     return `view:EYE=${xyz(camera.position)};AT=${xyz(controls.target)};UP=${xyz(camera.up)};FOV=${camera.fov};W=${w};H=${h};${keep.join(';')}`;
   }
 

@@ -148,6 +148,10 @@ test('view-dependent through the panel: the front follows the camera; the pixel 
   assert.equal(r.active, true);
   assert.equal(r.spheresFrom, 'worker', 'the spheres were made by the worker, not on the page');
   assert.match(r.requests[0], /^view:EYE=[^;]+;AT=[^;]+;UP=[^;]+;FOV=35;W=\d+;H=\d+;PX=1$/);
+  // The part of the canvas the open panel leaves (the picture is centred there): its width.
+  const canvasBox = await page.locator('#view').boundingBox(), panelBox = await page.locator('#panel').boundingBox();
+  const seen = Number(/;W=(\d+);/.exec(r.requests[0])[1]);
+  assert.ok(Math.abs(seen - (canvasBox.width - (panelBox.x + panelBox.width - canvasBox.x))) <= 1, `W=${seen} beside the panel`);
   // What dpm/ computes here for the page's camera, as the page sent it.
   const check = async (what) => {
     const got = await settled();
