@@ -46,7 +46,7 @@ export class Images {
   }
 
   // A saved picture or video has no panel over it: the model at its centre, not moved aside
-  // for the panel as on the page (viewer.js panelCover()).
+  // for the panel as on the page (viewer.js dodgePanel()).
   exporting(on) {
     this.viewer.state.exporting = on;
     this.viewer.dodgePanel();

@@ -43,6 +43,14 @@ export function grownBox(box, positions, n) {
   return grown;
 }
 
+// The share of the canvas's width that the open panel leaves (1 without it): viewer.js's view
+// offset puts the picture's centre in the middle of that part, which is then the centred window
+// as wide as it (Fit frames the model there; the view refine asks for it).
+export function besidePanel(camera) {
+  const view = camera.view?.enabled ? camera.view : null;
+  return view ? (view.fullWidth + 2 * view.offsetX) / view.fullWidth : 1;
+}
+
 export class Orientation {
   // viewer: {camera, controls, renderer, requestRender(), fitBox(): THREE.Box3 to fit}.
   constructor(viewer) {
@@ -121,9 +129,7 @@ export class Orientation {
     camera.updateMatrixWorld();
     const [right, up, back] = [0, 1, 2].map((c) => new THREE.Vector3().setFromMatrixColumn(camera.matrixWorld, c));
     const tanV = Math.tan(THREE.MathUtils.degToRad(camera.fov / 2));
-    // The part of the picture left free of the panel (viewer.js's view offset): its width.
-    const view = camera.view?.enabled ? camera.view : null;
-    const tanH = tanV * camera.aspect * (view ? (view.fullWidth + 2 * view.offsetX) / view.fullWidth : 1);
+    const tanH = tanV * camera.aspect * besidePanel(camera);
     let distance = 0, depth = 0;
     const p = new THREE.Vector3();
     for (let corner = 0; corner < 8; corner++) {

@@ -13,6 +13,7 @@ import { SelectiveNavigator } from './dpm/selective_navigator.js';
 import { SplitDependencies } from './dpm/split_dependencies.js';
 import { fmt, int } from './fringe.js';
 import { ViewSplitsFromWorker } from './moved_spheres.js';
+import { besidePanel } from './orientation.js';
 
 const $ = (id) => document.getElementById(id);
 
@@ -70,11 +71,8 @@ export class RefineView {
     if (!keep.some((item) => item.startsWith('PX='))) keep.push('PX=1');
     const { camera, controls, canvas } = this.viewer;
     const xyz = (v) => `${v.x},${v.y},${v.z}`;
-    // Beside the open panel the picture is offset by half its width (viewer.js dodgePanel()):
-    // what shows there is the centred window as wide as the part it leaves.
-    const view = camera.view?.enabled ? camera.view : null;
-    const share = view ? (view.fullWidth + 2 * view.offsetX) / view.fullWidth : 1;
-    const w = Math.max(1, Math.round(canvas.clientWidth * share)), h = Math.max(1, canvas.clientHeight);
+    // What shows beside the open panel: the centred window as wide as the part it leaves.
+    const w = Math.max(1, Math.round(canvas.clientWidth * besidePanel(camera))), h = Math.max(1, canvas.clientHeight);
     return `view:EYE=${xyz(camera.position)};AT=${xyz(controls.target)};UP=${xyz(camera.up)};FOV=${camera.fov};W=${w};H=${h};${keep.join(';')}`;
   }
 
