@@ -19,9 +19,12 @@ const MAX_NAME_BYTES = 255;
 // quant_step + 2] (the decoder refuses any other before storing it), so at the default bound
 // (0.1 % of the range: about 500 steps) and down to 1/16383 of the range an Int16Array holds it
 // in half the memory; lossless values (f32 bit patterns) and finer grids take 32 bits.
-export function valueArrayType({ lossless, min, max, quantStep }) {
-  return !lossless && (max - min) / quantStep + 2 <= 0x7fff ? Int16Array : Int32Array;
+export function valueArrayType(def) {
+  return !def.lossless && valueTop(def) <= 0x7fff ? Int16Array : Int32Array;
 }
+
+// The largest quantized value a reader accepts (the smallest is −2): the range's grid steps and two.
+const valueTop = ({ min, max, quantStep }) => (max - min) / (quantStep || 1) + 2;
 
 // One field (C++: ProgressiveField). q[t]: per item (vertex of a node field, face of an element
 // field) its quantized value at step t; error[i]: the field error right after split i.
@@ -192,7 +195,7 @@ function parseErrors(r, f, s, n) {
 // against the previous item at step 0 and its own previous step later (as the base positions).
 function parseBaseValues(r, f, end) {
   const checked = !f.lossless;
-  const top = (f.max - f.min) / (f.quantStep || 1) + 2;
+  const top = valueTop(f);
   for (let t = 0; t < f.q.length; t++) {
     const cur = f.q[t];
     const asFloat = f.lossless ? new Float32Array(cur.buffer) : null;
@@ -217,7 +220,7 @@ function parseBaseValues(r, f, end) {
 // (null for an element field). Returns null or what is wrong.
 function decodeSplitField(f, first, end, parent, offset, ring, models, sections) {
   const checked = !f.lossless;
-  const top = (f.max - f.min) / (f.quantStep || 1) + 2;
+  const top = valueTop(f);
   const before = new Float64Array(end - first);  // the residuals at t − 1
   const change = new Float64Array(MAX_MEDIAN_RING);
   const ringStart = ring?.stencils.ringStart, data = ring?.stencils.ring.data;
