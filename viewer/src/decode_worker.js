@@ -39,14 +39,16 @@ function positionsInWorker() {
   let started = 0;
   return {
     ready,
-    start({ mesh, s, n, stencils, sections }) {
-      // Copies of exactly what the job reads (a view would send its whole buffer).
-      const ring = stencils.ring.data.slice(0, stencils.ring.length);
+    start({ head, lossless, positions, s, n, stencils, sections, staging }) {
+      // Copies of exactly what the job reads (a view would send its whole buffer); the compact
+      // positions and the staging arrays are shared.
       const bytes = sections.map((b) => b.slice());
+      const { split, ringStart, ring, old, first } = stencils;
+      const { vertexCount, steps, wide } = positions;
       Atomics.store(signal, 2, ++started);
-      worker.postMessage({ signal, text, head: mesh.head, lossless: mesh.lossless, q: mesh.q, s, n,
-        split: stencils.split, ringStart: stencils.ringStart, ring, sections: bytes },
-      [ring.buffer, ...bytes.map((b) => b.buffer)]);
+      worker.postMessage({ signal, text, head, lossless, positions: { vertexCount, steps, wide }, s, n,
+        stencils: { split, ringStart, ring: ring.data, old, first }, sections: bytes, staging },
+      [split.buffer, ring.data.buffer, old.buffer, ...bytes.map((b) => b.buffer)]);
     },
     wait() {
       // A chunk's positions take a second or two at most: a worker silent for a minute is gone.

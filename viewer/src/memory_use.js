@@ -5,7 +5,7 @@
 // never written, so never resident); positions and field values count their room (`makeRoom()`),
 // which is what they hold.
 const GROUPS = {
-  positions: (m) => m.q,
+  positions: (m) => m.positions.arrays(),
   ids: (m) => {
     const [vertices, faces] = loaded(m);
     return [[m.vertexOriginal, vertices], [m.nodeId, vertices], [m.faceOriginal, faces], [m.partId, faces], [m.elementId, faces]];

@@ -12,6 +12,7 @@
 import { Growable } from './dpm/bytes.js';
 import { DpmField, FIELD_ELEMENT } from './dpm/fields.js';
 import { ProgressiveMesh } from './dpm/progressive_mesh.js';
+import { StepPositions } from './dpm/step_positions.js';
 
 const isTyped = (x) => ArrayBuffer.isView(x) && !(x instanceof DataView);
 const isGrowable = (x) => x instanceof Growable;
@@ -29,6 +30,10 @@ function shared(a, copy = 0) {
 export function shareMesh(mesh) {
   const description = { plain: {}, growables: {} };
   for (const [key, value] of Object.entries(mesh)) {
+    if (value instanceof StepPositions) {
+      value.steps = value.steps.map((a) => shared(a));
+      value.wide = value.wide.map((a) => shared(a, a.length));
+    }
     if (isTyped(value)) mesh[key] = shared(value);
     else if (Array.isArray(value) && value.length && value.every(isTyped)) mesh[key] = value.map((a) => shared(a));
     if (isGrowable(value)) description.growables[key] = [value.Type.name, value.data.length];
@@ -41,6 +46,7 @@ export function shareMesh(mesh) {
 // worker's room (untouched memory costs nothing until written).
 export function sharedMesh({ plain, growables }) {
   const mesh = Object.assign(Object.create(ProgressiveMesh.prototype), plain);
+  mesh.positions = StepPositions.from(plain.positions);
   for (const [key, [type, room]] of Object.entries(growables)) mesh[key] = new Growable(globalThis[type], room);
   return mesh;
 }
@@ -70,7 +76,7 @@ export function growableTails(mesh, sent) {
   return pieces;
 }
 
-// The arrays the page reads, by what indexes them; q (positions) and fields are per step.
+// The arrays the page reads, by what indexes them; positions and fields are per step.
 const PER_VERTEX = ['vertexOriginal', 'nodeId'];
 const PER_FACE = ['faceOriginal', 'partId', 'elementId', 'faceHeir'];
 const PER_SPLIT = ['parent', 'error'];
@@ -89,7 +95,11 @@ export function levelPieces(mesh, s, n) {
   const cut = (path, array, first, end, per = 1) => {
     if (array && end > first) pieces.push([path, per * first, array.slice(per * first, per * end)]);
   };
-  for (let t = 0; t < mesh.q.length; t++) cut(`q.${t}`, mesh.q[t], v0, v1, 3);
+  mesh.positions.steps.forEach((a, t) => cut(`positions.steps.${t}`, a, v0, v1, 3));
+  mesh.positions.wide.forEach((_, t) => {
+    const pairs = mesh.positions.widePairs(t, v0, v1);
+    if (pairs.length) pieces.push([`positions.wide.${t}`, null, pairs]);
+  });
   for (const name of PER_VERTEX) cut(name, mesh[name], v0, v1);
   for (const name of PER_FACE) cut(name, mesh[name], f0, f1);
   mesh.fields.forEach((field, k) => {
@@ -132,7 +142,8 @@ export function addFields(mesh, fields, faceHeir) {
 // `sent` keeps the arrays the page has. Those it had still hold the levels it was told of.
 export function regrownSteps(mesh, sent) {
   const pieces = [];
-  const lists = [['q', mesh.q], ...mesh.fields.map((f, k) => [`fields.${k}.q`, f.q])];
+  const { steps, wide } = mesh.positions;
+  const lists = [['positions.steps', steps], ['positions.wide', wide], ...mesh.fields.map((f, k) => [`fields.${k}.q`, f.q])];
   for (const [path, list] of lists) {
     if (sent[path] && list.every((a, t) => a === sent[path][t])) continue;
     sent[path] = list.slice();
@@ -146,7 +157,7 @@ function stepRoom(mesh, pieces) {
   let vertices = 0, faces = 0;
   for (const [path, first, values] of pieces) {
     const end = first + values.length;
-    if (path.startsWith('q.')) vertices = Math.max(vertices, end / 3);
+    if (path.startsWith('positions.steps.')) vertices = Math.max(vertices, end / 3);
     const field = /^fields\.(\d+)\.q\./.exec(path);
     if (field && mesh.fields[field[1]].perFace) faces = Math.max(faces, end);
     else if (field) vertices = Math.max(vertices, end);
@@ -162,6 +173,10 @@ export function applyPieces(mesh, pieces) {
   for (const [path, first, values] of pieces) {
     const keys = path.split('.');
     const last = keys.pop();
+    if (path.startsWith('positions.wide.')) {
+      mesh.positions.addWidePairs(Number(last), values);  // escaped values, appended
+      continue;
+    }
     const owner = keys.reduce((o, k) => o[k], mesh);
     const target = owner[last];
     if (target === null || first === null) {

@@ -2,6 +2,7 @@
 // else model.dpm; `?model=` (the catalogue's links, `dynpm serve`) or `?file=` overrides both,
 // but only with a file of the page's own origin.
 import { HEAD_FLAG_LOSSLESS } from './dpm/progressive_mesh.js';
+import { positionBytes } from './dpm/step_positions.js';
 
 export async function modelFile(params) {
   const model = params.get('model');
@@ -45,11 +46,11 @@ export function wantedVertices(params) {
 }
 
 // Without ?vertices=N the page loads at first the levels whose values at every step fit
-// ?memory=MiB (default 1 GiB): a vertex's position takes 12 bytes a step (grid integers) and each
-// field's value 2 (4 in a lossless file; dpm/fields.js valueArrayType(): a field quantized finer
-// than 1/16383 of its range, which HEAD does not tell, also takes 4; a face field is counted as a
-// node field: a quad mesh has about as many faces as vertices), so a 5 M-vertex model of 100
-// steps would need 5.6 GiB whole for its positions alone. The slider's far end asks for the rest.
+// ?memory=MiB (default 1 GiB): a vertex's positions take positionBytes() (about 3 bytes a step,
+// compact: dpm/step_positions.js; 12 in a lossless file) and each field's value 2 a step (4 in a
+// lossless file; dpm/fields.js valueArrayType(): a field quantized finer than 1/16383 of its
+// range, which HEAD does not tell, also takes 4; a face field is counted as a node field: a quad
+// mesh has about as many faces as vertices). The slider's far end asks for the rest.
 const DEFAULT_MEMORY_MIB = 1024;
 export function memoryBudget(params) {
   const mib = Number(params.get('memory') ?? DEFAULT_MEMORY_MIB);
@@ -57,6 +58,6 @@ export function memoryBudget(params) {
 }
 export function budgetedVertices(head, budget) {
   const perValue = head.flags & HEAD_FLAG_LOSSLESS ? 4 : 2;
-  const perVertex = (12 + perValue * head.fieldCount) * head.stepCount;
+  const perVertex = positionBytes(head.stepCount, (head.flags & HEAD_FLAG_LOSSLESS) !== 0) + perValue * head.fieldCount * head.stepCount;
   return Math.max(head.baseVertexCount, Math.floor(budget / perVertex));
 }

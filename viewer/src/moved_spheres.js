@@ -7,7 +7,7 @@
 // nothing copied) or as copies of the prefixes read, transferred —; the worker keeps the spheres
 // and answers each camera with the splits it wants, transferred. The page closes them.
 import { splitSpheres, viewOrder } from './dpm/view_target.js';
-import { ProgressiveMesh } from './dpm/progressive_mesh.js';
+import { ProgressiveMesh, positionsBetween } from './dpm/progressive_mesh.js';
 
 const isShared = (a) => typeof SharedArrayBuffer !== 'undefined' && a.buffer instanceof SharedArrayBuffer;
 
@@ -18,7 +18,7 @@ export function viewRequest(mesh, L, t, views, withSpheres, key = '') {
   const transfer = [];
   const message = { key, L, t, views, spheres: null };
   if (!withSpheres) return { message, transfer };
-  const { t0, t1 } = mesh.stepsAround(t);
+  const { t0, t1, a } = mesh.stepsAround(t);
   const n = mesh.head.baseVertexCount + L;
   // Shared arrays go as they are; others as copies of what is read.
   const part = (a, count) => {
@@ -27,8 +27,11 @@ export function viewRequest(mesh, L, t, views, withSpheres, key = '') {
     transfer.push(copy.buffer);
     return copy;
   };
-  const q0 = part(mesh.q[t0], 3 * n);
-  const q1 = t1 === t0 ? null : part(mesh.q[t1], 3 * n);
+  // The steps around t as the page's positions hold them (step 0 stored and shared; others made
+  // on the page, in arrays that move with time: copied), the later only between two steps.
+  const [p0, p1] = mesh.positions.around(mesh.storedStep(t0), mesh.storedStep(a === 0 ? t0 : t1), n);
+  const q0 = part(p0, 3 * n);
+  const q1 = a === 0 ? null : part(p1, 3 * n);
   message.spheres = { head: mesh.head, q0, q1, parent: part(mesh.parent, L), error: part(mesh.error, L) };
   return { message, transfer };
 }
@@ -51,13 +54,9 @@ export class ViewWorker {
 
 // The spheres of the first L splits at step t from what viewRequest() sent.
 function spheresOf({ head, q0, q1, parent }, L, t) {
-  const mesh = Object.create(ProgressiveMesh.prototype);
-  const { t0, t1 } = ProgressiveMesh.prototype.stepsAround.call({ head }, t);
-  const q = [];
-  q[t0] = q0;
-  q[t1] = q1 ?? q0;
-  Object.assign(mesh, { head, q, parent });
-  return splitSpheres(mesh, L, t);
+  const { a } = ProgressiveMesh.prototype.stepsAround.call({ head }, t);
+  const positionsAt = (_, n, out) => positionsBetween(head, q0, q1 ?? q0, a, n, out);
+  return splitSpheres({ head, parent, positionsAt }, L, t);
 }
 
 // Page: a worker making a view's splits, one request at a time. `get(mesh, L, t, views)` gives

@@ -26,7 +26,7 @@ function decodeMirrored(shared, slice) {
     if (m.type === 'base') addFields(page.mesh, m.fields, m.faceHeir), applyPieces(page.mesh, m.pieces), (page.mesh.hasBase = true);
     if (m.type === 'splits') applyPieces(page.mesh, m.pieces), (page.mesh.splitsLoaded = m.first + m.count);
     page.messages = (page.messages ?? 0) + 1;
-    page.regrown = (page.regrown ?? 0) + (m.pieces ?? []).filter(([path, first]) => path === 'q' && first === null).length;
+    page.regrown = (page.regrown ?? 0) + (m.pieces ?? []).filter(([path, first]) => path === 'positions.steps' && first === null).length;
   };
   // Room for the base only at first, as for ?vertices=1: the arrays of every step grow.
   const decoder = new DpmDecoder({
@@ -59,7 +59,11 @@ function arrays(mesh) {
     if (ArrayBuffer.isView(value)) add(key, value);
     else if (value?.data && 'length' in value) add(key, value.data.subarray(0, value.length));
   }
-  mesh.q.forEach((a, t) => add(`q${t}`, a));
+  // Positions as the page reads them: every step of the loaded vertices, and what is stored.
+  const n = mesh.vertexCountLoaded;
+  for (let t = 0; t < mesh.head.stepCount; t++) add(`positions${t}`, mesh.positionsAt(t, n, new Float32Array(3 * n)));
+  mesh.positions.steps.forEach((a, t) => add(`steps${t}`, a.subarray(0, 3 * n)));
+  mesh.positions.wide.forEach((a, t) => add(`wide${t}`, a.subarray(0, 1 + 2 * a[0])));
   mesh.fields.forEach((f, k) => {
     f.q.forEach((a, t) => add(`field${k}.q${t}`, a));
     add(`field${k}.error`, f.error);
@@ -80,10 +84,10 @@ for (const shared of [false, true]) {
     for (const name of Object.keys(a)) assert.deepEqual(b[name], a[name], name);
     if (shared) {
       // One memory: what the page's array holds is what the decoder's holds.
-      const x = mesh.q[0][5];
-      page.q[0][5] = x + 1;
-      assert.equal(mesh.q[0][5], x + 1, 'positions are shared');
-      page.q[0][5] = x;
+      const x = mesh.positions.steps[2][5];
+      page.positions.steps[2][5] = x + 1;
+      assert.equal(mesh.positions.steps[2][5], x + 1, 'positions are shared');
+      page.positions.steps[2][5] = x;
     }
     // The page's mesh navigates: the faces at the full level and half-way are the decoder's.
     for (const level of [mesh.head.splitCount, mesh.head.splitCount >> 1]) {
@@ -107,8 +111,8 @@ test('the chunk that crosses the vertices a reader means to load fits the room t
     const seen = {};
     const decoder = new DpmDecoder({
       vertices,
-      onBase: (mesh) => (seen.base = { positions: mesh.q[0], field: mesh.fields[0].q[0] }),
-      onSplits: (mesh) => (seen[mesh.vertexCountLoaded] = { positions: mesh.q[0], field: mesh.fields[0].q[0] }),
+      onBase: (mesh) => (seen.base = { positions: mesh.positions.steps[0], field: mesh.fields[0].q[0] }),
+      onSplits: (mesh) => (seen[mesh.vertexCountLoaded] = { positions: mesh.positions.steps[0], field: mesh.fields[0].q[0] }),
     });
     decoder.push(file);
     return seen;

@@ -12,6 +12,7 @@ import { after, before, test } from 'node:test';
 import { chromium } from 'playwright-core';
 
 import { readDpm } from '../src/dpm.js';
+import { positionBytes } from '../src/dpm/step_positions.js';
 import { CHROMIUM_ARGS, startServer } from './chromium.mjs';
 
 const { DYNPM_CLI: cli, DYNPM_DPM: dpm } = process.env;
@@ -52,7 +53,15 @@ test('the base mesh is drawn before the file is in, from range requests', async 
   const grey = await page.evaluate(() => window.dpmViewer.snapshot(32));
   assert.ok(new Set(grey).size > 1, 'the base mesh is on the canvas');
   // Complete, and the level has followed the file to its end.
-  const followed = () => ((s) => s.complete && s.vertices === s.loadedVertices)(window.dpmViewer.state());
+  // The bytes a vertex's positions take on the page, at least (the stored arrays: step 0, the first
+// motion in 16 bits, 8 a coordinate a step after; 32 each when lossless) and at most (the budget's
+// estimate, escaped values and a cursor in it, and a second cursor).
+function positionBounds({ stepCount: T, flags }) {
+  const lossless = (flags & 1) !== 0;
+  return [lossless ? 12 * T : 12 + 6 + 3 * (T - 2), positionBytes(T, lossless) + 24];
+}
+
+const followed = () => ((s) => s.complete && s.vertices === s.loadedVertices)(window.dpmViewer.state());
   await page.waitForFunction(followed, null, { timeout: 60000 });
   const last = await state(page);
   assert.equal(last.bytesLoaded, size);
@@ -76,6 +85,14 @@ async function paused(page) {
   }
   return s;
 }
+// The bytes a vertex's positions take on the page, at least (the stored arrays: step 0, the first
+// motion in 16 bits, 8 a coordinate a step after; 32 each when lossless) and at most (the budget's
+// estimate, escaped values and a cursor in it, and a second cursor).
+function positionBounds({ stepCount: T, flags }) {
+  const lossless = (flags & 1) !== 0;
+  return [lossless ? 12 * T : 12 + 6 + 3 * (T - 2), positionBytes(T, lossless) + 24];
+}
+
 const followed = () => ((s) => s.complete && s.vertices === s.loadedVertices)(window.dpmViewer.state());
 
 test('?vertices=N fetches only the chunks up to N vertices; the slider fetches the rest', async () => {
@@ -91,14 +108,15 @@ test('?vertices=N fetches only the chunks up to N vertices; the slider fetches t
   const steps = await page.evaluate(() => window.dynpm.view().stepCount);
   const positionBytes = () => page.evaluate(() => window.dpmViewer.memory().positions);
   const held = await positionBytes();
-  assert.ok(held >= 12 * s.loadedVertices * steps && held <= 2 * 12 * s.loadedVertices * steps && held < 12 * total * steps,
+  const { head } = readDpm(new Uint8Array(readFileSync(dpm)), dpm).mesh;
+  const [least, most] = positionBounds(head);
+  assert.ok(held >= least * s.loadedVertices && held <= 2 * most * s.loadedVertices && held < 12 * total * steps / 3,
     `${held} bytes of positions for ${s.loadedVertices} of ${total} vertices × ${steps} steps`);
   // The ids and split records count as far as they are filled: 12 B a loaded vertex (original
   // index, node id) and 16 a loaded face (original index, part, element id), not the whole
   // model's arrays.
   const { ids } = await page.evaluate(() => window.dpmViewer.memory());
   // (faces: at most two a vertex on these meshes).
-  const { head } = readDpm(new Uint8Array(readFileSync(dpm)), dpm).mesh;
   const allIds = 12 * head.vertexCount + 16 * head.faceCount;
   assert.ok(ids >= 12 * s.loadedVertices && ids <= 44 * s.loadedVertices && ids < allIds,
     `${ids} bytes of ids for ${s.loadedVertices} of ${total} vertices (all: ${allIds})`);
@@ -111,26 +129,30 @@ test('?vertices=N fetches only the chunks up to N vertices; the slider fetches t
   assert.equal(s.bytesLoaded, size);
   assert.equal(s.loadedVertices, total);
   assert.equal(s.vertices, total, 'following the file to the full mesh');
-  assert.equal(await positionBytes(), 12 * total * steps);
+  const all = await positionBytes();
+  assert.ok(all >= least * total && all <= most * total, `${all} bytes of positions for all ${total} vertices`);
   assert.deepEqual(errors, []);
   await page.close();
 });
 
 test('without ?vertices=N the page loads at first the levels whose values fit ?memory=MiB; the slider the rest', async () => {
-  const { page, errors } = await open('?memory=0.5');
+  const { page, errors } = await open('?memory=0.25');
   const s = await paused(page);
   const steps = await page.evaluate(() => window.dynpm.view().stepCount);
   const total = await page.evaluate(() => Number(document.getElementById('resolution').max));
-  // 0.5 MiB: 12 B a vertex a step for its position, 2 for each field's value (4 when lossless).
-  const { fieldCount, flags } = readDpm(new Uint8Array(readFileSync(dpm)), dpm).mesh.head;
-  const budgeted = Math.floor(2 ** 19 / ((12 + (flags & 1 ? 4 : 2) * fieldCount) * steps));
-  assert.ok(budgeted < total, `the sample's ${total} vertices × ${steps} steps fit 0.5 MiB`);
+  // 0.25 MiB: a vertex's positions (about 3 B a step, compact), 2 B a step for each field's value
+  // (4 when lossless).
+  const { head } = readDpm(new Uint8Array(readFileSync(dpm)), dpm).mesh;
+  const { fieldCount, flags } = head;
+  const budgeted = Math.floor(2 ** 18 / (positionBytes(steps, (flags & 1) !== 0) + (flags & 1 ? 4 : 2) * fieldCount * steps));
+  assert.ok(budgeted < total, `the sample's ${total} vertices × ${steps} steps fit 0.25 MiB`);
   assert.equal(s.paused, true);
   assert.ok(s.loadedVertices >= budgeted && s.loadedVertices < total && s.bytesLoaded < size,
     `${s.loadedVertices} of ${total} vertices (${budgeted} budgeted), ${s.bytesLoaded} of ${size} bytes`);
-  assert.match(await page.locator('#resolution-label').textContent(), /loaded \(the levels whose values at every step fit 512\.0 KiB/);
+  assert.match(await page.locator('#resolution-label').textContent(), /loaded \(the levels whose values at every step fit 256\.0 KiB/);
   const held = await page.evaluate(() => window.dpmViewer.memory().positions);
-  assert.ok(held >= 12 * s.loadedVertices * steps && held <= 2 * 12 * s.loadedVertices * steps, `${held} bytes of positions`);
+  const [least, most] = positionBounds(head);
+  assert.ok(held >= least * s.loadedVertices && held <= 2 * most * s.loadedVertices, `${held} bytes of positions`);
   await page.locator('#panel-toggle').click();
   const box = await page.locator('#resolution').boundingBox();
   await page.mouse.click(box.x + box.width - 2, box.y + box.height / 2);
@@ -139,7 +161,7 @@ test('without ?vertices=N the page loads at first the levels whose values fit ?m
   assert.equal(full.bytesLoaded, size);
   assert.equal(full.loadedVertices, total);
   assert.equal(full.paused, false);
-  assert.doesNotMatch(await page.locator('#resolution-label').textContent(), /fit 512/);
+  assert.doesNotMatch(await page.locator('#resolution-label').textContent(), /fit 256/);
   assert.deepEqual(errors, []);
   await page.close();
 });

@@ -14,7 +14,7 @@ import { fieldModels, maxFieldValueBytes, parseFieldDefs, parseFieldValues } fro
 import { parsePartNames } from './parts.js';
 import { parseVariants } from './variants.js';
 import { parseBase, parseHead } from './head_base.js';
-import { ChunkStencils, decodeSplitPositions, positionModels } from './positions.js';
+import { ChunkStencils, decodeSplitPositions, positionJob, positionModels, storePositions } from './positions.js';
 import { ProgressiveMesh } from './progressive_mesh.js';
 import { decodeSplitRecords, RecordModels } from './split_records.js';
 
@@ -113,6 +113,8 @@ export class DpmDecoder {
     this.positions = positions;
     // The SPLT whose positions the executor is decoding: { chunk, at, parsed } (its FLDS too).
     this.inFlight = null;
+    // The arrays a SPLT's positions are decoded into (positions.js positionJob()), kept for the next.
+    this.staging = null;
     // Splits whose records are parsed: committed (mesh.splitsLoaded) or in flight.
     this.splitsDecoded = 0;
     this.buffer = new Uint8Array(1 << 16);
@@ -174,6 +176,7 @@ export class DpmDecoder {
     this.inFlight = null;
     const problem = this.positions.wait();
     if (problem) throw new DpmError(`${job.at}: ${problem}`);
+    storePositions(job.positions);
     if (job.parsed && commit) this.commit(job.chunk);
   }
 
@@ -388,10 +391,9 @@ export class DpmDecoder {
     this.room(n, n === V ? F : Math.ceil((F * n) / V), !crossing);
   }
 
-  // mesh.makeRoom(), after the positions in flight when it makes the arrays of every step anew
-  // (they write into the old ones).
+  // mesh.makeRoom(): the positions in flight read the arrays they were given, which keep what
+  // they held, and are stored into the mesh's arrays once in (flush()).
   room(vertices, faces, doubling = true) {
-    if (this.inFlight && 3 * vertices > this.mesh.q[0].length) this.flush();
     this.mesh.makeRoom(vertices, faces, doubling);
   }
 
@@ -401,13 +403,20 @@ export class DpmDecoder {
     const { mesh } = this;
     const { s, n, stencils, sections } = chunk;
     if (!this.positions) {
-      const problem = decodeSplitPositions(mesh, s, n, stencils, this.models, sections);
+      const job = positionJob(mesh, s, n, stencils, sections, this.models, this.staging);
+      this.staging = job.staging;
+      const problem = decodeSplitPositions(job);
       if (problem) r.failChunk(problem);
+      storePositions(job);
       return;
     }
     this.flush();
-    this.positions.start({ mesh, s, n, stencils, sections, models: this.models });
-    this.inFlight = { chunk, at: r.at, parsed: false };
+    // The staging arrays go to the executor's thread: shared where the page can share.
+    this.staging ??= typeof SharedArrayBuffer !== 'undefined' ? new Int32Array(new SharedArrayBuffer(4)) : null;
+    const job = positionJob(mesh, s, n, stencils, sections, this.models, this.staging);
+    this.staging = job.staging;
+    this.positions.start(job);
+    this.inFlight = { chunk, at: r.at, parsed: false, positions: job };
   }
 
   // The base mesh, or a SPLT with its FLDS, parsed to its end: committed, or, while its

@@ -118,17 +118,16 @@ function parseFaceIds(r, mesh, first, count) {
 }
 
 // The base vertices' positions (FORMAT.md "Positions"), svarint residuals: step 0 against the
-// previous vertex, later steps against the vertex's own previous step. Int32Array stores wrap
+// previous vertex, later steps against the vertex's own previous step; each step is kept compact
+// as soon as it is read (step_positions.js), three steps at a time. Int32Array stores wrap
 // modulo 2^32, as lossless residual arithmetic requires; a quantized position lies in the
 // bounding box, give or take two grid steps (dpm_read.cpp checks the same).
 function parsePositions(r, mesh, count) {
-  const q = mesh.q;
-  const { bboxMin, bboxMax, quantStep } = mesh.head;
+  const { bboxMin, bboxMax, quantStep, stepCount } = mesh.head;
   const checked = !mesh.lossless;
   const top = [0, 1, 2].map((c) => (bboxMax[c] - bboxMin[c]) / quantStep + 2);
-  for (let t = 0; t < q.length; t++) {
-    const cur = q[t];
-    const prev = t > 0 ? q[t - 1] : null;
+  let [cur, prev, prev2] = [0, 1, 2].map(() => new Int32Array(3 * count));
+  for (let t = 0; t < stepCount; t++) {
     for (let i = 0; i < 3 * count; i++) {
       const residual = r.svarint();
       if (!residualFits(residual, mesh.lossless)) r.fail(`vertex ${Math.floor(i / 3)} step ${t}: ${LOSSLESS_RESIDUAL}`);
@@ -137,5 +136,7 @@ function parsePositions(r, mesh, count) {
         r.fail(`vertex ${Math.floor(i / 3)} step ${t}: a position far outside the bounding box`);
       cur[i] = x;
     }
+    mesh.positions.store(t, 0, count, cur, prev, t > 1 ? prev2 : prev, 0);
+    [prev2, prev, cur] = [prev, cur, prev2];
   }
 }

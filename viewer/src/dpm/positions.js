@@ -100,26 +100,95 @@ export function bucket(r) {
 // ⌊(2 · sum + count) / (2 · count)⌋: the mean rounded half up (exact: |sum| < 2^40).
 const roundedMean = (sum, count) => Math.floor((2 * sum + count) / (2 * count));
 
-// Decodes the positions of the n vertices from b + s into mesh.q, section t for step t
-// (Uint8Arrays), with the chunk's stencils. Returns null or what is wrong.
-export function decodeSplitPositions(mesh, s, n, stencils, models, sections) {
-  const q = mesh.q;
-  const { baseVertexCount: b, bboxMin, bboxMax, quantStep } = mesh.head;
+// A SPLT's positions are decoded into staging arrays, one per step, that hold the chunk's old
+// vertices (those its stencils name from before the chunk, walked step by step out of the
+// compact store: step_positions.js) and then its new ones; the stencils name them by their place
+// there (localStencils). storePositions() then keeps the new ones compact. The job is what a
+// second worker needs (decode_worker.js): plain arrays, the staging shared.
+export function positionJob(mesh, s, n, stencils, sections, models, staging = null) {
+  const { baseVertexCount: b, stepCount } = mesh.head;
+  const local = localStencils(stencils, n, b + s);
+  const length = 3 * (local.first + n) * stepCount;
+  if (!staging || staging.length < length) {
+    const shared = staging && typeof SharedArrayBuffer !== 'undefined' && staging.buffer instanceof SharedArrayBuffer;
+    staging = new Int32Array(shared ? new SharedArrayBuffer(4 * length) : length);
+  }
+  return { head: mesh.head, lossless: mesh.lossless, positions: mesh.positions, s, n, stencils: local, models, sections, staging };
+}
+
+// The stencils with each vertex named by its place in the staging arrays: the old vertices
+// first (ascending: the walk over them reads the compact arrays in order), then the chunk's own
+// from `first` on. Rings keep their order (the ring fit sums in it).
+let slotOf = new Int32Array(0);  // per vertex: its place among a job's old vertices, else −1
+function localStencils(stencils, n, chunkFirst) {
+  const { split, ringStart } = stencils;
+  const ring = stencils.ring.data.subarray(0, stencils.ring.length);
+  if (slotOf.length < chunkFirst) slotOf = new Int32Array(Math.max(chunkFirst, 2 * slotOf.length)).fill(-1);
+  const found = [];
+  const note = (v) => {
+    if (v < chunkFirst && slotOf[v] < 0) (slotOf[v] = 0), found.push(v);
+  };
+  for (let k = 0; k < n; k++) {
+    const st = 10 * k;
+    note(split[st]);
+    for (let j = 0; j < 2 * split[st + 1]; j++) note(split[st + 2 + j]);
+  }
+  for (let j = 0; j < ring.length; j++) note(ring[j]);
+  const old = Int32Array.from(found).sort();
+  for (let k = 0; k < old.length; k++) slotOf[old[k]] = k;
+  const first = old.length, shift = first - chunkFirst;
+  const at = (v) => (v >= chunkFirst ? v + shift : slotOf[v]);
+  const local = new Int32Array(10 * n);
+  for (let k = 0; k < n; k++) {
+    const st = 10 * k;
+    local[st] = at(split[st]);
+    local[st + 1] = split[st + 1];
+    for (let j = 0; j < 2 * split[st + 1]; j++) local[st + 2 + j] = at(split[st + 2 + j]);
+  }
+  const localRing = new Int32Array(ring.length);
+  for (let j = 0; j < ring.length; j++) localRing[j] = at(ring[j]);
+  for (let k = 0; k < old.length; k++) slotOf[old[k]] = -1;
+  return { split: local, ringStart, ring: { data: localRing }, old, first };
+}
+
+// Step t's staging array of a job.
+function stagingStep({ staging, stencils, n }, t) {
+  const width = 3 * (stencils.first + n);
+  return staging.subarray(t * width, (t + 1) * width);
+}
+
+// Decodes a job's positions (section t for step t, Uint8Arrays) into its staging arrays.
+// Returns null or what is wrong.
+export function decodeSplitPositions(job) {
+  const { head, lossless, positions, s, n, stencils, models, sections } = job;
+  const { baseVertexCount: b, bboxMin, bboxMax, quantStep, stepCount } = head;
+  positions.gather(stencils.old, (t) => stagingStep(job, t));
   // Quantized positions lie within two grid steps of the box (position_coding.cpp checks it too).
   const top = [0, 1, 2].map((c) => (bboxMax[c] - bboxMin[c]) / quantStep + 2);
   let before = new Float64Array(3 * n);  // the residuals at t − 1
   let now = new Float64Array(3 * n);  // and at t
-  for (let t = 0; t < q.length; t++) {
+  for (let t = 0; t < stepCount; t++) {
     const d = new RangeDecoder(sections[t]);
     if (!d.ok()) return `the positions of step ${t} are cut short`;  // or do not start as coded
-    const step = { d, m: models[t], cur: q[t], prev: t > 0 ? q[t - 1] : null, t, first: b + s, n };
-    const problem = mesh.lossless ? losslessStep(step, stencils, before)
+    const step = { d, m: models[t], cur: stagingStep(job, t), prev: t > 0 ? stagingStep(job, t - 1) : null, t,
+      first: stencils.first, n, vertex0: b + s };
+    const problem = lossless ? losslessStep(step, stencils, before)
       : t === 0 ? firstStep(step, stencils, before, top) : laterStep(step, stencils, before, now, top);
     if (problem) return problem;
-    if (!mesh.lossless && t > 0) [before, now] = [now, before];
+    if (!lossless && t > 0) [before, now] = [now, before];
     if (!d.exhausted()) return `the positions of step ${t} leave bytes unread`;
   }
   return null;
+}
+
+// The new vertices of a decoded job into its mesh's compact store (room made for them).
+export function storePositions(job) {
+  const { head, positions, s, n, stencils } = job;
+  for (let t = 0; t < head.stepCount; t++) {
+    const before = t > 0 ? stagingStep(job, t - 1) : null;
+    positions.store(t, head.baseVertexCount + s, n, stagingStep(job, t), before, t > 1 ? stagingStep(job, t - 2) : before,
+      3 * stencils.first);
+  }
 }
 
 // What is wrong when a coordinate x of vertex v at step t was decoded past the section's end or lies
@@ -138,15 +207,15 @@ export function deferredPositions() {
       job = next;
     },
     wait() {
-      const { mesh, s, n, stencils, models, sections } = job;
+      const next = job;
       job = null;
-      return decodeSplitPositions(mesh, s, n, stencils, models, sections);
+      return decodeSplitPositions(next);
     },
   };
 }
 
 // Step 0: the parallelogram over the quad wings, else the parent; context 0.
-function firstStep({ d, m, cur, first, n }, stencils, before, top) {
+function firstStep({ d, m, cur, first, n, vertex0 }, stencils, before, top) {
   const split = stencils.split;
   for (let k = 0; k < n; k++) {
     const v = first + k;
@@ -163,7 +232,7 @@ function firstStep({ d, m, cur, first, n }, stencils, before, top) {
       }
       const r = decodeSigned(d, m, c * COORDINATE_MODELS);
       const x = guess + r;
-      if (d.overrun !== 0 || d.tooLarge || !(x >= -2 && x <= top[c])) return positionProblem(d, 0, v, x, top[c]);
+      if (d.overrun !== 0 || d.tooLarge || !(x >= -2 && x <= top[c])) return positionProblem(d, 0, vertex0 + k, x, top[c]);
       cur[3 * v + c] = x;
       before[3 * k + c] = r;
     }
@@ -226,7 +295,7 @@ function ringMotionGuess(cur, prev, ring, r0, r1, v) {
 // motion), plus (t ≥ 2) 3/8 of the last
 // step's miss, rounded half up (at t = 1 the miss is step 0's, not a motion's); the context is
 // the bucket of the coordinate's last residual. The residuals of `before` become those of `now`.
-function laterStep({ d, m, cur, prev, t, first, n }, stencils, before, now, top) {
+function laterStep({ d, m, cur, prev, t, first, n, vertex0 }, stencils, before, now, top) {
   // 1. The residuals first, in a loop that does nothing else: their contexts are the last step's
   //    residuals, not positions. cut: the first one decoded past the end or too large.
   let cut = 3 * n;
@@ -271,7 +340,7 @@ function laterStep({ d, m, cur, prev, t, first, n }, stencils, before, now, top)
       for (let c = 0; c < 3; c++) {
         if (e + c >= cut) return `the positions of step ${t} are cut short`;
         if (!(xyz[c] >= -2 && xyz[c] <= top[c]))
-          return `step ${t}: vertex ${first + k}'s position is far outside the bounding box`;
+          return `step ${t}: vertex ${vertex0 + k}'s position is far outside the bounding box`;
       }
     }
     cur[v] = x, cur[v + 1] = y, cur[v + 2] = z;
@@ -281,7 +350,7 @@ function laterStep({ d, m, cur, prev, t, first, n }, stencils, before, now, top)
 
 // Lossless (f32 bit patterns): the parent at step 0, then the vertex's own previous value moved
 // by its parent's motion; Int32Array stores wrap modulo 2^32, as the residuals do.
-function losslessStep({ d, m, cur, prev, t, first, n }, stencils, before) {
+function losslessStep({ d, m, cur, prev, t, first, n, vertex0 }, stencils, before) {
   const split = stencils.split;
   for (let k = 0; k < n; k++) {
     const v = 3 * (first + k);
@@ -291,7 +360,7 @@ function losslessStep({ d, m, cur, prev, t, first, n }, stencils, before) {
       const e = 3 * k + c;
       const r = decodeSigned(d, m, c * COORDINATE_MODELS + (t > 0 ? bucket(before[e]) : 0) * SIGNED_MODEL_SIZE);
       if (!d.ok()) return `the positions of step ${t} are cut short`;
-      if (!residualFits(r, true)) return `step ${t}: vertex ${first + k}: ${LOSSLESS_RESIDUAL}`;
+      if (!residualFits(r, true)) return `step ${t}: vertex ${vertex0 + k}: ${LOSSLESS_RESIDUAL}`;
       cur[v + c] = guess + r;
       before[e] = (cur[v + c] - (guess | 0)) | 0;  // modulo 2^32, as a signed value
     }

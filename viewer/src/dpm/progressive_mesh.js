@@ -3,11 +3,12 @@
 // include/dynpm/progressive.h, apply_split()/undo_split() in src/progressive/progressive_mesh.cpp;
 // the names of the split record are the same on both sides.
 //
-// Positions are kept as the file's quantized integers, one Int32Array of 3 per vertex per step,
-// so that any level at any (fractional) step is a prefix of them; each holds the vertices that
-// have arrived (makeRoom()). Faces are 4 corner slots each, −1 in slot 3 of a triangle (one
+// Positions are kept as the file's quantized integers, compact (step_positions.js), so that any
+// level at any (fractional) step is a prefix of a step made in one pass; they hold the vertices
+// that have arrived (makeRoom()). Faces are 4 corner slots each, −1 in slot 3 of a triangle (one
 // 16-byte record per face).
 import { DpmError, Growable, withRoom } from './bytes.js';
+import { StepPositions } from './step_positions.js';
 
 // A wing's flags (FORMAT.md "SPLT payload"; C++ SplitWing::kWasTriangle, kV1FollowsV0,
 // kSlotShift): the face was a triangle (re-created), v1 followed v0 in its corner order, and
@@ -25,8 +26,8 @@ export class ProgressiveMesh {
     const { vertexCount: V, faceCount: F, stepCount: m } = head;
     if (3 * V * 1 > MAX_ARRAY_ELEMENTS || 4 * F > MAX_ARRAY_ELEMENTS)
       throw new DpmError(`HEAD: ${V} vertices, ${F} faces, ${m} steps: more than a browser holds`);
-    this.q = [];  // per step: Int32Array(3 per vertex), quantized (or f32 bit patterns when lossless)
-    for (let t = 0; t < m; t++) this.q.push(new Int32Array(0));
+    // every step's positions: quantized integers (or f32 bit patterns when lossless)
+    this.positions = new StepPositions(m, (head.flags & HEAD_FLAG_LOSSLESS) !== 0, V);
     this.fields = [];  // result fields (DpmField, fields.js), from FDEF
     this.partNames = new Map();  // part id → name, from PART (parts.js)
     // per face a split re-creates: the face that stands for it while the split is undone
@@ -68,11 +69,10 @@ export class ProgressiveMesh {
 
   // Room in the arrays of every step (positions, field values) for the first `vertices`
   // vertices and `faces` faces; the decoder asks before a chunk writes them. The arrays may be
-  // new ones: read this.q[t] (and a field's q[t]) after a chunk, not before. `doubling`: as
-  // withRoom().
+  // new ones: read a field's q[t] after a chunk, not before. `doubling`: as withRoom().
   makeRoom(vertices, faces, doubling = true) {
     const { vertexCount: V, faceCount: F } = this.head;
-    for (let t = 0; t < this.q.length; t++) this.q[t] = withRoom(this.q[t], 3 * vertices, 3 * V, 0, doubling);
+    this.positions.makeRoom(vertices, doubling);
     for (const f of this.fields) {
       const [n, max] = f.perFace ? [faces, F] : [vertices, V];
       for (let t = 0; t < f.q.length; t++) f.q[t] = withRoom(f.q[t], n, max, 0, doubling);
@@ -108,15 +108,20 @@ export class ProgressiveMesh {
   }
   // Position of vertex v at integer step t, as the f32 the file means.
   position(v, t, out = [0, 0, 0]) {
-    const q = this.q[t];
+    const q = this.positions.position(v, this.storedStep(t), out);
     if (this.lossless) {
-      const f = new Float32Array(q.buffer, q.byteOffset + 12 * v, 3);
-      out[0] = f[0], out[1] = f[1], out[2] = f[2];
+      bits.set(q);
+      out[0] = bitsAsFloat[0], out[1] = bitsAsFloat[1], out[2] = bitsAsFloat[2];
     } else {
       const { bboxMin, quantStep } = this.head;
-      for (let c = 0; c < 3; c++) out[c] = Math.fround(bboxMin[c] + q[3 * v + c] * quantStep);
+      for (let c = 0; c < 3; c++) out[c] = Math.fround(bboxMin[c] + q[c] * quantStep);
     }
     return out;
+  }
+
+  // The step of the stored positions that step t shows (a variant's view maps them: variants.js).
+  storedStep(t) {
+    return t;
   }
 
   // The steps around fractional step t (clamped to the animation) and the weight of the later:
@@ -130,37 +135,11 @@ export class ProgressiveMesh {
 
   // Positions of vertices [0, n) at fractional step t (linear between the two steps around it),
   // into out (Float32Array, ≥ 3n). This is the per-frame work while time changes: one pass over
-  // a prefix of two arrays.
+  // a prefix of two steps (made from the step before in one more pass when time crosses a step).
   positionsAt(t, n, out) {
     const { t0, t1, a } = this.stepsAround(t);
-    const count = 3 * n;
-    if (this.lossless) {
-      const p0 = new Float32Array(this.q[t0].buffer, 0, count);
-      const p1 = new Float32Array(this.q[t1].buffer, 0, count);
-      if (a === 0) out.set(p0);
-      else for (let i = 0; i < count; i++) out[i] = p0[i] + (p1[i] - p0[i]) * a;
-      return out;
-    }
-    const q0 = this.q[t0];
-    const q1 = this.q[t1];
-    const s = this.head.quantStep;
-    const [x0, y0, z0] = this.head.bboxMin;
-    if (a === 0) {
-      for (let i = 0; i < count; i += 3) {
-        out[i] = x0 + q0[i] * s;
-        out[i + 1] = y0 + q0[i + 1] * s;
-        out[i + 2] = z0 + q0[i + 2] * s;
-      }
-    } else {
-      const b0 = (1 - a) * s;
-      const b1 = a * s;
-      for (let i = 0; i < count; i += 3) {
-        out[i] = x0 + q0[i] * b0 + q1[i] * b1;
-        out[i + 1] = y0 + q0[i + 1] * b0 + q1[i + 1] * b1;
-        out[i + 2] = z0 + q0[i + 2] * b0 + q1[i + 2] * b1;
-      }
-    }
-    return out;
+    const [q0, q1] = this.positions.around(this.storedStep(t0), this.storedStep(a === 0 ? t0 : t1), n);
+    return positionsBetween(this.head, q0, q1, a, n, out);
   }
 
   // |p − p(0)| of vertices [0, n), given their positions now and at step 0.
@@ -173,6 +152,40 @@ export class ProgressiveMesh {
     }
     return out;
   }
+}
+
+const bits = new Int32Array(3);
+const bitsAsFloat = new Float32Array(bits.buffer);
+
+// Positions of vertices [0, n) a fraction a of the way from the integers q0 to q1 (Int32Arrays,
+// 3 a vertex: quantized, or f32 bit patterns in a lossless file), into out.
+export function positionsBetween(head, q0, q1, a, n, out) {
+  const count = 3 * n;
+  if (head.flags & HEAD_FLAG_LOSSLESS) {
+    const p0 = new Float32Array(q0.buffer, q0.byteOffset, count);
+    const p1 = new Float32Array(q1.buffer, q1.byteOffset, count);
+    if (a === 0) out.set(p0);
+    else for (let i = 0; i < count; i++) out[i] = p0[i] + (p1[i] - p0[i]) * a;
+    return out;
+  }
+  const s = head.quantStep;
+  const [x0, y0, z0] = head.bboxMin;
+  if (a === 0) {
+    for (let i = 0; i < count; i += 3) {
+      out[i] = x0 + q0[i] * s;
+      out[i + 1] = y0 + q0[i + 1] * s;
+      out[i + 2] = z0 + q0[i + 2] * s;
+    }
+  } else {
+    const b0 = (1 - a) * s;
+    const b1 = a * s;
+    for (let i = 0; i < count; i += 3) {
+      out[i] = x0 + q0[i] * b0 + q1[i] * b1;
+      out[i + 1] = y0 + q0[i + 1] * b0 + q1[i + 1] * b1;
+      out[i + 2] = z0 + q0[i + 2] * b0 + q1[i + 2] * b1;
+    }
+  }
+  return out;
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -67,8 +67,9 @@ export function variantView(mesh, index) {
   const v = mesh.variants[index];
   const view = Object.create(mesh);
   const steps = Array.from(v.steps);
-  // Read through: a step's array is made anew when it needs more room (makeRoom()).
-  Object.defineProperty(view, 'q', { get: () => steps.map((s) => mesh.q[s]) });
+  // Positions through the stored steps; field values read through, as a step's array is made
+  // anew when it needs more room (makeRoom()).
+  view.storedStep = (t) => steps[t];
   view.fields = mesh.fields.map((f) => Object.create(f, { q: { get: () => steps.map((s) => f.q[s]) } }));
   const keySteps = [];
   steps.forEach((s, t) => mesh.head.keySteps.includes(s) && keySteps.push(t));
