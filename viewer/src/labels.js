@@ -24,7 +24,7 @@ export function drawLabels(state, ui, refine, field) {
     (field >= 0 ? `, field error ${fmt(100 * nav.fieldError(field), 3)}% of its range` : '') +
     (mesh.splitsLoaded < h.splitCount ? `, ${int(mesh.vertexCountLoaded)} loaded` : '') +
     (mesh.splitsLoaded < h.splitCount && state.budgetLimits
-      ? ` (the levels whose values at every step fit ${bytes(state.memoryBudget)}${state.memoryShared ? ', half the page\'s budget: B has the other' : ''}: the slider's far end loads the rest)` : '');
+      ? ` (the levels whose arrays fit ${bytes(state.memoryBudget)}${state.memoryShared ? ', half the page\'s budget: B has the other' : ''}: the slider's far end loads the rest)` : '');
   const loaded = state.totalBytes
     ? `${bytes(state.bytesLoaded)} / ${bytes(state.totalBytes)}`
     : bytes(state.bytesLoaded);

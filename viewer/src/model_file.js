@@ -45,19 +45,25 @@ export function wantedVertices(params) {
   return n >= 0 ? n : Infinity;
 }
 
-// Without ?vertices=N the page loads at first the levels whose values at every step fit
-// ?memory=MiB (default 1 GiB): a vertex's positions take positionBytes() (about 3 bytes a step,
-// compact: dpm/step_positions.js; 12 in a lossless file) and each field's value 2 a step (4 in a
-// lossless file; dpm/fields.js valueArrayType(): a field quantized finer than 1/16383 of its
-// range, which HEAD does not tell, also takes 4; a face field is counted as a node field: a quad
-// mesh has about as many faces as vertices). The slider's far end asks for the rest.
+// Without ?vertices=N the page loads at first the levels whose arrays fit ?memory=MiB (default
+// 1 GiB): a vertex's positions at every step take positionBytes() (about 3 bytes a step, compact:
+// dpm/step_positions.js; 12 in a lossless file), each field's value 2 a step (4 in a lossless
+// file; dpm/fields.js valueArrayType(): a field quantized finer than 1/16383 of its range, which
+// HEAD does not tell, also takes 4; a face field is counted as a node field: a quad mesh has
+// about as many faces as vertices), and what does not depend on the steps STEP_FREE_BYTES. The
+// slider's far end asks for the rest.
 const DEFAULT_MEMORY_MIB = 1024;
+// A loaded vertex's share of the arrays that do not depend on the steps: on the 1 M × 25 crash
+// box's page 184 MiB (draw buffers 79, split records 45, navigator 34, ids 26: docs/viewer.md
+// "Memory"), about 193 bytes a vertex.
+const STEP_FREE_BYTES = 200;
 export function memoryBudget(params) {
   const mib = Number(params.get('memory') ?? DEFAULT_MEMORY_MIB);
   return (mib > 0 ? mib : DEFAULT_MEMORY_MIB) * 2 ** 20;
 }
 export function budgetedVertices(head, budget) {
   const perValue = head.flags & HEAD_FLAG_LOSSLESS ? 4 : 2;
-  const perVertex = positionBytes(head.stepCount, (head.flags & HEAD_FLAG_LOSSLESS) !== 0) + perValue * head.fieldCount * head.stepCount;
+  const steps = positionBytes(head.stepCount, (head.flags & HEAD_FLAG_LOSSLESS) !== 0) + perValue * head.fieldCount * head.stepCount;
+  const perVertex = steps + STEP_FREE_BYTES;
   return Math.max(head.baseVertexCount, Math.floor(budget / perVertex));
 }

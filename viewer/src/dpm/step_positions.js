@@ -203,17 +203,23 @@ export class StepPositions {
     return [first, step(t1)];
   }
 
-  // A cursor at step t holding the first n vertices: the one that gets there in the fewest
-  // passes; a new one (from step 0) while there are fewer than MAX_CURSORS and step 0 is closer.
+  // A cursor at step t holding the first n vertices: the one that gets there with the fewest
+  // coordinates walked (its missing vertices from step 0 to its step, then all to t), unless
+  // starting from step 0 walks fewer: then a new one while there are fewer than MAX_CURSORS, else
+  // the one used least recently, started again.
   cursorAt(t, n) {
-    let best = null, cost = Infinity;
+    let best = null, cost = t * n;
     for (const c of this.cursors) {
-      if (Math.abs(c.t - t) < cost) (best = c), (cost = Math.abs(c.t - t));
+      const walk = Math.max(0, n - c.n) * c.t + Math.abs(c.t - t) * n;
+      if (walk < cost) (best = c), (cost = walk);
     }
-    if (!best || (cost > t && this.cursors.length < MAX_CURSORS)) best = new Cursor();
-    else this.cursors.splice(this.cursors.indexOf(best), 1);
+    if (!best) {
+      best = this.cursors.length < MAX_CURSORS ? new Cursor() : this.cursors[0];
+      best.t = best.n = 0;
+    }
+    const i = this.cursors.indexOf(best);
+    if (i >= 0) this.cursors.splice(i, 1);
     this.cursors.push(best);  // the latest used last
-    if (cost > t) best.t = best.n = 0;  // from step 0 is shorter
     if (best.t !== t && best.n > n) best.n = n;  // the rest would be carried for nothing
     this.extend(best, n);
     while (best.t < t) this.forward(best);
