@@ -111,7 +111,8 @@ export class DpmDecoder {
     this.vertices = vertices;
     this.callbacks = { onHead, onBase, onSplits, onEnd };
     this.positions = positions;
-    // The SPLT whose positions the executor is decoding: { chunk, at, parsed } (its FLDS too).
+    // The SPLT whose positions the executor is decoding: { chunk, at, parsed, job } (its FLDS
+    // too; job: positionJob()'s).
     this.inFlight = null;
     // The arrays a SPLT's positions are decoded into (positions.js positionJob()), kept for the next.
     this.staging = null;
@@ -171,13 +172,13 @@ export class DpmDecoder {
   // The positions in flight, waited for: an error of theirs is thrown; their SPLT is committed
   // when it is parsed to its end (and `commit`).
   flush(commit = true) {
-    const job = this.inFlight;
-    if (!job) return;
+    const flight = this.inFlight;
+    if (!flight) return;
     this.inFlight = null;
     const problem = this.positions.wait();
-    if (problem) throw new DpmError(`${job.at}: ${problem}`);
-    storePositions(job.positions);
-    if (job.parsed && commit) this.commit(job.chunk);
+    if (problem) throw new DpmError(`${flight.at}: ${problem}`);
+    storePositions(flight.job);
+    if (flight.parsed && commit) this.commit(flight.chunk);
   }
 
   parse(bytes) {
@@ -416,7 +417,7 @@ export class DpmDecoder {
     const job = positionJob(mesh, s, n, stencils, sections, this.models, this.staging);
     this.staging = job.staging;
     this.positions.start(job);
-    this.inFlight = { chunk, at: r.at, parsed: false, positions: job };
+    this.inFlight = { chunk, at: r.at, parsed: false, job };
   }
 
   // The base mesh, or a SPLT with its FLDS, parsed to its end: committed, or, while its
