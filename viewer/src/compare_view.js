@@ -14,7 +14,7 @@ import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 
 import { hierarchyDifference, linkedVertexCount, positionDifference } from './compare_math.js';
-import { Navigator, ProgressiveMesh, updateIndices } from './dpm.js';
+import { Navigator, ProgressiveMesh, updateIndices, withChunkMargin } from './dpm.js';
 import { BaseLevel } from './base_level.js';
 import { CompareOverlay } from './compare_overlay.js';
 import { growDrawBuffers, uploadIndices } from './draw_buffers.js';
@@ -22,6 +22,7 @@ import { edgeMaterial, fieldColoursAtVertices } from './edge_lines.js';
 import { commonFields, FIELD_DIFFERENCE, FieldDifference } from './field_difference.js';
 import { FieldView } from './field_view.js';
 import { element, fmt, int } from './fringe.js';
+import { budgetedVertices } from './model_file.js';
 import { panelChoice } from './panel.js';
 import { PartView } from './part_view.js';
 import { greySnapshot } from './snapshot.js';
@@ -150,9 +151,14 @@ export class CompareView {
     this.decoder = {};  // want(n): fetch B up to n vertices (worker_decoder.js)
     this.asked = 0;  // the most vertices asked of B's worker
     this.paused = false;  // B's worker stopped at its budget (until askFor())
+    this.expected = Infinity;  // what B's worker loads before it pauses (the draw buffers' room)
     const decode = variantCallbacks(this.variant, {
       url: this.url, name: this.name,
-      onHead: (mesh) => (this.mesh = mesh),
+      onHead: (mesh) => {
+        this.mesh = mesh;
+        const budgeted = worker ? budgetedVertices(mesh.head, memory) : Infinity;
+        if (budgeted < mesh.head.vertexCount) this.expected = withChunkMargin(budgeted);
+      },
       onBase: (mesh) => this.onBase(mesh),
       onSplits: () => this.onSplits(),
       onNavigator,
@@ -267,6 +273,7 @@ export class CompareView {
     if (this.mesh.splitsLoaded >= h.splitCount || want <= this.mesh.vertexCountLoaded || want <= this.asked || !this.decoder?.want) return;
     this.asked = want;
     this.paused = false;
+    this.expected = Infinity;
     this.decoder.want(want);
   }
 
@@ -302,7 +309,7 @@ export class CompareView {
 
   drawLevel() {
     const nav = this.nav;
-    const grown = growDrawBuffers(this.buffers, this.room, nav.vertexCount, nav.faceCount, this.mesh.head, this.geometry, this.edgeGeometry);
+    const grown = growDrawBuffers(this.buffers, this.room, nav.vertexCount, nav.faceCount, this.mesh.head, this.geometry, this.edgeGeometry, this.expected);
     if (grown) (this.buffers = grown), (this.shownKey = '');
     const { triIndex, edgeIndex } = this.buffers;
     uploadIndices(this.geometry, this.edgeGeometry, nav.faceCount, updateIndices(nav, triIndex, edgeIndex));

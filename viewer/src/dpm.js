@@ -12,7 +12,7 @@
 //   dpm/bytes.js             CRC-32, varints, the bounds-checked payload reader
 //                            (src/progressive/bytes.h)
 export { DpmError } from './dpm/bytes.js';
-export { decodeDpm, DpmDecoder, MAGIC, readDpm, streamDpm, zstdFrameProblem } from './dpm/file.js';
+export { decodeDpm, DpmDecoder, MAGIC, readDpm, streamDpm, withChunkMargin, zstdFrameProblem } from './dpm/file.js';
 export {
   applySplit,
   checkSplit,

@@ -8,10 +8,20 @@ import * as THREE from 'three';
 // Grows `buffers` ({positions, colours, triIndex, edgeIndex, scratch}, null at first) to hold at
 // least `vertices` and `faces` of a mesh of `head`'s size, and sets them on the geometries;
 // `room` ({vertices, faces}) is updated. Returns the new buffers, or null if they had room.
-export function growDrawBuffers(buffers, room, vertices, faces, head, geometry, edgeGeometry) {
+// `expected`: the vertices the page means to load (?vertices=N or the memory budget's, with the
+// chunk that crosses them, Infinity once it asks for more): growing by 4× stops there, or at
+// what is needed when the chunk that crossed it was longer (1.7 M of a 5 M model took room for
+// 3.9 M before: arrays, and their copies on the GPU).
+// The first call (no room yet) may ask for more than it needs (`firstVertices`, `firstFaces`), as
+// far as expected.
+export function growDrawBuffers(buffers, room, vertices, faces, head, geometry, edgeGeometry, expected = Infinity,
+  firstVertices = vertices, firstFaces = faces) {
   if (vertices <= room.vertices && faces <= room.faces) return null;
-  const V = vertices <= room.vertices ? room.vertices : Math.min(head.vertexCount, Math.max(vertices, 4 * room.vertices));
-  const F = faces <= room.faces ? room.faces : Math.min(head.faceCount, Math.max(faces, 4 * room.faces));
+  // Faces in proportion, with a quarter more (a coarse level has more faces a vertex).
+  const expectedFaces = expected === Infinity ? Infinity : Math.ceil((1.25 * expected * head.faceCount) / head.vertexCount);
+  const grow = (need, had, all, cap, first) => Math.min(all, Math.max(need, Math.min(had ? 4 * had : first, cap)));
+  const V = vertices <= room.vertices ? room.vertices : grow(vertices, room.vertices, head.vertexCount, expected, firstVertices);
+  const F = faces <= room.faces ? room.faces : grow(faces, room.faces, head.faceCount, expectedFaces, firstFaces);
   const grown = (old, Type, n) => {
     const a = new Type(n);
     if (old) a.set(old.subarray(0, Math.min(old.length, n)));

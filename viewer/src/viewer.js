@@ -15,7 +15,7 @@ import { installApi } from './api.js';
 import { BaseLevel } from './base_level.js';
 import { compareFile, CompareView, DIFFERENCE } from './compare_view.js';
 import { Deformation } from './deformation.js';
-import { Navigator, ProgressiveMesh, updateIndices } from './dpm.js';
+import { Navigator, ProgressiveMesh, updateIndices, withChunkMargin } from './dpm.js';
 import { compileShaders, growDrawBuffers, uploadIndices } from './draw_buffers.js';
 import { edgeMaterial, fieldColoursAtVertices } from './edge_lines.js';
 import { installErrorLevel } from './error_level.js';
@@ -124,7 +124,7 @@ function createGeometry(mesh) {
   geometry = new THREE.BufferGeometry();
   edgeGeometry = new THREE.BufferGeometry();
   const h = mesh.head;
-  makeRoom(Math.min(h.vertexCount, 4 * h.baseVertexCount + 4096), Math.min(h.faceCount, 4 * h.baseFaceCount + 4096));
+  makeRoom(h.baseVertexCount, h.baseFaceCount, 4 * h.baseVertexCount + 4096, 4 * h.baseFaceCount + 4096);
   // The box holds every vertex at every step: set once, never recomputed from the buffers.
   const { bboxMin: lo, bboxMax: hi } = mesh.head;
   const box = new THREE.Box3(new THREE.Vector3(...lo), new THREE.Vector3(...hi));
@@ -139,8 +139,8 @@ function createGeometry(mesh) {
   fieldMarkerRadius = sphere.radius / 60;
 }
 
-function makeRoom(vertices, faces) {
-  const grown = growDrawBuffers({ positions, colours, triIndex, edgeIndex, scratch }, room, vertices, faces, state.mesh.head, geometry, edgeGeometry);
+function makeRoom(vertices, faces, ...atFirst) {
+  const grown = growDrawBuffers({ positions, colours, triIndex, edgeIndex, scratch }, room, vertices, faces, state.mesh.head, geometry, edgeGeometry, state.expectedVertices, ...atFirst);
   if (grown) ({ positions, colours, triIndex, edgeIndex, scratch } = grown);
 }
 
@@ -240,7 +240,8 @@ const SPLITS_PER_STEP = 65536;
 // go (the tests' and benchmarks' entry), else in steps of SPLITS_PER_STEP, one a frame.
 function setVertexCount(n, now = false) {
   state.follow = n >= state.mesh.vertexCountLoaded;
-  if (n > state.mesh.vertexCountLoaded && state.decoder.want) (state.loading = true), (state.budgetLimits = false), state.decoder.want(n);  // by ranges: more
+  // By ranges: more (the draw buffers grow by 4× again past what was expected).
+  if (n > state.mesh.vertexCountLoaded && state.decoder.want) (state.loading = true), (state.budgetLimits = false), (state.expectedVertices = Infinity), state.decoder.want(n);
   state.targetVertices = n;
   ui.resolution.value = String(n);
   stepLevel(now);
@@ -402,6 +403,9 @@ function onHead(mesh) {
   ui.resolution.max = String(h.vertexCount);
   // Whether the worker stops at the memory budget's levels (model_file.js), for the label.
   state.budgetLimits = state.worker && wantedVertices(params) === Infinity && budgetedVertices(h, state.memoryBudget) < h.vertexCount;
+  // What the worker loads before it pauses (the draw buffers grow to it, not past it).
+  const wanted = wantedVertices(params) < Infinity ? wantedVertices(params) : state.budgetLimits ? budgetedVertices(h, state.memoryBudget) : Infinity;
+  state.expectedVertices = state.worker && wanted < Infinity ? withChunkMargin(wanted) : Infinity;
   ui.note.textContent = h.note;
   createGeometry(mesh);
   states.onHead(h);  // a one-state model: no time controls, no displacement, no deformation

@@ -11,7 +11,7 @@ import { after, before, test } from 'node:test';
 
 import { chromium } from 'playwright-core';
 
-import { readDpm } from '../src/dpm.js';
+import { readDpm, withChunkMargin } from '../src/dpm.js';
 import { positionBytes } from '../src/dpm/step_positions.js';
 import { CHROMIUM_ARGS, startServer } from './chromium.mjs';
 
@@ -153,6 +153,14 @@ test('without ?vertices=N the page loads at first the levels whose values fit ?m
   const held = await page.evaluate(() => window.dpmViewer.memory().positions);
   const [least, most] = positionBounds(head);
   assert.ok(held >= least * s.loadedVertices && held <= 2 * most * s.loadedVertices, `${held} bytes of positions`);
+  // The draw buffers grow to what the worker loads before it pauses (the budget's vertices and a
+  // margin, or the chunk that crossed them when it was longer), not 4× past it: 28 bytes a
+  // vertex (positions, colours, a scalar) and 56 a face (triangle and edge index entries), the
+  // faces in proportion with a quarter more.
+  const expected = Math.max(withChunkMargin(budgeted), s.loadedVertices);
+  const drawn = await page.evaluate(() => window.dpmViewer.memory().draw);
+  const drawRoom = 28 * expected + 56 * Math.ceil((1.25 * expected * head.faceCount) / head.vertexCount);
+  assert.ok(drawn <= drawRoom, `${drawn} bytes of draw buffers for ${s.loadedVertices} vertices (room for ${expected}: ${drawRoom})`);
   await page.locator('#panel-toggle').click();
   const box = await page.locator('#resolution').boundingBox();
   await page.mouse.click(box.x + box.width - 2, box.y + box.height / 2);

@@ -44,6 +44,9 @@ const MAX_VARINT = 10;
 // Room for this many vertices past the ones a reader means to load (takeRoom()): dynpm's
 // largest SPLT (kMaxChunkSplits in dpm_write.cpp).
 const ROOM_MARGIN_SPLITS = 16384;
+// The vertices a reader that means to load n holds once the chunk that crosses n is in, as far
+// as dynpm's chunks go: n and a margin (a quarter of n, at most ROOM_MARGIN_SPLITS; small: cheap).
+export const withChunkMargin = (n) => n + Math.min(ROOM_MARGIN_SPLITS, Math.ceil(n / 4));
 // A bound on the bytes of one range-coded integer (C++ kMaxCodedInteger).
 const MAX_CODED_INTEGER = 64;
 
@@ -385,10 +388,9 @@ export class DpmDecoder {
   // for all of it, not doubled.
   takeRoom(chunkEnd = 0) {
     const { vertexCount: V, faceCount: F, baseVertexCount: b } = this.mesh.head;
-    const margin = Math.min(ROOM_MARGIN_SPLITS, Math.ceil(this.vertices / 4));  // small: cheap
     const decoded = this.mesh.hasBase ? b + this.splitsDecoded : 0;
     const crossing = decoded < this.vertices && chunkEnd > this.vertices;
-    const n = Math.min(V, Math.max(crossing ? chunkEnd : 0, this.vertices + margin));
+    const n = Math.min(V, Math.max(crossing ? chunkEnd : 0, withChunkMargin(this.vertices)));
     this.room(n, n === V ? F : Math.ceil((F * n) / V), !crossing);
   }
 
