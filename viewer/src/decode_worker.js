@@ -15,7 +15,7 @@ import { DpmDecoder } from './dpm/file.js';
 import { Navigator } from './dpm/navigator.js';
 import { navigatorParts } from './moved_navigator.js';
 import { dependencyParts } from './moved_dependencies.js';
-import { budgetedVertices } from './model_file.js';
+import { budgetedVertices, remeasuredBudget } from './model_file.js';
 import { fetchByRanges } from './range_fetch.js';
 import { SplitDependencies } from './dpm/split_dependencies.js';
 import { fieldDefs, growableTails, levelPieces, regrownSteps, shareFields, shareMesh } from './mesh_pieces.js';
@@ -64,8 +64,9 @@ function positionsInWorker() {
   };
 }
 
-// The page's wish: vertices it wants loaded; a promise's resolve while waiting for more.
-const want = { vertices: Infinity, wake: null };
+// The page's wish: vertices it wants loaded (`budgeted`: the memory budget's, not asked for); a
+// promise's resolve while waiting for more.
+const want = { vertices: Infinity, budgeted: false, wake: null };
 let decoding = null;  // the DpmDecoder
 
 async function decode({ url, name, shared, sliceSplits, vertices = Infinity, memory = Infinity, positionsWorker = true }) {
@@ -90,7 +91,10 @@ async function decode({ url, name, shared, sliceSplits, vertices = Infinity, mem
     positions,
     onHead: (mesh) => {
       // No count asked for: as many vertices as the memory budget holds, room for them at BASE.
-      if (want.vertices === Infinity && memory < Infinity) decoder.vertices = want.vertices = budgetedVertices(mesh.head, memory);
+      if (want.vertices === Infinity && memory < Infinity) {
+        decoder.vertices = want.vertices = budgetedVertices(mesh.head, memory);
+        want.budgeted = true;
+      }
       post({ type: 'head', head: mesh.head, shared: shared ? shareMesh(mesh) : null });
     },
     onBase: (mesh) => {
@@ -109,6 +113,8 @@ async function decode({ url, name, shared, sliceSplits, vertices = Infinity, mem
       deps = new SplitDependencies(mesh);
     },
     onSplits: (mesh, s, n) => {
+      // The budget again with the escaped positions measured (model_file.js).
+      if (want.budgeted) decoder.vertices = want.vertices = remeasuredBudget(mesh.head, memory, want.vertices, mesh.positions, mesh.vertexCountLoaded);
       if (shared) return post({ type: 'splits', first: s, count: n, pieces: [...growableTails(mesh, sent), ...regrownSteps(mesh, sentSteps)] });
       for (let first = s; first < s + n; first += sliceSplits) {
         const count = Math.min(sliceSplits, s + n - first);
@@ -159,6 +165,7 @@ async function decode({ url, name, shared, sliceSplits, vertices = Infinity, mem
 self.onmessage = (e) => {
   if (e.data.type === 'want') {
     want.vertices = Math.max(want.vertices, e.data.vertices);
+    want.budgeted = false;
     if (decoding) decoding.vertices = want.vertices;  // room for them at the next chunk
     want.wake?.();
     return;

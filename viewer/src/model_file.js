@@ -61,9 +61,21 @@ export function memoryBudget(params) {
   const mib = Number(params.get('memory') ?? DEFAULT_MEMORY_MIB);
   return (mib > 0 ? mib : DEFAULT_MEMORY_MIB) * 2 ** 20;
 }
-export function budgetedVertices(head, budget) {
+// `escaped`: the bytes a vertex's escaped positions take, as measured on the vertices loaded so
+// far (StepPositions.escapedBytes()), instead of positionBytes()'s allowance.
+export function budgetedVertices(head, budget, escaped = undefined) {
   const perValue = head.flags & HEAD_FLAG_LOSSLESS ? 4 : 2;
-  const steps = positionBytes(head.stepCount, (head.flags & HEAD_FLAG_LOSSLESS) !== 0) + perValue * head.fieldCount * head.stepCount;
+  const steps = positionBytes(head.stepCount, (head.flags & HEAD_FLAG_LOSSLESS) !== 0, escaped) + perValue * head.fieldCount * head.stepCount;
   const perVertex = steps + STEP_FREE_BYTES;
   return Math.max(head.baseVertexCount, Math.floor(budget / perVertex));
+}
+
+// The budget's vertex count again once an eighth of `target` is loaded, with the escaped
+// positions measured on the loaded vertices (StepPositions.escapedBytes()) instead of the
+// allowance: a model whose motion changes much from step to step escapes more. Lowered, never
+// raised (the page's draw buffers took room for the first count). The decode worker asks after
+// each chunk.
+export function remeasuredBudget(head, budget, target, positions, loaded) {
+  if (8 * loaded < target) return target;
+  return Math.min(target, budgetedVertices(head, budget, positions.escapedBytes() / loaded));
 }

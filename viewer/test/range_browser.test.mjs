@@ -53,15 +53,7 @@ test('the base mesh is drawn before the file is in, from range requests', async 
   const grey = await page.evaluate(() => window.dpmViewer.snapshot(32));
   assert.ok(new Set(grey).size > 1, 'the base mesh is on the canvas');
   // Complete, and the level has followed the file to its end.
-  // The bytes a vertex's positions take on the page, at least (the stored arrays: step 0, the first
-// motion in 16 bits, 8 a coordinate a step after; 32 each when lossless) and at most (the budget's
-// estimate, escaped values and a cursor in it, and a second cursor).
-function positionBounds({ stepCount: T, flags }) {
-  const lossless = (flags & 1) !== 0;
-  return [lossless ? 12 * T : 12 + 6 + 3 * (T - 2), positionBytes(T, lossless) + 24];
-}
-
-const followed = () => ((s) => s.complete && s.vertices === s.loadedVertices)(window.dpmViewer.state());
+  const followed = () => ((s) => s.complete && s.vertices === s.loadedVertices)(window.dpmViewer.state());
   await page.waitForFunction(followed, null, { timeout: 60000 });
   const last = await state(page);
   assert.equal(last.bytesLoaded, size);
@@ -106,8 +98,8 @@ test('?vertices=N fetches only the chunks up to N vertices; the slider fetches t
   // Memory in proportion to what is loaded: every step's positions of the loaded vertices (with
   // room for as many again, as arrays grow), not of the whole file (docs/viewer.md "Memory").
   const steps = await page.evaluate(() => window.dynpm.view().stepCount);
-  const positionBytes = () => page.evaluate(() => window.dpmViewer.memory().positions);
-  const held = await positionBytes();
+  const positionsHeld = () => page.evaluate(() => window.dpmViewer.memory().positions);
+  const held = await positionsHeld();
   const { head } = readDpm(new Uint8Array(readFileSync(dpm)), dpm).mesh;
   const [least, most] = positionBounds(head);
   assert.ok(held >= least * s.loadedVertices && held <= 2 * most * s.loadedVertices && held < 12 * total * steps / 3,
@@ -129,7 +121,7 @@ test('?vertices=N fetches only the chunks up to N vertices; the slider fetches t
   assert.equal(s.bytesLoaded, size);
   assert.equal(s.loadedVertices, total);
   assert.equal(s.vertices, total, 'following the file to the full mesh');
-  const all = await positionBytes();
+  const all = await positionsHeld();
   assert.ok(all >= least * total && all <= most * total, `${all} bytes of positions for all ${total} vertices`);
   assert.deepEqual(errors, []);
   await page.close();

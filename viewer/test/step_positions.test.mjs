@@ -5,7 +5,8 @@ import assert from 'node:assert/strict';
 import fs from 'node:fs';
 import { test } from 'node:test';
 import { readDpm } from '../src/dpm.js';
-import { StepPositions } from '../src/dpm/step_positions.js';
+import { positionBytes, StepPositions } from '../src/dpm/step_positions.js';
+import { budgetedVertices, remeasuredBudget } from '../src/model_file.js';
 
 // A seeded generator (xorshift32), so that a failure repeats.
 function random(seed) {
@@ -19,7 +20,7 @@ function random(seed) {
 // Paths of V vertices over T steps (full Int32Arrays, one a step): smooth motion, and on chosen
 // coordinates the second differences at the types' edges (±127, −128 = Int8's escape, 128,
 // ±32767, −32768, 32768) and large jumps.
-function paths(V, T, seed, lossless = false) {
+function paths(V, T, seed, lossless = false, edgeRate = 0.03) {
   const r = random(seed);
   const edges = [127, -127, -128, 128, 32767, -32767, -32768, 32768, 5e6, -5e6];
   const steps = Array.from({ length: T }, () => new Int32Array(3 * V));
@@ -28,7 +29,7 @@ function paths(V, T, seed, lossless = false) {
     let v = Math.floor((r() - 0.5) * 40);
     for (let t = 0; t < T; t++) {
       steps[t][i] = x;
-      const edge = r() < 0.03 ? edges[Math.floor(r() * edges.length)] : Math.floor((r() - 0.5) * 6);
+      const edge = r() < edgeRate ? edges[Math.floor(r() * edges.length)] : Math.floor((r() - 0.5) * 6);
       v += edge;
       x = lossless ? (x + v * 65537) | 0 : x + v;
     }
@@ -126,4 +127,24 @@ test('the sample model holds its positions compact', { skip: !process.env.DYNPM_
   const last = mesh.positions.around(T - 1, T - 1, V)[1];
   const alone = StepPositions.from(mesh.positions);  // no cursor: each vertex walked alone
   for (let v = 0; v < V; v += 97) assert.deepEqual(alone.position(v, T - 1, [0, 0, 0]), prefix(last.subarray(3 * v), 1));
+});
+
+// The decode worker's budget (model_file.js): measured again once an eighth of it is loaded, with
+// the escaped positions of the loaded vertices instead of positionBytes()'s byte a step.
+test('the memory budget is lowered for positions that escape more than its allowance, never raised', () => {
+  const V = 600, T = 12, budget = 2 ** 20;
+  const head = { stepCount: T, flags: 0, fieldCount: 0, baseVertexCount: 10, vertexCount: 100000 };
+  const target = budgetedVertices(head, budget);
+  assert.equal(target, Math.floor(budget / (positionBytes(T, false) + 200)));
+  assert.ok(8 * V >= target && 8 * 400 < target, 'an eighth of the target lies between 400 and 600 vertices');
+  const calm = stored(paths(V, T, 21, false, 0), false, V);
+  const wild = stored(paths(V, T, 22, false, 0.5), false, V);
+  assert.equal(calm.escapedBytes(), 0);
+  const escaped = wild.escapedBytes() / V;
+  assert.ok(escaped > 4 * (T - 1), `${escaped} bytes a vertex escaped, four times the allowance`);
+  assert.equal(remeasuredBudget(head, budget, target, calm, V), target, 'not raised');
+  assert.equal(remeasuredBudget(head, budget, target, wild, 400), target, 'not before an eighth is loaded');
+  const lowered = remeasuredBudget(head, budget, target, wild, V);
+  assert.equal(lowered, Math.floor(budget / (positionBytes(T, false) - (T - 1) + escaped + 200)));
+  assert.ok(lowered < 0.8 * target, `${lowered} of ${target}`);
 });

@@ -20,12 +20,12 @@ const ESCAPE = new Map([[Int8Array, -128], [Int16Array, -32768], [Int32Array, Na
 const MAX_CURSORS = 2;
 
 // The bytes a vertex's positions take over `stepCount` steps, for a memory budget: 12 at step 0,
-// 6 at step 1 and 3 a step after (32 bits each in a lossless file), a byte a step more for the
-// escaped values (8 bytes each; 0.1–12 % of the coordinates on the crash data) and 24 for a
-// cursor's two steps.
-export function positionBytes(stepCount, lossless) {
+// 6 at step 1 and 3 a step after (32 bits each in a lossless file), the escaped values (8 bytes
+// each; 0.1–11 % of the coordinates on the crash data: a byte a step unless measured) and 24 for
+// a cursor's two steps.
+export function positionBytes(stepCount, lossless, escaped = Math.max(0, stepCount - 1)) {
   if (lossless) return 12 * stepCount + 24;
-  return 12 + (stepCount > 1 ? 7 : 0) + 4 * Math.max(0, stepCount - 2) + 24;
+  return 12 + (stepCount > 1 ? 6 : 0) + 3 * Math.max(0, stepCount - 2) + escaped + 24;
 }
 
 // Index of the first pair of `wide` (Int32Array: count, then index, value pairs) whose index is
@@ -79,6 +79,11 @@ export class StepPositions {
   makeRoom(vertices, doubling = true) {
     const max = 3 * this.vertexCount;
     for (let t = 0; t < this.steps.length; t++) this.steps[t] = withRoom(this.steps[t], 3 * vertices, max, 0, doubling);
+  }
+
+  // The bytes the escaped values of every step take (8 a value).
+  escapedBytes() {
+    return this.wide.reduce((sum, w) => sum + 8 * Atomics.load(w, 0), 0);
   }
 
   // The bytes held: every step's array, the escaped values and the cursors.
