@@ -14,7 +14,7 @@ import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 
 import { hierarchyDifference, linkedVertexCount, positionDifference } from './compare_math.js';
-import { Navigator, ProgressiveMesh, updateIndices, withChunkMargin } from './dpm.js';
+import { Navigator, ProgressiveMesh, updateIndices } from './dpm.js';
 import { BaseLevel } from './base_level.js';
 import { CompareOverlay } from './compare_overlay.js';
 import { growDrawBuffers, uploadIndices } from './draw_buffers.js';
@@ -22,7 +22,7 @@ import { edgeMaterial, fieldColoursAtVertices } from './edge_lines.js';
 import { commonFields, FIELD_DIFFERENCE, FieldDifference } from './field_difference.js';
 import { FieldView } from './field_view.js';
 import { element, fmt, int } from './fringe.js';
-import { budgetedVertices } from './model_file.js';
+import { verticesBeforePause } from './model_file.js';
 import { panelChoice } from './panel.js';
 import { PartView } from './part_view.js';
 import { greySnapshot } from './snapshot.js';
@@ -156,8 +156,7 @@ export class CompareView {
       url: this.url, name: this.name,
       onHead: (mesh) => {
         this.mesh = mesh;
-        const budgeted = worker ? budgetedVertices(mesh.head, memory) : Infinity;
-        if (budgeted < mesh.head.vertexCount) this.expected = withChunkMargin(budgeted);
+        if (worker) this.expected = verticesBeforePause(mesh.head, Infinity, memory);
       },
       onBase: (mesh) => this.onBase(mesh),
       onSplits: () => this.onSplits(),

@@ -2,6 +2,7 @@
 // else model.dpm; `?model=` (the catalogue's links, `dynpm serve`) or `?file=` overrides both,
 // but only with a file of the page's own origin.
 import { HEAD_FLAG_LOSSLESS } from './dpm/progressive_mesh.js';
+import { withChunkMargin } from './dpm/file.js';
 import { positionBytes } from './dpm/step_positions.js';
 
 export async function modelFile(params) {
@@ -68,6 +69,14 @@ export function budgetedVertices(head, budget, escaped = undefined) {
   const steps = positionBytes(head.stepCount, (head.flags & HEAD_FLAG_LOSSLESS) !== 0, escaped) + perValue * head.fieldCount * head.stepCount;
   const perVertex = steps + STEP_FREE_BYTES;
   return Math.max(head.baseVertexCount, Math.floor(budget / perVertex));
+}
+
+// What a worker that means to load `vertices` (?vertices=N; Infinity: what `memory` holds) has
+// loaded when it pauses, with the chunk that crosses them; Infinity if it loads the whole model.
+// The draw buffers grow to it, not past it.
+export function verticesBeforePause(head, vertices, memory) {
+  const n = vertices < Infinity ? vertices : budgetedVertices(head, memory);
+  return n < head.vertexCount ? withChunkMargin(n) : Infinity;
 }
 
 // The budget's vertex count again once an eighth of `target` is loaded, with the escaped

@@ -15,7 +15,7 @@ import { installApi } from './api.js';
 import { BaseLevel } from './base_level.js';
 import { compareFile, CompareView, DIFFERENCE } from './compare_view.js';
 import { Deformation } from './deformation.js';
-import { Navigator, ProgressiveMesh, updateIndices, withChunkMargin } from './dpm.js';
+import { Navigator, ProgressiveMesh, updateIndices } from './dpm.js';
 import { compileShaders, growDrawBuffers, uploadIndices } from './draw_buffers.js';
 import { edgeMaterial, fieldColoursAtVertices } from './edge_lines.js';
 import { installErrorLevel } from './error_level.js';
@@ -23,7 +23,7 @@ import { FieldView } from './field_view.js';
 import { Images } from './images.js';
 import { installInspect } from './inspect.js';
 import { memoryUse } from './memory_use.js';
-import { budgetedVertices, memoryBudget, modelFile, wantedVertices } from './model_file.js';
+import { budgetedVertices, memoryBudget, modelFile, verticesBeforePause, wantedVertices } from './model_file.js';
 import { grownBox, Orientation, upAxisOf } from './orientation.js';
 import { Panel } from './panel.js';
 import { addPartsApi, PartList } from './part_list.js';
@@ -404,8 +404,7 @@ function onHead(mesh) {
   // Whether the worker stops at the memory budget's levels (model_file.js), for the label.
   state.budgetLimits = state.worker && wantedVertices(params) === Infinity && budgetedVertices(h, state.memoryBudget) < h.vertexCount;
   // What the worker loads before it pauses (the draw buffers grow to it, not past it).
-  const wanted = wantedVertices(params) < Infinity ? wantedVertices(params) : state.budgetLimits ? budgetedVertices(h, state.memoryBudget) : Infinity;
-  state.expectedVertices = state.worker && wanted < Infinity ? withChunkMargin(wanted) : Infinity;
+  state.expectedVertices = state.worker ? verticesBeforePause(h, wantedVertices(params), state.memoryBudget) : Infinity;
   ui.note.textContent = h.note;
   createGeometry(mesh);
   states.onHead(h);  // a one-state model: no time controls, no displacement, no deformation

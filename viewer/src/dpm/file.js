@@ -405,19 +405,17 @@ export class DpmDecoder {
   decodePositions(r, chunk) {
     const { mesh } = this;
     const { s, n, stencils, sections } = chunk;
+    this.flush();  // the staging arrays are the job in flight's until then
+    // The staging arrays go to the executor's thread (which exists only where memory is shared).
+    this.staging ??= new Int32Array(this.positions ? new SharedArrayBuffer(0) : 0);
+    const job = positionJob(mesh, s, n, stencils, sections, this.models, this.staging);
+    this.staging = job.staging;
     if (!this.positions) {
-      const job = positionJob(mesh, s, n, stencils, sections, this.models, this.staging);
-      this.staging = job.staging;
       const problem = decodeSplitPositions(job);
       if (problem) r.failChunk(problem);
       storePositions(job);
       return;
     }
-    this.flush();
-    // The staging arrays go to the executor's thread: shared where the page can share.
-    this.staging ??= typeof SharedArrayBuffer !== 'undefined' ? new Int32Array(new SharedArrayBuffer(4)) : null;
-    const job = positionJob(mesh, s, n, stencils, sections, this.models, this.staging);
-    this.staging = job.staging;
     this.positions.start(job);
     this.inFlight = { chunk, at: r.at, parsed: false, job };
   }

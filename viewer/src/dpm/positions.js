@@ -5,7 +5,7 @@
 //
 // Speed: one loop per kind of step (step 0, later steps, lossless), the three coordinates of a
 // vertex side by side, every model of a step in one Uint16Array, nothing allocated per vertex.
-import { Growable } from './bytes.js';
+import { Growable, withRoom } from './bytes.js';
 import { bitModels, decodeSigned, RangeDecoder, SIGNED_MODEL_SIZE } from './range_coder.js';
 import { WING_SLOT_SHIFT, WING_WAS_TRIANGLE } from './progressive_mesh.js';
 
@@ -105,14 +105,11 @@ const roundedMean = (sum, count) => Math.floor((2 * sum + count) / (2 * count));
 // compact store: step_positions.js) and then its new ones; the stencils name them by their place
 // there (localStencils). storePositions() then keeps the new ones compact. The job is what a
 // second worker needs (decode_worker.js): plain arrays, the staging shared.
-export function positionJob(mesh, s, n, stencils, sections, models, staging = null) {
+export function positionJob(mesh, s, n, stencils, sections, models, staging) {
   const { baseVertexCount: b, stepCount } = mesh.head;
   const local = localStencils(stencils, n, b + s);
-  const length = 3 * (local.first + n) * stepCount;
-  if (!staging || staging.length < length) {
-    const shared = staging && typeof SharedArrayBuffer !== 'undefined' && staging.buffer instanceof SharedArrayBuffer;
-    staging = new Int32Array(shared ? new SharedArrayBuffer(4 * length) : length);
-  }
+  // Grown (shared when it was) if it is too short; what it held is not needed.
+  staging = withRoom(staging, 3 * (local.first + n) * stepCount, Infinity, 0, false);
   return { head: mesh.head, lossless: mesh.lossless, positions: mesh.positions, s, n, stencils: local, models, sections, staging };
 }
 

@@ -71,10 +71,6 @@ export class StepPositions {
     return Object.assign(Object.create(StepPositions.prototype), { vertexCount, steps, wide, cursors: [] });
   }
 
-  get stepCount() {
-    return this.steps.length;
-  }
-
   // Room in every step's array for the first `vertices` vertices (the arrays may be new ones).
   makeRoom(vertices, doubling = true) {
     const max = 3 * this.vertexCount;
@@ -92,8 +88,8 @@ export class StepPositions {
   }
 
   // Stores step t of the vertices [first, first + count) from staging arrays that hold steps t,
-  // t − 1 and t − 2 (at and before step 0: the step-0 array) of the same vertices, starting at
-  // coordinate `at`. Vertices are stored in increasing order, as the file brings them, so each
+  // t − 1 and t − 2 (at step 1 the step-0 array twice: q(−1) = q(0)) of the same vertices,
+  // starting at coordinate `at`. Vertices are stored in increasing order, as the file brings them, so each
   // step's escaped values stay in index order. Room was made (makeRoom()).
   store(t, first, count, now, before, before2, at) {
     const out = this.steps[t];
@@ -104,7 +100,7 @@ export class StepPositions {
     }
     const escape = ESCAPE.get(out.constructor);
     for (let i = i0, j = at; i < i1; i++, j++) {
-      const d = (t === 1 ? now[j] - before[j] : now[j] - 2 * before[j] + before2[j]) | 0;
+      const d = (now[j] - 2 * before[j] + before2[j]) | 0;
       out[i] = d;
       if (out[i] !== d || d === escape) {
         out[i] = escape;
