@@ -26,14 +26,18 @@ const post = (message, transfer = []) => self.postMessage(message, transfer);
 // SPLT's positions into the shared arrays of every step, this worker parses the next chunk's
 // records, so a long file decodes on two cores (about 40 % of the decoding is the positions).
 // wait() blocks this worker (Atomics.wait) until the last job started is done; `ready` resolves
-// once the second worker runs (Chromium starts a nested worker through its parent's event loop:
-// blocked in wait() before that, this one would wait for ever).
+// once a message from here has reached the second worker and its answer came back. Chromium
+// starts a nested worker through its parent's event loop and holds the messages posted to it
+// until its parent has heard that its script ran — news that may come after a message the
+// script posted while running: blocked in wait() before that, this worker waited for a job that
+// was never delivered (a CI run saw it). A round trip is past that point.
 function positionsInWorker() {
   const worker = new Worker(new URL('./positions_worker.js', import.meta.url), { type: 'module' });
   const ready = new Promise((resolve, reject) => {
     worker.onmessage = resolve;
     worker.onerror = (e) => reject(new Error(`the positions' worker did not start: ${e.message ?? e}`));
   });
+  worker.postMessage('ping');
   const signal = new Int32Array(new SharedArrayBuffer(12));  // done, problem length, started
   const text = new Uint8Array(new SharedArrayBuffer(4096));
   let started = 0;

@@ -9,9 +9,9 @@ import { StepPositions } from './dpm/step_positions.js';
 
 let models = null;
 let failed = false;
-self.postMessage('ready');  // the decode worker may block on us from now on
-
 self.onmessage = ({ data }) => {
+  // The decode worker's first message: answered, it may block on us from now on.
+  if (data === 'ping') return self.postMessage('pong');
   const { signal, text, head, lossless, positions, s, n, stencils, sections, staging } = data;
   Atomics.load(signal, 2);  // the decode worker's writes before the job (the stored positions) seen
   models ??= positionModels(head.stepCount);
