@@ -36,6 +36,8 @@ function positionsInWorker() {
   const ready = new Promise((resolve, reject) => {
     worker.onmessage = resolve;
     worker.onerror = (e) => reject(new Error(`the positions' worker did not start: ${e.message ?? e}`));
+    // A worker that neither starts nor fails (a starved browser) must not hold up the file.
+    setTimeout(() => reject(new Error("the positions' worker gave no answer in 10 s")), 10000);
   });
   worker.postMessage('ping');
   const signal = new Int32Array(new SharedArrayBuffer(12));  // done, problem length, started
@@ -151,7 +153,7 @@ async function decode({ url, name, shared, sliceSplits, vertices = Infinity, mem
   const onResponse = ({ total, ranges }) => {
     // When the first bytes arrived, in the page's clock (the worker's has another origin).
     post({ type: 'first-bytes', at: performance.timeOrigin + performance.now() });
-    post({ type: 'start', total, shared, ranges });
+    post({ type: 'start', total, shared, ranges, positionsWorker: Boolean(decoder.positions) });
   };
   const onBytes = () => post({ type: 'progress', bytes: decoder.bytesReceived });
   try {

@@ -478,7 +478,7 @@ async function load() {
   state.memoryShared = Boolean(compare && !alongside);
   state.memoryBudget = memoryBudget(params) / (state.memoryShared ? 2 : 1);
   if (state.memoryShared) compare.loading = compare.load(state.worker, state.memoryBudget).catch(showError);  // its own worker
-  const onStart = (total, shared = false, rangeRequests = false) => Object.assign(state, { totalBytes: total, sharedMemory: shared, rangeRequests });
+  const onStart = (total, shared = false, rangeRequests = false, positionsWorker = false) => Object.assign(state, { totalBytes: total, sharedMemory: shared, rangeRequests, positionsWorker });
   let decode = variants.callbacks({ url, name: state.name, onHead, onBase, onSplits, onStart, onProgress, onNavigator });
   if (alongside) decode = compare.alongside(decode);
   const onFirstBytes = (at) => (timing.firstByte = at);
@@ -562,6 +562,7 @@ window.dpmViewer = {
     rangeRequests: Boolean(state.rangeRequests),
     worker: Boolean(state.worker),
     sharedMemory: Boolean(state.sharedMemory),
+    positionsWorker: Boolean(state.positionsWorker),  // the positions decoded on a second worker
     complete: Boolean(state.mesh?.complete),
     paused: Boolean(state.nav && !state.loading && !state.mesh?.complete),  // ?vertices=N, the budget
     vertices: state.nav?.vertexCount ?? 0,

@@ -14,7 +14,7 @@ import { movedNavigator } from './moved_navigator.js';
 const SLICE_SPLITS = 32768;
 
 // Resolves with { mesh, complete } when the stream has ended (mesh null if HEAD never came);
-// rejects with the decoder's error. onStart(totalBytes, shared, ranges), onFirstBytes(pageTime),
+// rejects with the decoder's error. onStart(totalBytes, shared, ranges, positionsWorker), onFirstBytes(pageTime),
 // onDecoded(pageTime): the worker has decoded the whole file (END),
 // onProgress(bytes), onPaused(bytes): the worker stopped fetching at `vertices` (by ranges;
 // Infinity: the whole file, or what `memory` bytes of the steps' values hold) until
@@ -56,7 +56,7 @@ export function decodeInWorker({ url, name, onHead, onBase, onNavigator, onDepen
     worker.onerror = (e) => finish(new Error(`${name}: the decode worker failed: ${e.message ?? 'could not start'}`));
     worker.onmessage = ({ data: m }) => {
       try {
-        if (m.type === 'start') onStart?.(m.total, m.shared, m.ranges);
+        if (m.type === 'start') onStart?.(m.total, m.shared, m.ranges, m.positionsWorker);
         else if (m.type === 'first-bytes') onFirstBytes?.(m.at - performance.timeOrigin);
         else if (m.type === 'progress') onProgress?.(m.bytes);
         else if (m.type === 'head') {

@@ -74,6 +74,7 @@ test('the decoder runs in a worker that shares the mesh and ends once the file i
   // The positions on a second worker (docs/viewer.md "Decoding in a worker"), started by the first.
   const positions = workers.filter((w) => new URL(w.url).pathname.endsWith('/src/positions_worker.js'));
   assert.equal(positions.length, 1, `workers started: ${JSON.stringify(workers)}`);
+  assert.ok(s.positionsWorker, 'and it answered: the decode worker handed it the positions');
   // The close event arrives a little after the last message: within 200 ms on an idle machine,
   // later when the tests run two browsers on two cores.
   for (let waited = 0; waited < 5000 && !decoders[0].closed; waited += 100) await new Promise((resolve) => setTimeout(resolve, 100));
