@@ -12,12 +12,13 @@ let failed = false;
 self.onmessage = ({ data }) => {
   // The decode worker's first message: answered, it may block on us from now on.
   if (data === 'ping') return self.postMessage('pong');
-  const { signal, text, head, lossless, positions, s, n, stencils, sections, staging } = data;
+  const { signal, text, head, lossless, positions, s, n, stencils, sections, staging, probe } = data;
   Atomics.load(signal, 2);  // the decode worker's writes before the job (the stored positions) seen
-  models ??= positionModels(head.stepCount);
+  if (probe) return void (Atomics.add(signal, 0, 1), Atomics.notify(signal, 0));  // nothing to decode
   let problem = null;
   if (!failed) {  // after a problem the decoder stops: the models would be out of step
-    try {
+    try {  // whatever goes wrong is answered: the decode worker is blocked until it hears
+      models ??= positionModels(head.stepCount);
       const job = { head, lossless, positions: StepPositions.from(positions), s, n,
         stencils: { ...stencils, ring: { data: stencils.ring } }, models, sections, staging };
       problem = decodeSplitPositions(job);
