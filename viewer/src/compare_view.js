@@ -100,7 +100,7 @@ export class CompareView {
     // Overlaid, B's marker is on A's canvas, where B is drawn.
     this.overlay.onChange = () => {
       (this.overlay.overlaid ? viewer.scene : this.scene).add(this.markers[1]);
-      if (this.nav && viewer.state.nav) this.label();
+      this.label();
     };
     // Levels linked by the share of vertices (default) or, for two hierarchies, by error.
     this.link = panelChoice('compare-link', 'Link by', { vertices: 'share of vertices', error: 'error' },
@@ -161,7 +161,7 @@ export class CompareView {
       onBase: (mesh) => this.onBase(mesh),
       onSplits: () => this.onSplits(),
       onNavigator,
-      memory, control: this.decoder, onPaused: () => ((this.paused = true), this.nav && this.label()),
+      memory, control: this.decoder, onPaused: () => ((this.paused = true), this.label()),
     });
     await (worker ? decodeInWorker(decode) : decodeOnPage(decode));
     this.loaded();
@@ -377,6 +377,8 @@ export class CompareView {
 
   label() {
     const { state } = this.viewer;
+    // Until both are shown: B's worker may pause at its budget before A's first level is in.
+    if (!this.nav || !state.nav) return;
     this.labels[0].textContent = `A: ${shownName(state.name, state.mesh)} — ${levelText(state.mesh, state.nav, state.t)}`;
     const why = this.why && this.viewer.state.mesh?.complete && this.mesh.complete ? `; no difference fringe: ${this.why}` : '';
     const clamped = state.t > this.mesh.head.stepCount - 1 ? ' (its last step)' : '';

@@ -48,11 +48,16 @@ async function open(models, query = '') {
   return { page, url, seen };
 }
 
+// Both models shown whole; on a timeout, what each page says.
+async function waitBothShown({ page, seen }) {
+  await page.waitForFunction(bothShown, null, { timeout: 60000 }).catch(async (e) => {
+    throw new Error(`${e.message}: ${JSON.stringify(await page.evaluate(() => [window.dpmViewer?.state(), window.dpmViewer?.compare()]))} ${seen.errors}`);
+  });
+}
+
 async function openBoth(models, query = '') {
   const o = await open(models, query);
-  await o.page.waitForFunction(bothShown, null, { timeout: 60000 }).catch(async (e) => {
-    throw new Error(`${e.message}: ${JSON.stringify(await o.page.evaluate(() => [window.dpmViewer?.state(), window.dpmViewer?.compare()]))} ${o.seen.errors}`);
-  });
+  await waitBothShown(o);
   await o.page.evaluate(() => window.dpmViewer.compare().done);
   await o.page.waitForFunction(allShown);
   return o;
@@ -169,7 +174,7 @@ test('a memory budget is halved between the two models; A\'s finest level loads 
   assert.match(c.labels[1], new RegExp(`, ${c.loadedVertices.toLocaleString('en')} loaded`));
   // A's finest level: A loads the rest, and B follows it to its own finest.
   await page.evaluate(() => window.dynpm.setLevel({ vertices: 2608 }));
-  await page.waitForFunction(bothShown, null, { timeout: 60000 });
+  await waitBothShown({ page, seen });
   const whole = await compare(page);
   assert.equal(whole.vertices, total);
   assert.equal(whole.paused, false);
