@@ -1,4 +1,4 @@
-// The positions of each SPLT, decoded beside the decode worker (decode_worker.js, `positions`):
+// The positions of each SPLT, decoded beside the decode worker (its side there: positions_executor.js):
 // it parses the next chunk's records while this decodes the last one's positions (docs/viewer.md
 // "Decoding in a worker"). Jobs come in the file's order (the models run on from SPLT to SPLT);
 // the positions are written into the job's shared staging arrays, from which the decode worker

@@ -1,6 +1,6 @@
 // The page decodes in a Web Worker (docs/viewer.md "Decoding in a worker"): in Debian's headless
-// Chromium, `dynpm view` serves the sample; the page must start src/decode_worker.js, share the
-// mesh's memory with it (the server makes the page cross-origin isolated), end it once loaded,
+// Chromium, `dynpm view` serves the sample; the page must start src/decode_worker.js (which hands
+// each SPLT's positions to src/positions_worker.js), share the mesh's memory with it (the server makes the page cross-origin isolated), end it once loaded,
 // and show exactly what the decoder on the page's own thread (?worker=0) shows: the same counts
 // and the same picture at the full level, at a coarse level and between two steps.
 //

@@ -106,7 +106,7 @@ export class DpmDecoder {
   // (takeRoom()), and grow past them by doubling.
   // positions: null (each SPLT's positions are decoded as it is parsed), or an executor that
   // decodes them elsewhere while the next chunk is parsed — start(job), then wait() → null or
-  // what is wrong (decode_worker.js: a second worker; deferredPositions() in the tests). A SPLT
+  // what is wrong (positions_executor.js: a second worker; deferredPositions() in the tests). A SPLT
   // is committed once its positions are in, and a file is refused at the same byte, with the
   // same message, either way.
   constructor({ name = 'file', onHead, onBase, onSplits, onEnd, vertices = Infinity, positions = null } = {}) {

@@ -104,7 +104,7 @@ const roundedMean = (sum, count) => Math.floor((2 * sum + count) / (2 * count));
 // vertices (those its stencils name from before the chunk, walked step by step out of the
 // compact store: step_positions.js) and then its new ones; the stencils name them by their place
 // there (localStencils). storePositions() then keeps the new ones compact. The job is what a
-// second worker needs (decode_worker.js): plain arrays, the staging shared.
+// second worker needs (positions_executor.js): plain arrays, the staging shared.
 export function positionJob(mesh, s, n, stencils, sections, models, staging) {
   const { baseVertexCount: b, stepCount } = mesh.head;
   const local = localStencils(stencils, n, b + s);
@@ -202,7 +202,7 @@ function positionProblem(d, t, v, x, top) {
 }
 
 // DpmDecoder's `positions` executor that decodes a SPLT's positions only when they are waited
-// for: the latest a second worker's could come (decode_worker.js), for the tests.
+// for: the latest a second worker's could come (positions_executor.js), for the tests.
 export function deferredPositions() {
   let job = null;
   return {
