@@ -32,7 +32,7 @@ export function shareMesh(mesh) {
   for (const [key, value] of Object.entries(mesh)) {
     if (value instanceof StepPositions) {
       value.steps = value.steps.map((a) => shared(a));
-      value.wide = value.wide.map((a) => shared(a, a.length));
+      for (const key of ['wide', 'dir', 'runs']) value[key] = value[key].map((a) => a && shared(a, a.length));
     }
     if (isTyped(value)) mesh[key] = shared(value);
     else if (Array.isArray(value) && value.length && value.every(isTyped)) mesh[key] = value.map((a) => shared(a));
@@ -95,8 +95,13 @@ export function levelPieces(mesh, s, n) {
   const cut = (path, array, first, end, per = 1) => {
     if (array && end > first) pieces.push([path, per * first, array.slice(per * first, per * end)]);
   };
-  mesh.positions.steps.forEach((a, t) => cut(`positions.steps.${t}`, a, v0, v1, 3));
+  mesh.positions.steps.forEach((a, t) => {
+    if (!mesh.positions.dir[t]) return cut(`positions.steps.${t}`, a, v0, v1, 3);
+    // Packed: the page packs the second differences into runs of its own.
+    if (v1 > v0) pieces.push([`positions.packed.${t}`, 3 * v0, mesh.positions.differences(t, 3 * v0, 3 * v1)]);
+  });
   mesh.positions.wide.forEach((_, t) => {
+    if (mesh.positions.dir[t]) return;  // a packed step's: the page's packing finds them again
     const pairs = mesh.positions.widePairs(t, v0, v1);
     if (pairs.length) pieces.push([`positions.wide.${t}`, null, pairs]);
   });
@@ -143,7 +148,9 @@ export function addFields(mesh, fields, faceHeir) {
 export function regrownSteps(mesh, sent) {
   const pieces = [];
   const { steps, wide } = mesh.positions;
-  const lists = [['positions.steps', steps], ['positions.wide', wide], ...mesh.fields.map((f, k) => [`fields.${k}.q`, f.q])];
+  const { dir, runs } = mesh.positions;
+  const lists = [['positions.steps', steps], ['positions.wide', wide], ['positions.dir', dir], ['positions.runs', runs],
+    ...mesh.fields.map((f, k) => [`fields.${k}.q`, f.q])];
   for (const [path, list] of lists) {
     if (sent[path] && list.every((a, t) => a === sent[path][t])) continue;
     sent[path] = list.slice();
@@ -175,6 +182,10 @@ export function applyPieces(mesh, pieces) {
     const last = keys.pop();
     if (path.startsWith('positions.wide.')) {
       mesh.positions.addWidePairs(Number(last), values);  // escaped values, appended
+      continue;
+    }
+    if (path.startsWith('positions.packed.')) {
+      mesh.positions.addDifferences(Number(last), first, values);  // a run, appended
       continue;
     }
     const owner = keys.reduce((o, k) => o[k], mesh);

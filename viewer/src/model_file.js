@@ -47,7 +47,7 @@ export function wantedVertices(params) {
 }
 
 // Without ?vertices=N the page loads at first the levels whose arrays fit ?memory=MiB (default
-// 1 GiB): a vertex's positions at every step take positionBytes() (about 3 bytes a step, compact:
+// 1 GiB): a vertex's positions at every step take positionBytes() (about 2 bytes a step, packed:
 // dpm/step_positions.js; 12 in a lossless file), each field's value 2 a step (4 in a lossless
 // file; dpm/fields.js valueArrayType(): a field quantized finer than 1/16383 of its range, which
 // HEAD does not tell, also takes 4; a face field is counted as a node field: a quad mesh has
@@ -62,11 +62,11 @@ export function memoryBudget(params) {
   const mib = Number(params.get('memory') ?? DEFAULT_MEMORY_MIB);
   return (mib > 0 ? mib : DEFAULT_MEMORY_MIB) * 2 ** 20;
 }
-// `escaped`: the bytes a vertex's escaped positions take, as measured on the vertices loaded so
-// far (StepPositions.escapedBytes()), instead of positionBytes()'s allowance.
-export function budgetedVertices(head, budget, escaped = undefined) {
+// `later`: the bytes a vertex's packed steps and escaped positions take, as measured on the
+// vertices loaded so far (StepPositions.laterBytes()), instead of positionBytes()'s allowance.
+export function budgetedVertices(head, budget, later = undefined) {
   const perValue = head.flags & HEAD_FLAG_LOSSLESS ? 4 : 2;
-  const steps = positionBytes(head.stepCount, (head.flags & HEAD_FLAG_LOSSLESS) !== 0, escaped) + perValue * head.fieldCount * head.stepCount;
+  const steps = positionBytes(head.stepCount, (head.flags & HEAD_FLAG_LOSSLESS) !== 0, later) + perValue * head.fieldCount * head.stepCount;
   const perVertex = steps + STEP_FREE_BYTES;
   return Math.max(head.baseVertexCount, Math.floor(budget / perVertex));
 }
@@ -79,12 +79,12 @@ export function verticesBeforePause(head, vertices, memory) {
   return n < head.vertexCount ? withChunkMargin(n) : Infinity;
 }
 
-// The budget's vertex count again once an eighth of `target` is loaded, with the escaped
-// positions measured on the loaded vertices (StepPositions.escapedBytes()) instead of the
-// allowance: a model whose motion changes much from step to step escapes more. Lowered, never
-// raised (the page's draw buffers took room for the first count). The decode worker asks after
-// each chunk.
+// The budget's vertex count again once an eighth of `target` is loaded, with the packed steps
+// and escaped positions measured on the loaded vertices (StepPositions.laterBytes()) instead of
+// the allowance: a model whose motion changes much from step to step packs into more bits and
+// escapes more. Lowered, never raised (the page's draw buffers took room for the first count).
+// The decode worker asks after each chunk.
 export function remeasuredBudget(head, budget, target, positions, loaded) {
   if (8 * loaded < target) return target;
-  return Math.min(target, budgetedVertices(head, budget, positions.escapedBytes() / loaded));
+  return Math.min(target, budgetedVertices(head, budget, positions.laterBytes() / loaded));
 }

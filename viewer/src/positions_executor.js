@@ -43,9 +43,9 @@ export function positionsInWorker() {
       // positions and the staging arrays are shared.
       const bytes = sections.map((b) => b.slice());
       const { split, ringStart, ring, old, first } = stencils;
-      const { vertexCount, steps, wide } = positions;
+      const { vertexCount, steps, wide, dir, runs } = positions;
       Atomics.store(signal, 2, ++started);
-      worker.postMessage({ signal, text, head, lossless, positions: { vertexCount, steps, wide }, s, n,
+      worker.postMessage({ signal, text, head, lossless, positions: { vertexCount, steps, wide, dir, runs }, s, n,
         stencils: { split, ringStart, ring: ring.data, old, first }, sections: bytes, staging },
       [split.buffer, ring.data.buffer, old.buffer, ...bytes.map((b) => b.buffer)]);
     },

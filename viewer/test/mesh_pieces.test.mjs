@@ -62,8 +62,10 @@ function arrays(mesh) {
   // Positions as the page reads them: every step of the loaded vertices, and what is stored.
   const n = mesh.vertexCountLoaded;
   for (let t = 0; t < mesh.head.stepCount; t++) add(`positions${t}`, mesh.positionsAt(t, n, new Float32Array(3 * n)));
-  mesh.positions.steps.forEach((a, t) => add(`steps${t}`, a.subarray(0, 3 * n)));
-  mesh.positions.wide.forEach((a, t) => add(`wide${t}`, a.subarray(0, 1 + 2 * a[0])));
+  // Packed steps as their second differences: a copied page packs them in runs of its own.
+  mesh.positions.steps.forEach((a, t) => add(`steps${t}`, mesh.positions.dir[t] ? mesh.positions.differences(t, 0, 3 * n) : a.subarray(0, 3 * n)));
+  // (A packed step's escapes depend on its blocks, which a copied page cuts where its pieces do.)
+  mesh.positions.wide.forEach((a, t) => mesh.positions.dir[t] || add(`wide${t}`, a.subarray(0, 1 + 2 * a[0])));
   mesh.fields.forEach((f, k) => {
     f.q.forEach((a, t) => add(`field${k}.q${t}`, a));
     add(`field${k}.error`, f.error);

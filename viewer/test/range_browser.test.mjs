@@ -78,11 +78,12 @@ async function paused(page) {
   return s;
 }
 // The bytes a vertex's positions take on the page, at least (the stored arrays: step 0, the first
-// motion in 16 bits, 8 a coordinate a step after; 32 each when lossless) and at most (the budget's
-// estimate, escaped values and a cursor in it, and a second cursor).
+// motion in 16 bits, and the packed steps after, which on the sample need more than a byte a
+// vertex a step; 32 bits a coordinate when lossless) and at most (the budget's estimate, escaped
+// values and a cursor in it, and a second cursor).
 function positionBounds({ stepCount: T, flags }) {
   const lossless = (flags & 1) !== 0;
-  return [lossless ? 12 * T : 12 + 6 + 3 * (T - 2), positionBytes(T, lossless) + 24];
+  return [lossless ? 12 * T : 12 + 6 + (T - 2), positionBytes(T, lossless) + 24];
 }
 
 const followed = () => ((s) => s.complete && s.vertices === s.loadedVertices)(window.dpmViewer.state());

@@ -61,14 +61,25 @@ for (const lossless of [false, true])
       assert.ok(p.steps.every((a) => a instanceof Int32Array));
       assert.ok(p.wide.every((w) => w[0] === 0), 'nothing escapes');
     } else {
-      assert.ok(p.steps[0] instanceof Int32Array && p.steps[1] instanceof Int16Array && p.steps[5] instanceof Int8Array);
+      assert.ok(p.steps[0] instanceof Int32Array && p.steps[1] instanceof Int16Array && p.steps[5] instanceof Uint8Array);
       assert.ok(p.wide[1][0] > 0 && p.wide[5][0] > 0, 'some values escaped at step 1 and later');
       // An escaped value is the type's escape in the step's array, and in its list in index order.
       for (let t = 1; t < T; t++) {
         const w = p.wide[t];
         for (let k = 1; k < w[0]; k++) assert.ok(w[1 + 2 * k] > w[2 * k - 1], `step ${t}: escapes in index order`);
-        for (let k = 0; k < w[0]; k++) assert.equal(p.steps[t][w[1 + 2 * k]], t === 1 ? -32768 : -128);
+        // Step 1 stores Int16's escape; a packed step gives the value back from the list.
+        const stored = (i) => (t === 1 ? p.steps[1][i] : p.differences(t, i, i + 1)[0]);
+        for (let k = 0; k < w[0]; k++) assert.equal(stored(w[1 + 2 * k]), t === 1 ? -32768 : w[2 + 2 * k]);
       }
+      // Packed: a run a store (two a step), blocks of at most 128 coordinates; only values beyond
+      // 16 bits or beyond their block's width escape, so the ±32768 edges (and the jumps) do.
+      const edges = new Set();
+      for (let t = 2; t < T; t++) {
+        assert.equal(p.runs[t][0], 2);
+        assert.equal(p.dir[t][0], Math.ceil(3 * Math.floor(V / 3) / 128) + Math.ceil(3 * (V - Math.floor(V / 3)) / 128));
+        for (let k = 0; k < p.wide[t][0]; k++) edges.add(Math.abs(p.wide[t][2 + 2 * k]));
+      }
+      assert.ok(edges.has(32768) && edges.has(5e6), 'the 16-bit edge and the jumps escaped');
     }
     // Forward, backward, jumps, both cursors, and a count of vertices that shrinks and grows.
     const r = random(11);
@@ -104,14 +115,20 @@ test("a page that is sent pieces (the escaped values of a run of vertices) holds
   const steps = paths(V, T, 5);
   const worker = stored(steps, false, V, 120);
   const page = new StepPositions(T, false, V);
-  for (const [v0, v1] of [[0, 120], [120, 300]]) {
+  // Cut where the worker's runs are not (its stores: 0–120, 120–300), so runs and blocks differ.
+  for (const [v0, v1] of [[0, 50], [50, 190], [190, 300]]) {
     page.makeRoom(v1);
-    worker.steps.forEach((a, t) => page.steps[t].set(a.subarray(3 * v0, 3 * v1), 3 * v0));
-    for (let t = 0; t < T; t++) page.addWidePairs(t, worker.widePairs(t, v0, v1));
+    worker.steps.forEach((a, t) => {
+      if (t < 2) page.steps[t].set(a.subarray(3 * v0, 3 * v1), 3 * v0);
+      else page.addDifferences(t, 3 * v0, worker.differences(t, 3 * v0, 3 * v1));  // finds its escapes
+    });
+    for (let t = 0; t < 2; t++) page.addWidePairs(t, worker.widePairs(t, v0, v1));
   }
+  assert.equal(page.runs[T - 1][0], 3);
   for (let t = 0; t < T; t++) assert.deepEqual(prefix(page.around(t, t, V)[1], V), prefix(steps[t], V), `step ${t}`);
   // Another thread's reader: the arrays alone, cursors of its own.
-  const other = StepPositions.from(structuredClone({ vertexCount: V, steps: worker.steps, wide: worker.wide }));
+  const { steps: s, wide, dir, runs } = worker;
+  const other = StepPositions.from(structuredClone({ vertexCount: V, steps: s, wide, dir, runs }));
   assert.deepEqual(prefix(other.around(T - 1, T - 1, V)[1], V), prefix(steps[T - 1], V));
   assert.equal(other.cursors.length, 1);
 });
@@ -121,7 +138,8 @@ test("a page that is sent pieces (the escaped values of a run of vertices) holds
 test('the sample model holds its positions compact', { skip: !process.env.DYNPM_DPM && 'DYNPM_DPM not set' }, () => {
   const { mesh } = readDpm(new Uint8Array(fs.readFileSync(process.env.DYNPM_DPM)));
   const { vertexCount: V, stepCount: T } = mesh.head;
-  const stored = [...mesh.positions.steps, ...mesh.positions.wide].reduce((sum, a) => sum + a.byteLength, 0);
+  const { steps } = mesh.positions;
+  const stored = steps[0].byteLength + steps[1].byteLength + mesh.positions.laterBytes();
   const full = 12 * V * T;
   assert.ok(stored < 0.4 * full, `${stored} bytes for ${V} vertices × ${T} steps (full: ${full})`);
   const last = mesh.positions.around(T - 1, T - 1, V)[1];
@@ -130,8 +148,8 @@ test('the sample model holds its positions compact', { skip: !process.env.DYNPM_
 });
 
 // The decode worker's budget (model_file.js): measured again once an eighth of it is loaded, with
-// the escaped positions of the loaded vertices instead of positionBytes()'s byte a step.
-test('the memory budget is lowered for positions that escape more than its allowance, never raised', () => {
+// the packed and escaped positions of the loaded vertices instead of positionBytes()'s allowance.
+test('the memory budget is lowered for positions that take more than its allowance, never raised', () => {
   const V = 600, T = 12, budget = 2 ** 20;
   const head = { stepCount: T, flags: 0, fieldCount: 0, baseVertexCount: 10, vertexCount: 100000 };
   const target = budgetedVertices(head, budget);
@@ -144,7 +162,11 @@ test('the memory budget is lowered for positions that escape more than its allow
   assert.ok(escaped > 4 * (T - 1), `${escaped} bytes a vertex escaped, four times the allowance`);
   assert.equal(remeasuredBudget(head, budget, target, calm, V), target, 'not raised');
   assert.equal(remeasuredBudget(head, budget, target, wild, 400), target, 'not before an eighth is loaded');
+  // Second differences within ±3: 3 bits a value (−3 … 3 need no escape code of all ones), and
+  // the blocks' entries.
+  const calmBytes = calm.laterBytes() / (V * (T - 2));
+  assert.ok(calmBytes > 9 / 8 && calmBytes < 9 / 8 + 0.2, `calm paths: ${calmBytes} bytes a vertex a packed step`);
   const lowered = remeasuredBudget(head, budget, target, wild, V);
-  assert.equal(lowered, Math.floor(budget / (positionBytes(T, false) - (T - 1) + escaped + 200)));
+  assert.equal(lowered, Math.floor(budget / (12 + 6 + wild.laterBytes() / V + 24 + 200)));
   assert.ok(lowered < 0.8 * target, `${lowered} of ${target}`);
 });
