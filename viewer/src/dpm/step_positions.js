@@ -37,7 +37,7 @@ const MAX_WIDTH = 16;
 // A value is read from 24 bits at a time: two bytes of room past the last block.
 const PACKED_PAD = 2;
 // The bytes a vertex takes a packed step, for the memory budget before any is measured: the
-// tiled crash boxes of bench/scale_inputs.py take 1.3, the CalculiX crash boxes 2.2–5.7 with their
+// tiled crash boxes of bench/scale_inputs.py take 1.3, the CalculiX crash boxes 2.2–3.8 with their
 // escapes (measured again once an eighth of the budget is loaded: remeasuredBudget()).
 const PACKED_ALLOWANCE = 2;
 
