@@ -147,8 +147,7 @@ export function addFields(mesh, fields, faceHeir) {
 // `sent` keeps the arrays the page has. Those it had still hold the levels it was told of.
 export function regrownSteps(mesh, sent) {
   const pieces = [];
-  const { steps, wide } = mesh.positions;
-  const { dir, runs } = mesh.positions;
+  const { steps, wide, dir, runs } = mesh.positions;
   const lists = [['positions.steps', steps], ['positions.wide', wide], ['positions.dir', dir], ['positions.runs', runs],
     ...mesh.fields.map((f, k) => [`fields.${k}.q`, f.q])];
   for (const [path, list] of lists) {
