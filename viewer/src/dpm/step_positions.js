@@ -259,12 +259,12 @@ export class StepPositions {
   // which finds its own escapes.
   differences(t, i0, i1) {
     const out = new Int32Array(i1 - i0);
-    const bytes = this.steps[t], dir = this.dir[t], runs = this.runs[t], wide = this.wide[t];
+    const runs = this.runs[t];
     let r = runAt(runs, i0);
     const runCount = Atomics.load(runs, 0);
     for (let i = i0; i < i1; i++) {
       while (r + 1 < runCount && runs[3 + 2 * r] <= i) r++;
-      out[i - i0] = packedValue(bytes, dir, runs, wide, r, i);
+      out[i - i0] = this.difference(t, i, r);
     }
     return out;
   }
@@ -297,7 +297,7 @@ export class StepPositions {
   }
 
   // Step t's second difference (or first motion, at t = 1) at coordinate i, its escape resolved;
-  // `run` a packed step's run that holds i.
+  // `run`: a packed step's run that holds i, if known.
   difference(t, i, run = -1) {
     const step = this.steps[t], runs = this.runs[t];
     if (runs) return packedValue(step, this.dir[t], runs, this.wide[t], run >= 0 ? run : runAt(runs, i), i);
@@ -321,44 +321,15 @@ export class StepPositions {
       }
       // q(t) = 2 q(t − 1) − q(t − 2) + d(t), with q(−1) = q(0).
       const before = out(t - 1), before2 = t > 1 ? out(t - 2) : before;
-      const wide = this.wide[t], dir = this.dir[t];
-      if (!dir) {
-        const escape = ESCAPE.get(step.constructor);
-        for (let k = 0, j = at; k < count; k++, j += 3) {
-          const i = 3 * ids[k];
-          for (let c = 0; c < 3; c++) {
-            let d = step[i + c];
-            if (d === escape) d = wideValue(wide, i + c);
-            now[j + c] = 2 * before[j + c] - before2[j + c] + d;
-          }
+      const runs = this.runs[t], runCount = runs ? Atomics.load(runs, 0) : 0;
+      let r = 0;  // a packed step's run of the last id (a vertex's three coordinates share one)
+      for (let k = 0, j = at; k < count; k++, j += 3) {
+        const i = 3 * ids[k];
+        if (runs) {
+          if (runs[1 + 2 * r] > i) r = runAt(runs, i);  // ids that do not ascend
+          while (r + 1 < runCount && runs[3 + 2 * r] <= i) r++;
         }
-        continue;
-      }
-      this.gatherPacked(t, ids, now, before, before2, at);
-    }
-  }
-
-  // gather()'s step t when it is packed (a method of its own: one type of array in its loop).
-  gatherPacked(t, ids, now, before, before2, at) {
-    const step = this.steps[t], wide = this.wide[t], dir = this.dir[t], count = ids.length;
-    const runs = this.runs[t], runCount = Atomics.load(runs, 0);
-    let r = 0, start = runs[1], first = runs[2];  // the run of the last id (a vertex's three coordinates share one)
-    for (let k = 0, j = at; k < count; k++, j += 3) {
-      const i = 3 * ids[k];
-      if (start > i || (r + 1 < runCount && runs[3 + 2 * r] <= i)) {
-        if (start > i) r = runAt(runs, i);  // ids that do not ascend
-        while (r + 1 < runCount && runs[3 + 2 * r] <= i) r++;
-        start = runs[1 + 2 * r], first = runs[2 + 2 * r];
-      }
-      for (let c = 0; c < 3; c++) {
-        const rel = i + c - start, entry = dir[2 + first + (rel >>> BLOCK_SHIFT)], w = entry & 31;
-        let d = 0;
-        if (w !== 0) {
-          const bit = (rel & (BLOCK - 1)) * w, mask = (1 << w) - 1, p = (entry >>> 5) * 8 + (bit >>> 3);
-          const z = ((step[p] | (step[p + 1] << 8) | (step[p + 2] << 16)) >>> (bit & 7)) & mask;
-          d = z === mask ? wideValue(wide, i + c) : (z >>> 1) ^ -(z & 1);
-        }
-        now[j + c] = 2 * before[j + c] - before2[j + c] + d;
+        for (let c = 0; c < 3; c++) now[j + c] = 2 * before[j + c] - before2[j + c] + this.difference(t, i + c, r);
       }
     }
   }
