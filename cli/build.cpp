@@ -2,6 +2,7 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <future>
 #include <iostream>
 #include <optional>
 
@@ -85,12 +86,13 @@ uint64_t key_step_count(const KeyStepRule& rule, uint64_t steps) {
 }
 
 // The estimate before the work, and the refusal when it cannot fit: the message names the
-// memory the process can have (free memory, ulimit -v, the cgroup's limit) and the most key
+// memory the process can have (`have`: free memory, ulimit -v, the cgroup's limit, taken before
+// the faces' check built its adjacency, which is given back before the peak) and the most key
 // steps that would fit. On a mesh of islands fewer of them at once are tried first (the same
 // file, in less memory and time on fewer cores): `simplify` gets the number that fits. An error
 // message, or "".
 std::string check_memory(const Topology& input, const FrameSource& frames, const KeyStepRule& rule,
-                         SimplifyOptions& simplify, bool refuse) {
+                         SimplifyOptions& simplify, bool refuse, uint64_t have) {
   const uint64_t vertices = input.vertex_count, steps = frames.step_count();
   uint64_t field_values = 0;  // per step, of every result field
   for (const FieldInfo& f : frames.fields())
@@ -102,9 +104,6 @@ std::string check_memory(const Topology& input, const FrameSource& frames, const
                                  quadric_vertices_held(islands, simplify, input.vertex_count));
   };
   const uint64_t keys = key_step_count(rule, steps);
-  // The input check's adjacency, held now for the simplifier, is given back before the peak.
-  uint64_t have = available_memory_bytes();
-  if (have > 0 && simplify.checked) have += simplify.checked->adjacency_bytes();
   uint64_t need = estimate(keys);
   std::string at_once;  // " with K of N islands at once" when fewer are chosen
   if (refuse && have > 0 && need > have && islands.size() > 1) {
@@ -158,7 +157,7 @@ int run_build(std::span<char* const> arguments) {
     return fail(kSpec.name, kExitUsage, s.message());
 
   const ProgressCallback report = progress;
-  std::optional<AnimationStream> stream;
+  std::optional<InputToSimplify> single;
   std::optional<FamilyInputs> family;
   if (args.has("--family")) {
     auto opened = open_family(args, *output, report, options.simplify.threads);
@@ -167,21 +166,51 @@ int run_build(std::span<char* const> arguments) {
     options.variants = family->steps->variants();
     options.simplify.checked = family->checked;
   } else {
-    auto opened = open_input_to_simplify(args, *output, options.simplify.checked);
+    auto opened = open_input_unchecked(args, *output);
     if (!opened) return fail(kSpec.name, kExitFailure, opened.message());
-    stream.emplace(std::move(*opened));
+    single.emplace(std::move(*opened));
   }
-  Topology& input = family ? family->members[0].topology : stream->topology;
-  const FrameSource& frames = family ? *family->steps : *stream->frames;
+  Topology& input = family ? family->members[0].topology : single->stream.topology;
+  const FrameSource& frames = family ? *family->steps : *single->stream.frames;
   if (Status s = check_cost_fields(options.simplify, frames); !s.ok())
     return fail(kSpec.name, kExitUsage, s.message());
-  if (std::string refused =
-          check_memory(input, frames, key_rule, options.simplify, !args.has("--no-memory-check"));
-      !refused.empty())
-    return fail(kSpec.name, kExitFailure, refused);
   const auto start = std::chrono::steady_clock::now();
+  // What the process can have, before the faces' check below builds its adjacency (a family's
+  // was built while opening it).
+  uint64_t have = available_memory_bytes();
+  if (family && have > 0 && options.simplify.checked)
+    have += options.simplify.checked->adjacency_bytes();
+  // A single input's faces are checked on a thread of their own while the memory is estimated
+  // and the key steps are chosen (reading every step): both are about one core's work for as
+  // long. A failed check stops the reading; its message comes first, as when they ran in turn.
+  std::atomic<bool> stop_reading{false};
+  std::optional<ValidationProof> proof;  // the check's, handed to the simplifier once it ended
+  std::future<Status> faces_checked;
+  if (single)
+    faces_checked = std::async(std::launch::async, [&] {
+      Status checked = check_input_faces(*single, proof);
+      if (!checked.ok()) stop_reading = true;
+      return checked;
+    });
+  const auto faces_error = [&]() -> std::optional<int> {
+    if (!faces_checked.valid()) return std::nullopt;
+    Phase phase("checking the input");
+    const Status checked = faces_checked.get();
+    if (!checked.ok()) return fail(kSpec.name, kExitFailure, checked.message());
+    options.simplify.checked = std::move(proof);
+    return std::nullopt;
+  };
+  if (std::string refused = check_memory(input, frames, key_rule, options.simplify,
+                                         !args.has("--no-memory-check"), have);
+      !refused.empty()) {
+    stop_reading = true;
+    if (auto exit_code = faces_error()) return *exit_code;
+    return fail(kSpec.name, kExitFailure, refused);
+  }
   std::optional<Phase> phase(std::in_place, "choosing the key steps");
-  auto key_steps = choose_key_steps(frames, key_rule, options.simplify.threads, report);
+  auto key_steps =
+      choose_key_steps(frames, key_rule, options.simplify.threads, report, &stop_reading);
+  if (auto exit_code = faces_error()) return *exit_code;
   if (!key_steps) return fail(kSpec.name, kExitFailure, key_steps.message());
   options.simplify.key_steps = key_steps->steps;
   options.all_steps_box = key_steps->all_steps_box;  // the last pass quantizes as it reads

@@ -93,26 +93,32 @@ Result<ReadOptions> read_options(const Args& args) {
   return options;
 }
 
+// open_inputs() of files already expanded.
+Result<AnimationStream> open_files(const std::vector<std::string>& paths, const Args& args,
+                                   InputChecks checks, std::optional<ValidationProof>* checked) {
+  auto read = read_options(args);
+  if (!read) return read.status();
+  ReadOptions options = std::move(read).value();
+  options.warn = [](const std::string& note) { std::cerr << "warning: " << note << "\n"; };
+  auto stream = open_input(paths, options);
+  if (!stream || checks == InputChecks::kNone) return stream;
+  if (checks == InputChecks::kSimplifiable) {
+    std::optional<ValidationProof> proof;
+    DYNPM_RETURN_IF_ERROR(check_faces(stream->topology, paths.front(), proof));
+    if (checked) *checked = proof;
+  }
+  stream->frames = std::make_unique<FinitePositions>(std::move(stream->frames), paths,
+                                                     stream->topology.node_ids);
+  return stream;
+}
+
 }  // namespace
 
 Result<AnimationStream> open_inputs(std::span<const std::string> arguments, const Args& args,
                                     InputChecks checks, std::optional<ValidationProof>* checked) {
-  auto read = read_options(args);
-  if (!read) return read.status();
   auto paths = expand_inputs(arguments);
   if (!paths) return paths.status();
-  ReadOptions options = std::move(read).value();
-  options.warn = [](const std::string& note) { std::cerr << "warning: " << note << "\n"; };
-  auto stream = open_input(*paths, options);
-  if (!stream || checks == InputChecks::kNone) return stream;
-  if (checks == InputChecks::kSimplifiable) {
-    std::optional<ValidationProof> proof;
-    DYNPM_RETURN_IF_ERROR(check_faces(stream->topology, paths->front(), proof));
-    if (checked) *checked = proof;
-  }
-  stream->frames = std::make_unique<FinitePositions>(std::move(stream->frames), *paths,
-                                                     stream->topology.node_ids);
-  return stream;
+  return open_files(*paths, args, checks, checked);
 }
 
 std::optional<int> require_inputs_and_output(const Args& args, const VerbSpec& spec,
@@ -126,6 +132,20 @@ Result<AnimationStream> open_input_to_simplify(const Args& args, const std::stri
   DYNPM_RETURN_IF_ERROR(check_output_folder(output));
   Phase phase("reading the input");
   return open_inputs(args.positional, args, InputChecks::kSimplifiable, &checked);
+}
+
+Result<InputToSimplify> open_input_unchecked(const Args& args, const std::string& output) {
+  DYNPM_RETURN_IF_ERROR(check_output_folder(output));
+  Phase phase("reading the input");
+  auto paths = expand_inputs(args.positional);
+  if (!paths) return paths.status();
+  auto stream = open_files(*paths, args, InputChecks::kFinite, nullptr);
+  if (!stream) return stream.status();
+  return InputToSimplify{std::move(stream).value(), paths->front()};
+}
+
+Status check_input_faces(const InputToSimplify& input, std::optional<ValidationProof>& checked) {
+  return check_faces(input.stream.topology, input.first_file, checked);
 }
 
 }  // namespace dynpm::cli

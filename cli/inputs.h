@@ -44,4 +44,15 @@ std::optional<int> require_inputs_and_output(const Args& args, const VerbSpec& s
 Result<AnimationStream> open_input_to_simplify(const Args& args, const std::string& output,
                                                std::optional<ValidationProof>& checked);
 
+// open_input_to_simplify() in two parts, for a verb that reads the steps while the faces are
+// checked (the check is one core's work for about as long as reading every step): the output's
+// folder and the inputs opened with InputChecks::kFinite, then check_input_faces(), the faces'
+// check of kSimplifiable (its message names `first_file`), which may run on another thread.
+struct InputToSimplify {
+  AnimationStream stream;
+  std::string first_file;
+};
+Result<InputToSimplify> open_input_unchecked(const Args& args, const std::string& output);
+Status check_input_faces(const InputToSimplify& input, std::optional<ValidationProof>& checked);
+
 }  // namespace dynpm::cli

@@ -64,6 +64,7 @@
 #pragma once
 
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -308,9 +309,12 @@ struct KeyStepChoice {
 // `threads` at once, 0: one per hardware thread, with the same choice on any count).
 // Distances between steps are the largest vertex displacement, measured on at most
 // kMaxProbeVertices vertices spread evenly over the mesh, so that a 5 M-node, 100-step result
-// is compared in bounded memory. Reports phase "choosing key steps" (steps read).
+// is compared in bounded memory. Reports phase "choosing key steps" (steps read). Once `stop`
+// (when given) is set, it reads no further step and returns an error: a caller that reads the
+// steps while it checks the faces gives up the reading when the check fails.
 inline constexpr uint32_t kMaxProbeVertices = 65536;
 Result<KeyStepChoice> choose_key_steps(const FrameSource& frames, const KeyStepRule& rule,
-                                       unsigned threads = 0, const ProgressCallback& progress = {});
+                                       unsigned threads = 0, const ProgressCallback& progress = {},
+                                       const std::atomic<bool>* stop = nullptr);
 
 }  // namespace dynpm

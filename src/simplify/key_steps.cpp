@@ -65,7 +65,8 @@ Result<KeyStepRule> parse_key_step_rule(const std::string& text) {
 }
 
 Result<KeyStepChoice> choose_key_steps(const FrameSource& frames, const KeyStepRule& rule,
-                                       unsigned threads, const ProgressCallback& progress) {
+                                       unsigned threads, const ProgressCallback& progress,
+                                       const std::atomic<bool>* stop) {
   const size_t steps = frames.step_count();
   if (steps == 0) return Status::error("the animation has no time step");
   KeyStepChoice choice;
@@ -100,6 +101,7 @@ Result<KeyStepChoice> choose_key_steps(const FrameSource& frames, const KeyStepR
   BoundingBox box;
   DYNPM_RETURN_IF_ERROR(
       for_each_step(frames, every, threads, [&](size_t t, std::span<const float> xyz) {
+        if (stop && stop->load()) return Status::error("choosing the key steps was stopped");
         box.extend(xyz);
         for (uint32_t v = 0; v < n; v += stride)
           probes[t].insert(probes[t].end(), &xyz[size_t{v} * 3], &xyz[size_t{v} * 3] + 3);

@@ -183,6 +183,12 @@ def main():
         for t in range(3):
             moved = [(x, y, 0.1 * t) for x, y, _ in GRID_V]
             write(f"{name}/frame_{t}.obj", bad if t == 2 else obj(moved, GRID_F))
+    # Broken faces in every file and a NaN in step 2: the build reads the steps while it checks
+    # the faces, and must still name the faces.
+    repeated = GRID_F[:3] + [(4, 5, 5, 7)]
+    for t in range(3):
+        moved = [(x, y, 0.1 * t) for x, y, _ in GRID_V]
+        write(f"seq-nan-bad-faces/frame_{t}.obj", obj(nan_step if t == 2 else moved, repeated))
 
     # A triangle whose corners lie on one line and a quad folded onto a segment.
     # The grid and a triangle on its right edge whose third corner lies on that edge: 5-2-9 has
