@@ -59,15 +59,6 @@ Status KeyStepQuadrics::load_key_steps(const FrameSource& frames, const Topology
 
 namespace {
 
-// The face's plane, weighted by its area; none for a face without area.
-std::optional<Plane> add_face_plane(Quadric& q, const Vec3* p, int degree) {
-  const double area = 0.5 * length(doubled_vector_area(p, degree));
-  if (area <= 0) return std::nullopt;
-  const Plane plane = face_plane(p, degree);
-  q.add_plane(plane.normal, plane.offset, area);
-  return plane;
-}
-
 // Planes through the constrained edges of the face at its corner `at`, perpendicular to the
 // face, weighted by boundary_weight · |edge|².
 void add_constraint_planes(Quadric& q, const Vec3* p, int degree, int at, uint8_t constrained,
@@ -90,9 +81,25 @@ void add_regularizer(Quadric& q, double weight) { q.add_isotropic(weight); }
 
 }  // namespace
 
-// In coordinates around v; each face's plane is computed once per corner, which is cheaper
-// than storing a plane per face and step.
-Quadric KeyStepQuadrics::vertex_quadric(const CollapseMesh& mesh, uint32_t v, size_t k) const {
+// A face's unit normal (its plane's: a skew quad's quad_plane()) and its area. Both come from
+// differences of its corners, so they are the same around whichever point the corners are
+// given; the plane's offset is not, and is taken around each corner's own vertex.
+struct FaceShape {
+  Vec3 normal;
+  double area = 0;
+};
+FaceShape face_shape(const Vec3* p, int degree) {
+  FaceShape s;
+  s.area = 0.5 * length(doubled_vector_area(p, degree));
+  if (s.area > 0) s.normal = face_plane(p, degree).normal;
+  return s;
+}
+
+// In coordinates around v: the planes of v's faces weighted by their areas, and their
+// constraint planes at v.
+template <class Shape>
+Quadric KeyStepQuadrics::vertex_quadric(const CollapseMesh& mesh, uint32_t v, size_t k,
+                                        Shape&& shape) const {
   const Vec3 origin = position(v, k);
   Quadric q;
   double area = 0;
@@ -101,12 +108,13 @@ Quadric KeyStepQuadrics::vertex_quadric(const CollapseMesh& mesh, uint32_t v, si
     const int d = face.degree();
     Vec3 p[4];  // the face's corners around v
     for (int c = 0; c < d; ++c) p[c] = position(face.v[c], k) - origin;
-    // Its plane (a skew quad's quad_plane()) by area, then its constraint planes at v.
-    const std::optional<Plane> plane = add_face_plane(q, p, d);
-    if (!plane) continue;
-    add_constraint_planes(q, p, d, corner_of(face, v), constrained_[f], plane->normal,
-                          boundary_weight_);
-    if (regularize_ > 0) area += 0.5 * length(doubled_vector_area(p, d));
+    const FaceShape s = shape(f, p, d);
+    if (!(s.area > 0)) continue;
+    // Through the centroid (a quad) or the first corner (a triangle), as face_plane() has it.
+    const Vec3 through = d == 4 ? (p[0] + p[1] + p[2] + p[3]) * 0.25 : p[0];
+    q.add_plane(s.normal, -dot(s.normal, through), s.area);
+    add_constraint_planes(q, p, d, corner_of(face, v), constrained_[f], s.normal, boundary_weight_);
+    if (regularize_ > 0) area += s.area;
   }
   if (regularize_ > 0) add_regularizer(q, regularize_ * area);
   return q;
@@ -124,6 +132,7 @@ void KeyStepQuadrics::build(const Topology& input, const CollapseMesh& mesh,
   if (mesh.island_count() > 1) {  // made as the islands open
     island_quadrics_.resize(mesh.island_count());
     island_rows_.assign(n, nullptr);
+    island_face_slot_.assign(input.faces.size(), kNoIndex);
     return;
   }
   quadrics_.assign(size_t{n} * key_count_, LocalQuadric{});
@@ -131,7 +140,8 @@ void KeyStepQuadrics::build(const Topology& input, const CollapseMesh& mesh,
     for (size_t i = begin; i < end; ++i) {
       const uint32_t v = static_cast<uint32_t>(i / key_count_);
       const size_t k = i % key_count_;
-      quadric(v, k) = LocalQuadric::narrow(vertex_quadric(mesh, v, k));
+      quadric(v, k) = LocalQuadric::narrow(vertex_quadric(
+          mesh, v, k, [](uint32_t, const Vec3* p, int d) { return face_shape(p, d); }));
     }
   });
   std::vector<uint8_t>().swap(constrained_);
@@ -144,11 +154,35 @@ void KeyStepQuadrics::open_island(size_t i, const CollapseMesh& mesh) {
   block = spare_blocks_.take();
   block.resize(count * key_count_);
   release_unused_capacity(block);  // a larger island's rows past this one's
+  // Each face's shape once a key step, not once a corner (a quad's plane normalizes five
+  // vectors): the island's faces numbered as met, their shapes around their first corner.
+  thread_local std::vector<uint32_t> faces;
+  thread_local std::vector<FaceShape> shapes;
+  faces.clear();
+  mesh.for_each_island_vertex(i, [&](uint32_t v) {
+    for (uint32_t f : mesh.faces_of(v))
+      if (island_face_slot_[f] == kNoIndex) {
+        island_face_slot_[f] = static_cast<uint32_t>(faces.size());
+        faces.push_back(f);
+      }
+  });
+  shapes.resize(faces.size() * key_count_);
+  for (size_t j = 0; j < faces.size(); ++j) {
+    const Face& face = input_->faces[faces[j]];
+    const int d = face.degree();
+    for (size_t k = 0; k < key_count_; ++k) {
+      Vec3 p[4];
+      for (int c = 0; c < d; ++c) p[c] = position(face.v[c], k) - position(face.v[0], k);
+      shapes[j * key_count_ + k] = face_shape(p, d);
+    }
+  }
   LocalQuadric* row = block.data();
   mesh.for_each_island_vertex(i, [&](uint32_t v) {
     island_rows_[v] = row;
     for (size_t k = 0; k < key_count_; ++k)
-      row[k] = LocalQuadric::narrow(vertex_quadric(mesh, v, k));
+      row[k] = LocalQuadric::narrow(vertex_quadric(mesh, v, k, [&](uint32_t f, const Vec3*, int) {
+        return shapes[size_t{island_face_slot_[f]} * key_count_ + k];
+      }));
     row += key_count_;
   });
   const size_t held = held_ += count;

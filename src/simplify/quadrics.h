@@ -6,8 +6,11 @@
 //   1. constrained_edges()   which edges of each face carry a constraint plane (boundary or
 //                            feature edges), once for the whole run
 //   2. per face of v, in v's face order:
-//      add_face_plane()       the face's plane (a triangle's own, a skew quad's quad_plane(),
-//                             core/face_geometry.h), weighted by the face's area
+//      face_shape()           the face's unit normal (a triangle's own, a skew quad's
+//                             quad_plane(), core/face_geometry.h) and area; the plane through
+//                             the face's centroid (a triangle: its first corner) around v,
+//                             weighted by the area (an island's faces' shapes are made once a
+//                             key step, before its vertices' quadrics)
 //      add_constraint_planes() through v's constrained edges in the face, perpendicular to it,
 //                             weighted boundary_weight · |edge|²
 //   3. add_regularizer()      an isotropic quadric weighted regularize × the area of v's faces
@@ -169,7 +172,10 @@ class KeyStepQuadrics {
     return island_rows_.empty() ? quadrics_[row(v) * key_count_ + k] : island_rows_[v][k];
   }
   size_t collapses_before_drop(const CollapseMesh& mesh) const;
-  Quadric vertex_quadric(const CollapseMesh& mesh, uint32_t v, size_t k) const;
+  // The sum of v's faces' planes in key step k, around v's position; shape(f) gives face f's
+  // unit normal and area (FaceShape, quadrics.cpp).
+  template <class Shape>
+  Quadric vertex_quadric(const CollapseMesh& mesh, uint32_t v, size_t k, Shape&& shape) const;
 
   size_t key_count_ = 0;
   std::vector<float> positions_;        // #V × #key steps × xyz
@@ -180,7 +186,10 @@ class KeyStepQuadrics {
   std::vector<std::vector<LocalQuadric>> island_quadrics_;
   std::vector<LocalQuadric*> island_rows_;
   Spares<std::vector<LocalQuadric>> spare_blocks_;  // closed islands' blocks, for the next
-  std::atomic<size_t> held_{0}, most_held_{0};      // vertices of the open islands
+  // Each face's place among its island's faces while the island opens (islands share no face,
+  // so islands opening at once write apart).
+  std::vector<uint32_t> island_face_slot_;
+  std::atomic<size_t> held_{0}, most_held_{0};  // vertices of the open islands
   // What an island's quadrics are made of (build()'s arguments).
   const Topology* input_ = nullptr;
   std::vector<uint8_t> constrained_;
