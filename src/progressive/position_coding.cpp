@@ -292,12 +292,14 @@ void StepPositionEncoder::code_batch() {
     for (size_t j = begin; j < end; ++j) {
       const size_t t = first + j;
       std::array<std::array<SignedModel, kResidualBuckets>, 3> m;  // step t's, chunk to chunk
+      // Held here: the coder's writes could otherwise be taken to move the vectors' arrays.
+      const int32_t* now = r[j].data();
+      const int32_t* last = before(j).data();
       for (const auto& [from, to] : chunks_) {
         RangeEncoder coder;
-        for (uint32_t k = from; k < to; ++k)
+        for (size_t i = size_t{from} * 3; i < size_t{to} * 3; i += 3)
           for (int c = 0; c < 3; ++c)
-            m[c][t > 0 ? residual_bucket(before(j)[size_t{k} * 3 + c]) : 0].encode(
-                coder, r[j][size_t{k} * 3 + c]);
+            m[c][t > 0 ? residual_bucket(last[i + c]) : 0].encode(coder, now[i + c]);
         sections_[t].push_back(coder.finish());
       }
     }
