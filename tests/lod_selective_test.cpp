@@ -6,12 +6,15 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <iostream>
 #include <random>
 
 #include "crashbox_models.h"
 #include "dynpm/lod.h"
+#include "dynpm/pipeline.h"
+#include "fixtures.h"
 #include "random_meshes.h"
 
 namespace dynpm {
@@ -41,6 +44,46 @@ struct FaceHistory {
     }
   }
 };
+
+// Three wavy plates apart (33 k, 23 k and 15 k vertices): past the split count from which the
+// fan and wing-edge rules replay groups of whole components on threads of their own (two groups
+// here: the largest plate, and the other two). Any thread count gives one replay's result.
+TEST(SplitDependencies, ComponentGroupsOnThreadsGiveOneReplaysResult) {
+  const uint32_t sizes[] = {180, 150, 120};
+  uint32_t total = 0;
+  for (const uint32_t size : sizes) total += (size + 1) * (size + 1);
+  test::Mesh plates;
+  plates.topology = Topology::with_vertices(total);
+  uint32_t first = 0;
+  float x0 = 0;
+  for (const uint32_t size : sizes) {
+    const test::Mesh plate = test::quad_grid(size, size);
+    for (size_t v = 0; v < plate.positions.size(); v += 3) {
+      const float x = plate.positions[v], y = plate.positions[v + 1];
+      plates.positions.insert(plates.positions.end(),
+                              {x0 + x, y, std::sin(0.21f * x) * std::cos(0.17f * y)});
+    }
+    for (const Face& f : plate.topology.faces)
+      plates.topology.add_quad(first + f.v[0], first + f.v[1], first + f.v[2], first + f.v[3]);
+    first += plate.topology.vertex_count;
+    x0 += float(size) + 10;
+  }
+  const Animation a = plates.animation();
+  auto m = build_progressive_mesh(a.topology, a.frames, BuildOptions{});
+  ASSERT_TRUE(m.ok()) << m.message();
+  ASSERT_GT(m->split_count(), 1u << 16);  // kSplitsForGroups
+  for (const SplitReads reads : {SplitReads::kFan, SplitReads::kWingEdges}) {
+    const SplitDependencies one = derive_split_dependencies(*m, reads, 1);
+    for (const unsigned threads : {2u, 3u}) {
+      SCOPED_TRACE(std::to_string(threads) + " threads");
+      const SplitDependencies grouped = derive_split_dependencies(*m, reads, threads);
+      EXPECT_EQ(grouped.dep_start, one.dep_start);
+      EXPECT_EQ(grouped.deps, one.deps);
+      EXPECT_EQ(grouped.last_writer, one.last_writer);
+      EXPECT_EQ(grouped.faces_after, one.faces_after);
+    }
+  }
+}
 
 TEST(SplitDependencies, PointToEarlierSplitsOnTheCrashBoxes) {
   for (const char* name : kBoxes) {

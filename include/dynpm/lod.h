@@ -124,9 +124,12 @@ struct SplitDependencies {
 // applied writers make it). The default, as in the viewer's decoder
 // (viewer/src/dpm/split_dependencies.js): both must choose the same splits.
 enum class SplitReads : uint8_t { kFan, kWingEdges, kWritten, kFaceCreators };
-// One pass over the splits in stream order (works on a prefix of a file as well).
+// One pass over the splits in stream order (works on a prefix of a file as well). kFan and
+// kWingEdges replay groups of whole connected components on up to `threads` threads (0: one per
+// hardware thread) when there are several of about equal size: the same result on any count.
 SplitDependencies derive_split_dependencies(const ProgressiveMesh& mesh,
-                                            SplitReads reads = SplitReads::kFaceCreators);
+                                            SplitReads reads = SplitReads::kFaceCreators,
+                                            unsigned threads = 1);
 // Adds to `splits` (one flag per split) everything its flagged splits depend on, transitively.
 // Splits below `closed_prefix` count as flagged and closed already (a prefix is closed).
 void close_under_dependencies(const SplitDependencies& deps, std::vector<uint8_t>& splits,

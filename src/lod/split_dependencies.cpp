@@ -3,8 +3,10 @@
 // and the readers since.
 #include <algorithm>
 #include <array>
+#include <numeric>
 
 #include "core/list_pool.h"
+#include "core/parallel.h"
 #include "core/prefetch.h"
 #include "dynpm/lod.h"
 
@@ -49,7 +51,10 @@ class VertexFans {
 // followed by a write, not every read of the stream).
 class FaceAccess {
  public:
-  explicit FaceAccess(uint32_t faces) : last_writer_(faces, kNoIndex), readers_(faces, kNoIndex) {}
+  // Per face (kNoIndex each at first): its last writer and its first reader's pool entry; a
+  // replay of a group of components shares them with the other groups' (they touch other faces).
+  FaceAccess(std::vector<uint32_t>& last_writer, std::vector<uint32_t>& readers)
+      : last_writer_(last_writer), readers_(readers) {}
 
   // Split i reads f: it needs f's last writer.
   void read(uint32_t f, uint32_t i, std::vector<uint32_t>& needs) {
@@ -77,7 +82,6 @@ class FaceAccess {
     readers_[f] = kNoIndex;
     last_writer_[f] = i;
   }
-  std::vector<uint32_t> take_last_writers() { return std::move(last_writer_); }
   void prefetch_face(uint32_t f) const {
     prefetch(&last_writer_[f]);
     prefetch(&readers_[f]);
@@ -91,7 +95,7 @@ class FaceAccess {
   struct Reader {
     uint32_t split, next;
   };
-  std::vector<uint32_t> last_writer_, readers_;
+  std::vector<uint32_t>&last_writer_, &readers_;
   std::vector<Reader> pool_;
   uint32_t free_ = kNoIndex;  // the first reusable entry of the pool
 };
@@ -177,10 +181,133 @@ SplitDependencies derive_face_creators(const ProgressiveMesh& mesh, SplitDepende
   return out;
 }
 
+// Fewer splits than this are replayed on one thread (the groups cost more than they save).
+constexpr uint32_t kSplitsForGroups = 1 << 16;
+
+// The splits in groups of whole connected components, about equal in splits, for replays on
+// several threads (kFan, kWingEdges): a split reads and writes only faces of its parent's
+// component, so a group's replay gives each of its splits what one replay of all gives it.
+// Each group's splits ascending; none when one group would do (a single component, or one that
+// holds three quarters of the splits, or few splits).
+std::vector<std::vector<uint32_t>> component_groups(const ProgressiveMesh& mesh, unsigned count) {
+  const uint32_t n = mesh.split_count(), b = mesh.base_vertex_count;
+  if (count < 2 || n < kSplitsForGroups) return {};
+  // The base vertices' components (union-find over the base faces, halving the paths); a split
+  // vertex belongs to its parent's.
+  std::vector<uint32_t> root(b);
+  std::iota(root.begin(), root.end(), 0u);
+  const auto find = [&](uint32_t v) {
+    while (root[v] != v) v = root[v] = root[root[v]];
+    return v;
+  };
+  for (const Face& f : mesh.base_faces)
+    for (int c = 1; c < f.degree(); ++c) {
+      const uint32_t x = find(f.v[0]), y = find(f.v[c]);
+      if (x != y) root[std::max(x, y)] = std::min(x, y);
+    }
+  std::vector<uint32_t> component(n), splits_of(b, 0);
+  for (uint32_t i = 0; i < n; ++i) {
+    const uint32_t p = mesh.parent[i];
+    component[i] = p < b ? find(p) : component[p - b];
+    ++splits_of[component[i]];
+  }
+  // The largest components first, each to the group with the fewest splits so far.
+  std::vector<uint32_t> order;
+  for (uint32_t r = 0; r < b; ++r)
+    if (splits_of[r] > 0) order.push_back(r);
+  std::sort(order.begin(), order.end(), [&](uint32_t x, uint32_t y) {
+    return splits_of[x] != splits_of[y] ? splits_of[x] > splits_of[y] : x < y;
+  });
+  std::vector<uint64_t> load(count, 0);
+  std::vector<uint32_t> group(b, 0);
+  for (uint32_t r : order) {
+    const auto least = std::min_element(load.begin(), load.end()) - load.begin();
+    group[r] = static_cast<uint32_t>(least);
+    load[least] += splits_of[r];
+  }
+  if (*std::max_element(load.begin(), load.end()) * 4 > uint64_t{n} * 3) return {};
+  std::vector<std::vector<uint32_t>> groups(count);
+  for (uint32_t i = 0; i < n; ++i) groups[group[component[i]]].push_back(i);
+  return groups;
+}
+
+// One replay of the stream for kFan and kWingEdges over the splits given (ascending: all of
+// them, or a group of components'), appending their dependencies to a CSR. The per-face states
+// are shared by every group's replay; the vertex fans and the readers' pool are each replay's.
+struct Replay {
+  const ProgressiveMesh& mesh;
+  SplitReads reads;
+  const std::vector<uint32_t>& faces_after;
+  std::vector<uint32_t> last_writer, readers;
+  std::vector<uint32_t> written_by;  // == i: f is in W(i)
+  std::vector<Face> faces;           // the stream's faces, kept only for kWingEdges
+
+  void run(std::span<const uint32_t> splits, SplitDependencies& out) {
+    const uint32_t b = mesh.base_vertex_count;
+    VertexFans fans(mesh);
+    FaceAccess access(last_writer, readers);
+    const bool wing_edges = reads == SplitReads::kWingEdges;
+    auto on_wing_edge = [&](uint32_t f, uint32_t i) {
+      for (uint32_t k = mesh.wing_start[i]; k < mesh.wing_start[i + 1]; ++k)
+        if (faces[f].contains(mesh.wings[k].vertex)) return true;
+      return false;
+    };
+    std::vector<uint32_t> parents(splits.size()), needs;
+    for (size_t j = 0; j < splits.size(); ++j) parents[j] = mesh.parent[splits[j]];
+    for (size_t j = 0; j < splits.size(); ++j) {
+      const uint32_t i = splits[j], v0 = b + i, v1 = parents[j];
+      // Parents come in no spatial order: their fans, those faces' states and then their first
+      // readers are asked for ahead (ListPool::prefetch_ahead()).
+      fans.prefetch_ahead(parents, j, 2 * kFansAhead, [&](uint32_t f) {
+        access.prefetch_face(f);
+        prefetch(&written_by[f]);
+      });
+      if (j + kFansAhead / 2 < splits.size())
+        for (uint32_t f : fans.of(parents[j + kFansAhead / 2])) access.prefetch_readers(f);
+      needs.clear();
+      if (v1 >= b) needs.push_back(v1 - b);
+      for (uint32_t m = mesh.moved_start[i]; m < mesh.moved_start[i + 1]; ++m)
+        written_by[mesh.moved_faces[m]] = i;
+      for (uint32_t k = mesh.wing_start[i]; k < mesh.wing_start[i + 1]; ++k)
+        if (!mesh.wings[k].was_triangle()) written_by[mesh.wings[k].face] = i;
+      // R(i): v1's fan right before i; W(i) ⊂ R(i) except the faces i creates.
+      for (uint32_t f : fans.of(v1)) {
+        if (written_by[f] == i) {
+          access.write(f, i, needs);
+          continue;
+        }
+        if (reads == SplitReads::kFan || (wing_edges && on_wing_edge(f, i)))
+          access.read(f, i, needs);
+      }
+      if (reads != SplitReads::kFan)
+        for (uint32_t k = mesh.wing_start[i]; k < mesh.wing_start[i + 1]; ++k)
+          if (mesh.wings[k].vertex >= b) needs.push_back(mesh.wings[k].vertex - b);
+      uint32_t next = faces_after[i];
+      for (uint32_t k = mesh.wing_start[i]; k < mesh.wing_start[i + 1]; ++k) {
+        const SplitWing& w = mesh.wings[k];
+        if (w.was_triangle()) {
+          access.write(next, i, needs);
+          fans.add(v0, next);
+          fans.add(v1, next);
+          fans.add(w.vertex, next);
+          ++next;
+        } else {
+          fans.add(v0, w.face);
+        }
+      }
+      for (uint32_t m = mesh.moved_start[i]; m < mesh.moved_start[i + 1]; ++m)
+        fans.move(mesh.moved_faces[m], v1, v0);
+      if (uint32_t count = faces_after[i]; wing_edges) apply_split(mesh, i, faces, count);
+      close_split(needs, out);
+    }
+  }
+};
+
 }  // namespace
 
-SplitDependencies derive_split_dependencies(const ProgressiveMesh& mesh, SplitReads reads) {
-  const uint32_t n = mesh.split_count(), b = mesh.base_vertex_count;
+SplitDependencies derive_split_dependencies(const ProgressiveMesh& mesh, SplitReads reads,
+                                            unsigned threads) {
+  const uint32_t n = mesh.split_count();
   SplitDependencies out;
   // Room for about 7 a split (6.6 on the crash data, docs/selective.md): grown by doubling, the
   // copies were a tenth of the build's reordering.
@@ -195,68 +322,42 @@ SplitDependencies derive_split_dependencies(const ProgressiveMesh& mesh, SplitRe
     out.faces_after[i + 1] = out.faces_after[i] + created;
   }
   if (reads == SplitReads::kFaceCreators) return derive_face_creators(mesh, std::move(out));
-  VertexFans fans(mesh);
-  // The stream's faces, kept only for kWingEdges (which faces of the fan hold a wing vertex).
-  const bool wing_edges = reads == SplitReads::kWingEdges;
-  std::vector<Face> faces;
-  if (wing_edges) {
-    faces = mesh.base_faces;
-    faces.resize(out.faces_after[n]);
+  const uint32_t faces_total = out.faces_after[n];
+  Replay replay{mesh, reads, out.faces_after, {}, {}, {}, {}};
+  replay.last_writer.assign(faces_total, kNoIndex);
+  replay.readers.assign(faces_total, kNoIndex);
+  replay.written_by.assign(faces_total, kNoIndex);
+  if (reads == SplitReads::kWingEdges) {
+    replay.faces = mesh.base_faces;
+    replay.faces.resize(faces_total);
   }
-  auto on_wing_edge = [&](uint32_t f, uint32_t i) {
-    for (uint32_t k = mesh.wing_start[i]; k < mesh.wing_start[i + 1]; ++k)
-      if (faces[f].contains(mesh.wings[k].vertex)) return true;
-    return false;
-  };
-  FaceAccess access(out.faces_after[n]);
-  std::vector<uint32_t> written_by(out.faces_after[n], kNoIndex);  // == i: f is in W(i)
-  std::vector<uint32_t> needs;
-  for (uint32_t i = 0; i < n; ++i) {
-    const uint32_t v0 = b + i, v1 = mesh.parent[i];
-    // Parents come in no spatial order: their fans, those faces' states and then their first
-    // readers are asked for ahead (ListPool::prefetch_ahead()).
-    fans.prefetch_ahead(mesh.parent, i, 2 * kFansAhead, [&](uint32_t f) {
-      access.prefetch_face(f);
-      prefetch(&written_by[f]);
-    });
-    if (i + kFansAhead / 2 < n)
-      for (uint32_t f : fans.of(mesh.parent[i + kFansAhead / 2])) access.prefetch_readers(f);
-    needs.clear();
-    if (v1 >= b) needs.push_back(v1 - b);
-    for (uint32_t m = mesh.moved_start[i]; m < mesh.moved_start[i + 1]; ++m)
-      written_by[mesh.moved_faces[m]] = i;
-    for (uint32_t k = mesh.wing_start[i]; k < mesh.wing_start[i + 1]; ++k)
-      if (!mesh.wings[k].was_triangle()) written_by[mesh.wings[k].face] = i;
-    // R(i): v1's fan right before i; W(i) ⊂ R(i) except the faces i creates.
-    for (uint32_t f : fans.of(v1)) {
-      if (written_by[f] == i) {
-        access.write(f, i, needs);
-        continue;
-      }
-      if (reads == SplitReads::kFan || (wing_edges && on_wing_edge(f, i))) access.read(f, i, needs);
+  const std::vector<std::vector<uint32_t>> groups = component_groups(mesh, thread_count(threads));
+  if (groups.size() < 2) {
+    std::vector<uint32_t> all(n);
+    std::iota(all.begin(), all.end(), 0u);
+    replay.run(all, out);
+  } else {
+    std::vector<SplitDependencies> parts(groups.size());
+    parallel_for(groups.size(), groups.size(), static_cast<unsigned>(groups.size()),
+                 [&](size_t begin, size_t end, size_t) {
+                   for (size_t g = begin; g < end; ++g) {
+                     parts[g].deps.reserve(groups[g].size() * 8);
+                     parts[g].dep_start.reserve(groups[g].size() + 1);
+                     replay.run(groups[g], parts[g]);
+                   }
+                 });
+    // Each split's dependencies from its group's part, in split order.
+    std::vector<uint32_t> group_of(n), next(groups.size(), 0);
+    for (uint32_t g = 0; g < groups.size(); ++g)
+      for (uint32_t i : groups[g]) group_of[i] = g;
+    for (uint32_t i = 0; i < n; ++i) {
+      const SplitDependencies& part = parts[group_of[i]];
+      const std::span<const uint32_t> deps = part.of(next[group_of[i]]++);
+      out.deps.insert(out.deps.end(), deps.begin(), deps.end());
+      out.dep_start.push_back(static_cast<uint32_t>(out.deps.size()));
     }
-    if (reads != SplitReads::kFan)
-      for (uint32_t k = mesh.wing_start[i]; k < mesh.wing_start[i + 1]; ++k)
-        if (mesh.wings[k].vertex >= b) needs.push_back(mesh.wings[k].vertex - b);
-    uint32_t next = out.faces_after[i];
-    for (uint32_t k = mesh.wing_start[i]; k < mesh.wing_start[i + 1]; ++k) {
-      const SplitWing& w = mesh.wings[k];
-      if (w.was_triangle()) {
-        access.write(next, i, needs);
-        fans.add(v0, next);
-        fans.add(v1, next);
-        fans.add(w.vertex, next);
-        ++next;
-      } else {
-        fans.add(v0, w.face);
-      }
-    }
-    for (uint32_t m = mesh.moved_start[i]; m < mesh.moved_start[i + 1]; ++m)
-      fans.move(mesh.moved_faces[m], v1, v0);
-    if (uint32_t count = out.faces_after[i]; wing_edges) apply_split(mesh, i, faces, count);
-    close_split(needs, out);
   }
-  out.last_writer = access.take_last_writers();
+  out.last_writer = std::move(replay.last_writer);
   return out;
 }
 

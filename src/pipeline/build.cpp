@@ -237,8 +237,9 @@ Result<Recorded> record(const Topology& topology, const FrameSource& frames,
   pm.note = options.note;
   pm.variants = options.variants;
   set_position_grid(pm);
-  order_splits_by_parent(pm, new_vertex, new_face,  // parents ascending within error bands
-                         [&](double share) { recording(0.2 + 0.7 * share); });
+  order_splits_by_parent(
+      pm, new_vertex, new_face,  // parents ascending within error bands
+      [&](double share) { recording(0.2 + 0.7 * share); }, options.simplify.threads);
   prepare_split_records(pm);  // errors on the file's grid, moved faces ascending (as read back)
   // Result fields, per vertex or per face, permuted like the positions (build_fields.cpp).
   DYNPM_RETURN_IF_ERROR(

@@ -65,14 +65,14 @@ void order_band(const ProgressiveMesh& pm, const SplitDependencies& deps, uint32
 
 void order_splits_by_parent(ProgressiveMesh& pm, std::vector<uint32_t>& new_vertex,
                             std::vector<uint32_t>& new_face,
-                            const std::function<void(double)>& progress) {
+                            const std::function<void(double)>& progress, unsigned threads) {
   const uint32_t splits = pm.split_count(), base = pm.base_vertex_count;
   if (splits == 0) return;
   // Shares of the work, as timed at 1 M vertices: the dependencies 0.55, the bands 0.2.
   const auto told = [&](double share) {
     if (progress) progress(share);
   };
-  SplitDependencies deps = derive_split_dependencies(pm, SplitReads::kFan);
+  SplitDependencies deps = derive_split_dependencies(pm, SplitReads::kFan, threads);
   told(0.55);
   std::vector<uint32_t> new_position(splits, 0), order;
   order.reserve(splits);

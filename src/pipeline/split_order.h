@@ -24,8 +24,9 @@ inline constexpr int kSplitOrderBandsPerOctave = 4;
 // record stays valid as it is), band after band, the smallest parent first; renumbers the
 // vertices and faces the splits create and maps new_vertex / new_face (input → progressive) to
 // the new numbering. `progress`, if set, hears the share of the work done (0 … 1) now and then.
+// The dependencies are derived on up to `threads` threads (derive_split_dependencies()).
 void order_splits_by_parent(ProgressiveMesh& pm, std::vector<uint32_t>& new_vertex,
                             std::vector<uint32_t>& new_face,
-                            const std::function<void(double)>& progress = {});
+                            const std::function<void(double)>& progress = {}, unsigned threads = 1);
 
 }  // namespace dynpm
