@@ -24,12 +24,14 @@ namespace dynpm {
 // triangles, one step, one component): 208–223 MB in four runs, "recording the splits" (226); the
 // real crash boxes (crashbox-s, crashbox-mixed-5k, one component: 19.6–28.6 MB, mostly the program
 // itself; estimates 21.6–33.2). Result fields hold every value (4 B per vertex or face per step and
-// field) from "recording the splits" to the end.
+// field) from "recording the splits" to the end. Since 2026-12-08 the collapse also holds each
+// face's place in its island (4 B per face, counted) and an opening island's face shapes (about
+// 2 MB a thread): all 25 key steps 563–571 MB (estimate 587).
 uint64_t build_memory_estimate(uint64_t vertices, uint64_t faces, uint64_t steps,
                                uint64_t key_steps, unsigned threads, uint64_t field_values_per_step,
                                uint64_t quadric_vertices) {
   constexpr uint64_t kProcess = 20ull << 20;  // the program, its libraries, a small input
-  constexpr uint64_t kSimplifyPerVertex = 40, kSimplifyPerFace = 145;
+  constexpr uint64_t kSimplifyPerVertex = 40, kSimplifyPerFace = 149;
   constexpr uint64_t kPositionPerKeyStep = 12, kQuadricPerKeyStep = 44;
   constexpr uint64_t kAfterPerVertex = 116, kAfterPerFace = 152;
   constexpr uint64_t kPerVertexBatchStep = 24, kPerVertexStep = 1;

@@ -84,6 +84,9 @@ void add_regularizer(Quadric& q, double weight) { q.add_isotropic(weight); }
 // A face's unit normal (its plane's: a skew quad's quad_plane()) and its area. Both come from
 // differences of its corners, so they are the same around whichever point the corners are
 // given; the plane's offset is not, and is taken around each corner's own vertex.
+// Key steps whose face shapes an opening island holds at once.
+constexpr size_t kShapeKeySteps = 4;
+
 struct FaceShape {
   Vec3 normal;
   double area = 0;
@@ -155,7 +158,8 @@ void KeyStepQuadrics::open_island(size_t i, const CollapseMesh& mesh) {
   block.resize(count * key_count_);
   release_unused_capacity(block);  // a larger island's rows past this one's
   // Each face's shape once a key step, not once a corner (a quad's plane normalizes five
-  // vectors): the island's faces numbered as met, their shapes around their first corner.
+  // vectors): the island's faces numbered as met, their shapes around their first corner, a
+  // few key steps at a time (all 25 of a large island's would hold 13 MB a thread).
   thread_local std::vector<uint32_t> faces;
   thread_local std::vector<FaceShape> shapes;
   faces.clear();
@@ -166,25 +170,31 @@ void KeyStepQuadrics::open_island(size_t i, const CollapseMesh& mesh) {
         faces.push_back(f);
       }
   });
-  shapes.resize(faces.size() * key_count_);
-  for (size_t j = 0; j < faces.size(); ++j) {
-    const Face& face = input_->faces[faces[j]];
-    const int d = face.degree();
-    for (size_t k = 0; k < key_count_; ++k) {
-      Vec3 p[4];
-      for (int c = 0; c < d; ++c) p[c] = position(face.v[c], k) - position(face.v[0], k);
-      shapes[j * key_count_ + k] = face_shape(p, d);
-    }
-  }
   LocalQuadric* row = block.data();
   mesh.for_each_island_vertex(i, [&](uint32_t v) {
     island_rows_[v] = row;
-    for (size_t k = 0; k < key_count_; ++k)
-      row[k] = LocalQuadric::narrow(vertex_quadric(mesh, v, k, [&](uint32_t f, const Vec3*, int) {
-        return shapes[size_t{island_face_slot_[f]} * key_count_ + k];
-      }));
     row += key_count_;
   });
+  for (size_t k0 = 0; k0 < key_count_; k0 += kShapeKeySteps) {
+    const size_t keys = std::min(kShapeKeySteps, key_count_ - k0);
+    shapes.resize(faces.size() * keys);
+    for (size_t j = 0; j < faces.size(); ++j) {
+      const Face& face = input_->faces[faces[j]];
+      const int d = face.degree();
+      for (size_t k = k0; k < k0 + keys; ++k) {
+        Vec3 p[4];
+        for (int c = 0; c < d; ++c) p[c] = position(face.v[c], k) - position(face.v[0], k);
+        shapes[j * keys + k - k0] = face_shape(p, d);
+      }
+    }
+    mesh.for_each_island_vertex(i, [&](uint32_t v) {
+      for (size_t k = k0; k < k0 + keys; ++k)
+        island_rows_[v][k] =
+            LocalQuadric::narrow(vertex_quadric(mesh, v, k, [&](uint32_t f, const Vec3*, int) {
+              return shapes[size_t{island_face_slot_[f]} * keys + k - k0];
+            }));
+    });
+  }
   const size_t held = held_ += count;
   for (size_t most = most_held_; most < held && !most_held_.compare_exchange_weak(most, held);) {
   }
