@@ -5,6 +5,7 @@
 #include <future>
 #include <iostream>
 #include <optional>
+#include <system_error>
 
 #include "args.h"
 #include "commands.h"
@@ -186,12 +187,20 @@ int run_build(std::span<char* const> arguments) {
   std::atomic<bool> stop_reading{false};
   std::optional<ValidationProof> proof;  // the check's, handed to the simplifier once it ended
   std::future<Status> faces_checked;
-  if (single)
-    faces_checked = std::async(std::launch::async, [&] {
-      Status checked = check_input_faces(*single, proof);
-      if (!checked.ok()) stop_reading = true;
-      return checked;
-    });
+  const auto check_faces = [&] {
+    Status checked = check_input_faces(*single, proof);
+    if (!checked.ok()) stop_reading = true;
+    return checked;
+  };
+  if (single) {
+    try {
+      faces_checked = std::async(std::launch::async, check_faces);
+    } catch (const std::system_error&) {  // no thread to be had (limits): checked here, first
+      std::promise<Status> now;
+      now.set_value(check_faces());
+      faces_checked = now.get_future();
+    }
+  }
   const auto faces_error = [&]() -> std::optional<int> {
     if (!faces_checked.valid()) return std::nullopt;
     Phase phase("checking the input");

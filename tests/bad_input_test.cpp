@@ -330,5 +330,33 @@ TEST(AtomicOutputs, ABuildThatCannotFitIsRefusedUpFrontWithItsEstimate) {
   EXPECT_EQ(joined(folder_entries(out.path())), "[]");
 }
 
+// Where no thread can be started (here each thread's stack, 3 GB by ulimit -s, does not fit in
+// the 2.5 GB ulimit -v leaves), the build does on one thread what it does on several — the faces'
+// check, which otherwise runs beside the key steps' choice, included — and writes the same file.
+TEST(AtomicOutputs, ABuildWithNoThreadToBeHadWritesTheSameFile) {
+  if (kAddressSanitizer) GTEST_SKIP() << "ASan reserves terabytes of address space: no ulimit -v";
+  test::TempDir dir;
+  const std::string frd = dir.file("crashbox-s.frd");
+  ASSERT_EQ(
+      std::system(
+          ("zcat '" + test::shared_data() + "/crashbox-s/crashbox-s.frd.gz' > " + frd).c_str()),
+      0);
+  const std::string build = std::string(DYNPM_CLI) + " build " + frd + " --quiet -o ";
+  ASSERT_EQ(std::system((build + dir.file("threads.dpm") + " > /dev/null").c_str()), 0);
+  const std::string log = dir.file("log.txt");
+  const int status = std::system(("bash -c 'ulimit -v 2500000; ulimit -s 3000000; " + build +
+                                  dir.file("none.dpm") + "' > " + log + " 2>&1")
+                                     .c_str());
+  std::ifstream in(log);
+  const std::string output(std::istreambuf_iterator<char>(in), {});
+  ASSERT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 0) << output;
+  std::ifstream a(dir.file("threads.dpm"), std::ios::binary),
+      b(dir.file("none.dpm"), std::ios::binary);
+  const std::string with_threads(std::istreambuf_iterator<char>(a), {}),
+      without(std::istreambuf_iterator<char>(b), {});
+  EXPECT_GT(with_threads.size(), 1000u);
+  EXPECT_TRUE(with_threads == without);
+}
+
 }  // namespace
 }  // namespace dynpm
