@@ -5,6 +5,7 @@
 #include <array>
 #include <numeric>
 
+#include "core/components.h"
 #include "core/list_pool.h"
 #include "core/parallel.h"
 #include "core/prefetch.h"
@@ -192,34 +193,27 @@ constexpr uint32_t kSplitsForGroups = 1 << 16;
 std::vector<std::vector<uint32_t>> component_groups(const ProgressiveMesh& mesh, unsigned count) {
   const uint32_t n = mesh.split_count(), b = mesh.base_vertex_count;
   if (count < 2 || n < kSplitsForGroups) return {};
-  // The base vertices' components (union-find over the base faces, halving the paths); a split
-  // vertex belongs to its parent's.
-  std::vector<uint32_t> root(b);
-  std::iota(root.begin(), root.end(), 0u);
-  const auto find = [&](uint32_t v) {
-    while (root[v] != v) v = root[v] = root[root[v]];
-    return v;
-  };
-  for (const Face& f : mesh.base_faces)
-    for (int c = 1; c < f.degree(); ++c) {
-      const uint32_t x = find(f.v[0]), y = find(f.v[c]);
-      if (x != y) root[std::max(x, y)] = std::min(x, y);
-    }
-  std::vector<uint32_t> component(n), splits_of(b, 0);
+  // The base mesh's components (core/components.h); a split vertex belongs to its parent's.
+  Topology base;
+  base.vertex_count = b;
+  base.faces = mesh.base_faces;
+  size_t components = 0;
+  const std::vector<uint32_t> base_component = connected_components(base, components);
+  std::vector<uint32_t> component(n), splits_of(components, 0);
   for (uint32_t i = 0; i < n; ++i) {
     const uint32_t p = mesh.parent[i];
-    component[i] = p < b ? find(p) : component[p - b];
+    component[i] = p < b ? base_component[p] : component[p - b];
     ++splits_of[component[i]];
   }
   // The largest components first, each to the group with the fewest splits so far.
   std::vector<uint32_t> order;
-  for (uint32_t r = 0; r < b; ++r)
+  for (uint32_t r = 0; r < components; ++r)
     if (splits_of[r] > 0) order.push_back(r);
   std::sort(order.begin(), order.end(), [&](uint32_t x, uint32_t y) {
     return splits_of[x] != splits_of[y] ? splits_of[x] > splits_of[y] : x < y;
   });
   std::vector<uint64_t> load(count, 0);
-  std::vector<uint32_t> group(b, 0);
+  std::vector<uint32_t> group(components, 0);
   for (uint32_t r : order) {
     const auto least = std::min_element(load.begin(), load.end()) - load.begin();
     group[r] = static_cast<uint32_t>(least);
